@@ -1,0 +1,144 @@
+// cv_bridge.cpp — see cv_bridge.h. The project's only C++ file.
+#include "cv_bridge.h"
+
+#include <opencv2/core.hpp>
+#include <opencv2/highgui.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include <cstdio>   // snprintf
+#include <cstdlib>  // getenv, malloc
+#include <cstring>  // memcpy
+#include <map>
+#include <string>
+
+namespace {
+
+void set_err(char *err, int err_size, const std::string &msg) {
+    if (err && err_size > 0) std::snprintf(err, (size_t)err_size, "%s", msg.c_str());
+}
+
+// Per-window mouse position, filled by highgui's callback.
+struct Mouse {
+    int col = -1, row = -1;
+};
+std::map<std::string, Mouse> g_mouse;  // highgui itself is process-global
+
+void on_mouse(int event, int x, int y, int, void *user) {
+    if (event == cv::EVENT_MOUSEMOVE) {
+        auto *m = static_cast<Mouse *>(user);
+        m->col = x;
+        m->row = y;
+    }
+}
+
+}  // namespace
+
+extern "C" bool cv_bridge_write_rgb8(const char *path, int width, int height,
+                                     const uint8_t *rgb, char *err, int err_size) {
+    try {
+        cv::Mat in(height, width, CV_8UC3, const_cast<uint8_t *>(rgb));
+        cv::Mat bgr;
+        cv::cvtColor(in, bgr, cv::COLOR_RGB2BGR);
+        if (!cv::imwrite(path, bgr)) {
+            set_err(err, err_size,
+                    std::string("could not write '") + path +
+                        "': OpenCV refused (check the folder exists and the extension is .png)");
+            return false;
+        }
+        return true;
+    } catch (const cv::Exception &e) {
+        set_err(err, err_size, std::string("could not write '") + path + "': " + e.what());
+        return false;
+    }
+}
+
+extern "C" uint8_t *cv_bridge_read_rgb8(const char *path, int *width, int *height, char *err,
+                                        int err_size) {
+    try {
+        cv::Mat bgr = cv::imread(path, cv::IMREAD_COLOR);
+        if (bgr.empty()) {
+            set_err(err, err_size,
+                    std::string("could not read image '") + path +
+                        "': the file is missing or not an image OpenCV can decode (PNG, JPEG, ...)");
+            return nullptr;
+        }
+        cv::Mat rgb;
+        cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
+        size_t bytes = (size_t)rgb.rows * (size_t)rgb.cols * 3;
+        auto *out = static_cast<uint8_t *>(std::malloc(bytes));
+        if (!out) {
+            set_err(err, err_size, "out of memory decoding image");
+            return nullptr;
+        }
+        for (int r = 0; r < rgb.rows; r++)
+            std::memcpy(out + (size_t)r * rgb.cols * 3, rgb.ptr(r), (size_t)rgb.cols * 3);
+        *width = rgb.cols;
+        *height = rgb.rows;
+        return out;
+    } catch (const cv::Exception &e) {
+        set_err(err, err_size, std::string("could not read image '") + path + "': " + e.what());
+        return nullptr;
+    }
+}
+
+extern "C" bool cv_bridge_display_available(void) {
+    const char *d = std::getenv("DISPLAY");
+    const char *w = std::getenv("WAYLAND_DISPLAY");
+    return (d && *d) || (w && *w);
+}
+
+extern "C" bool cv_bridge_window_show(const char *title, int width, int height,
+                                      const uint8_t *rgb, char *err, int err_size) {
+    try {
+        if (g_mouse.find(title) == g_mouse.end()) {
+            cv::namedWindow(title, cv::WINDOW_AUTOSIZE);
+            Mouse &m = g_mouse[title];
+            cv::setMouseCallback(title, on_mouse, &m);
+        }
+        cv::Mat in(height, width, CV_8UC3, const_cast<uint8_t *>(rgb));
+        cv::Mat bgr;
+        cv::cvtColor(in, bgr, cv::COLOR_RGB2BGR);
+        cv::imshow(title, bgr);
+        return true;
+    } catch (const cv::Exception &e) {
+        set_err(err, err_size, std::string("could not open a window: ") + e.what());
+        return false;
+    }
+}
+
+extern "C" int cv_bridge_window_wait_key(const char *title, int ms) {
+    int key = cv::waitKey(ms);
+    try {
+        if (cv::getWindowProperty(title, cv::WND_PROP_VISIBLE) < 1) return -2;
+    } catch (const cv::Exception &) {
+        return -2;
+    }
+    return key < 0 ? -1 : (key & 0xFF);
+}
+
+extern "C" void cv_bridge_window_close(const char *title) {
+    try {
+        cv::destroyWindow(title);
+    } catch (const cv::Exception &) {
+    }
+    g_mouse.erase(title);
+}
+
+extern "C" bool cv_bridge_window_mouse(const char *title, int *col, int *row) {
+    auto it = g_mouse.find(title);
+    if (it == g_mouse.end() || it->second.col < 0) return false;
+    *col = it->second.col;
+    *row = it->second.row;
+    return true;
+}
+
+extern "C" void cv_bridge_draw_text(uint8_t *rgb, int width, int height, int col, int row,
+                                    const char *text, double scale) {
+    cv::Mat img(height, width, CV_8UC3, rgb);
+    // A dark outline under the white text keeps it readable on any picture.
+    cv::putText(img, text, cv::Point(col, row), cv::FONT_HERSHEY_SIMPLEX, scale,
+                cv::Scalar(0, 0, 0), 3, cv::LINE_AA);
+    cv::putText(img, text, cv::Point(col, row), cv::FONT_HERSHEY_SIMPLEX, scale,
+                cv::Scalar(255, 255, 255), 1, cv::LINE_AA);
+}

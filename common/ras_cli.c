@@ -1,0 +1,241 @@
+/* ras_cli.c — see ras_cli.h. */
+#include "ras_cli.h"
+
+#include <getopt.h> /* getopt_long */
+#include <math.h>   /* isfinite */
+#include <stdio.h>  /* snprintf, sscanf */
+#include <stdlib.h> /* strtof, strtol */
+#include <string.h> /* strcmp */
+
+enum {
+    OPT_AXIS = 256,
+    OPT_AA,
+    OPT_SAMPLES,
+    OPT_PATTERN,
+    OPT_EDGES,
+    OPT_COMPARE,
+    OPT_REFERENCE,
+    OPT_SHADER,
+    OPT_FILTER,
+    OPT_MODEL,
+    OPT_TEXTURE,
+    OPT_HEIGHT,
+    OPT_FIT,
+    OPT_SCENE,
+    OPT_STATS,
+    OPT_SIZE,
+    OPT_VERSION,
+};
+
+static const struct option long_options[] = {
+    {"help", no_argument, NULL, 'h'},         {"version", no_argument, NULL, OPT_VERSION},
+    {"output", required_argument, NULL, 'o'}, {"size", required_argument, NULL, OPT_SIZE},
+    {"angle", required_argument, NULL, 'r'},  {"axis", required_argument, NULL, OPT_AXIS},
+    {"aa", required_argument, NULL, OPT_AA},  {"samples", required_argument, NULL, OPT_SAMPLES},
+    {"pattern", required_argument, NULL, OPT_PATTERN},
+    {"edges", required_argument, NULL, OPT_EDGES},
+    {"compare", no_argument, NULL, OPT_COMPARE},
+    {"reference", required_argument, NULL, OPT_REFERENCE},
+    {"shader", required_argument, NULL, OPT_SHADER},
+    {"filter", required_argument, NULL, OPT_FILTER},
+    {"model", required_argument, NULL, OPT_MODEL},
+    {"texture", required_argument, NULL, OPT_TEXTURE},
+    {"height", required_argument, NULL, OPT_HEIGHT},
+    {"fit", no_argument, NULL, OPT_FIT},
+    {"scene", required_argument, NULL, OPT_SCENE},
+    {"stats", no_argument, NULL, OPT_STATS},
+    {NULL, 0, NULL, 0}};
+
+/* Which group each option belongs to (0: always accepted). */
+static unsigned group_of(int opt) {
+    switch (opt) {
+    case 'r': case OPT_AXIS: return RAS_OPT_ANGLE;
+    case OPT_AA: case OPT_SAMPLES: case OPT_PATTERN: case OPT_EDGES: return RAS_OPT_AA;
+    case OPT_COMPARE: case OPT_REFERENCE: return RAS_OPT_COMPARE;
+    case OPT_SHADER: case OPT_FILTER: return RAS_OPT_SHADING;
+    case OPT_MODEL: case OPT_TEXTURE: case OPT_HEIGHT: case OPT_FIT: return RAS_OPT_MODEL;
+    case OPT_SCENE: return RAS_OPT_SCENE;
+    case OPT_STATS: return RAS_OPT_STATS;
+    default: return 0;
+    }
+}
+
+static bool parse_float(const char *s, float *out) {
+    char *end = NULL;
+    float v = strtof(s, &end);
+    if (end == s || *end != '\0' || !isfinite(v)) return false;
+    *out = v;
+    return true;
+}
+
+static bool parse_int(const char *s, long lo, long hi, int *out) {
+    char *end = NULL;
+    long v = strtol(s, &end, 10);
+    if (end == s || *end != '\0' || v < lo || v > hi) return false;
+    *out = (int)v;
+    return true;
+}
+
+ras_cli_status ras_cli_parse(int argc, char **argv, unsigned accepted, ras_cli *out,
+                             ras_error *err) {
+    *out = (ras_cli){.axis = {{0, 0, 1}}};
+    const char *program = argc > 0 ? argv[0] : "program";
+    optind = 0; /* glibc: 0 re-initialises getopt fully, so parsing twice works */
+    opterr = 0; /* we write our own messages */
+    for (;;) {
+        int index = -1;
+        int opt = getopt_long(argc, argv, ":ho:r:", long_options, &index);
+        if (opt == -1) break;
+        const char *arg = optarg;
+        const char *name = argv[optind - 1];
+        if (opt == '?') {
+            ras_error_set(err, "unknown option '%s'; run '%s --help' for the options it takes",
+                          optopt ? (char[]){'-', (char)optopt, 0} : name, program);
+            return RAS_CLI_ERROR;
+        }
+        if (opt == ':') {
+            ras_error_set(err, "option '%s' needs a value; run '%s --help'", name, program);
+            return RAS_CLI_ERROR;
+        }
+        unsigned group = group_of(opt);
+        if (group && !(group & accepted)) {
+            ras_error_set(err,
+                          "option '%s' does not apply to this program; run '%s --help' for "
+                          "the options it takes",
+                          name, program);
+            return RAS_CLI_ERROR;
+        }
+        switch (opt) {
+        case 'h': return RAS_CLI_HELP;
+        case OPT_VERSION: return RAS_CLI_VERSION;
+        case 'o': out->output = arg; break;
+        case OPT_SIZE:
+            if (sscanf(arg, "%dx%d", &out->width, &out->height) != 2 || out->width < 1 ||
+                out->height < 1 || out->width > 8192 || out->height > 8192) {
+                ras_error_set(err, "--size expects WIDTHxHEIGHT between 1x1 and 8192x8192, "
+                                   "e.g. --size 700x700; got '%s'", arg);
+                return RAS_CLI_ERROR;
+            }
+            break;
+        case 'r':
+            if (!parse_float(arg, &out->angle)) {
+                ras_error_set(err, "--angle expects a finite number of degrees, e.g. -r 20; "
+                                   "got '%s'", arg);
+                return RAS_CLI_ERROR;
+            }
+            out->angle_set = true;
+            break;
+        case OPT_AXIS: {
+            float x, y, z;
+            char tail;
+            if (sscanf(arg, "%f,%f,%f%c", &x, &y, &z, &tail) != 3 || !isfinite(x) ||
+                !isfinite(y) || !isfinite(z) || (x == 0 && y == 0 && z == 0)) {
+                ras_error_set(err, "--axis expects three numbers X,Y,Z, not all zero, e.g. "
+                                   "--axis 0,1,0; got '%s'", arg);
+                return RAS_CLI_ERROR;
+            }
+            out->axis = (vec3s){{x, y, z}};
+            out->axis_set = true;
+            break;
+        }
+        case OPT_AA:
+            if (!strcmp(arg, "none")) out->aa = RAS_AA_NONE;
+            else if (!strcmp(arg, "msaa")) out->aa = RAS_AA_MSAA;
+            else if (!strcmp(arg, "ssaa")) out->aa = RAS_AA_SSAA;
+            else {
+                ras_error_set(err, "--aa expects none, msaa or ssaa; got '%s'", arg);
+                return RAS_CLI_ERROR;
+            }
+            out->aa_set = true;
+            break;
+        case OPT_SAMPLES:
+            if (!parse_int(arg, 1, RAS_MAX_SAMPLES, &out->samples)) {
+                ras_error_set(err, "--samples expects a whole number of samples per pixel "
+                                   "(1, 2, 4, 8, 16 or 64); got '%s'", arg);
+                return RAS_CLI_ERROR;
+            }
+            break;
+        case OPT_PATTERN:
+            if (!strcmp(arg, "ordered")) out->pattern = RAS_PATTERN_ORDERED;
+            else if (!strcmp(arg, "standard")) out->pattern = RAS_PATTERN_STANDARD;
+            else {
+                ras_error_set(err, "--pattern expects ordered or standard; got '%s'", arg);
+                return RAS_CLI_ERROR;
+            }
+            out->pattern_set = true;
+            break;
+        case OPT_EDGES:
+            if (!strcmp(arg, "fixed")) out->edges = RAS_EDGES_FIXED;
+            else if (!strcmp(arg, "float")) out->edges = RAS_EDGES_FLOAT;
+            else {
+                ras_error_set(err, "--edges expects fixed or float; got '%s'", arg);
+                return RAS_CLI_ERROR;
+            }
+            out->edges_set = true;
+            break;
+        case OPT_COMPARE: out->compare = true; break;
+        case OPT_REFERENCE: out->reference = arg; break;
+        case OPT_SHADER: out->shader = arg; break;
+        case OPT_FILTER: out->filter = arg; break;
+        case OPT_MODEL: out->model = arg; break;
+        case OPT_TEXTURE: out->texture = arg; break;
+        case OPT_HEIGHT: out->height_map = arg; break;
+        case OPT_FIT: out->fit = true; break;
+        case OPT_SCENE: out->scene = arg; break;
+        case OPT_STATS: out->stats = true; break;
+        default: break;
+        }
+    }
+    for (int i = optind; i < argc; i++) {
+        if (out->positional_count == RAS_CLI_MAX_POSITIONAL) {
+            ras_error_set(err, "too many arguments ('%s' is one more than %d); run '%s --help'",
+                          argv[i], RAS_CLI_MAX_POSITIONAL, program);
+            return RAS_CLI_ERROR;
+        }
+        out->positional[out->positional_count++] = argv[i];
+    }
+    return RAS_CLI_RUN;
+}
+
+void ras_cli_help(unsigned accepted, const char *program, const char *usage, char *buf,
+                  int size) {
+    int n = snprintf(buf, (size_t)size, "Usage: %s [options]\n%s\nOptions:\n", program, usage);
+#define ADD(...)                                                                              \
+    do {                                                                                      \
+        if (n < size) n += snprintf(buf + n, (size_t)(size - n), __VA_ARGS__);                \
+    } while (0)
+    ADD("  -o, --output FILE     render once without a window and write FILE (.png)\n");
+    ADD("      --size WxH        image size in pixels (default: the scene's)\n");
+    if (accepted & RAS_OPT_ANGLE) {
+        ADD("  -r, --angle DEG       rotation angle in degrees\n");
+        ADD("      --axis X,Y,Z      rotate about this axis (bonus: get_rotation)\n");
+    }
+    if (accepted & RAS_OPT_AA) {
+        ADD("      --aa MODE         anti-aliasing: none, msaa or ssaa\n");
+        ADD("      --samples N       samples per pixel (ordered: 4, 16, 64; standard: 2, 4, "
+            "8, 16)\n");
+        ADD("      --pattern P       sample positions: ordered (grid) or standard (D3D/Vulkan)\n");
+        ADD("      --edges E         reference edge functions: fixed (watertight) or float\n");
+    }
+    if (accepted & RAS_OPT_SHADING) {
+        ADD("      --shader NAME     normal, phong, texture, bump or displacement\n");
+        ADD("      --filter NAME     texture filter: nearest, bilinear or trilinear\n");
+    }
+    if (accepted & RAS_OPT_MODEL) {
+        ADD("      --model FILE      a model file (OBJ, PLY, STL, glTF, ...)\n");
+        ADD("      --texture FILE    colour texture image\n");
+        ADD("      --height FILE     height map for bump / displacement\n");
+        ADD("      --fit             scale and centre the model to fill the view\n");
+    }
+    if (accepted & RAS_OPT_SCENE) ADD("      --scene FILE      scene description (JSON)\n");
+    if (accepted & RAS_OPT_COMPARE) {
+        ADD("      --compare         compare the render with its reference image and write a "
+            "difference image\n");
+        ADD("      --reference FILE  the reference image to compare with\n");
+    }
+    if (accepted & RAS_OPT_STATS)
+        ADD("      --stats           print what each pipeline stage did, as JSON on stdout\n");
+    ADD("  -h, --help            this help\n");
+    ADD("      --version         the version\n");
+#undef ADD
+}

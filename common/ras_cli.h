@@ -1,0 +1,68 @@
+/* ras_cli.h — the one command-line parser the three programs share.
+ *
+ * Each program says which option groups it accepts (RAS_OPT_* bits); an
+ * option of another group is rejected like an unknown one, with a message
+ * that names it and points to --help. Values are checked here (numbers are
+ * finite and in range, names are from the list) so mains only read fields.
+ * Parsing never prints: the caller prints err->msg or the help text.
+ */
+#ifndef RAS_CLI_H
+#define RAS_CLI_H
+
+#include "ras_error.h"
+#include "ras_math.h"
+#include "ras_sample_pattern.h"
+#include "stage4_raster.h"
+
+enum {
+    RAS_OPT_ANGLE = 1u << 0,   /* -r/--angle DEG, --axis X,Y,Z */
+    RAS_OPT_AA = 1u << 1,      /* --aa, --samples, --pattern, --edges */
+    RAS_OPT_COMPARE = 1u << 2, /* --compare [--reference FILE] */
+    RAS_OPT_SHADING = 1u << 3, /* --shader, --filter */
+    RAS_OPT_MODEL = 1u << 4,   /* --model, --texture, --height, --fit */
+    RAS_OPT_SCENE = 1u << 5,   /* --scene FILE */
+    RAS_OPT_STATS = 1u << 6,   /* --stats */
+};
+
+#define RAS_CLI_MAX_POSITIONAL 4
+
+typedef struct ras_cli {
+    const char *output; /* -o FILE: headless render */
+    int width, height;  /* --size WxH; 0 = the scene's */
+    float angle;        /* degrees */
+    bool angle_set;
+    vec3s axis;
+    bool axis_set;
+    ras_aa_mode aa;
+    bool aa_set;
+    int samples; /* 0 = the mode's default */
+    ras_pattern_kind pattern;
+    bool pattern_set;
+    ras_edge_mode edges;
+    bool edges_set;
+    bool compare;
+    const char *reference; /* --reference FILE for --compare */
+    const char *shader, *filter;
+    const char *model, *texture, *height_map;
+    bool fit;
+    const char *scene;
+    bool stats;
+    const char *positional[RAS_CLI_MAX_POSITIONAL];
+    int positional_count;
+} ras_cli;
+
+typedef enum ras_cli_status {
+    RAS_CLI_RUN,     /* parsed: go on */
+    RAS_CLI_HELP,    /* --help: print ras_cli_help() and exit 0 */
+    RAS_CLI_VERSION, /* --version: print the version and exit 0 */
+    RAS_CLI_ERROR,   /* err says why: print it and exit 2 */
+} ras_cli_status;
+
+ras_cli_status ras_cli_parse(int argc, char **argv, unsigned accepted, ras_cli *out,
+                             ras_error *err);
+
+/* Help for the accepted groups, after a program-specific usage paragraph. */
+void ras_cli_help(unsigned accepted, const char *program, const char *usage, char *buf,
+                  int size);
+
+#endif

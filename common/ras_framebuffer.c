@@ -1,0 +1,54 @@
+/* ras_framebuffer.c — see ras_framebuffer.h. */
+#include "ras_framebuffer.h"
+
+#include "ras_image.h"      /* RAS_IMAGE_MAX_SIDE */
+#include "ras_sample_pattern.h" /* RAS_MAX_SAMPLES */
+
+#include <math.h>   /* INFINITY */
+#include <stdlib.h> /* calloc, malloc, free */
+
+ras_framebuffer *ras_framebuffer_create(int width, int height, int samples, ras_error *err) {
+    if (width < 1 || height < 1 || width > RAS_IMAGE_MAX_SIDE || height > RAS_IMAGE_MAX_SIDE) {
+        ras_error_set(err, "frame size %dx%d is out of range: expected 1..%d on each side",
+                      width, height, RAS_IMAGE_MAX_SIDE);
+        return NULL;
+    }
+    if (samples < 1 || samples > RAS_MAX_SAMPLES) {
+        ras_error_set(err, "%d samples per pixel is out of range: expected 1..%d", samples,
+                      RAS_MAX_SAMPLES);
+        return NULL;
+    }
+    size_t n = (size_t)width * (size_t)height * (size_t)samples;
+    ras_framebuffer *fb = calloc(1, sizeof *fb);
+    if (fb) {
+        fb->color = malloc(n * sizeof *fb->color);
+        fb->depth = malloc(n * sizeof *fb->depth);
+    }
+    if (!fb || !fb->color || !fb->depth) {
+        ras_framebuffer_destroy(fb);
+        ras_error_set(err, "out of memory for a %dx%d frame with %d samples per pixel", width,
+                      height, samples);
+        return NULL;
+    }
+    fb->width = width;
+    fb->height = height;
+    fb->samples = samples;
+    fb->bytes = n * (sizeof *fb->color + sizeof *fb->depth);
+    ras_framebuffer_clear(fb, (vec3s){{0, 0, 0}});
+    return fb;
+}
+
+void ras_framebuffer_destroy(ras_framebuffer *fb) {
+    if (!fb) return;
+    free(fb->color);
+    free(fb->depth);
+    free(fb);
+}
+
+void ras_framebuffer_clear(ras_framebuffer *fb, vec3s color) {
+    size_t n = (size_t)fb->width * (size_t)fb->height * (size_t)fb->samples;
+    for (size_t i = 0; i < n; i++) {
+        fb->color[i] = color;
+        fb->depth[i] = INFINITY;
+    }
+}

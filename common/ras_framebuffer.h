@@ -1,0 +1,47 @@
+/* ras_framebuffer.h — the colour and depth buffers the rasterizer writes.
+ *
+ * Layout (the GAMES101 get_index, stated once):
+ *   - screen space has y growing UP; pixel (x, y) covers [x, x+1) × [y, y+1);
+ *   - memory is row-major with the TOP image row first, so screen pixel (x, y)
+ *     lives at pixel index (height - 1 - y) * width + x — the same index as the
+ *     image pixel (col x, row height-1-y) of ras_image;
+ *   - each pixel owns `samples` consecutive entries (sample s of pixel i is
+ *     entry i * samples + s), in both the colour and the depth buffer. With no
+ *     anti-aliasing samples == 1 and these are plain per-pixel buffers: no
+ *     per-sample memory is allocated unless the scene asks for AA;
+ *   - depth: smaller is closer; 0 is the near plane, 1 the far plane; cleared
+ *     to +INFINITY so the first fragment always wins.
+ */
+#ifndef RAS_FRAMEBUFFER_H
+#define RAS_FRAMEBUFFER_H
+
+#include "ras_error.h"
+#include "ras_math.h"
+
+#include <stddef.h> /* size_t */
+
+typedef struct ras_framebuffer {
+    int width, height;
+    int samples;  /* per pixel, >= 1 */
+    vec3s *color; /* width * height * samples */
+    float *depth; /* width * height * samples */
+    size_t bytes; /* memory held by color + depth, reported by --stats */
+} ras_framebuffer;
+
+ras_framebuffer *ras_framebuffer_create(int width, int height, int samples, ras_error *err);
+void ras_framebuffer_destroy(ras_framebuffer *fb);
+
+/* Every sample to `color`, every depth to +INFINITY. */
+void ras_framebuffer_clear(ras_framebuffer *fb, vec3s color);
+
+/* Index of screen pixel (x, y), with the y-flip. Caller keeps x, y in range. */
+static inline int ras_fb_pixel_index(const ras_framebuffer *fb, int x, int y) {
+    return (fb->height - 1 - y) * fb->width + x;
+}
+
+/* Index of sample s of screen pixel (x, y) in color[] and depth[]. */
+static inline int ras_fb_sample_index(const ras_framebuffer *fb, int x, int y, int s) {
+    return ras_fb_pixel_index(fb, x, y) * fb->samples + s;
+}
+
+#endif

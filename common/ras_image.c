@@ -1,0 +1,124 @@
+/* ras_image.c — see ras_image.h. */
+#include "ras_image.h"
+
+#include "cv_bridge.h"
+
+#include <stdio.h>  /* rename, remove, snprintf */
+#include <stdlib.h> /* calloc, free */
+#include <string.h> /* strrchr, strlen */
+#include <unistd.h> /* getpid */
+
+ras_image *ras_image_create(int width, int height, ras_error *err) {
+    if (width < 1 || height < 1 || width > RAS_IMAGE_MAX_SIDE || height > RAS_IMAGE_MAX_SIDE) {
+        ras_error_set(err, "image size %dx%d is out of range: expected 1..%d on each side",
+                      width, height, RAS_IMAGE_MAX_SIDE);
+        return NULL;
+    }
+    ras_image *img = calloc(1, sizeof *img);
+    if (!img) {
+        ras_error_set(err, "out of memory for a %dx%d image", width, height);
+        return NULL;
+    }
+    img->width = width;
+    img->height = height;
+    img->pixels = calloc((size_t)width * (size_t)height, sizeof *img->pixels);
+    if (!img->pixels) {
+        free(img);
+        ras_error_set(err, "out of memory for a %dx%d image", width, height);
+        return NULL;
+    }
+    return img;
+}
+
+void ras_image_destroy(ras_image *img) {
+    if (!img) return;
+    free(img->pixels);
+    free(img);
+}
+
+ras_image *ras_image_clone(const ras_image *img) {
+    ras_image *copy = ras_image_create(img->width, img->height, NULL);
+    if (copy)
+        memcpy(copy->pixels, img->pixels,
+               (size_t)img->width * (size_t)img->height * sizeof *img->pixels);
+    return copy;
+}
+
+void ras_image_fill(ras_image *img, vec3s c) {
+    size_t n = (size_t)img->width * (size_t)img->height;
+    for (size_t i = 0; i < n; i++) img->pixels[i] = c;
+}
+
+uint8_t ras_unit_to_byte(float v) {
+    if (!(v > 0.0f)) return 0; /* also NaN → 0 */
+    if (v >= 1.0f) return 255;
+    return (uint8_t)(v * 255.0f + 0.5f);
+}
+
+void ras_image_to_rgb8(const ras_image *img, uint8_t *rgb) {
+    size_t n = (size_t)img->width * (size_t)img->height;
+    for (size_t i = 0; i < n; i++) {
+        rgb[3 * i + 0] = ras_unit_to_byte(img->pixels[i].x);
+        rgb[3 * i + 1] = ras_unit_to_byte(img->pixels[i].y);
+        rgb[3 * i + 2] = ras_unit_to_byte(img->pixels[i].z);
+    }
+}
+
+bool ras_image_save(const ras_image *img, const char *path, ras_error *err) {
+    const char *ext = strrchr(path, '.');
+    if (!ext || strchr(ext, '/')) {
+        return ras_error_set(err,
+                             "cannot write '%s': the name has no extension; expected e.g. "
+                             "'%s.png'",
+                             path, path);
+    }
+    size_t bytes = (size_t)img->width * (size_t)img->height * 3;
+    uint8_t *rgb = malloc(bytes);
+    if (!rgb) return ras_error_set(err, "out of memory writing '%s'", path);
+    ras_image_to_rgb8(img, rgb);
+    /* Write beside the target under a temporary name with the same extension
+     * (OpenCV picks the codec from it), then rename: readers never see a
+     * half-written file, and a failure leaves nothing behind. */
+    size_t tmp_size = strlen(path) + 64;
+    char *tmp = malloc(tmp_size);
+    if (!tmp) {
+        free(rgb);
+        return ras_error_set(err, "out of memory writing '%s'", path);
+    }
+    snprintf(tmp, tmp_size, "%.*s.tmp%ld%s", (int)(ext - path), path, (long)getpid(), ext);
+    char msg[512] = "";
+    bool ok = cv_bridge_write_rgb8(tmp, img->width, img->height, rgb, msg, sizeof msg);
+    free(rgb);
+    if (!ok) {
+        remove(tmp);
+        free(tmp);
+        return ras_error_set(err, "%s", msg);
+    }
+    if (rename(tmp, path) != 0) {
+        remove(tmp);
+        free(tmp);
+        return ras_error_set(err, "could not write '%s': renaming the finished file failed",
+                             path);
+    }
+    free(tmp);
+    return true;
+}
+
+ras_image *ras_image_load(const char *path, ras_error *err) {
+    char msg[512] = "";
+    int w = 0, h = 0;
+    uint8_t *rgb = cv_bridge_read_rgb8(path, &w, &h, msg, sizeof msg);
+    if (!rgb) {
+        ras_error_set(err, "%s", msg);
+        return NULL;
+    }
+    ras_image *img = ras_image_create(w, h, err);
+    if (img) {
+        size_t n = (size_t)w * (size_t)h;
+        for (size_t i = 0; i < n; i++)
+            img->pixels[i] = (vec3s){{rgb[3 * i] / 255.0f, rgb[3 * i + 1] / 255.0f,
+                                      rgb[3 * i + 2] / 255.0f}};
+    }
+    free(rgb);
+    return img;
+}

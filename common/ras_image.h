@@ -1,0 +1,57 @@
+/* ras_image.h — a float RGB image, and reading/writing it as PNG.
+ *
+ * Conventions (stated once, as stb does):
+ *   - pixels are vec3s RGB in [0, 1]; 8-bit only at file I/O (rounded, clamped);
+ *   - memory is row-major, row 0 is the TOP row of the picture, no padding:
+ *     pixel (col, row) is pixels[row * width + col];
+ *   - screen space has y growing upward, so screen pixel (x, y) lands in image
+ *     row height-1-y (see ras_framebuffer for that mapping);
+ *   - files are written to a temporary name and renamed, so a failed write
+ *     never leaves a half-written PNG behind.
+ * Ownership: ras_image_create/ras_image_load return a heap image the caller
+ * frees with ras_image_destroy (NULL is allowed and ignored).
+ */
+#ifndef RAS_IMAGE_H
+#define RAS_IMAGE_H
+
+#include "ras_error.h"
+#include "ras_math.h"
+
+#include <stdint.h> /* uint8_t */
+
+typedef struct ras_image {
+    int width, height;
+    vec3s *pixels; /* width * height, top row first */
+} ras_image;
+
+/* Largest side we accept: protects against absurd sizes from flags or files. */
+#define RAS_IMAGE_MAX_SIDE 16384
+
+/* A black image, or NULL (and err set) for a size outside 1..RAS_IMAGE_MAX_SIDE. */
+ras_image *ras_image_create(int width, int height, ras_error *err);
+void ras_image_destroy(ras_image *img);
+ras_image *ras_image_clone(const ras_image *img);
+
+static inline vec3s ras_image_get(const ras_image *img, int col, int row) {
+    return img->pixels[row * img->width + col];
+}
+static inline void ras_image_set(ras_image *img, int col, int row, vec3s c) {
+    img->pixels[row * img->width + col] = c;
+}
+
+void ras_image_fill(ras_image *img, vec3s c);
+
+/* 8-bit RGB, row-major top row first, 3 bytes per pixel; caller owns `rgb`
+ * (width*height*3 bytes). */
+void ras_image_to_rgb8(const ras_image *img, uint8_t *rgb);
+
+/* One channel value in [0,1] to a byte, rounding to nearest, clamping. */
+uint8_t ras_unit_to_byte(float v);
+
+/* Writes a PNG (any OpenCV-known extension works; .png is what we use). */
+bool ras_image_save(const ras_image *img, const char *path, ras_error *err);
+
+/* Reads any image OpenCV can read; returns NULL and sets err when it cannot. */
+ras_image *ras_image_load(const char *path, ras_error *err);
+
+#endif

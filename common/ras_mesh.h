@@ -1,0 +1,57 @@
+/* ras_mesh.h — triangle meshes: loaded through assimp, or built in.
+ *
+ * A mesh is an indexed triangle list. Every vertex has a position, a normal
+ * (unit length; generated when the file has none) and a texture coordinate
+ * (0,0 when the file has none; has_uv says which). Faces with more than three
+ * corners are triangulated on load. Built-in shapes need no file and carry
+ * UVs and normals, so every scene, test and reference image of the project
+ * works on a machine with no downloaded data.
+ *
+ * Ownership: ras_mesh_load / ras_mesh_create_* return a heap mesh that the
+ * caller frees with ras_mesh_destroy (NULL is allowed and ignored).
+ */
+#ifndef RAS_MESH_H
+#define RAS_MESH_H
+
+#include "ras_error.h"
+#include "ras_math.h"
+
+#include <stddef.h> /* size_t */
+
+typedef struct ras_mesh {
+    size_t vertex_count;
+    vec3s *positions; /* object space */
+    vec3s *normals;   /* object space, unit length */
+    vec2s *uvs;       /* [0,1] for the built-in shapes; files may go outside */
+    vec3s *colors;    /* per-vertex colour in [0,1]; white when the file has none */
+    size_t triangle_count;
+    unsigned *indices; /* 3 * triangle_count, counter-clockwise seen from outside */
+    bool has_uv;
+    bool has_normals_from_file;
+} ras_mesh;
+
+/* Loads any format assimp reads (OBJ, PLY, STL, glTF, ...), all meshes of the
+ * file merged into one. Returns NULL and sets err for a missing file, a file
+ * assimp cannot parse, out-of-range indices, or a file with no triangles. */
+ras_mesh *ras_mesh_load(const char *path, ras_error *err);
+
+/* An empty mesh with room for the given counts (zeroed); NULL on overflow/OOM. */
+ras_mesh *ras_mesh_create(size_t vertex_count, size_t triangle_count);
+void ras_mesh_destroy(ras_mesh *mesh);
+
+/* Built-in shapes, centred on the origin. */
+ras_mesh *ras_mesh_create_triangle(vec3s a, vec3s b, vec3s c, vec3s color);
+ras_mesh *ras_mesh_create_plane(float size, int divisions);   /* in the xz plane, normal +y, uv over [0,1]² */
+ras_mesh *ras_mesh_create_cube(float size);                   /* 24 vertices, flat normals, uv per face */
+ras_mesh *ras_mesh_create_uv_sphere(float radius, int stacks, int slices);
+ras_mesh *ras_mesh_create_torus(float major_radius, float minor_radius, int rings, int sides);
+ras_mesh *ras_mesh_create_teapot(int divisions);              /* Utah teapot from its 32 Bézier patches; fits in a unit-ish box */
+
+/* Axis-aligned bounds of the positions. */
+void ras_mesh_bounds(const ras_mesh *mesh, vec3s *lo, vec3s *hi);
+
+/* Model matrix that moves the mesh's bounding-box centre to the origin and
+ * scales its largest extent to `size` (what --fit uses). */
+mat4s ras_mesh_fit_matrix(const ras_mesh *mesh, float size);
+
+#endif

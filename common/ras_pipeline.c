@@ -1,0 +1,155 @@
+/* ras_pipeline.c — see ras_pipeline.h. */
+#include "ras_pipeline.h"
+
+#include "ras_draw.h"
+#include "stage2_clip.h"
+#include "stage3_setup.h"
+#include "stage6_resolve.h"
+
+#include <stdlib.h> /* calloc, realloc, free */
+
+ras_pipeline *ras_pipeline_create(const ras_pipeline_config *config, ras_error *err) {
+    ras_pipeline_config cfg = *config;
+    if (cfg.wireframe || cfg.aa == RAS_AA_NONE) cfg.pattern = ras_sample_pattern_center();
+    if (cfg.pattern.count < 1) {
+        ras_error_set(err, "the sample pattern is empty: build it with ras_sample_pattern_make");
+        return NULL;
+    }
+    if (!cfg.wireframe && !cfg.rasterize) {
+        ras_error_set(err, "no rasterizer hook: a filled pipeline needs config.rasterize");
+        return NULL;
+    }
+    if (cfg.pattern.count > 1 && !cfg.resolve) {
+        ras_error_set(err, "%d samples per pixel but no resolve hook: set config.resolve",
+                      cfg.pattern.count);
+        return NULL;
+    }
+    ras_pipeline *p = calloc(1, sizeof *p);
+    if (!p) {
+        ras_error_set(err, "out of memory creating the pipeline");
+        return NULL;
+    }
+    p->config = cfg;
+    p->fb = ras_framebuffer_create(cfg.width, cfg.height, cfg.pattern.count, err);
+    if (!p->fb) {
+        free(p);
+        return NULL;
+    }
+    p->raster = (ras_raster_ctx){.fb = p->fb,
+                                 .aa = cfg.aa,
+                                 .pattern = cfg.pattern,
+                                 .edges = cfg.edges,
+                                 .shade = cfg.shade,
+                                 .shade_user = cfg.shade_user,
+                                 .counters = &p->counters};
+    ras_pipeline_begin_frame(p);
+    return p;
+}
+
+void ras_pipeline_destroy(ras_pipeline *p) {
+    if (!p) return;
+    ras_framebuffer_destroy(p->fb);
+    free(p->clip_vertices);
+    free(p);
+}
+
+void ras_pipeline_begin_frame(ras_pipeline *p) {
+    ras_framebuffer_clear(p->fb, p->config.clear_color);
+    p->counters = (ras_counters){.buffer_bytes = p->fb->bytes};
+}
+
+static void draw_wire_polygon(ras_pipeline *p, const ras_clip_vertex *poly, int n) {
+    for (int i = 0; i < n; i++) {
+        vec4s a = ras_viewport(poly[i].p_clip, p->fb->width, p->fb->height);
+        vec4s b = ras_viewport(poly[(i + 1) % n].p_clip, p->fb->width, p->fb->height);
+        ras_draw_line(p->fb, (vec2s){{a.x, a.y}}, (vec2s){{b.x, b.y}}, p->config.wire_color);
+        p->counters.lines_drawn++;
+    }
+}
+
+static void raster_one(ras_pipeline *p, const ras_clip_vertex *a, const ras_clip_vertex *b,
+                       const ras_clip_vertex *c) {
+    ras_triangle t;
+    if (!ras_setup_triangle(a, b, c, p->fb->width, p->fb->height, &t)) {
+        p->counters.triangles_rejected_nonfinite++;
+        return;
+    }
+    float area2 = ras_triangle_area2(&t);
+    if ((p->config.cull == RAS_CULL_BACK && area2 < 0) ||
+        (p->config.cull == RAS_CULL_FRONT && area2 > 0)) {
+        p->counters.triangles_culled++;
+        return;
+    }
+    p->counters.triangles_rasterized++;
+    p->config.rasterize(&t, &p->raster);
+}
+
+void ras_pipeline_draw_clip_triangle(ras_pipeline *p, const ras_clip_vertex *a,
+                                     const ras_clip_vertex *b, const ras_clip_vertex *c) {
+    ras_counters *k = &p->counters;
+    k->triangles_in++;
+    k->stages_run |= RAS_STAGE_CLIP | RAS_STAGE_SETUP;
+    /* NaN positions would slip through every plane test (comparisons with NaN
+     * are false both ways), so reject them before clipping. */
+    if (!ras_vec4_finite(a->p_clip) || !ras_vec4_finite(b->p_clip) ||
+        !ras_vec4_finite(c->p_clip)) {
+        k->triangles_rejected_nonfinite++;
+        return;
+    }
+    ras_clip_vertex poly[RAS_CLIP_MAX_VERTICES];
+    int n = 0;
+    ras_clip_result r = ras_clip_triangle(a, b, c, poly, &n);
+    if (r == RAS_CLIP_OUTSIDE) {
+        k->triangles_clipped_away++;
+        return;
+    }
+    if (r == RAS_CLIP_SPLIT) k->triangles_clip_split++;
+    if (p->config.wireframe) {
+        k->stages_run |= RAS_STAGE_WIREFRAME;
+        draw_wire_polygon(p, poly, n);
+        return;
+    }
+    k->stages_run |= RAS_STAGE_RASTER;
+    if (p->config.shade) k->stages_run |= RAS_STAGE_FRAGMENT;
+    /* The clipped polygon is convex: a fan from its first corner covers it
+     * exactly, and the fan's inner edges are shared, so watertight coverage
+     * draws each sample once. */
+    for (int i = 1; i + 1 < n; i++) raster_one(p, &poly[0], &poly[i], &poly[i + 1]);
+}
+
+bool ras_pipeline_draw_mesh(ras_pipeline *p, const ras_mesh *mesh, mat4s model, mat4s view,
+                            mat4s projection, ras_error *err) {
+    if (mesh->vertex_count > p->clip_capacity) {
+        ras_clip_vertex *grown =
+            realloc(p->clip_vertices, mesh->vertex_count * sizeof *p->clip_vertices);
+        if (!grown)
+            return ras_error_set(err, "out of memory transforming %zu vertices",
+                                 mesh->vertex_count);
+        p->clip_vertices = grown;
+        p->clip_capacity = mesh->vertex_count;
+    }
+    double t0 = ras_now_ms();
+    ras_vertex_transform(mesh, model, view, projection, p->config.varyings, p->clip_vertices);
+    p->counters.stages_run |= RAS_STAGE_VERTEX;
+    p->counters.vertices_transformed += mesh->vertex_count;
+    double t1 = ras_now_ms();
+    for (size_t i = 0; i < mesh->triangle_count; i++) {
+        const unsigned *idx = &mesh->indices[3 * i];
+        ras_pipeline_draw_clip_triangle(p, &p->clip_vertices[idx[0]],
+                                        &p->clip_vertices[idx[1]], &p->clip_vertices[idx[2]]);
+    }
+    double t2 = ras_now_ms();
+    p->counters.ms_vertex += t1 - t0;
+    p->counters.ms_raster += t2 - t1;
+    p->counters.ms_total += t2 - t0;
+    return true;
+}
+
+void ras_pipeline_end_frame(ras_pipeline *p, ras_image *out) {
+    double t0 = ras_now_ms();
+    if (ras_resolve_frame(p->fb, p->config.resolve, out))
+        p->counters.stages_run |= RAS_STAGE_RESOLVE;
+    double dt = ras_now_ms() - t0;
+    p->counters.ms_resolve += dt;
+    p->counters.ms_total += dt;
+}

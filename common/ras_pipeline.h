@@ -1,0 +1,67 @@
+/* ras_pipeline.h — one frame through the stages, assembled from what the scene asks for.
+ *
+ *   mesh ─▶ stage1_vertex ─▶ stage2_clip ─▶ stage3_setup ─▶ (cull)
+ *        ─▶ stage4 rasterize hook (hw2) ─▶ stage5 shade hook (hw3)
+ *        ─▶ stage6_resolve (hw2 hook, only with AA) ─▶ ras_image
+ *
+ * The configuration decides what exists: sample buffers only with AA, the
+ * resolve hook only with more than one sample, varyings only those in the
+ * mask, no rasterizer at all for a wireframe. Counters record what ran.
+ * Ownership: ras_pipeline_create/ras_pipeline_destroy (NULL-safe).
+ */
+#ifndef RAS_PIPELINE_H
+#define RAS_PIPELINE_H
+
+#include "ras_counters.h"
+#include "ras_image.h"
+#include "ras_mesh.h"
+#include "stage1_vertex.h"
+#include "stage4_raster.h"
+
+typedef enum ras_cull_mode { RAS_CULL_NONE, RAS_CULL_BACK, RAS_CULL_FRONT } ras_cull_mode;
+
+typedef struct ras_pipeline_config {
+    int width, height;
+    vec3s clear_color;
+    bool wireframe; /* hw1: draw triangle edges as lines instead of filling */
+    vec3s wire_color;
+    ras_aa_mode aa;
+    ras_sample_pattern pattern; /* ignored for RAS_AA_NONE (one centre sample) */
+    ras_edge_mode edges;
+    ras_cull_mode cull; /* front faces are counter-clockwise on screen */
+    unsigned varyings;  /* RAS_VARYING_* the shader reads */
+    ras_rasterize_fn rasterize; /* required unless wireframe */
+    ras_resolve_fn resolve;     /* required when the pattern has > 1 sample */
+    ras_shade_fn shade;         /* NULL: interpolated vertex colour */
+    void *shade_user;
+} ras_pipeline_config;
+
+typedef struct ras_pipeline {
+    ras_pipeline_config config;
+    ras_framebuffer *fb;
+    ras_counters counters;
+    ras_raster_ctx raster; /* handed to the rasterize hook */
+    ras_clip_vertex *clip_vertices; /* scratch, grows to the largest mesh */
+    size_t clip_capacity;
+} ras_pipeline;
+
+/* Checks the configuration (hooks present, sizes, sample counts) and
+ * allocates exactly the buffers it needs. */
+ras_pipeline *ras_pipeline_create(const ras_pipeline_config *config, ras_error *err);
+void ras_pipeline_destroy(ras_pipeline *p);
+
+/* Clears the buffers to the clear colour and zeroes the counters. */
+void ras_pipeline_begin_frame(ras_pipeline *p);
+
+/* Runs stages 1–5 on every triangle of the mesh. False only on out of memory. */
+bool ras_pipeline_draw_mesh(ras_pipeline *p, const ras_mesh *mesh, mat4s model, mat4s view,
+                            mat4s projection, ras_error *err);
+
+/* Stages 3–5 for a triangle already in clip space (tests, benchmarks). */
+void ras_pipeline_draw_clip_triangle(ras_pipeline *p, const ras_clip_vertex *a,
+                                     const ras_clip_vertex *b, const ras_clip_vertex *c);
+
+/* Stage 6 into `out` (same size as the frame). */
+void ras_pipeline_end_frame(ras_pipeline *p, ras_image *out);
+
+#endif

@@ -1,0 +1,28 @@
+/* ras_triangle.h — one triangle as the rasterizer sees it (after stage 3).
+ *
+ * v[i] is in SCREEN space: x, y in pixels (y up, pixel centres at +0.5),
+ * z = depth in [0, 1] (0 = near plane, smaller is closer), and w = the vertex's
+ * clip-space w (> 0; the view-space distance along -z for a perspective
+ * camera). Keep w: perspective-correct interpolation needs 1/w (hw3).
+ * The other arrays are the per-vertex varyings, still un-divided.
+ */
+#ifndef RAS_TRIANGLE_H
+#define RAS_TRIANGLE_H
+
+#include "ras_math.h"
+
+typedef struct ras_triangle {
+    vec4s v[3];        /* screen x, y; depth z; clip w */
+    vec3s color[3];    /* [0, 1] */
+    vec3s normal[3];   /* view space, unit length at the vertices */
+    vec2s uv[3];       /* texture coordinates */
+    vec3s view_pos[3]; /* view-space position (for lighting) */
+} ras_triangle;
+
+/* Twice the signed area in screen space: > 0 when counter-clockwise (y up). */
+static inline float ras_triangle_area2(const ras_triangle *t) {
+    return (t->v[1].x - t->v[0].x) * (t->v[2].y - t->v[0].y) -
+           (t->v[2].x - t->v[0].x) * (t->v[1].y - t->v[0].y);
+}
+
+#endif

@@ -1,0 +1,35 @@
+/* stage2_clip.h — stage 2: clipping in homogeneous (clip) space, before the divide.
+ *
+ * Why before the divide: a vertex behind the eye has w < 0, and dividing by it
+ * flips the vertex to the other side of the screen (the inverted triangle
+ * across the screen); w = 0 gives Inf/NaN. Sutherland–Hodgman against:
+ *   w >= RAS_CLIP_W_EPSILON      (never divide by ~0 or a negative w)
+ *   -w <= z <= w                 (near and far planes)
+ *   |x| <= G w, |y| <= G w       (a guard band G = RAS_CLIP_GUARD times the
+ *                                 viewport: keeps screen coordinates inside
+ *                                 the fixed-point range; the rasterizer clamps
+ *                                 to the screen itself, so nothing visible is cut)
+ * Attributes are interpolated linearly in clip space, which is exact there.
+ */
+#ifndef STAGE2_CLIP_H
+#define STAGE2_CLIP_H
+
+#include "stage1_vertex.h"
+
+#define RAS_CLIP_W_EPSILON 1e-5f
+#define RAS_CLIP_GUARD 8.0f
+/* A triangle clipped by 7 planes has at most 3 + 7 corners. */
+#define RAS_CLIP_MAX_VERTICES 10
+
+typedef enum ras_clip_result {
+    RAS_CLIP_INSIDE,  /* untouched: out[0..2] is the input */
+    RAS_CLIP_SPLIT,   /* cut by at least one plane: a convex polygon */
+    RAS_CLIP_OUTSIDE, /* nothing left */
+} ras_clip_result;
+
+/* Clips one triangle; writes the convex polygon to out and its size to *count. */
+ras_clip_result ras_clip_triangle(const ras_clip_vertex *a, const ras_clip_vertex *b,
+                                  const ras_clip_vertex *c,
+                                  ras_clip_vertex out[RAS_CLIP_MAX_VERTICES], int *count);
+
+#endif

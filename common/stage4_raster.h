@@ -1,0 +1,55 @@
+/* stage4_raster.h — stage 4 of the pipeline: coverage, depth test, and the
+ * hand-off to the fragment stage. This header is the CONTRACT that hw2 fills:
+ * the pipeline calls a ras_rasterize_fn for every screen-space triangle and a
+ * ras_resolve_fn for every pixel at the end of the frame. The student
+ * (hw2_rasterize/rasterizer.c) and the reference (hw2_rasterize/solution/)
+ * implement the same functions; common/ holds no implementation of them.
+ *
+ * What a rasterizer must do for one triangle (see docs/hw2.md):
+ *   for each pixel of the triangle's bounding box, clamped to the screen:
+ *     for each sample s of ctx->pattern (pixel (x, y) samples at
+ *     (x + offsets[s].x, y + offsets[s].y)):
+ *       if the sample is covered and its interpolated depth is smaller than
+ *       fb->depth[sample index]: store the depth and the fragment's colour.
+ *   The colour comes from ctx->shade (once per pixel for MSAA and NONE, once
+ *   per sample for SSAA), or is the interpolated vertex colour when NULL.
+ */
+#ifndef STAGE4_RASTER_H
+#define STAGE4_RASTER_H
+
+#include "ras_counters.h"
+#include "ras_framebuffer.h"
+#include "ras_sample_pattern.h"
+#include "ras_triangle.h"
+#include "stage5_fragment.h"
+
+typedef enum ras_aa_mode {
+    RAS_AA_NONE, /* one sample at the pixel centre */
+    RAS_AA_MSAA, /* coverage and depth per sample, shading once per pixel */
+    RAS_AA_SSAA, /* everything per sample */
+} ras_aa_mode;
+
+/* How the reference evaluates edge functions (an accuracy option; students
+ * write floats). FIXED: 8 sub-pixel bits, int64, top-left rule — watertight.
+ * FLOAT: plain float edge functions with a >= 0 test — cracks and double hits
+ * on shared edges, kept to measure the difference. */
+typedef enum ras_edge_mode { RAS_EDGES_FIXED, RAS_EDGES_FLOAT } ras_edge_mode;
+
+typedef struct ras_raster_ctx {
+    ras_framebuffer *fb;
+    ras_aa_mode aa;
+    ras_sample_pattern pattern; /* pattern.count == fb->samples */
+    ras_edge_mode edges;
+    ras_shade_fn shade; /* NULL: interpolated vertex colour */
+    void *shade_user;
+    ras_counters *counters; /* may be NULL */
+} ras_raster_ctx;
+
+typedef void (*ras_rasterize_fn)(const ras_triangle *t, const ras_raster_ctx *ctx);
+
+/* The final colour of screen pixel (x, y) from its samples. */
+typedef vec3s (*ras_resolve_fn)(const ras_framebuffer *fb, int x, int y);
+
+const char *ras_aa_mode_name(ras_aa_mode aa);
+
+#endif

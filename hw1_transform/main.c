@@ -1,0 +1,134 @@
+/* main.c — hw1_transform: a triangle, rotated and projected, as a wireframe.
+ *
+ * Built twice from this file: hw1_transform (your transform.c) and
+ * hw1_transform_ref (solution/transform.c). The frame loop is the pipeline:
+ * model (get_model_matrix or get_rotation) · view · projection → clip →
+ * divide → viewport → lines.
+ *
+ *   hw1_transform                  window: a/d rotate by ±10°, Esc quits
+ *   hw1_transform -r 20 -o out.png render once, headless
+ *   hw1_transform -r 20 out.png    the classic positional form
+ *   hw1_transform --axis 0,1,0 -r 30 -o out.png   bonus: rotation about any axis
+ */
+#include "ras_cli.h"
+#include "ras_pipeline.h"
+#include "ras_window.h"
+#include "transform.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+
+#define ACCEPTED (RAS_OPT_ANGLE | RAS_OPT_STATS)
+
+/* The classic hw1 scene. */
+static const vec3s eye = {{0, 0, 5}};
+static const float fov_deg = 45, z_near = 0.1f, z_far = 50;
+
+typedef struct app {
+    ras_cli cli;
+    ras_mesh *triangle;
+    ras_pipeline *pipeline;
+    ras_image *image;
+} app;
+
+static mat4s model_matrix(const app *a, float angle) {
+    return a->cli.axis_set ? get_rotation(a->cli.axis, angle) : get_model_matrix(angle);
+}
+
+static bool render(app *a, float angle, ras_error *err) {
+    ras_pipeline_begin_frame(a->pipeline);
+    mat4s projection =
+        get_projection_matrix(fov_deg, (float)a->image->width / (float)a->image->height, z_near,
+                              z_far);
+    if (!ras_pipeline_draw_mesh(a->pipeline, a->triangle, model_matrix(a, angle),
+                                ras_view_matrix_eye(eye), projection, err))
+        return false;
+    ras_pipeline_end_frame(a->pipeline, a->image);
+    return true;
+}
+
+static int run_window(app *a, float angle) {
+    ras_error err;
+    const char *title = "hw1_transform";
+    for (;;) {
+        if (!render(a, angle, &err)) break;
+        char status[128];
+        snprintf(status, sizeof status, "angle %.0f deg   a/d: rotate   Esc: quit", angle);
+        if (!ras_window_show(title, a->image, status, &err)) break;
+        int key = ras_window_wait_key(title, 0);
+        if (key == RAS_KEY_ESC || key == 'q' || key == -2) {
+            ras_window_close(title);
+            return 0;
+        }
+        if (key == 'a') angle += 10;
+        if (key == 'd') angle -= 10;
+    }
+    fprintf(stderr, "hw1_transform: %s\n", err.msg);
+    return 1;
+}
+
+int main(int argc, char **argv) {
+    app a = {0};
+    ras_error err = {{0}};
+    switch (ras_cli_parse(argc, argv, ACCEPTED, &a.cli, &err)) {
+    case RAS_CLI_HELP: {
+        char help[4096];
+        ras_cli_help(ACCEPTED, "hw1_transform",
+                     "Draws the hw1 triangle as a wireframe. With -o it renders once and "
+                     "writes a PNG;\nwithout it, a window opens (a/d rotate by 10 degrees, "
+                     "Esc quits).\nClassic form: hw1_transform -r ANGLE FILE.png\n",
+                     help, sizeof help);
+        fputs(help, stdout);
+        return 0;
+    }
+    case RAS_CLI_VERSION: printf("hw1_transform (Raster101) %s\n", RAS_VERSION); return 0;
+    case RAS_CLI_ERROR: fprintf(stderr, "hw1_transform: %s\n", err.msg); return 2;
+    case RAS_CLI_RUN: break;
+    }
+    /* The classic positional form: `-r ANGLE FILE.png`. */
+    if (!a.cli.output && a.cli.positional_count == 1) a.cli.output = a.cli.positional[0];
+    else if (a.cli.positional_count > 0) {
+        fprintf(stderr,
+                "hw1_transform: unexpected argument '%s'; expected at most one output file "
+                "(e.g. hw1_transform -r 20 out.png)\n",
+                a.cli.positional[a.cli.positional_count - 1]);
+        return 2;
+    }
+    if (!a.cli.output && !ras_window_available()) {
+        fprintf(stderr, "hw1_transform: no display to open a window on (DISPLAY is not set); "
+                        "render to a file instead, e.g. hw1_transform -r 20 -o out.png\n");
+        return 2;
+    }
+    int width = a.cli.width ? a.cli.width : 700, height = a.cli.height ? a.cli.height : 700;
+    a.triangle = ras_mesh_create_triangle((vec3s){{2, 0, -2}}, (vec3s){{0, 2, -2}},
+                                          (vec3s){{-2, 0, -2}}, (vec3s){{1, 1, 1}});
+    ras_pipeline_config cfg = {.width = width,
+                               .height = height,
+                               .wireframe = true,
+                               .wire_color = {{1, 1, 1}}};
+    a.pipeline = ras_pipeline_create(&cfg, &err);
+    a.image = a.pipeline ? ras_image_create(width, height, &err) : NULL;
+    int status = 0;
+    if (!a.triangle || !a.pipeline || !a.image) {
+        fprintf(stderr, "hw1_transform: %s\n", a.triangle ? err.msg : "out of memory");
+        status = 1;
+    } else if (a.cli.output) {
+        if (!render(&a, a.cli.angle, &err) || !ras_image_save(a.image, a.cli.output, &err)) {
+            fprintf(stderr, "hw1_transform: %s\n", err.msg);
+            status = 1;
+        } else {
+            if (a.cli.stats) {
+                char json[2048];
+                ras_counters_format_json(&a.pipeline->counters, json, sizeof json);
+                puts(json);
+            }
+            fprintf(stderr, "wrote %s\n", a.cli.output);
+        }
+    } else {
+        status = run_window(&a, a.cli.angle);
+    }
+    ras_image_destroy(a.image);
+    ras_pipeline_destroy(a.pipeline);
+    ras_mesh_destroy(a.triangle);
+    return status;
+}
