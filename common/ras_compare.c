@@ -1,0 +1,479 @@
+/* ras_compare.c — see ras_compare.h. */
+#include "ras_compare.h"
+
+#include <assert.h> /* assert */
+#include <math.h>   /* INFINITY, log10, sqrt, exp, floor, isinf */
+#include <stdint.h> /* uint8_t */
+#include <stdio.h>  /* snprintf */
+#include <stdlib.h> /* malloc, free */
+#include <string.h> /* strcmp, memset */
+
+/* ---- names -------------------------------------------------------------- */
+
+const char *ras_compare_kind_name(ras_compare_kind kind) {
+    switch (kind) {
+    case RAS_COMPARE_EXACT: return "exact";
+    case RAS_COMPARE_EDGE_TOLERANT: return "edge";
+    case RAS_COMPARE_PSNR: return "psnr";
+    case RAS_COMPARE_SSIM: return "ssim";
+    }
+    return "unknown";
+}
+
+bool ras_compare_kind_parse(const char *name, ras_compare_kind *kind, ras_error *err) {
+    assert(name && kind);
+    static const struct {
+        const char *name;
+        ras_compare_kind kind;
+    } names[] = {
+        {"exact", RAS_COMPARE_EXACT},
+        {"edge", RAS_COMPARE_EDGE_TOLERANT},
+        {"edge_tolerant", RAS_COMPARE_EDGE_TOLERANT},
+        {"psnr", RAS_COMPARE_PSNR},
+        {"ssim", RAS_COMPARE_SSIM},
+    };
+    for (size_t i = 0; i < sizeof names / sizeof names[0]; i++) {
+        if (strcmp(name, names[i].name) == 0) {
+            *kind = names[i].kind;
+            return true;
+        }
+    }
+    return ras_error_set(err,
+                         "unknown comparison '%s': expected one of exact, edge, psnr, ssim",
+                         name);
+}
+
+ras_compare_options ras_compare_defaults(ras_compare_kind kind) {
+    ras_compare_options o = {
+        .kind = kind,
+        .tolerance = 8,
+        .max_bad_fraction = 1.0,
+        .min_psnr_db = -INFINITY,
+        .min_ssim = -INFINITY,
+    };
+    switch (kind) {
+    case RAS_COMPARE_EXACT:
+        o.tolerance = 0;
+        o.max_bad_fraction = 0.0;
+        break;
+    case RAS_COMPARE_EDGE_TOLERANT: o.max_bad_fraction = 0.0005; break;
+    case RAS_COMPARE_PSNR: o.min_psnr_db = 35.0; break;
+    case RAS_COMPARE_SSIM: o.min_ssim = 0.98; break;
+    }
+    return o;
+}
+
+/* ---- 8-bit working copies ------------------------------------------------ */
+
+/* Both images as 8-bit RGB plus the per-pixel difference map: everything the
+ * metrics and pictures need, computed once per call. */
+typedef struct quantised {
+    int width, height;
+    uint8_t *expected, *got; /* 3 bytes per pixel */
+    uint8_t *diff;           /* 1 byte per pixel, 8-bit levels */
+} quantised;
+
+static void quantised_free(quantised *q) {
+    free(q->expected);
+    free(q->got);
+    free(q->diff);
+}
+
+static int rgb_distance(const uint8_t *a, const uint8_t *b) {
+    int d = 0;
+    for (int c = 0; c < 3; c++) {
+        int dc = a[c] > b[c] ? a[c] - b[c] : b[c] - a[c];
+        if (dc > d) d = dc;
+    }
+    return d;
+}
+
+/* min over the clipped 3x3 neighbourhood of (col,row) in `other` of the
+ * distance to `px`. */
+static int neighbourhood_min(const uint8_t *px, const uint8_t *other, int w, int h, int col,
+                             int row) {
+    int best = 255;
+    for (int r = row - 1; r <= row + 1; r++) {
+        if (r < 0 || r >= h) continue;
+        for (int c = col - 1; c <= col + 1; c++) {
+            if (c < 0 || c >= w) continue;
+            int d = rgb_distance(px, other + 3 * ((size_t)r * w + c));
+            if (d < best) best = d;
+            if (best == 0) return 0;
+        }
+    }
+    return best;
+}
+
+static void diff_map(quantised *q, ras_compare_kind kind) {
+    int w = q->width, h = q->height;
+    for (int row = 0; row < h; row++) {
+        for (int col = 0; col < w; col++) {
+            size_t i = (size_t)row * w + col;
+            const uint8_t *e = q->expected + 3 * i, *g = q->got + 3 * i;
+            int d = rgb_distance(e, g);
+            if (kind == RAS_COMPARE_EDGE_TOLERANT && d > 0) {
+                int got_vs_expected = neighbourhood_min(g, q->expected, w, h, col, row);
+                int expected_vs_got = neighbourhood_min(e, q->got, w, h, col, row);
+                d = got_vs_expected > expected_vs_got ? got_vs_expected : expected_vs_got;
+            }
+            q->diff[i] = (uint8_t)d;
+        }
+    }
+}
+
+static bool sizes_match(const ras_image *expected, const ras_image *got, ras_error *err) {
+    if (expected->width == got->width && expected->height == got->height) return true;
+    return ras_error_set(err,
+                         "expected %dx%d (the reference), got %dx%d (the image under test): "
+                         "render at the reference's size before comparing",
+                         expected->width, expected->height, got->width, got->height);
+}
+
+static bool quantise(const ras_image *expected, const ras_image *got, ras_compare_kind kind,
+                     quantised *q, ras_error *err) {
+    memset(q, 0, sizeof *q);
+    if (!sizes_match(expected, got, err)) return false;
+    q->width = expected->width;
+    q->height = expected->height;
+    size_t n = (size_t)q->width * (size_t)q->height;
+    q->expected = malloc(3 * n);
+    q->got = malloc(3 * n);
+    q->diff = malloc(n);
+    if (!q->expected || !q->got || !q->diff) {
+        quantised_free(q);
+        return ras_error_set(err, "out of memory comparing two %dx%d images", expected->width,
+                             expected->height);
+    }
+    ras_image_to_rgb8(expected, q->expected);
+    ras_image_to_rgb8(got, q->got);
+    diff_map(q, kind);
+    return true;
+}
+
+/* ---- PSNR and SSIM ----------------------------------------------------- */
+
+static double psnr_db(const quantised *q) {
+    size_t n = 3 * (size_t)q->width * (size_t)q->height;
+    /* Integer sum: exact, so identical images give exactly 0 and INFINITY. */
+    unsigned long long sq = 0;
+    for (size_t i = 0; i < n; i++) {
+        int d = (int)q->expected[i] - (int)q->got[i];
+        sq += (unsigned long long)(d * d);
+    }
+    if (sq == 0) return INFINITY;
+    double mse = (double)sq / (double)n;
+    return 10.0 * log10(255.0 * 255.0 / mse);
+}
+
+#define SSIM_RADIUS 5 /* 11x11 window */
+#define SSIM_SIGMA 1.5
+
+/* Horizontal pass of the separable Gaussian for one image row: the five
+ * local moments SSIM needs, each normalised by the weights that fell inside
+ * the image (clipping a separable window keeps it separable). */
+static void ssim_row_moments(const double *x, const double *y, int w, const double *g,
+                             double *mx, double *my, double *mxx, double *myy, double *mxy) {
+    for (int col = 0; col < w; col++) {
+        double sw = 0, sx = 0, sy = 0, sxx = 0, syy = 0, sxy = 0;
+        for (int k = -SSIM_RADIUS; k <= SSIM_RADIUS; k++) {
+            int c = col + k;
+            if (c < 0 || c >= w) continue;
+            double wk = g[k + SSIM_RADIUS];
+            sw += wk;
+            sx += wk * x[c];
+            sy += wk * y[c];
+            sxx += wk * x[c] * x[c];
+            syy += wk * y[c] * y[c];
+            sxy += wk * x[c] * y[c];
+        }
+        mx[col] = sx / sw;
+        my[col] = sy / sw;
+        mxx[col] = sxx / sw;
+        myy[col] = syy / sw;
+        mxy[col] = sxy / sw;
+    }
+}
+
+static bool mean_ssim(const quantised *q, double *out) {
+    int w = q->width, h = q->height;
+    size_t n = (size_t)w * (size_t)h;
+    /* Luma of both images, then the five horizontally smoothed moments; the
+     * moments must stay consecutive (MX..MXY) for the vertical pass's loop. */
+    enum { X, Y, MX, MY, MXX, MYY, MXY, MAPS };
+    double *buf = malloc(MAPS * n * sizeof *buf);
+    if (!buf) return false;
+    double *map[MAPS];
+    for (int m = 0; m < MAPS; m++) map[m] = buf + (size_t)m * n;
+
+    for (size_t i = 0; i < n; i++) {
+        const uint8_t *e = q->expected + 3 * i, *g = q->got + 3 * i;
+        map[X][i] = 0.299 * e[0] + 0.587 * e[1] + 0.114 * e[2];
+        map[Y][i] = 0.299 * g[0] + 0.587 * g[1] + 0.114 * g[2];
+    }
+    double gauss[2 * SSIM_RADIUS + 1];
+    for (int k = -SSIM_RADIUS; k <= SSIM_RADIUS; k++)
+        gauss[k + SSIM_RADIUS] = exp(-(double)(k * k) / (2.0 * SSIM_SIGMA * SSIM_SIGMA));
+
+    for (int row = 0; row < h; row++) {
+        size_t o = (size_t)row * w;
+        ssim_row_moments(map[X] + o, map[Y] + o, w, gauss, map[MX] + o, map[MY] + o,
+                         map[MXX] + o, map[MYY] + o, map[MXY] + o);
+    }
+
+    const double c1 = (0.01 * 255.0) * (0.01 * 255.0);
+    const double c2 = (0.03 * 255.0) * (0.03 * 255.0);
+    double sum = 0.0;
+    for (int row = 0; row < h; row++) {
+        for (int col = 0; col < w; col++) {
+            double sw = 0, m[5] = {0, 0, 0, 0, 0};
+            for (int k = -SSIM_RADIUS; k <= SSIM_RADIUS; k++) {
+                int r = row + k;
+                if (r < 0 || r >= h) continue;
+                double wk = gauss[k + SSIM_RADIUS];
+                size_t i = (size_t)r * w + col;
+                sw += wk;
+                for (int j = 0; j < 5; j++) m[j] += wk * map[MX + j][i];
+            }
+            double mx = m[0] / sw, my = m[1] / sw;
+            /* The same expression for both variances and the covariance, so
+             * an image against itself gives exactly 1 and swapping the
+             * images gives exactly the same value. */
+            double vx = m[2] / sw - mx * mx, vy = m[3] / sw - my * my;
+            double cxy = m[4] / sw - mx * my;
+            sum += ((2.0 * mx * my + c1) * (2.0 * cxy + c2)) /
+                   ((mx * mx + my * my + c1) * (vx + vy + c2));
+        }
+    }
+    free(buf);
+    *out = sum / (double)n;
+    return true;
+}
+
+/* ---- the comparison ------------------------------------------------------ */
+
+static void summarise(ras_compare_result *r, const ras_compare_options *o, long allowed) {
+    char *s = r->summary;
+    size_t size = sizeof r->summary, len = 0;
+#define APPEND(...)                                                                    \
+    do {                                                                               \
+        if (len < size) {                                                              \
+            int k = snprintf(s + len, size - len, __VA_ARGS__);                        \
+            if (k > 0) len += (size_t)k;                                               \
+        }                                                                              \
+    } while (0)
+
+    APPEND("%s %s: ", ras_compare_kind_name(o->kind), r->pass ? "pass" : "FAIL");
+    if (o->min_psnr_db > -INFINITY) {
+        if (isinf(r->psnr_db))
+            APPEND("PSNR inf dB (identical at 8 bits); ");
+        else
+            APPEND("PSNR %.1f dB %s %.1f dB required; ", r->psnr_db,
+                   r->psnr_db >= o->min_psnr_db ? ">=" : "<", o->min_psnr_db);
+    }
+    if (o->min_ssim > -INFINITY)
+        APPEND("SSIM %.4f %s %.4f required; ", r->ssim, r->ssim >= o->min_ssim ? ">=" : "<",
+               o->min_ssim);
+
+    if (o->tolerance > 0)
+        APPEND("%ld pixels (%.3g%%) differ by more than %d/255", r->bad_pixels,
+               100.0 * r->bad_fraction, o->tolerance);
+    else
+        APPEND("%ld pixels (%.3g%%) differ", r->bad_pixels, 100.0 * r->bad_fraction);
+    if (o->kind == RAS_COMPARE_EDGE_TOLERANT) APPEND(" even allowing a 1-pixel shift");
+    if (o->max_bad_fraction < 1.0) APPEND(" (at most %ld allowed)", allowed);
+    if (r->max_diff > 0)
+        APPEND(", worst at (%d,%d) by %d/255", r->worst_col, r->worst_row, r->max_diff);
+#undef APPEND
+}
+
+bool ras_compare_images(const ras_image *expected, const ras_image *got,
+                        const ras_compare_options *opt, ras_compare_result *out,
+                        ras_error *err) {
+    assert(expected && got && opt && out);
+    assert(opt->tolerance >= 0 && opt->tolerance <= 255);
+    memset(out, 0, sizeof *out);
+    out->kind = opt->kind;
+    out->worst_col = out->worst_row = -1;
+
+    quantised q;
+    if (!quantise(expected, got, opt->kind, &q, err)) return false;
+    size_t n = (size_t)q.width * (size_t)q.height;
+    out->width = q.width;
+    out->height = q.height;
+
+    for (size_t i = 0; i < n; i++) {
+        int d = q.diff[i];
+        if (d > opt->tolerance) out->bad_pixels++;
+        if (d > out->max_diff) {
+            out->max_diff = d;
+            out->worst_col = (int)(i % (size_t)q.width);
+            out->worst_row = (int)(i / (size_t)q.width);
+        }
+    }
+    out->bad_fraction = (double)out->bad_pixels / (double)n;
+    out->psnr_db = psnr_db(&q);
+    bool ok = mean_ssim(&q, &out->ssim);
+    quantised_free(&q);
+    if (!ok) {
+        memset(out, 0, sizeof *out);
+        out->kind = opt->kind;
+        out->worst_col = out->worst_row = -1;
+        return ras_error_set(err, "out of memory computing SSIM of two %dx%d images",
+                             expected->width, expected->height);
+    }
+
+    switch (opt->kind) {
+    case RAS_COMPARE_EXACT:
+    case RAS_COMPARE_EDGE_TOLERANT: out->value = out->bad_fraction; break;
+    case RAS_COMPARE_PSNR: out->value = out->psnr_db; break;
+    case RAS_COMPARE_SSIM: out->value = out->ssim; break;
+    }
+
+    long allowed = (long)floor(opt->max_bad_fraction * (double)n);
+    /* INFINITY >= any threshold, so identical images pass PSNR by itself. */
+    out->pass = out->bad_pixels <= allowed && out->psnr_db >= opt->min_psnr_db &&
+                out->ssim >= opt->min_ssim;
+    summarise(out, opt, allowed);
+    return true;
+}
+
+/* ---- pictures ------------------------------------------------------------ */
+
+static vec3s heat_color(int diff) {
+    if (diff <= 0) return (vec3s){{0.0f, 0.0f, 0.0f}};
+    static const float stops[4][3] = {
+        {0.0f, 0.0f, 0.55f}, /* dark blue: still clearly not black at 8 bits */
+        {0.0f, 0.8f, 1.0f},  /* cyan */
+        {1.0f, 1.0f, 0.0f},  /* yellow */
+        {1.0f, 0.0f, 0.0f},  /* red */
+    };
+    float t = sqrtf((float)diff / 255.0f) * 3.0f;
+    int i = t >= 3.0f ? 2 : (int)t;
+    float f = t - (float)i;
+    vec3s c;
+    for (int k = 0; k < 3; k++) c.raw[k] = stops[i][k] + f * (stops[i + 1][k] - stops[i][k]);
+    return c;
+}
+
+ras_image *ras_compare_heatmap(const ras_image *expected, const ras_image *got,
+                               ras_compare_kind kind, ras_error *err) {
+    assert(expected && got);
+    quantised q;
+    if (!quantise(expected, got, kind, &q, err)) return NULL;
+    ras_image *img = ras_image_create(q.width, q.height, err);
+    if (img) {
+        size_t n = (size_t)q.width * (size_t)q.height;
+        for (size_t i = 0; i < n; i++) img->pixels[i] = heat_color(q.diff[i]);
+    }
+    quantised_free(&q);
+    return img;
+}
+
+static int clamp_int(int v, int lo, int hi) { return v < lo ? lo : v > hi ? hi : v; }
+
+static vec3s byte_color(const uint8_t *p) {
+    return (vec3s){{p[0] / 255.0f, p[1] / 255.0f, p[2] / 255.0f}};
+}
+
+ras_image *ras_compare_crop(const ras_image *expected, const ras_image *got,
+                            ras_compare_kind kind, int col, int row, ras_error *err) {
+    assert(expected && got);
+    quantised q;
+    if (!quantise(expected, got, kind, &q, err)) return NULL;
+    ras_image *img = ras_image_create(RAS_COMPARE_CROP_WIDTH, RAS_COMPARE_CROP_HEIGHT, err);
+    if (!img) {
+        quantised_free(&q);
+        return NULL;
+    }
+    ras_image_fill(img, (vec3s){{0.5f, 0.5f, 0.5f}}); /* the gaps */
+
+    const int side = RAS_COMPARE_CROP_SIDE, zoom = RAS_COMPARE_CROP_ZOOM;
+    const int panel = side * zoom + RAS_COMPARE_CROP_GAP;
+    col = clamp_int(col, 0, q.width - 1);
+    row = clamp_int(row, 0, q.height - 1);
+    /* Keep the window inside the image when it fits, so no panel area is
+     * wasted at the border. */
+    int c0 = clamp_int(col - side / 2, 0, q.width > side ? q.width - side : 0);
+    int r0 = clamp_int(row - side / 2, 0, q.height > side ? q.height - side : 0);
+
+    for (int wr = 0; wr < side; wr++) {
+        for (int wc = 0; wc < side; wc++) {
+            int c = c0 + wc, r = r0 + wr;
+            vec3s px[3];
+            if (c < q.width && r < q.height) {
+                size_t i = (size_t)r * q.width + c;
+                px[0] = byte_color(q.expected + 3 * i);
+                px[1] = byte_color(q.got + 3 * i);
+                px[2] = heat_color(q.diff[i]);
+            } else {
+                float v = ((wc + wr) & 1) ? 0.3f : 0.2f;
+                px[0] = px[1] = px[2] = (vec3s){{v, v, v}};
+            }
+            for (int p = 0; p < 3; p++)
+                for (int y = 0; y < zoom; y++)
+                    for (int x = 0; x < zoom; x++)
+                        ras_image_set(img, p * panel + wc * zoom + x, wr * zoom + y, px[p]);
+        }
+    }
+
+    /* Outline the pixel of interest on the heatmap panel only, so the
+     * expected and got panels show the true colours. */
+    const vec3s white = {{1.0f, 1.0f, 1.0f}};
+    int x0 = 2 * panel + (col - c0) * zoom, y0 = (row - r0) * zoom;
+    for (int k = 0; k < zoom; k++) {
+        ras_image_set(img, x0 + k, y0, white);
+        ras_image_set(img, x0 + k, y0 + zoom - 1, white);
+        ras_image_set(img, x0, y0 + k, white);
+        ras_image_set(img, x0 + zoom - 1, y0 + k, white);
+    }
+    quantised_free(&q);
+    return img;
+}
+
+/* ---- coverage as text ---------------------------------------------------- */
+
+static bool covered(vec3s px, const uint8_t bg[3]) {
+    return ras_unit_to_byte(px.x) != bg[0] || ras_unit_to_byte(px.y) != bg[1] ||
+           ras_unit_to_byte(px.z) != bg[2];
+}
+
+bool ras_compare_ascii_mask(const ras_image *expected, const ras_image *got,
+                            vec3s background, int col, int row, int radius, char *buf,
+                            size_t size, ras_error *err) {
+    assert(expected && got && buf && radius >= 0);
+    if (size > 0) buf[0] = '\0';
+    if (!sizes_match(expected, got, err)) return false;
+
+    int c0 = clamp_int(col - radius, 0, expected->width);
+    int c1 = clamp_int(col + radius, -1, expected->width - 1);
+    int r0 = clamp_int(row - radius, 0, expected->height);
+    int r1 = clamp_int(row + radius, -1, expected->height - 1);
+    size_t cols = c1 >= c0 ? (size_t)(c1 - c0 + 1) : 0;
+    size_t rows = r1 >= r0 ? (size_t)(r1 - r0 + 1) : 0;
+    size_t need = cols > 0 ? rows * (cols + 1) + 1 : 1;
+    if (need > size)
+        return ras_error_set(err,
+                             "the coverage window of %zux%zu pixels needs %zu bytes of text, "
+                             "got a buffer of %zu",
+                             cols, rows, need, size);
+
+    const uint8_t bg[3] = {ras_unit_to_byte(background.x), ras_unit_to_byte(background.y),
+                           ras_unit_to_byte(background.z)};
+    static const char symbol[2][2] = {
+        /* [in expected][in got] */
+        {'.', '+'},
+        {'-', '#'},
+    };
+    size_t len = 0;
+    for (int r = r0; cols > 0 && r <= r1; r++) {
+        for (int c = c0; c <= c1; c++) {
+            bool in_expected = covered(ras_image_get(expected, c, r), bg);
+            bool in_got = covered(ras_image_get(got, c, r), bg);
+            buf[len++] = symbol[in_expected][in_got];
+        }
+        buf[len++] = '\n';
+    }
+    buf[len] = '\0';
+    return true;
+}
