@@ -1,0 +1,374 @@
+/* main.c — hw2_rasterize: the classic two triangles, filled, depth-tested and
+ * anti-aliased by your rasterizer.
+ *
+ * Built twice from this file: hw2_rasterize (your rasterizer.c, and your hw1
+ * matrices) and hw2_rasterize_ref (the reference solutions). The frame loop is
+ * the pipeline: model (identity) · view · projection → clip → divide →
+ * viewport → rasterize_triangle (coverage, depth) → resolve_pixel → image.
+ *
+ *   hw2_rasterize                          window: m AA mode, s samples,
+ *                                          p pattern, e edges; the pixel under
+ *                                          the mouse is magnified with its samples
+ *   hw2_rasterize -o out.png               render once, headless
+ *   hw2_rasterize --aa msaa --samples 4 -o out.png
+ *   hw2_rasterize --aa msaa --compare      compare with tests/reference/hw2_msaa4.png
+ *   hw2_rasterize --stats -o out.png       what each stage did, as JSON on stdout
+ */
+#include "ras_cli.h"
+#include "ras_compare.h"
+#include "ras_pipeline.h"
+#include "ras_window.h"
+#include "rasterizer.h"
+#include "transform.h"
+
+#include <math.h>   /* isinf */
+#include <stdio.h>  /* printf, fprintf, snprintf */
+#include <string.h> /* strrchr, strlen */
+
+#define ACCEPTED (RAS_OPT_AA | RAS_OPT_COMPARE | RAS_OPT_STATS)
+#define PROGRAM "hw2_rasterize"
+
+#ifndef RAS_SOURCE_DIR
+#define RAS_SOURCE_DIR "."
+#endif
+
+/* The classic hw2 scene (GAMES101 assignment 2). */
+static const vec3s eye = {{0, 0, 5}};
+static const float fov_deg = 45, z_near = 0.1f, z_far = 50;
+static const vec3s tri_pos[2][3] = {{{{2, 0, -2}}, {{0, 2, -2}}, {{-2, 0, -2}}},
+                                    {{{3.5f, -1, -5}}, {{2.5f, 1.5f, -5}}, {{-1, 0.5f, -5}}}};
+static const vec3s tri_color[2] = {{{217 / 255.0f, 238 / 255.0f, 185 / 255.0f}},
+                                   {{185 / 255.0f, 217 / 255.0f, 238 / 255.0f}}};
+
+/* What the keys change. */
+typedef struct settings {
+    ras_aa_mode aa;
+    int samples; /* used when aa != NONE */
+    ras_pattern_kind pattern;
+    ras_edge_mode edges;
+} settings;
+
+typedef struct app {
+    settings set;
+    int width, height;
+    ras_mesh *tri[2];
+    ras_pipeline *pipeline;
+    ras_image *image;
+} app;
+
+static bool make_pipeline(app *a, ras_error *err) {
+    ras_pipeline_config cfg = {.width = a->width,
+                               .height = a->height,
+                               .aa = a->set.aa,
+                               .edges = a->set.edges,
+                               .varyings = RAS_VARYING_COLOR,
+                               .rasterize = rasterize_triangle,
+                               .resolve = resolve_pixel};
+    cfg.pattern = ras_sample_pattern_center();
+    if (a->set.aa != RAS_AA_NONE &&
+        !ras_sample_pattern_make(a->set.pattern, a->set.samples, &cfg.pattern, err))
+        return false;
+    ras_pipeline *p = ras_pipeline_create(&cfg, err);
+    if (!p) return false;
+    ras_pipeline_destroy(a->pipeline);
+    a->pipeline = p;
+    return true;
+}
+
+static bool render(app *a, ras_error *err) {
+    ras_pipeline_begin_frame(a->pipeline);
+    mat4s model = glms_mat4_identity();
+    mat4s view = ras_view_matrix_eye(eye);
+    mat4s projection =
+        get_projection_matrix(fov_deg, (float)a->width / (float)a->height, z_near, z_far);
+    for (int i = 0; i < 2; i++)
+        if (!ras_pipeline_draw_mesh(a->pipeline, a->tri[i], model, view, projection, err))
+            return false;
+    ras_pipeline_end_frame(a->pipeline, a->image);
+    return true;
+}
+
+/* "1x", "msaa4", "ssaa16_standard", "1x_float": names the reference image. */
+static void variant_name(const settings *s, char *buf, size_t size) {
+    int n = s->aa == RAS_AA_NONE
+                ? snprintf(buf, size, "1x")
+                : snprintf(buf, size, "%s%d%s", ras_aa_mode_name(s->aa), s->samples,
+                           s->pattern == RAS_PATTERN_STANDARD ? "_standard" : "");
+    if (s->edges == RAS_EDGES_FLOAT && n > 0 && (size_t)n < size)
+        snprintf(buf + n, size - (size_t)n, "_float");
+}
+
+/* out/x.png → out/x_diff.png; no output → hw2_<variant>_diff.png. */
+static void sibling_path(const char *output, const char *variant, const char *suffix,
+                         char *buf, size_t size) {
+    if (!output) {
+        snprintf(buf, size, "hw2_%s_%s.png", variant, suffix);
+        return;
+    }
+    const char *dot = strrchr(output, '.'), *slash = strrchr(output, '/');
+    int stem = (dot && (!slash || dot > slash)) ? (int)(dot - output) : (int)strlen(output);
+    snprintf(buf, size, "%.*s_%s.png", stem, output, suffix);
+}
+
+/* Returns the exit status: 0 match, 1 mismatch, 2 cannot compare. */
+static int compare_with_reference(const app *a, const char *reference, const char *output) {
+    char variant[64], path[1024], diff_path[1024];
+    variant_name(&a->set, variant, sizeof variant);
+    if (reference) snprintf(path, sizeof path, "%s", reference);
+    else snprintf(path, sizeof path, "%s/tests/reference/hw2_%s.png", RAS_SOURCE_DIR, variant);
+    ras_error err = {{0}};
+    ras_image *expected = ras_image_load(path, &err);
+    if (!expected) {
+        fprintf(stderr,
+                PROGRAM ": no reference image for this variant (%s): %s\n"
+                "  the references are 1x, msaa4, ssaa4 and msaa4_standard at 700x700; "
+                "pass --reference FILE for another\n",
+                variant, err.msg);
+        return 2;
+    }
+    /* Edge-tolerant: a one-pixel shift along an edge (e.g. another fill rule)
+     * is not a bug; a missing or swapped triangle is. */
+    ras_compare_options opt = ras_compare_defaults(RAS_COMPARE_EDGE_TOLERANT);
+    ras_compare_result res;
+    int status = 2;
+    if (!ras_compare_images(expected, a->image, &opt, &res, &err)) {
+        fprintf(stderr, PROGRAM ": cannot compare with %s: %s\n", path, err.msg);
+    } else {
+        printf("compare %s: %s\n", path, res.summary);
+        printf("  PSNR %.2f dB, SSIM %.4f, %ld pixels off by more than %d/255\n", res.psnr_db,
+               res.ssim, res.bad_pixels, opt.tolerance);
+        ras_image *heat = ras_compare_heatmap(expected, a->image, opt.kind, &err);
+        sibling_path(output, variant, "diff", diff_path, sizeof diff_path);
+        if (heat && ras_image_save(heat, diff_path, &err))
+            printf("  difference image: %s (black = same, blue..red = more different)\n",
+                   diff_path);
+        ras_image_destroy(heat);
+        if (!res.pass) {
+            ras_image *crop =
+                ras_compare_crop(expected, a->image, opt.kind, res.worst_col, res.worst_row, &err);
+            sibling_path(output, variant, "worst", diff_path, sizeof diff_path);
+            if (crop && ras_image_save(crop, diff_path, &err))
+                printf("  worst region (expected | got | difference): %s\n", diff_path);
+            ras_image_destroy(crop);
+        }
+        status = res.pass ? 0 : 1;
+    }
+    ras_image_destroy(expected);
+    return status;
+}
+
+/* ---- the window and its pixel inspector ---------------------------------- */
+
+#define ZOOM 16     /* magnification of the inspector */
+#define RADIUS 5    /* pixels shown on each side of the one under the mouse */
+#define MARGIN 8
+
+static void fill_box(ras_image *img, int c0, int r0, int w, int h, vec3s c) {
+    for (int r = r0; r < r0 + h; r++)
+        for (int col = c0; col < c0 + w; col++)
+            if (col >= 0 && r >= 0 && col < img->width && r < img->height)
+                ras_image_set(img, col, r, c);
+}
+
+static void outline_box(ras_image *img, int c0, int r0, int w, int h, vec3s c) {
+    fill_box(img, c0, r0, w, 1, c);
+    fill_box(img, c0, r0 + h - 1, w, 1, c);
+    fill_box(img, c0, r0, 1, h, c);
+    fill_box(img, c0 + w - 1, r0, 1, h, c);
+}
+
+/* Magnifies the pixels around screen pixel (x, y) into the top-right corner
+ * of `view`, marks the samples of (x, y), and writes their depths to `info`. */
+static void draw_inspector(const app *a, ras_image *view, int x, int y, char *info,
+                           size_t size) {
+    const ras_framebuffer *fb = a->pipeline->fb;
+    const ras_sample_pattern *pat = &a->pipeline->config.pattern;
+    int side = (2 * RADIUS + 1) * ZOOM;
+    int c0 = view->width - side - MARGIN, r0 = MARGIN;
+    if (c0 < 0) return; /* frame too small for the inspector */
+    outline_box(view, c0 - 1, r0 - 1, side + 2, side + 2, (vec3s){{1, 1, 1}});
+    for (int dy = -RADIUS; dy <= RADIUS; dy++)
+        for (int dx = -RADIUS; dx <= RADIUS; dx++) {
+            int px = x + dx, py = y + dy;
+            vec3s c = {{0.25f, 0.25f, 0.25f}}; /* outside the frame */
+            if (px >= 0 && py >= 0 && px < a->width && py < a->height)
+                c = a->image->pixels[ras_fb_pixel_index(fb, px, py)];
+            /* Screen y is up, image rows go down. */
+            fill_box(view, c0 + (dx + RADIUS) * ZOOM, r0 + (RADIUS - dy) * ZOOM, ZOOM, ZOOM, c);
+        }
+    int pc = c0 + RADIUS * ZOOM, pr = r0 + RADIUS * ZOOM;
+    outline_box(view, pc, pr, ZOOM, ZOOM, (vec3s){{1, 1, 1}});
+    int n = snprintf(info, size, "pixel (%d,%d) depth:", x, y);
+    for (int s = 0; s < pat->count; s++) {
+        int i = ras_fb_sample_index(fb, x, y, s);
+        /* A sample dot: its own colour, ringed red when nothing covers it. */
+        int sc = pc + (int)(pat->offsets[s].x * ZOOM), sr = pr + ZOOM - 1 - (int)(pat->offsets[s].y * ZOOM);
+        bool empty = isinf(fb->depth[i]);
+        fill_box(view, sc - 2, sr - 2, 5, 5, empty ? (vec3s){{1, 0, 0}} : (vec3s){{0, 0, 0}});
+        fill_box(view, sc - 1, sr - 1, 3, 3, fb->color[i]);
+        if (n > 0 && (size_t)n < size && s < 8)
+            n += empty ? snprintf(info + n, size - (size_t)n, " -")
+                       : snprintf(info + n, size - (size_t)n, " %.4f", fb->depth[i]);
+    }
+    if (pat->count > 8 && n > 0 && (size_t)n < size) snprintf(info + n, size - (size_t)n, " ...");
+}
+
+static int next_count(ras_pattern_kind kind, int count) {
+    static const int ordered[] = {4, 16, 64, 0}, standard[] = {2, 4, 8, 16, 0};
+    const int *list = kind == RAS_PATTERN_ORDERED ? ordered : standard;
+    for (int i = 0; list[i]; i++)
+        if (list[i] == count) return list[i + 1] ? list[i + 1] : list[0];
+    return 4; /* every pattern has 4 */
+}
+
+static int run_window(app *a) {
+    const char *title = PROGRAM;
+    ras_error err = {{0}};
+    ras_image *view = NULL;
+    bool dirty = true, redraw = true;
+    int mouse_col = -1, mouse_row = -1;
+    for (;;) {
+        if (dirty) {
+            if (!make_pipeline(a, &err) || !render(a, &err)) break;
+            dirty = false;
+            redraw = true;
+        }
+        if (redraw) {
+            ras_image_destroy(view);
+            view = ras_image_clone(a->image);
+            if (!view) {
+                ras_error_set(&err, "out of memory");
+                break;
+            }
+            char mode[96], info[160] = "move the mouse over the picture to inspect a pixel";
+            if (a->set.aa == RAS_AA_NONE) snprintf(mode, sizeof mode, "no AA");
+            else
+                snprintf(mode, sizeof mode, "%s %dx %s", ras_aa_mode_name(a->set.aa),
+                         a->set.samples, ras_pattern_kind_name(a->set.pattern));
+            if (mouse_col >= 0)
+                draw_inspector(a, view, mouse_col, a->height - 1 - mouse_row, info, sizeof info);
+            char status[320];
+            snprintf(status, sizeof status, "%s, %s edges | %s | m aa  s samples  p pattern  e edges  Esc",
+                     mode, a->set.edges == RAS_EDGES_FIXED ? "fixed" : "float", info);
+            if (!ras_window_show(title, view, status, &err)) break;
+            redraw = false;
+        }
+        int key = ras_window_wait_key(title, 30);
+        if (key == RAS_KEY_ESC || key == 'q' || key == -2) {
+            ras_window_close(title);
+            ras_image_destroy(view);
+            return 0;
+        }
+        settings *s = &a->set;
+        if (key == 'm') {
+            s->aa = s->aa == RAS_AA_NONE ? RAS_AA_MSAA : s->aa == RAS_AA_MSAA ? RAS_AA_SSAA : RAS_AA_NONE;
+            dirty = true;
+        } else if (key == 's') {
+            if (s->aa == RAS_AA_NONE) s->aa = RAS_AA_MSAA;
+            else s->samples = next_count(s->pattern, s->samples);
+            dirty = true;
+        } else if (key == 'p') {
+            s->pattern = s->pattern == RAS_PATTERN_ORDERED ? RAS_PATTERN_STANDARD : RAS_PATTERN_ORDERED;
+            ras_sample_pattern probe;
+            if (!ras_sample_pattern_make(s->pattern, s->samples, &probe, NULL)) s->samples = 4;
+            dirty = true;
+        } else if (key == 'e') {
+            s->edges = s->edges == RAS_EDGES_FIXED ? RAS_EDGES_FLOAT : RAS_EDGES_FIXED;
+            dirty = true;
+        }
+        int col, row;
+        if (ras_window_mouse(title, &col, &row) && col >= 0 && row >= 0 && col < a->width &&
+            row < a->height && (col != mouse_col || row != mouse_row)) {
+            mouse_col = col;
+            mouse_row = row;
+            redraw = true;
+        }
+    }
+    ras_image_destroy(view);
+    fprintf(stderr, PROGRAM ": %s\n", err.msg);
+    return 1;
+}
+
+/* ---- main ----------------------------------------------------------------- */
+
+int main(int argc, char **argv) {
+    ras_cli cli = {0};
+    ras_error err = {{0}};
+    switch (ras_cli_parse(argc, argv, ACCEPTED, &cli, &err)) {
+    case RAS_CLI_HELP: {
+        char help[4096];
+        ras_cli_help(ACCEPTED, PROGRAM,
+                     "Draws the two hw2 triangles with your rasterizer (coverage, z-buffer, "
+                     "anti-aliasing).\nWith -o or --compare it renders once, headless; "
+                     "without, a window opens:\n  m AA mode, s sample count, p sample "
+                     "pattern, e edge functions, Esc quits;\n  the pixel under the mouse "
+                     "is magnified with its samples and their depths.\n"
+                     "--compare uses tests/reference/hw2_<1x|msaa4|ssaa4|msaa4_standard>.png\n",
+                     help, sizeof help);
+        fputs(help, stdout);
+        return 0;
+    }
+    case RAS_CLI_VERSION: printf(PROGRAM " (Raster101) %s\n", RAS_VERSION); return 0;
+    case RAS_CLI_ERROR: fprintf(stderr, PROGRAM ": %s\n", err.msg); return 2;
+    case RAS_CLI_RUN: break;
+    }
+    if (!cli.output && cli.positional_count == 1) cli.output = cli.positional[0];
+    else if (cli.positional_count > 0) {
+        fprintf(stderr,
+                PROGRAM ": unexpected argument '%s'; expected at most one output file "
+                        "(e.g. " PROGRAM " --aa msaa -o out.png)\n",
+                cli.positional[cli.positional_count - 1]);
+        return 2;
+    }
+    bool headless = cli.output || cli.compare;
+    /* Only ask about a display when a window is wanted: headless runs never
+     * touch highgui. */
+    if (!headless && !ras_window_available()) {
+        fprintf(stderr, PROGRAM ": no display to open a window on (DISPLAY is not set); "
+                        "render to a file instead, e.g. " PROGRAM " --aa msaa -o out.png\n");
+        return 2;
+    }
+    app a = {.set = {.aa = cli.aa,
+                     .samples = cli.samples ? cli.samples : 4,
+                     .pattern = cli.pattern_set ? cli.pattern : RAS_PATTERN_ORDERED,
+                     .edges = cli.edges},
+             .width = cli.width ? cli.width : 700,
+             .height = cli.height ? cli.height : 700};
+    if (cli.samples > 1 && !cli.aa_set) a.set.aa = RAS_AA_MSAA; /* --samples N alone means MSAA */
+    ras_sample_pattern probe; /* bad --samples/--pattern pairs are usage errors */
+    if (a.set.aa != RAS_AA_NONE &&
+        !ras_sample_pattern_make(a.set.pattern, a.set.samples, &probe, &err)) {
+        fprintf(stderr, PROGRAM ": %s (--pattern %s --samples %d)\n", err.msg,
+                ras_pattern_kind_name(a.set.pattern), a.set.samples);
+        return 2;
+    }
+    for (int i = 0; i < 2; i++)
+        a.tri[i] = ras_mesh_create_triangle(tri_pos[i][0], tri_pos[i][1], tri_pos[i][2],
+                                            tri_color[i]);
+    a.image = ras_image_create(a.width, a.height, &err);
+    int status = 0;
+    if (!a.tri[0] || !a.tri[1] || !a.image) {
+        fprintf(stderr, PROGRAM ": %s\n", a.image ? "out of memory" : err.msg);
+        status = 1;
+    } else if (headless) {
+        if (!make_pipeline(&a, &err) || !render(&a, &err) ||
+            (cli.output && !ras_image_save(a.image, cli.output, &err))) {
+            fprintf(stderr, PROGRAM ": %s\n", err.msg);
+            status = 1;
+        } else {
+            if (cli.output) fprintf(stderr, "wrote %s\n", cli.output);
+            if (cli.stats) {
+                char json[2048];
+                ras_counters_format_json(&a.pipeline->counters, json, sizeof json);
+                puts(json);
+            }
+            if (cli.compare) status = compare_with_reference(&a, cli.reference, cli.output);
+        }
+    } else {
+        status = run_window(&a);
+    }
+    ras_image_destroy(a.image);
+    ras_pipeline_destroy(a.pipeline);
+    for (int i = 0; i < 2; i++) ras_mesh_destroy(a.tri[i]);
+    return status;
+}
