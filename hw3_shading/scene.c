@@ -1,0 +1,365 @@
+/* scene.c — see scene.h. */
+#include "scene.h"
+
+#include "rasterizer.h" /* hw2: rasterize_triangle, resolve_pixel */
+#include "transform.h"  /* hw1: get_projection_matrix */
+
+#include <math.h>   /* cosf, sinf */
+#include <stdlib.h> /* calloc, free */
+#include <string.h> /* strcmp */
+
+/* ---- names --------------------------------------------------------------- */
+
+static const char *const shader_names[HW3_SHADER_COUNT] = {"normal", "phong", "texture", "bump",
+                                                           "displacement"};
+static const char *const filter_names[3] = {"nearest", "bilinear", "trilinear"};
+
+const char *hw3_shader_name(hw3_shader shader) {
+    return (unsigned)shader < HW3_SHADER_COUNT ? shader_names[shader] : "?";
+}
+
+bool hw3_shader_parse(const char *name, hw3_shader *out, ras_error *err) {
+    for (int i = 0; i < HW3_SHADER_COUNT; i++)
+        if (!strcmp(name, shader_names[i])) {
+            *out = (hw3_shader)i;
+            return true;
+        }
+    return ras_error_set(err, "--shader expects normal, phong, texture, bump or displacement; "
+                              "got '%s'", name);
+}
+
+fragment_shader_fn hw3_shader_function(hw3_shader shader) {
+    switch (shader) {
+    case HW3_SHADER_PHONG: return phong_fragment_shader;
+    case HW3_SHADER_TEXTURE: return texture_fragment_shader;
+    case HW3_SHADER_BUMP: return bump_fragment_shader;
+    case HW3_SHADER_DISPLACEMENT: return displacement_fragment_shader;
+    case HW3_SHADER_NORMAL: break;
+    }
+    return normal_fragment_shader;
+}
+
+unsigned hw3_shader_varyings(hw3_shader shader) {
+    switch (shader) {
+    case HW3_SHADER_PHONG: return RAS_VARYING_NORMAL | RAS_VARYING_VIEW_POS;
+    case HW3_SHADER_TEXTURE:
+    case HW3_SHADER_DISPLACEMENT:
+        return RAS_VARYING_NORMAL | RAS_VARYING_VIEW_POS | RAS_VARYING_UV;
+    case HW3_SHADER_BUMP: return RAS_VARYING_NORMAL | RAS_VARYING_UV;
+    case HW3_SHADER_NORMAL: break;
+    }
+    return RAS_VARYING_NORMAL;
+}
+
+const char *hw3_filter_name(texture_filter filter) {
+    return (unsigned)filter < 3 ? filter_names[filter] : "?";
+}
+
+bool hw3_filter_parse(const char *name, texture_filter *out, ras_error *err) {
+    for (int i = 0; i < 3; i++)
+        if (!strcmp(name, filter_names[i])) {
+            *out = (texture_filter)i;
+            return true;
+        }
+    return ras_error_set(err, "--filter expects nearest, bilinear or trilinear; got '%s'", name);
+}
+
+/* ---- the fragment stage --------------------------------------------------- */
+
+/* Screen barycentrics are affine in (x, y): their change per pixel step is
+ * constant over the triangle. λ0 = E(v1, v2, p) / area2, and so on, with
+ * E(a, b, p) = (b.x − a.x)(p.y − a.y) − (b.y − a.y)(p.x − a.x). */
+static void bary_gradients(const ras_triangle *t, vec3s *d_dx, vec3s *d_dy) {
+    float area2 = ras_triangle_area2(t);
+    float inv = area2 != 0.0f ? 1.0f / area2 : 0.0f;
+    const vec4s *v = t->v;
+    *d_dx = (vec3s){{-(v[2].y - v[1].y) * inv, -(v[0].y - v[2].y) * inv,
+                     -(v[1].y - v[0].y) * inv}};
+    *d_dy = (vec3s){{(v[2].x - v[1].x) * inv, (v[0].x - v[2].x) * inv,
+                     (v[1].x - v[0].x) * inv}};
+}
+
+vec3s hw3_shade_fragment(const ras_triangle *t, const ras_fragment *f, void *user) {
+    const hw3_fragment_stage *stage = user;
+    fragment_shader_payload payload = stage->base;
+    bool persp = stage->perspective;
+    uint64_t interpolated = 0;
+    if (stage->varyings & RAS_VARYING_NORMAL) {
+        /* Interpolated unit normals are shorter than 1 between the vertices. */
+        payload.normal = glms_vec3_normalize(interpolate_vec3(t, f->bary, t->normal, persp));
+        interpolated++;
+    }
+    if (stage->varyings & RAS_VARYING_VIEW_POS) {
+        payload.view_pos = interpolate_vec3(t, f->bary, t->view_pos, persp);
+        interpolated++;
+    }
+    if (stage->varyings & RAS_VARYING_UV) {
+        payload.uv = interpolate_vec2(t, f->bary, t->uv, persp);
+        interpolated++;
+        if (payload.filter == FILTER_TRILINEAR) {
+            /* The UV one pixel to the right and one pixel up, from the same
+             * triangle's (extrapolated) barycentrics: a finite difference of
+             * the perspective-correct UV, like a GPU's 2×2 quad. */
+            vec3s d_dx, d_dy;
+            bary_gradients(t, &d_dx, &d_dy);
+            vec2s uv_x = interpolate_vec2(t, glms_vec3_add(f->bary, d_dx), t->uv, persp);
+            vec2s uv_y = interpolate_vec2(t, glms_vec3_add(f->bary, d_dy), t->uv, persp);
+            payload.duv_dx = glms_vec2_sub(uv_x, payload.uv);
+            payload.duv_dy = glms_vec2_sub(uv_y, payload.uv);
+        }
+    }
+    if (payload.counters) payload.counters->varyings_interpolated += interpolated;
+    return stage->shader(&payload);
+}
+
+/* ---- scenes --------------------------------------------------------------- */
+
+static mat4s rotate_y(float deg) {
+    float a = ras_deg_to_rad(deg), c = cosf(a), s = sinf(a);
+    return ras_mat4_rows(c, 0, s, 0,
+                         0, 1, 0, 0,
+                         -s, 0, c, 0,
+                         0, 0, 0, 1);
+}
+
+static mat4s rotate_x(float deg) {
+    float a = ras_deg_to_rad(deg), c = cosf(a), s = sinf(a);
+    return ras_mat4_rows(1, 0, 0, 0,
+                         0, c, -s, 0,
+                         0, s, c, 0,
+                         0, 0, 0, 1);
+}
+
+static mat4s scale(float k) {
+    return ras_mat4_rows(k, 0, 0, 0, 0, k, 0, 0, 0, 0, k, 0, 0, 0, 0, 1);
+}
+
+static mat4s translate(float x, float y, float z) {
+    return ras_mat4_rows(1, 0, 0, x, 0, 1, 0, y, 0, 0, 1, z, 0, 0, 0, 1);
+}
+
+/* The classic numbers of GAMES101 assignment 3. */
+static void classic_camera_and_lights(hw3_scene *s) {
+    s->width = s->height = 700;
+    s->eye = (vec3s){{0, 0, 10}};
+    s->fov_deg = 45;
+    s->z_near = 0.1f;
+    s->z_far = 50;
+    s->lights[0] = (light){{{20, 20, 20}}, {{500, 500, 500}}};
+    s->lights[1] = (light){{{-20, 20, 0}}, {{500, 500, 500}}};
+    s->light_count = 2;
+    s->ambient_intensity = (vec3s){{10, 10, 10}};
+    s->ka = (vec3s){{0.005f, 0.005f, 0.005f}};
+    s->ks = (vec3s){{0.7937f, 0.7937f, 0.7937f}};
+    s->p = 150;
+}
+
+static ras_mesh *keep_mesh(hw3_scene *s, ras_mesh *m) {
+    if (m) s->meshes[s->mesh_count++] = m;
+    return m;
+}
+
+static ras_texture *keep_texture(hw3_scene *s, ras_texture *t) {
+    if (t) s->textures[s->texture_count++] = t;
+    return t;
+}
+
+static hw3_object *add_object(hw3_scene *s, const ras_mesh *mesh, vec3s color) {
+    hw3_object *o = &s->objects[s->object_count++];
+    *o = (hw3_object){.mesh = mesh,
+                      .place = glms_mat4_identity(),
+                      .orient = glms_mat4_identity(),
+                      .color = color,
+                      .kh = 0.2f,
+                      .kn = 0.1f};
+    return o;
+}
+
+hw3_scene *hw3_scene_create_default(ras_error *err) {
+    hw3_scene *s = calloc(1, sizeof *s);
+    if (!s) {
+        ras_error_set(err, "out of memory creating the default scene");
+        return NULL;
+    }
+    classic_camera_and_lights(s);
+    s->clear_color = (vec3s){{0.08f, 0.09f, 0.12f}};
+    ras_mesh *sphere = keep_mesh(s, ras_mesh_create_uv_sphere(1.2f, 32, 64));
+    ras_mesh *torus = keep_mesh(s, ras_mesh_create_torus(1.0f, 0.42f, 64, 32));
+    ras_mesh *cube = keep_mesh(s, ras_mesh_create_cube(1.55f));
+    ras_mesh *teapot = keep_mesh(s, ras_mesh_create_teapot(8));
+    /* Few, large floor triangles: affine interpolation bends them visibly. */
+    ras_mesh *floor = keep_mesh(s, ras_mesh_create_plane(40.0f, 2));
+    ras_texture *checker = keep_texture(
+        s, ras_texture_create_checker(256, 8, (vec3s){{0.92f, 0.9f, 0.85f}},
+                                      (vec3s){{0.75f, 0.22f, 0.16f}}));
+    ras_texture *floor_checker = keep_texture(
+        s, ras_texture_create_checker(256, 2, (vec3s){{0.85f, 0.85f, 0.85f}},
+                                      (vec3s){{0.2f, 0.25f, 0.35f}}));
+    ras_texture *brick = keep_texture(s, ras_texture_create_brick(256));
+    ras_texture *bumps = keep_texture(s, ras_texture_create_bumps(256, 8));
+    if (s->mesh_count != 5 || s->texture_count != 4) {
+        hw3_scene_destroy(s);
+        ras_error_set(err, "out of memory building the default scene's meshes and textures");
+        return NULL;
+    }
+    for (int i = 0; i < s->texture_count; i++) s->textures[i]->wrap = RAS_WRAP_REPEAT;
+    /* 12 checker periods across the floor (the texture repeats). */
+    for (size_t i = 0; i < floor->vertex_count; i++)
+        floor->uvs[i] = glms_vec2_scale(floor->uvs[i], 12.0f);
+
+    /* Heights in the course's units reach 255·√3 ≈ 441: kn = 0.1 would move
+     * points by up to 44 units. The default scene keeps kh·kn = 0.02 (the
+     * course's bump strength) and displaces by at most ~0.2 units. */
+    const float kh = 40.0f, kn = 0.0005f;
+    hw3_object *o;
+    o = add_object(s, sphere, (vec3s){{0.9f, 0.5f, 0.2f}});
+    o->place = translate(-1.9f, 1.75f, 0);
+    o->texture = checker;
+    o = add_object(s, torus, (vec3s){{0.2f, 0.65f, 0.6f}});
+    o->place = translate(1.9f, 1.75f, 0);
+    o->orient = rotate_x(60);
+    o->texture = brick;
+    o = add_object(s, cube, (vec3s){{0.55f, 0.55f, 0.85f}});
+    o->place = translate(-1.9f, -1.75f, 0);
+    o->orient = rotate_x(25);
+    o->yaw_deg = 35;
+    o->texture = brick;
+    o = add_object(s, teapot, (vec3s){{148 / 255.0f, 121 / 255.0f, 92 / 255.0f}});
+    o->place = translate(1.9f, -2.0f, 0);
+    o->orient = scale(1.6f);
+    o->yaw_deg = -30;
+    o->texture = checker;
+    o = add_object(s, floor, (vec3s){{0.7f, 0.7f, 0.7f}});
+    o->place = translate(0, -3.3f, -14.0f);
+    o->texture = floor_checker;
+    for (int i = 0; i < s->object_count; i++) {
+        s->objects[i].height_map = bumps;
+        s->objects[i].kh = kh;
+        s->objects[i].kn = kn;
+    }
+    return s;
+}
+
+hw3_scene *hw3_scene_create_model(const char *model_path, const char *texture_path,
+                                  const char *height_path, bool fit, ras_error *err) {
+    hw3_scene *s = calloc(1, sizeof *s);
+    if (!s) {
+        ras_error_set(err, "out of memory creating the model scene");
+        return NULL;
+    }
+    classic_camera_and_lights(s);
+    s->clear_color = (vec3s){{0, 0, 0}};
+    ras_mesh *mesh = keep_mesh(s, ras_mesh_load(model_path, err));
+    if (!mesh) goto fail;
+    ras_texture *tex = texture_path ? ras_texture_load(texture_path, RAS_WRAP_REPEAT, err)
+                                    : ras_texture_create_checker(256, 8, (vec3s){{0.9f, 0.9f, 0.9f}},
+                                                                 (vec3s){{0.3f, 0.3f, 0.3f}});
+    if (!keep_texture(s, tex)) {
+        if (!texture_path) ras_error_set(err, "out of memory creating the checker texture");
+        goto fail;
+    }
+    ras_texture *hmap = tex;
+    if (height_path) {
+        hmap = keep_texture(s, ras_texture_load(height_path, RAS_WRAP_REPEAT, err));
+        if (!hmap) goto fail;
+    } else if (!texture_path) {
+        hmap = keep_texture(s, ras_texture_create_bumps(256, 8));
+        if (!hmap) {
+            ras_error_set(err, "out of memory creating the bumps texture");
+            goto fail;
+        }
+    }
+    hw3_object *o = add_object(s, mesh, (vec3s){{148 / 255.0f, 121 / 255.0f, 92 / 255.0f}});
+    o->yaw_deg = 140;
+    o->orient = fit ? ras_mesh_fit_matrix(mesh, 5.0f) : scale(2.5f);
+    o->texture = tex;
+    o->height_map = hmap;
+    return s;
+fail:
+    hw3_scene_destroy(s);
+    return NULL;
+}
+
+void hw3_scene_destroy(hw3_scene *scene) {
+    if (!scene) return;
+    for (int i = 0; i < scene->mesh_count; i++) ras_mesh_destroy(scene->meshes[i]);
+    for (int i = 0; i < scene->texture_count; i++) ras_texture_destroy(scene->textures[i]);
+    free(scene);
+}
+
+/* ---- one frame -------------------------------------------------------------- */
+
+hw3_render_options hw3_render_defaults(void) {
+    return (hw3_render_options){.shader = HW3_SHADER_NORMAL,
+                                .filter = FILTER_BILINEAR,
+                                .aa = RAS_AA_NONE,
+                                .pattern = ras_sample_pattern_center()};
+}
+
+static bool shader_reads_texture(hw3_shader shader) {
+    return shader == HW3_SHADER_TEXTURE;
+}
+
+bool hw3_render(hw3_scene *scene, const hw3_render_options *opt, ras_image *out,
+                ras_counters *stats, ras_error *err) {
+    uint64_t mip_levels = 0;
+    /* Mip levels only when trilinear filtering reads a colour map, once. */
+    if (opt->filter == FILTER_TRILINEAR && shader_reads_texture(opt->shader)) {
+        for (int i = 0; i < scene->object_count; i++) {
+            ras_texture *tex = (ras_texture *)scene->objects[i].texture;
+            if (!tex || tex->level_count > 1) continue;
+            if (!ras_texture_build_mips(tex))
+                return ras_error_set(err, "out of memory building mip levels");
+            mip_levels += (uint64_t)(tex->level_count - 1);
+        }
+    }
+    hw3_fragment_stage stage = {.shader = hw3_shader_function(opt->shader),
+                                .varyings = hw3_shader_varyings(opt->shader),
+                                .perspective = !opt->affine};
+    ras_pipeline_config cfg = {.width = scene->width,
+                               .height = scene->height,
+                               .clear_color = scene->clear_color,
+                               .aa = opt->aa,
+                               .pattern = opt->pattern,
+                               .edges = RAS_EDGES_FIXED,
+                               .cull = RAS_CULL_NONE,
+                               .varyings = stage.varyings,
+                               .rasterize = rasterize_triangle,
+                               .resolve = resolve_pixel,
+                               .shade = hw3_shade_fragment,
+                               .shade_user = &stage};
+    ras_pipeline *p = ras_pipeline_create(&cfg, err);
+    if (!p) return false;
+    fragment_shader_payload *b = &stage.base;
+    b->filter = opt->filter;
+    b->ka = scene->ka;
+    b->ks = scene->ks;
+    b->p = scene->p;
+    b->light_count = scene->light_count;
+    for (int i = 0; i < scene->light_count; i++) b->lights[i] = scene->lights[i];
+    b->ambient_intensity = scene->ambient_intensity;
+    b->counters = &p->counters;
+    p->counters.mip_levels_built = mip_levels;
+    if (mip_levels) p->counters.stages_run |= RAS_STAGE_MIPMAP;
+
+    mat4s view = ras_view_matrix_eye(scene->eye);
+    mat4s projection = get_projection_matrix(scene->fov_deg,
+                                             (float)scene->width / (float)scene->height,
+                                             scene->z_near, scene->z_far);
+    bool ok = true;
+    for (int i = 0; i < scene->object_count && ok; i++) {
+        const hw3_object *o = &scene->objects[i];
+        b->color = o->color;
+        b->texture = o->texture;
+        b->height_map = o->height_map;
+        b->kh = o->kh;
+        b->kn = o->kn;
+        mat4s model = glms_mat4_mul(glms_mat4_mul(o->place, rotate_y(o->yaw_deg + opt->angle_deg)),
+                                    o->orient);
+        ok = ras_pipeline_draw_mesh(p, o->mesh, model, view, projection, err);
+    }
+    if (ok) ras_pipeline_end_frame(p, out);
+    if (stats) *stats = p->counters;
+    ras_pipeline_destroy(p);
+    return ok;
+}

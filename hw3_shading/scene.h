@@ -1,0 +1,127 @@
+/* scene.h — hw3: the scenes, and the fragment stage that feeds your shaders.
+ *
+ * Not a TODO file: it is the glue between the pipeline (common/) and
+ * shading.h, shared by the program (main.c), the tests and the figures.
+ *
+ *   hw3_shade_fragment   the ras_shade_fn the rasterizer calls: interpolates
+ *                        exactly the varyings the chosen shader reads
+ *                        (perspective-correct, with your interpolate_*),
+ *                        fills a fragment_shader_payload, runs the shader
+ *   hw3_scene_*          the default scene (built-in meshes and textures, no
+ *                        files) and the classic GAMES101 model scene
+ *   hw3_render           one frame of a scene with a shader and a filter
+ *
+ * Conventions: view space as in shading.h (lights are given in VIEW space,
+ * the camera looks down -z from the view-space origin); the view matrix is
+ * the GAMES101 one, a translation by -eye.
+ * Ownership: hw3_scene_create_* / hw3_scene_destroy (NULL-safe); a scene owns
+ * its meshes and textures.
+ */
+#ifndef HW3_SCENE_H
+#define HW3_SCENE_H
+
+#include "ras_error.h"
+#include "ras_mesh.h"
+#include "ras_pipeline.h"
+#include "shading.h"
+
+typedef enum hw3_shader {
+    HW3_SHADER_NORMAL,
+    HW3_SHADER_PHONG,
+    HW3_SHADER_TEXTURE,
+    HW3_SHADER_BUMP,
+    HW3_SHADER_DISPLACEMENT,
+} hw3_shader;
+#define HW3_SHADER_COUNT 5
+
+const char *hw3_shader_name(hw3_shader shader); /* "normal", "phong", ... */
+bool hw3_shader_parse(const char *name, hw3_shader *out, ras_error *err);
+fragment_shader_fn hw3_shader_function(hw3_shader shader);
+/* The RAS_VARYING_* bits the shader reads: normal → NORMAL; phong → NORMAL |
+ * VIEW_POS; texture and displacement → NORMAL | VIEW_POS | UV; bump → NORMAL | UV. */
+unsigned hw3_shader_varyings(hw3_shader shader);
+
+const char *hw3_filter_name(texture_filter filter); /* "nearest", "bilinear", "trilinear" */
+bool hw3_filter_parse(const char *name, texture_filter *out, ras_error *err);
+
+/* The fragment stage's state: the pipeline's shade_user. `base` holds the
+ * per-scene and per-object fields; the varyings are filled per fragment. */
+typedef struct hw3_fragment_stage {
+    fragment_shader_fn shader;
+    unsigned varyings;
+    bool perspective; /* false: affine interpolation (the w = 1 pitfall, for pictures) */
+    fragment_shader_payload base;
+} hw3_fragment_stage;
+
+/* ras_shade_fn: user is a hw3_fragment_stage. */
+vec3s hw3_shade_fragment(const ras_triangle *t, const ras_fragment *f, void *user);
+
+#define HW3_MAX_OBJECTS 8
+
+typedef struct hw3_object {
+    const ras_mesh *mesh;
+    mat4s place;  /* translation after the spin */
+    mat4s orient; /* scale and tilt before the spin about y */
+    float yaw_deg; /* spin about y; the program's angle is added */
+    vec3s color;
+    const ras_texture *texture, *height_map;
+    float kh, kn;
+} hw3_object;
+
+typedef struct hw3_scene {
+    int width, height;
+    vec3s eye;
+    float fov_deg, z_near, z_far;
+    vec3s clear_color;
+    light lights[HW3_MAX_LIGHTS];
+    int light_count;
+    vec3s ambient_intensity;
+    vec3s ka, ks;
+    float p;
+    hw3_object objects[HW3_MAX_OBJECTS];
+    int object_count;
+    /* owned */
+    ras_mesh *meshes[HW3_MAX_OBJECTS];
+    int mesh_count;
+    ras_texture *textures[HW3_MAX_OBJECTS];
+    int texture_count;
+} hw3_scene;
+
+/* The default scene, 700×700: a UV sphere, a torus, a cube and the Utah
+ * teapot on a checkered floor, with procedural checker/brick colour maps and
+ * a bumps height map; the classic camera, lights and material numbers. */
+hw3_scene *hw3_scene_create_default(ras_error *err);
+
+/* The classic GAMES101 scene around a model file: eye (0,0,10), model
+ * R_y(140°)·S(2.5) (with `fit`: R_y(140°) · scale-to-fit · centre), fov 45,
+ * near 0.1, far 50, 700×700, lights (20,20,20) and (-20,20,0) of intensity
+ * 500, ambient 10, ka 0.005, ks 0.7937, p 150, kh 0.2, kn 0.1, base colour
+ * (148,121,92)/255. texture_path: colour map (NULL: a built-in checker);
+ * height_path: height map (NULL: texture_path, as the course loads hmap.jpg as
+ * "the texture"; both NULL: built-in bumps). NULL and err on a missing or
+ * malformed file. */
+hw3_scene *hw3_scene_create_model(const char *model_path, const char *texture_path,
+                                  const char *height_path, bool fit, ras_error *err);
+
+void hw3_scene_destroy(hw3_scene *scene);
+
+typedef struct hw3_render_options {
+    hw3_shader shader;
+    texture_filter filter;
+    float angle_deg; /* added to every object's spin about y */
+    ras_aa_mode aa;
+    ras_sample_pattern pattern; /* for MSAA/SSAA */
+    bool affine;                /* interpolate without the 1/w correction */
+} hw3_render_options;
+
+/* Defaults: normal shader, bilinear, angle 0, no AA, perspective-correct. */
+hw3_render_options hw3_render_defaults(void);
+
+/* Renders one frame into `out` (the scene's size). Trilinear builds the mip
+ * levels of the scene's colour maps the first time (ras_texture_build_mips,
+ * hence the non-const scene). `stats` (may be NULL) receives the counters.
+ * False and err on a bad configuration or out of memory. */
+bool hw3_render(hw3_scene *scene, const hw3_render_options *opt, ras_image *out,
+                ras_counters *stats, ras_error *err);
+
+#endif

@@ -1,0 +1,172 @@
+/* solution/shading.c — hw3 reference implementation of shading.h. RASTER101-SOLUTION
+ * This marker must never appear in a student handout. */
+#include "shading.h"
+
+#include <math.h> /* floorf, log2f, powf, sqrtf, isfinite */
+
+/* ---- 1. interpolation --------------------------------------------------- */
+
+vec3s perspective_correct_barycentric(const ras_triangle *t, vec3s bary_screen) {
+    /* 1/w is affine in screen space, and so is attr/w: interpolate both with
+     * λ and divide. b_i = (λ_i / w_i) / Σ (λ_j / w_j). */
+    vec3s b = {{bary_screen.x / t->v[0].w, bary_screen.y / t->v[1].w,
+                bary_screen.z / t->v[2].w}};
+    float sum = b.x + b.y + b.z;
+    /* w > 0 after clipping, so sum > 0 inside the triangle; a degenerate
+     * input keeps the screen barycentrics rather than producing NaN. */
+    if (!(sum > 0.0f) || !isfinite(sum)) return bary_screen;
+    return glms_vec3_scale(b, 1.0f / sum);
+}
+
+vec3s interpolate_vec3(const ras_triangle *t, vec3s bary_screen, const vec3s attr[3],
+                       bool perspective) {
+    vec3s b = perspective ? perspective_correct_barycentric(t, bary_screen) : bary_screen;
+    vec3s r = glms_vec3_scale(attr[0], b.x);
+    r = glms_vec3_muladds(attr[1], b.y, r);
+    return glms_vec3_muladds(attr[2], b.z, r);
+}
+
+vec2s interpolate_vec2(const ras_triangle *t, vec3s bary_screen, const vec2s attr[3],
+                       bool perspective) {
+    vec3s b = perspective ? perspective_correct_barycentric(t, bary_screen) : bary_screen;
+    return (vec2s){{attr[0].x * b.x + attr[1].x * b.y + attr[2].x * b.z,
+                    attr[0].y * b.x + attr[1].y * b.y + attr[2].y * b.z}};
+}
+
+/* ---- 2. fragment shaders ------------------------------------------------ */
+
+vec3s normal_fragment_shader(const fragment_shader_payload *payload) {
+    vec3s n = glms_vec3_normalize(payload->normal);
+    return glms_vec3_scale(glms_vec3_adds(n, 1.0f), 0.5f);
+}
+
+vec3s blinn_phong_lighting(const fragment_shader_payload *payload, vec3s kd, vec3s point,
+                           vec3s normal) {
+    if (payload->counters) {
+        payload->counters->stages_run |= RAS_STAGE_LIGHTING;
+        payload->counters->lighting_evaluations += (uint64_t)payload->light_count;
+    }
+    vec3s n = glms_vec3_normalize(normal);
+    vec3s v = glms_vec3_normalize(glms_vec3_negate(point)); /* the eye is the view-space origin */
+    /* Ambient light does not come from any light: once, outside the loop. */
+    vec3s color = glms_vec3_mul(payload->ka, payload->ambient_intensity);
+    for (int i = 0; i < payload->light_count; i++) {
+        const light *L = &payload->lights[i];
+        vec3s to_light = glms_vec3_sub(L->position, point);
+        float r2 = glms_vec3_dot(to_light, to_light);
+        vec3s l = glms_vec3_normalize(to_light);
+        vec3s h = glms_vec3_normalize(glms_vec3_add(l, v));
+        vec3s irradiance = glms_vec3_divs(L->intensity, r2); /* I / r² */
+        float diffuse = fmaxf(0.0f, glms_vec3_dot(n, l));
+        float specular = powf(fmaxf(0.0f, glms_vec3_dot(n, h)), payload->p);
+        color = glms_vec3_add(color, glms_vec3_scale(glms_vec3_mul(kd, irradiance), diffuse));
+        color = glms_vec3_add(color,
+                              glms_vec3_scale(glms_vec3_mul(payload->ks, irradiance), specular));
+    }
+    return color;
+}
+
+vec3s phong_fragment_shader(const fragment_shader_payload *payload) {
+    return blinn_phong_lighting(payload, payload->color, payload->view_pos, payload->normal);
+}
+
+vec3s texture_fragment_shader(const fragment_shader_payload *payload) {
+    vec3s kd = payload->texture ? texture_sample(payload, payload->texture, payload->uv)
+                                : payload->color;
+    return blinn_phong_lighting(payload, kd, payload->view_pos, payload->normal);
+}
+
+void tangent_frame(vec3s n, vec3s *t, vec3s *b) {
+    float s = sqrtf(n.x * n.x + n.z * n.z);
+    if (s > 1e-6f) {
+        *t = (vec3s){{n.x * n.y / s, s, n.z * n.y / s}};
+    } else {
+        /* n = (0, ±1, 0): the formula is 0/0. Any perpendicular unit vector
+         * will do; x keeps the frame continuous with the formula's limit
+         * along the x axis. */
+        *t = (vec3s){{1.0f, 0.0f, 0.0f}};
+    }
+    *b = glms_vec3_cross(n, *t);
+}
+
+vec3s bump_normal(const fragment_shader_payload *payload) {
+    const ras_texture *hm = payload->height_map;
+    vec3s n = glms_vec3_normalize(payload->normal);
+    if (!hm) return n;
+    if (payload->counters) payload->counters->stages_run |= RAS_STAGE_BUMP;
+    vec3s t, b;
+    tangent_frame(n, &t, &b);
+    float u = payload->uv.x, v = payload->uv.y;
+    float h = height_sample(payload, u, v);
+    float k = payload->kh * payload->kn;
+    float du = k * (height_sample(payload, u + 1.0f / (float)hm->width, v) - h);
+    float dv = k * (height_sample(payload, u, v + 1.0f / (float)hm->height) - h);
+    /* TBN · (−dU, −dV, 1) = −dU·t − dV·b + n */
+    vec3s p = glms_vec3_add(glms_vec3_scale(t, -du), glms_vec3_scale(b, -dv));
+    vec3s bumped = glms_vec3_normalize(glms_vec3_add(p, n));
+    return ras_vec3_finite(bumped) ? bumped : n;
+}
+
+vec3s bump_fragment_shader(const fragment_shader_payload *payload) {
+    return glms_vec3_scale(glms_vec3_adds(bump_normal(payload), 1.0f), 0.5f);
+}
+
+vec3s displacement_fragment_shader(const fragment_shader_payload *payload) {
+    vec3s n = glms_vec3_normalize(payload->normal);
+    float h = height_sample(payload, payload->uv.x, payload->uv.y);
+    vec3s point = glms_vec3_muladds(n, payload->kn * h, payload->view_pos);
+    return blinn_phong_lighting(payload, payload->color, point, bump_normal(payload));
+}
+
+/* ---- 3. texture sampling ------------------------------------------------ */
+
+/* A texture coordinate made safe for integer conversion: NaN/±Inf read like
+ * 0; repeat keeps the fraction; clamp keeps [0, 1] (clamp-to-edge). */
+static float safe_coord(float u, ras_wrap wrap) {
+    if (!isfinite(u)) return 0.0f;
+    if (wrap == RAS_WRAP_REPEAT) return u - floorf(u); /* [0, 1]; 1e30 → 0 */
+    return fminf(fmaxf(u, 0.0f), 1.0f);
+}
+
+static vec3s lerp3(vec3s a, vec3s b, float s) {
+    return glms_vec3_add(a, glms_vec3_scale(glms_vec3_sub(b, a), s));
+}
+
+/* Bilinear lookup in one mip level. */
+static vec3s bilinear_level(const ras_texture *tex, int level, float u, float v) {
+    int w = tex->level_width[level], h = tex->level_height[level];
+    /* Texel i's centre is at u_img = i: shift by half a texel. */
+    float x = safe_coord(u, tex->wrap) * (float)w - 0.5f;
+    float y = safe_coord(v, tex->wrap) * (float)h - 0.5f; /* v = 0 is row j = 0, the bottom */
+    float x0f = floorf(x), y0f = floorf(y);
+    float sx = x - x0f, sy = y - y0f;
+    int i0 = (int)x0f, j0 = (int)y0f; /* in [-1, w-1] and [-1, h-1] */
+    int ia = ras_texture_wrap_index(tex->wrap, i0, w);
+    int ib = ras_texture_wrap_index(tex->wrap, i0 + 1, w);
+    int ja = ras_texture_wrap_index(tex->wrap, j0, h);
+    int jb = ras_texture_wrap_index(tex->wrap, j0 + 1, h);
+    const vec3s *px = tex->levels[level] ? tex->levels[level] : tex->texels;
+    vec3s bottom = lerp3(px[ja * w + ia], px[ja * w + ib], sx);
+    vec3s top = lerp3(px[jb * w + ia], px[jb * w + ib], sx);
+    return lerp3(bottom, top, sy);
+}
+
+vec3s texture_sample_bilinear(const ras_texture *tex, float u, float v) {
+    return bilinear_level(tex, 0, u, v);
+}
+
+vec3s texture_sample_trilinear(const ras_texture *tex, vec2s uv, vec2s duv_dx, vec2s duv_dy) {
+    if (tex->level_count <= 1) return bilinear_level(tex, 0, uv.x, uv.y);
+    float W = (float)tex->width, H = (float)tex->height;
+    float lx = hypotf(duv_dx.x * W, duv_dx.y * H); /* texels per pixel step in x */
+    float ly = hypotf(duv_dy.x * W, duv_dy.y * H);
+    float rho = fmaxf(lx, ly);
+    float L = rho > 1.0f && isfinite(rho) ? log2f(rho) : 0.0f; /* magnified: level 0 */
+    float top = (float)(tex->level_count - 1);
+    if (L >= top) return bilinear_level(tex, tex->level_count - 1, uv.x, uv.y);
+    int l0 = (int)floorf(L);
+    float s = L - (float)l0;
+    vec3s a = bilinear_level(tex, l0, uv.x, uv.y);
+    if (s <= 0.0f) return a;
+    return lerp3(a, bilinear_level(tex, l0 + 1, uv.x, uv.y), s);
+}
