@@ -55,6 +55,15 @@ extern "C" bool cv_bridge_write_rgb8(const char *path, int width, int height,
 
 extern "C" uint8_t *cv_bridge_read_rgb8(const char *path, int *width, int *height, char *err,
                                         int err_size) {
+    // Check first: imread itself would print a warning of its own to stderr.
+    if (std::FILE *f = std::fopen(path, "rb")) {
+        std::fclose(f);
+    } else {
+        set_err(err, err_size,
+                std::string("could not read image '") + path +
+                    "': the file does not exist or is not readable; check the path");
+        return nullptr;
+    }
     try {
         cv::Mat bgr = cv::imread(path, cv::IMREAD_COLOR);
         if (bgr.empty()) {

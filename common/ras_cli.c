@@ -87,13 +87,20 @@ ras_cli_status ras_cli_parse(int argc, char **argv, unsigned accepted, ras_cli *
         int opt = getopt_long(argc, argv, ":ho:r:", long_options, &index);
         if (opt == -1) break;
         const char *arg = optarg;
-        const char *name = argv[optind - 1];
+        /* Name the option as the user typed it: argv[optind - 1] would be its
+         * value when the value came as a separate word. */
+        char name[64];
+        if (index >= 0) snprintf(name, sizeof name, "--%s", long_options[index].name);
+        else if (opt != '?' && opt != ':') snprintf(name, sizeof name, "-%c", opt);
+        else snprintf(name, sizeof name, "%s", argv[optind - 1]);
         if (opt == '?') {
+            if (optopt) snprintf(name, sizeof name, "-%c", optopt);
             ras_error_set(err, "unknown option '%s'; run '%s --help' for the options it takes",
-                          optopt ? (char[]){'-', (char)optopt, 0} : name, program);
+                          name, program);
             return RAS_CLI_ERROR;
         }
         if (opt == ':') {
+            if (optopt && optopt < 256) snprintf(name, sizeof name, "-%c", optopt);
             ras_error_set(err, "option '%s' needs a value; run '%s --help'", name, program);
             return RAS_CLI_ERROR;
         }

@@ -3,19 +3,21 @@
 
 #include <math.h> /* lroundf, isfinite */
 
-/* Liang–Barsky: clip segment a→b to [lo, hi] on both axes; false if nothing is left. */
-static bool clip_segment(vec2s *a, vec2s *b, float lo_x, float hi_x, float lo_y, float hi_y) {
-    float t0 = 0.0f, t1 = 1.0f;
-    float dx = b->x - a->x, dy = b->y - a->y;
-    const float p[4] = {-dx, dx, -dy, dy};
-    const float q[4] = {a->x - lo_x, hi_x - a->x, a->y - lo_y, hi_y - a->y};
+/* Liang–Barsky: clip segment a→b to [lo, hi] on both axes; false if nothing is
+ * left. In double: with endpoints at ±1e9 a float t loses whole pixels. */
+static bool clip_segment(vec2s *a, vec2s *b, double lo_x, double hi_x, double lo_y,
+                         double hi_y) {
+    double t0 = 0.0, t1 = 1.0;
+    double dx = (double)b->x - a->x, dy = (double)b->y - a->y;
+    const double p[4] = {-dx, dx, -dy, dy};
+    const double q[4] = {a->x - lo_x, hi_x - a->x, a->y - lo_y, hi_y - a->y};
     for (int i = 0; i < 4; i++) {
-        if (p[i] == 0.0f) {
-            if (q[i] < 0.0f) return false;
+        if (p[i] == 0.0) {
+            if (q[i] < 0.0) return false;
             continue;
         }
-        float t = q[i] / p[i];
-        if (p[i] < 0.0f) {
+        double t = q[i] / p[i];
+        if (p[i] < 0.0) {
             if (t > t1) return false;
             if (t > t0) t0 = t;
         } else {
@@ -23,7 +25,8 @@ static bool clip_segment(vec2s *a, vec2s *b, float lo_x, float hi_x, float lo_y,
             if (t < t1) t1 = t;
         }
     }
-    vec2s na = {{a->x + t0 * dx, a->y + t0 * dy}}, nb = {{a->x + t1 * dx, a->y + t1 * dy}};
+    vec2s na = {{(float)(a->x + t0 * dx), (float)(a->y + t0 * dy)}};
+    vec2s nb = {{(float)(a->x + t1 * dx), (float)(a->y + t1 * dy)}};
     *a = na;
     *b = nb;
     return true;
@@ -32,7 +35,7 @@ static bool clip_segment(vec2s *a, vec2s *b, float lo_x, float hi_x, float lo_y,
 long ras_draw_line(ras_framebuffer *fb, vec2s a, vec2s b, vec3s color) {
     if (!ras_vec2_finite(a) || !ras_vec2_finite(b)) return 0;
     /* Pixel x covers [x, x+1): the screen's pixel centres span [0.5, w-0.5]. */
-    if (!clip_segment(&a, &b, 0.0f, (float)fb->width - 1e-3f, 0.0f, (float)fb->height - 1e-3f))
+    if (!clip_segment(&a, &b, 0.0, fb->width - 1e-3, 0.0, fb->height - 1e-3))
         return 0;
     int x0 = (int)a.x, y0 = (int)a.y, x1 = (int)b.x, y1 = (int)b.y;
     int dx = x1 > x0 ? x1 - x0 : x0 - x1, sx = x0 < x1 ? 1 : -1;

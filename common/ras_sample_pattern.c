@@ -1,7 +1,7 @@
 /* ras_sample_pattern.c — see ras_sample_pattern.h. */
 #include "ras_sample_pattern.h"
 
-/* D3D11 / Vulkan standard sample locations, 1/16 px from the centre, y down. */
+/* D3D11 / Vulkan standard sample locations, 1/16 px from the centre. */
 static const signed char standard2[2][2] = {{4, 4}, {-4, -4}};
 static const signed char standard4[4][2] = {{-2, -6}, {6, -2}, {-6, 2}, {2, 6}};
 static const signed char standard8[8][2] = {{1, -3}, {-1, 3}, {5, 1},  {-3, -5},
@@ -19,7 +19,7 @@ ras_sample_pattern ras_sample_pattern_center(void) {
 static void fill_standard(ras_sample_pattern *p, const signed char (*table)[2], int n) {
     p->count = n;
     for (int i = 0; i < n; i++)
-        p->offsets[i] = (vec2s){{0.5f + table[i][0] / 16.0f, 0.5f - table[i][1] / 16.0f}};
+        p->offsets[i] = (vec2s){{0.5f + table[i][0] / 16.0f, 0.5f + table[i][1] / 16.0f}};
 }
 
 bool ras_sample_pattern_make(ras_pattern_kind kind, int count, ras_sample_pattern *out,

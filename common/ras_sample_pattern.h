@@ -5,8 +5,11 @@
  * Two families:
  *   - ordered grids n×n (2×2, 4×4, 8×8): offsets ((i + 0.5)/n, (j + 0.5)/n);
  *   - the standard patterns of D3D = Vulkan (2x, 4x, 8x, 16x), given in 1/16 px
- *     from the centre with y DOWN (a D3D raster convention); we negate y so that
- *     the pattern looks the same on screen with our y-up screen space.
+ *     from the centre: offset = 0.5 + table / 16. D3D measures y downward; we
+ *     read the table's y in our y-up screen space as it is, so on screen the
+ *     pattern is D3D's mirrored top-to-bottom. Flipping instead would move
+ *     16x's (−7, −8) to y = 1.0, onto the next pixel's edge: the tables span
+ *     −8..7 and are only half-open the way D3D reads them.
  * Sample order is the order of the tables (it fixes the per-sample buffer layout).
  */
 #ifndef RAS_SAMPLE_PATTERN_H

@@ -1,0 +1,308 @@
+/* test_core.c — the core library: math helpers, sample patterns, buffers,
+ * clipping, viewport, line drawing, the command-line parser, image files and
+ * the wireframe pipeline. No assignment code is linked here.
+ */
+#include "ras_cli.h"
+#include "ras_draw.h"
+#include "ras_image.h"
+#include "ras_pipeline.h"
+#include "stage2_clip.h"
+#include "stage3_setup.h"
+
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include <cmocka.h>
+
+/* ras_mat4_rows reads like paper: element (row 0, col 3) is the 4th argument. */
+static void test_math_rows_constructor_is_row_major(void **state) {
+    (void)state;
+    mat4s t = ras_mat4_rows(1, 0, 0, 7, 0, 1, 0, 8, 0, 0, 1, 9, 0, 0, 0, 1);
+    assert_float_equal(ras_mat4_at(t, 0, 3), 7, 0);
+    assert_float_equal(t.raw[3][0], 7, 0); /* cglm: column 3, row 0 */
+    vec4s p = glms_mat4_mulv(t, (vec4s){{1, 2, 3, 1}});
+    if (p.x != 8 || p.y != 10 || p.z != 12)
+        fail_msg("a translation by (7,8,9) moved (1,2,3) to (%g,%g,%g), expected (8,10,12)",
+                 p.x, p.y, p.z);
+}
+
+/* max_diff treats NaN as infinitely different, so a NaN matrix never "matches". */
+static void test_math_nan_never_near(void **state) {
+    (void)state;
+    mat4s a = glms_mat4_identity(), b = a;
+    b.raw[1][2] = NAN;
+    assert_false(ras_mat4_near(a, b, 1e9f));
+}
+
+/* Ordered grids sit at ((i+0.5)/n, (j+0.5)/n); standard 4x is D3D's table read y-up. */
+static void test_sample_patterns_positions(void **state) {
+    (void)state;
+    ras_sample_pattern p;
+    ras_error err;
+    assert_true(ras_sample_pattern_make(RAS_PATTERN_ORDERED, 4, &p, &err));
+    assert_int_equal(p.count, 4);
+    assert_float_equal(p.offsets[0].x, 0.25, 1e-7);
+    assert_float_equal(p.offsets[3].y, 0.75, 1e-7);
+    assert_true(ras_sample_pattern_make(RAS_PATTERN_STANDARD, 4, &p, &err));
+    /* D3D (-2,-6)/16 from the centre → (0.5 - 0.125, 0.5 - 0.375). */
+    assert_float_equal(p.offsets[0].x, 0.375, 1e-7);
+    assert_float_equal(p.offsets[0].y, 0.125, 1e-7);
+    const int counts[] = {2, 8, 16};
+    for (int k = 0; k < 3; k++) {
+        assert_true(ras_sample_pattern_make(RAS_PATTERN_STANDARD, counts[k], &p, &err));
+        vec2s mean = {{0, 0}};
+        for (int s = 0; s < p.count; s++) {
+            assert_true(p.offsets[s].x >= 0 && p.offsets[s].x < 1);
+            assert_true(p.offsets[s].y >= 0 && p.offsets[s].y < 1);
+            mean = glms_vec2_add(mean, p.offsets[s]);
+        }
+        /* The 2x..16x tables are balanced around the pixel centre within 1/16 px. */
+        assert_true(fabsf(mean.x / p.count - 0.5f) <= 1 / 16.0f);
+    }
+    assert_false(ras_sample_pattern_make(RAS_PATTERN_ORDERED, 8, &p, &err));
+    assert_non_null(strstr(err.msg, "16 (4x4)"));
+}
+
+/* Screen (x, y) with y up maps to the image row height-1-y; samples are consecutive. */
+static void test_framebuffer_index_math(void **state) {
+    (void)state;
+    ras_framebuffer *fb = ras_framebuffer_create(5, 3, 4, NULL);
+    assert_non_null(fb);
+    assert_int_equal(ras_fb_pixel_index(fb, 0, 0), 10); /* bottom-left → last row */
+    assert_int_equal(ras_fb_pixel_index(fb, 4, 2), 4);  /* top-right → first row */
+    assert_int_equal(ras_fb_sample_index(fb, 4, 0, 3), 14 * 4 + 3);
+    assert_int_equal(fb->bytes, (size_t)5 * 3 * 4 * (sizeof(vec3s) + sizeof(float)));
+    assert_true(isinf(fb->depth[0]) && fb->depth[0] > 0);
+    ras_framebuffer_destroy(fb);
+    ras_error err;
+    assert_null(ras_framebuffer_create(0, 3, 1, &err));
+    assert_non_null(strstr(err.msg, "0x3"));
+}
+
+static ras_clip_vertex cv(float x, float y, float z, float w) {
+    return (ras_clip_vertex){.p_clip = {{x, y, z, w}}, .color = {{1, 1, 1}}};
+}
+
+/* A triangle inside the volume is passed through untouched. */
+static void test_clip_inside_untouched(void **state) {
+    (void)state;
+    ras_clip_vertex a = cv(0, 0, 0, 1), b = cv(0.5f, 0, 0, 1), c = cv(0, 0.5f, 0, 1);
+    ras_clip_vertex out[RAS_CLIP_MAX_VERTICES];
+    int n;
+    assert_int_equal(ras_clip_triangle(&a, &b, &c, out, &n), RAS_CLIP_INSIDE);
+    assert_int_equal(n, 3);
+}
+
+/* One vertex behind the eye (w < 0): the result is a quad with every w > 0 and
+ * no vertex on the wrong side — no inverted triangle across the screen. */
+static void test_clip_one_vertex_behind_eye(void **state) {
+    (void)state;
+    ras_clip_vertex a = cv(0, 0, 0.5f, 1), b = cv(0.5f, 0, 0.5f, 1), c = cv(0, 0.5f, 2, -1);
+    ras_clip_vertex out[RAS_CLIP_MAX_VERTICES];
+    int n;
+    assert_int_equal(ras_clip_triangle(&a, &b, &c, out, &n), RAS_CLIP_SPLIT);
+    assert_int_equal(n, 4);
+    for (int i = 0; i < n; i++) {
+        assert_true(out[i].p_clip.w >= RAS_CLIP_W_EPSILON);
+        assert_true(out[i].p_clip.z <= out[i].p_clip.w + 1e-6f);
+        vec4s s = ras_viewport(out[i].p_clip, 100, 100);
+        assert_true(ras_vec4_finite(s));
+    }
+}
+
+/* Two vertices behind: a smaller triangle remains. Wholly behind: nothing. */
+static void test_clip_two_behind_and_all_behind(void **state) {
+    (void)state;
+    ras_clip_vertex a = cv(0, 0, 0.5f, 1), b = cv(0.5f, 0, 2, -1), c = cv(0, 0.5f, 2, -1);
+    ras_clip_vertex out[RAS_CLIP_MAX_VERTICES];
+    int n;
+    assert_int_equal(ras_clip_triangle(&a, &b, &c, out, &n), RAS_CLIP_SPLIT);
+    assert_int_equal(n, 3);
+    ras_clip_vertex d = cv(0, 0, 2, -1);
+    assert_int_equal(ras_clip_triangle(&d, &b, &c, out, &n), RAS_CLIP_OUTSIDE);
+    assert_int_equal(n, 0);
+}
+
+/* A vertex with w = 0 exactly never reaches the divide. */
+static void test_clip_w_zero(void **state) {
+    (void)state;
+    ras_clip_vertex a = cv(0, 0, 0, 1), b = cv(0.5f, 0, 0, 1), c = cv(0.3f, 0.3f, 0, 0);
+    ras_clip_vertex out[RAS_CLIP_MAX_VERTICES];
+    int n;
+    ras_clip_triangle(&a, &b, &c, out, &n);
+    for (int i = 0; i < n; i++) assert_true(out[i].p_clip.w >= RAS_CLIP_W_EPSILON);
+}
+
+/* The viewport negates z: near (z_ndc = +1) → depth 0, far (−1) → depth 1. */
+static void test_viewport_depth_smaller_is_closer(void **state) {
+    (void)state;
+    vec4s near_pt = ras_viewport((vec4s){{0, 0, 2, 2}}, 700, 700);
+    vec4s far_pt = ras_viewport((vec4s){{0, 0, -3, 3}}, 700, 700);
+    assert_float_equal(near_pt.z, 0, 1e-7);
+    assert_float_equal(far_pt.z, 1, 1e-7);
+    assert_float_equal(near_pt.x, 350, 1e-4);
+    assert_float_equal(near_pt.w, 2, 0); /* clip w kept for perspective correction */
+}
+
+/* Lines with endpoints far off-screen or NaN are clipped or dropped, never written outside. */
+static void test_draw_line_clips_safely(void **state) {
+    (void)state;
+    ras_framebuffer *fb = ras_framebuffer_create(16, 8, 1, NULL);
+    vec3s white = {{1, 1, 1}};
+    assert_int_equal(ras_draw_line(fb, (vec2s){{-1e9f, 4.5f}}, (vec2s){{1e9f, 4.5f}}, white), 16);
+    assert_int_equal(ras_draw_line(fb, (vec2s){{NAN, 0}}, (vec2s){{3, 3}}, white), 0);
+    assert_int_equal(ras_draw_line(fb, (vec2s){{-5, -5}}, (vec2s){{-1, -1}}, white), 0);
+    /* (0.5,0.5)→(3.5,3.5): the diagonal, 4 pixels, pixel (2,2) included. */
+    assert_int_equal(ras_draw_line(fb, (vec2s){{0.5f, 0.5f}}, (vec2s){{3.5f, 3.5f}}, white), 4);
+    assert_float_equal(fb->color[ras_fb_pixel_index(fb, 2, 2)].x, 1, 0);
+    ras_framebuffer_destroy(fb);
+}
+
+static ras_cli_status parse(ras_cli *cli, ras_error *err, unsigned accepted, int argc,
+                            const char **argv) {
+    return ras_cli_parse(argc, (char **)argv, accepted, cli, err);
+}
+
+/* Flags parse into fields; the classic positional form leaves the file positional. */
+static void test_cli_parses_values(void **state) {
+    (void)state;
+    ras_cli cli;
+    ras_error err;
+    const char *argv[] = {"p", "-r", "20", "--aa", "msaa", "--samples", "4", "out.png"};
+    assert_int_equal(parse(&cli, &err, RAS_OPT_ANGLE | RAS_OPT_AA, 8, argv), RAS_CLI_RUN);
+    assert_float_equal(cli.angle, 20, 0);
+    assert_int_equal(cli.aa, RAS_AA_MSAA);
+    assert_int_equal(cli.samples, 4);
+    assert_int_equal(cli.positional_count, 1);
+    assert_string_equal(cli.positional[0], "out.png");
+}
+
+/* Unknown flags, flags of another program, bad numbers: clear errors naming the input. */
+static void test_cli_rejects_bad_input(void **state) {
+    (void)state;
+    ras_cli cli;
+    ras_error err;
+    const char *unknown[] = {"p", "--frobnicate"};
+    assert_int_equal(parse(&cli, &err, RAS_OPT_ANGLE, 2, unknown), RAS_CLI_ERROR);
+    assert_non_null(strstr(err.msg, "--frobnicate"));
+    const char *other[] = {"p", "--aa", "msaa"};
+    assert_int_equal(parse(&cli, &err, RAS_OPT_ANGLE, 3, other), RAS_CLI_ERROR);
+    assert_non_null(strstr(err.msg, "does not apply"));
+    const char *nan_angle[] = {"p", "-r", "nan"};
+    assert_int_equal(parse(&cli, &err, RAS_OPT_ANGLE, 3, nan_angle), RAS_CLI_ERROR);
+    assert_non_null(strstr(err.msg, "'nan'"));
+    const char *missing[] = {"p", "-o"};
+    assert_int_equal(parse(&cli, &err, RAS_OPT_ANGLE, 2, missing), RAS_CLI_ERROR);
+    assert_non_null(strstr(err.msg, "needs a value"));
+    const char *axis[] = {"p", "--axis", "0,0,0"};
+    assert_int_equal(parse(&cli, &err, RAS_OPT_ANGLE, 3, axis), RAS_CLI_ERROR);
+    const char *help[] = {"p", "--help"};
+    assert_int_equal(parse(&cli, &err, RAS_OPT_ANGLE, 2, help), RAS_CLI_HELP);
+}
+
+/* PNG round trip is exact at 8 bits; a failed write leaves no file behind. */
+static void test_image_roundtrip_and_failed_write(void **state) {
+    (void)state;
+    char dir[] = "/tmp/raster101-test-XXXXXX";
+    assert_non_null(mkdtemp(dir));
+    char path[256];
+    snprintf(path, sizeof path, "%s/img.png", dir);
+    ras_image *img = ras_image_create(3, 2, NULL);
+    ras_image_set(img, 0, 0, (vec3s){{1, 0, 0}});
+    ras_image_set(img, 2, 1, (vec3s){{0, 128 / 255.0f, 1}});
+    ras_error err;
+    assert_true(ras_image_save(img, path, &err));
+    ras_image *back = ras_image_load(path, &err);
+    assert_non_null(back);
+    assert_int_equal(back->width, 3);
+    assert_float_equal(ras_image_get(back, 0, 0).x, 1, 0);
+    assert_float_equal(ras_image_get(back, 2, 1).y, 128 / 255.0f, 1e-6);
+    char bad[256];
+    snprintf(bad, sizeof bad, "%s/no-such-folder/img.png", dir);
+    assert_false(ras_image_save(img, bad, &err));
+    assert_non_null(strstr(err.msg, "no-such-folder"));
+    assert_null(ras_image_load(bad, &err));
+    assert_non_null(strstr(err.msg, "could not read"));
+    assert_int_equal(access(bad, F_OK), -1);
+    remove(path);
+    rmdir(dir);
+    ras_image_destroy(img);
+    ras_image_destroy(back);
+}
+
+/* The wireframe pipeline runs only vertex/clip/setup/wireframe: no raster, no resolve. */
+static void test_pipeline_wireframe_runs_only_its_stages(void **state) {
+    (void)state;
+    ras_pipeline_config cfg = {.width = 64, .height = 64, .wireframe = true,
+                               .wire_color = {{1, 1, 1}}};
+    ras_error err;
+    ras_pipeline *p = ras_pipeline_create(&cfg, &err);
+    assert_non_null(p);
+    ras_mesh *tri = ras_mesh_create_triangle((vec3s){{-0.5f, -0.5f, 0}}, (vec3s){{0.5f, -0.5f, 0}},
+                                             (vec3s){{0, 0.5f, 0}}, (vec3s){{1, 1, 1}});
+    ras_pipeline_begin_frame(p);
+    /* An orthographic-ish projection: identity with w = 1. */
+    assert_true(ras_pipeline_draw_mesh(p, tri, glms_mat4_identity(), glms_mat4_identity(),
+                                       glms_mat4_identity(), &err));
+    ras_image *img = ras_image_create(64, 64, NULL);
+    ras_pipeline_end_frame(p, img);
+    unsigned expected = RAS_STAGE_VERTEX | RAS_STAGE_CLIP | RAS_STAGE_SETUP | RAS_STAGE_WIREFRAME;
+    assert_int_equal(p->counters.stages_run, expected);
+    assert_int_equal(p->counters.lines_drawn, 3);
+    assert_int_equal(p->counters.buffer_bytes, (size_t)64 * 64 * (sizeof(vec3s) + sizeof(float)));
+    /* The bottom edge at y_ndc = -0.5 → screen y 16 → image row 47, lit at the centre column. */
+    assert_float_equal(ras_image_get(img, 32, 47).x, 1, 0);
+    assert_float_equal(ras_image_get(img, 32, 32).x, 0, 0); /* inside: not filled */
+    ras_image_destroy(img);
+    ras_mesh_destroy(tri);
+    ras_pipeline_destroy(p);
+}
+
+/* NaN vertices are rejected and counted; nothing is drawn. */
+static void test_pipeline_rejects_nan(void **state) {
+    (void)state;
+    ras_pipeline_config cfg = {.width = 32, .height = 32, .wireframe = true};
+    ras_pipeline *p = ras_pipeline_create(&cfg, NULL);
+    ras_clip_vertex a = cv(NAN, 0, 0, 1), b = cv(0.5f, 0, 0, 1), c = cv(0, 0.5f, 0, 1);
+    ras_pipeline_draw_clip_triangle(p, &a, &b, &c);
+    assert_int_equal(p->counters.triangles_rejected_nonfinite, 1);
+    assert_int_equal(p->counters.lines_drawn, 0);
+    ras_pipeline_destroy(p);
+}
+
+/* A filled pipeline without a rasterizer, or AA without a resolve hook, is refused. */
+static void test_pipeline_config_checked(void **state) {
+    (void)state;
+    ras_error err;
+    ras_pipeline_config cfg = {.width = 32, .height = 32};
+    assert_null(ras_pipeline_create(&cfg, &err));
+    assert_non_null(strstr(err.msg, "rasterize"));
+}
+
+int main(void) {
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_math_rows_constructor_is_row_major),
+        cmocka_unit_test(test_math_nan_never_near),
+        cmocka_unit_test(test_sample_patterns_positions),
+        cmocka_unit_test(test_framebuffer_index_math),
+        cmocka_unit_test(test_clip_inside_untouched),
+        cmocka_unit_test(test_clip_one_vertex_behind_eye),
+        cmocka_unit_test(test_clip_two_behind_and_all_behind),
+        cmocka_unit_test(test_clip_w_zero),
+        cmocka_unit_test(test_viewport_depth_smaller_is_closer),
+        cmocka_unit_test(test_draw_line_clips_safely),
+        cmocka_unit_test(test_cli_parses_values),
+        cmocka_unit_test(test_cli_rejects_bad_input),
+        cmocka_unit_test(test_image_roundtrip_and_failed_write),
+        cmocka_unit_test(test_pipeline_wireframe_runs_only_its_stages),
+        cmocka_unit_test(test_pipeline_rejects_nan),
+        cmocka_unit_test(test_pipeline_config_checked),
+    };
+    return cmocka_run_group_tests_name("core", tests, NULL, NULL);
+}
