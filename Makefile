@@ -39,3 +39,11 @@ format:
 
 clean:
 	rm -rf $(BUILD) out
+
+# ---- grading (tests/grade, docs/grading.md) ----
+#   make grade              builds and grades the student code (all assignments)
+#   make grade HW=2         one assignment
+#   make grade STUDENT=ref  grades the reference solutions as the student (full marks)
+.PHONY: grade
+grade: configure
+	@tests/grade --build $(BUILD) --jobs $(JOBS) $(if $(HW),--hw $(HW)) $(if $(STUDENT),--student $(STUDENT))

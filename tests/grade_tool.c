@@ -1,0 +1,1235 @@
+/* grade_tool.c — raster101-grade: grades one build of the assignments against
+ * tests/rubric.json. tests/grade builds the student code and then calls this;
+ * see docs/grading.md.
+ *
+ *   raster101-grade --source SRC --build BUILD --out OUT
+ *                   [--rubric FILE] [--hw hwN]... [--variant student|ref]
+ *                   [--build-failed hwN=LOG]... [--expect full|0|POINTS]
+ *
+ * For each assignment of the rubric (or only those given with --hw):
+ *   1. tests: lists the test program's tests (RAS_TEST_LIST=1, see
+ *      tests/ras_test_main.h) and runs each test in its own process
+ *      (RAS_TEST_FILTER=name) with cmocka's XML output, a time limit and a
+ *      memory limit; a crash or a hang fails that test only. A test program
+ *      without ras_test_main.h runs once, whole, and its console output is
+ *      split per test.
+ *   2. images: runs the program with each graded scene's arguments and
+ *      compares the PNG with tests/reference/ (common/ras_compare.h), writing
+ *      a heatmap and a crop of the worst region.
+ * Outputs in OUT: results.json (Gradescope), report.md (with images),
+ * scores.csv (one row per item, for tests/grade-all), hwN/cmocka.xml; a table
+ * on stdout.
+ *
+ * Scoring: an item scores its points when it passes and no TODO notice was
+ * printed while it ran (passing on a placeholder stub earns nothing). Exit
+ * status: 0 graded (whatever the score), 1 --expect not met, 2 grader error.
+ */
+#include "ras_compare.h"
+#include "ras_image.h"
+
+#include <cjson/cJSON.h>
+#include <errno.h>
+#include <fcntl.h>
+#include <math.h>
+#include <signal.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
+
+/* snprintf that cuts silently (paths here are far below the buffer sizes). */
+__attribute__((format(printf, 3, 4))) static void fmt(char *buf, size_t size, const char *f,
+                                                      ...) {
+    va_list ap;
+    va_start(ap, f);
+    vsnprintf(buf, size, f, ap);
+    va_end(ap);
+}
+
+/* ---------------------------------------------------------------- strings */
+
+typedef struct sbuf {
+    char *s;
+    size_t len, cap;
+} sbuf;
+
+static void sb_addn(sbuf *b, const char *s, size_t n) {
+    if (b->len + n + 1 > b->cap) {
+        size_t cap = b->cap ? b->cap : 256;
+        while (cap < b->len + n + 1) cap *= 2;
+        char *p = realloc(b->s, cap);
+        if (!p) abort();
+        b->s = p;
+        b->cap = cap;
+    }
+    memcpy(b->s + b->len, s, n);
+    b->len += n;
+    b->s[b->len] = '\0';
+}
+static void sb_add(sbuf *b, const char *s) { sb_addn(b, s, strlen(s)); }
+static void sb_printf(sbuf *b, const char *fmt, ...) {
+    va_list ap;
+    va_start(ap, fmt);
+    char tmp[2048];
+    int n = vsnprintf(tmp, sizeof tmp, fmt, ap);
+    va_end(ap);
+    if (n < 0) return;
+    if ((size_t)n < sizeof tmp) {
+        sb_addn(b, tmp, (size_t)n);
+        return;
+    }
+    char *big = malloc((size_t)n + 1);
+    if (!big) abort();
+    va_start(ap, fmt);
+    vsnprintf(big, (size_t)n + 1, fmt, ap);
+    va_end(ap);
+    sb_addn(b, big, (size_t)n);
+    free(big);
+}
+static const char *sb_str(const sbuf *b) { return b->s ? b->s : ""; }
+
+static char *xstrdup(const char *s) {
+    char *p = strdup(s ? s : "");
+    if (!p) abort();
+    return p;
+}
+
+static char *read_file(const char *path, size_t limit) {
+    FILE *f = fopen(path, "rb");
+    if (!f) return NULL;
+    sbuf b = {0};
+    char chunk[8192];
+    size_t n;
+    while ((n = fread(chunk, 1, sizeof chunk, f)) > 0) {
+        if (limit && b.len + n > limit) {
+            sb_addn(&b, chunk, limit - b.len);
+            sb_add(&b, "\n[... output cut ...]\n");
+            break;
+        }
+        sb_addn(&b, chunk, n);
+    }
+    fclose(f);
+    if (!b.s) return xstrdup("");
+    return b.s;
+}
+
+static bool copy_file(const char *from, const char *to) {
+    FILE *in = fopen(from, "rb"), *out = in ? fopen(to, "wb") : NULL;
+    bool ok = in && out;
+    char buf[65536];
+    size_t n;
+    while (ok && (n = fread(buf, 1, sizeof buf, in)) > 0) ok = fwrite(buf, 1, n, out) == n;
+    if (in) fclose(in);
+    if (out && fclose(out) != 0) ok = false;
+    return ok;
+}
+
+static void mkdirs(const char *path) {
+    char tmp[4096];
+    fmt(tmp, sizeof tmp, "%s", path);
+    for (char *p = tmp + 1; *p; p++)
+        if (*p == '/') {
+            *p = '\0';
+            mkdir(tmp, 0755);
+            *p = '/';
+        }
+    mkdir(tmp, 0755);
+}
+
+static bool file_exists(const char *path) { return access(path, F_OK) == 0; }
+
+/* Drops cmocka's banner lines and the "ERROR: " prefix of its XML mode, so
+ * what remains is what the test said. */
+static char *clean_output(const char *raw) {
+    sbuf b = {0};
+    const char *p = raw;
+    while (*p) {
+        const char *nl = strchr(p, '\n');
+        size_t n = nl ? (size_t)(nl - p) : strlen(p);
+        bool banner = n > 0 && p[0] == '[' &&
+                      (!strncmp(p, "[==========]", 12) || !strncmp(p, "[ RUN      ]", 12) ||
+                       !strncmp(p, "[       OK ]", 12) || !strncmp(p, "[  FAILED  ]", 12) ||
+                       !strncmp(p, "[  PASSED  ]", 12) || !strncmp(p, "[  SKIPPED ]", 12));
+        bool footer = n > 0 && strstr(p, "FAILED TEST(S)") && strstr(p, "FAILED TEST(S)") < p + n;
+        if (!banner && !footer) {
+            if (!strncmp(p, "ERROR: ", 7)) p += 7, n -= 7;
+            sb_addn(&b, p, n);
+            sb_add(&b, "\n");
+        }
+        p += n + (nl ? 1 : 0);
+    }
+    /* trim trailing blank lines */
+    while (b.len > 0 && (b.s[b.len - 1] == '\n' || b.s[b.len - 1] == ' ')) b.s[--b.len] = '\0';
+    return b.s ? b.s : xstrdup("");
+}
+
+static bool has_todo_notice(const char *out) { return strstr(out, "is not written yet") != NULL; }
+
+/* The most useful line of a failure: the "likely mistake" if there is one,
+ * otherwise the first line that is not a TODO notice. */
+static char *reason_line(const char *out) {
+    const char *todo = strstr(out, "TODO: ");
+    if (todo) { /* "TODO: f() is not written yet" is the whole story */
+        const char *end = strstr(todo, " is not written yet");
+        const char *nl = strchr(todo, '\n');
+        if (end && (!nl || end < nl)) {
+            size_t n = (size_t)(end - todo) + strlen(" is not written yet");
+            char *r = malloc(n + 1);
+            if (!r) abort();
+            memcpy(r, todo, n);
+            r[n] = '\0';
+            return r;
+        }
+    }
+    const char *p = strstr(out, "likely mistake");
+    if (p && !strncmp(p, "likely mistake: ", 16)) p += 16;
+    if (!p) {
+        p = out;
+        while (*p && (!strncmp(p, "TODO:", 5) || *p == '\n')) {
+            const char *nl = strchr(p, '\n');
+            if (!nl) break;
+            p = nl + 1;
+        }
+        if (!*p || !strncmp(p, "TODO:", 5)) p = out;
+    }
+    const char *nl = strchr(p, '\n');
+    size_t n = nl ? (size_t)(nl - p) : strlen(p);
+    if (n > 110) n = 110;
+    char *r = malloc(n + 1);
+    if (!r) abort();
+    memcpy(r, p, n);
+    r[n] = '\0';
+    return r;
+}
+
+static void xml_escape(sbuf *b, const char *s) {
+    for (; *s; s++) {
+        switch (*s) {
+        case '<': sb_add(b, "&lt;"); break;
+        case '>': sb_add(b, "&gt;"); break;
+        case '&': sb_add(b, "&amp;"); break;
+        case '"': sb_add(b, "&quot;"); break;
+        default: sb_addn(b, s, 1);
+        }
+    }
+}
+
+/* ---------------------------------------------------------------- processes */
+
+typedef enum run_kind { RUN_EXITED, RUN_SIGNALED, RUN_TIMEOUT, RUN_NOT_STARTED } run_kind;
+
+typedef struct run_result {
+    run_kind kind;
+    int code; /* exit status or signal number */
+    double seconds;
+} run_result;
+
+static double now_s(void) {
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+/* Runs argv in its own process group with stdout+stderr to out_path, the
+ * NULL-terminated "NAME=value" pairs of env added, a wall-clock limit and an
+ * address-space limit (MB, 0 = none). Kills the whole group at the limit. */
+static run_result run_limited(char *const argv[], const char *const env[], const char *out_path,
+                              double limit_s, long mem_mb) {
+    run_result r = {RUN_NOT_STARTED, 0, 0};
+    double t0 = now_s();
+    fflush(stdout);
+    pid_t pid = fork();
+    if (pid < 0) return r;
+    if (pid == 0) {
+        setpgid(0, 0);
+        int fd = open(out_path, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        if (fd >= 0) {
+            dup2(fd, 1);
+            dup2(fd, 2);
+            close(fd);
+        }
+        int devnull = open("/dev/null", O_RDONLY);
+        if (devnull >= 0) dup2(devnull, 0);
+        for (int i = 0; env && env[i]; i++) putenv((char *)env[i]);
+        unsetenv("DISPLAY"); /* never open a window while grading */
+        struct rlimit core = {0, 0};
+        setrlimit(RLIMIT_CORE, &core);
+        if (mem_mb > 0) {
+            struct rlimit as = {(rlim_t)mem_mb << 20, (rlim_t)mem_mb << 20};
+            setrlimit(RLIMIT_AS, &as);
+        }
+        struct rlimit cpu = {(rlim_t)limit_s + 2, (rlim_t)limit_s + 3};
+        setrlimit(RLIMIT_CPU, &cpu);
+        execv(argv[0], argv);
+        fprintf(stderr, "could not start %s: %s\n", argv[0], strerror(errno));
+        _exit(127);
+    }
+    setpgid(pid, pid);
+    int status = 0;
+    for (;;) {
+        pid_t w = waitpid(pid, &status, WNOHANG);
+        if (w == pid) break;
+        if (w < 0 && errno != EINTR) return r;
+        if (now_s() - t0 > limit_s) {
+            kill(-pid, SIGKILL);
+            kill(pid, SIGKILL);
+            waitpid(pid, &status, 0);
+            r.kind = RUN_TIMEOUT;
+            r.seconds = now_s() - t0;
+            return r;
+        }
+        struct timespec nap = {0, 2000000};
+        nanosleep(&nap, NULL);
+    }
+    kill(-pid, SIGKILL); /* anything the test left behind */
+    r.seconds = now_s() - t0;
+    if (WIFSIGNALED(status)) {
+        r.kind = RUN_SIGNALED;
+        r.code = WTERMSIG(status);
+    } else {
+        r.kind = RUN_EXITED;
+        r.code = WEXITSTATUS(status);
+    }
+    return r;
+}
+
+static const char *signal_text(int sig) {
+    switch (sig) {
+    case SIGSEGV: return "SIGSEGV, a segmentation fault: memory read or written out of bounds";
+    case SIGABRT: return "SIGABRT: an assert failed or memory was corrupted";
+    case SIGFPE: return "SIGFPE: an integer division by zero";
+    case SIGBUS: return "SIGBUS: a bad memory access";
+    case SIGKILL: return "SIGKILL: killed (out of memory or CPU time?)";
+    case SIGXCPU: return "SIGXCPU: the CPU time limit ran out (an endless loop?)";
+    case SIGILL: return "SIGILL: an illegal instruction (undefined behaviour?)";
+    default: return "a signal";
+    }
+}
+
+/* ---------------------------------------------------------------- results */
+
+typedef struct item {
+    char *name;     /* test name or "image NAME" */
+    bool is_image;
+    bool counted;   /* false: reported but not in the score */
+    bool passed;
+    bool default_weight;
+    double score, max_score;
+    char *status;   /* PASS, FAIL, CRASH, TIMEOUT, TODO, BUILD, SKIP */
+    char *reason;   /* one line for the table */
+    char *output;   /* everything for the student */
+    char *xml;      /* JUnit <testcase> for tests */
+    /* images: paths relative to OUT */
+    char *img_expected, *img_got, *img_diff, *img_crop;
+} item;
+
+typedef struct assignment_result {
+    char *id, *title;
+    bool graded;
+    char *note; /* why not graded, or remarks */
+    item *items;
+    int n_items, cap_items;
+    double score, max_score;
+    double seconds;
+} assignment_result;
+
+static item *add_item(assignment_result *a) {
+    if (a->n_items == a->cap_items) {
+        a->cap_items = a->cap_items ? 2 * a->cap_items : 16;
+        a->items = realloc(a->items, (size_t)a->cap_items * sizeof *a->items);
+        if (!a->items) abort();
+    }
+    item *it = &a->items[a->n_items++];
+    memset(it, 0, sizeof *it);
+    it->counted = true;
+    return it;
+}
+
+typedef struct grader {
+    const char *source, *build, *out, *variant;
+    cJSON *rubric;
+    double default_points, test_limit, render_limit;
+    long mem_mb;
+    const char *only[8];
+    int n_only;
+    const char *failed_hw[8], *failed_log[8];
+    int n_failed;
+} grader;
+
+static double num_or(const cJSON *obj, const char *key, double fallback) {
+    const cJSON *v = cJSON_GetObjectItemCaseSensitive(obj, key);
+    return cJSON_IsNumber(v) ? v->valuedouble : fallback;
+}
+static const char *str_or(const cJSON *obj, const char *key, const char *fallback) {
+    const cJSON *v = cJSON_GetObjectItemCaseSensitive(obj, key);
+    return cJSON_IsString(v) ? v->valuestring : fallback;
+}
+
+/* Points for a test from the rubric's "tests" object; *dflt set when the
+ * rubric does not name it. */
+static double test_points(const grader *g, const cJSON *tests, const char *name, bool *dflt) {
+    const cJSON *v = cJSON_GetObjectItemCaseSensitive(tests, name);
+    *dflt = !cJSON_IsNumber(v);
+    return cJSON_IsNumber(v) ? v->valuedouble : g->default_points;
+}
+
+/* Fills in score and status of a finished test from its run and output. */
+static void judge_test(item *it, run_result rr, bool failed_in_output, const char *out,
+                       double limit, const char *crash_hint) {
+    sbuf o = {0};
+    it->passed = false;
+    if (rr.kind == RUN_TIMEOUT) {
+        it->status = xstrdup("TIMEOUT");
+        sb_printf(&o, "the test did not finish within %.0f s and was stopped: an endless loop, or "
+                      "far too much work (e.g. a bounding box that is not clamped)\n", limit);
+    } else if (rr.kind == RUN_SIGNALED) {
+        it->status = xstrdup("CRASH");
+        sb_printf(&o, "the test crashed with %s\nlikely mistake: %s\n", signal_text(rr.code),
+                  crash_hint);
+    } else if (rr.kind == RUN_NOT_STARTED) {
+        it->status = xstrdup("ERROR");
+        sb_add(&o, "the test program could not be started\n");
+    } else if (rr.code == 0 && !failed_in_output) {
+        it->passed = true;
+        it->status = xstrdup(has_todo_notice(out) ? "TODO" : "PASS");
+    } else {
+        it->status = xstrdup(has_todo_notice(out) ? "TODO" : "FAIL");
+    }
+    if (*out) sb_printf(&o, "%s%s", o.len ? "output before it stopped:\n" : "", out);
+    if (it->passed && has_todo_notice(out))
+        sb_add(&o, "\n(passed, but only on a placeholder: the TODO stub it calls is not written "
+                   "yet, so no points)");
+    it->output = o.s ? o.s : xstrdup("");
+    it->score = it->passed && !has_todo_notice(out) ? it->max_score : 0;
+    if (it->passed && !has_todo_notice(out)) it->reason = xstrdup("");
+    else if (it->passed) it->reason = xstrdup("passes only on the placeholder (TODO not written)");
+    else it->reason = reason_line(it->output);
+}
+
+static void junit_case(item *it, const char *classname, const char *raw_xml) {
+    sbuf x = {0};
+    if (raw_xml) {
+        sb_add(&x, raw_xml);
+    } else {
+        sb_add(&x, "    <testcase classname=\"");
+        xml_escape(&x, classname);
+        sb_add(&x, "\" name=\"");
+        xml_escape(&x, it->name);
+        sb_add(&x, "\">\n");
+        if (!it->passed) {
+            sb_add(&x, "      <failure message=\"");
+            xml_escape(&x, it->reason ? it->reason : it->status);
+            sb_add(&x, "\"><![CDATA[");
+            sb_add(&x, it->output ? it->output : "");
+            sb_add(&x, "]]></failure>\n");
+        }
+        sb_add(&x, "    </testcase>\n");
+    }
+    it->xml = x.s;
+}
+
+/* The <testcase> elements of a cmocka XML file, or NULL. */
+static char *cmocka_testcases(const char *xml_path, bool *has_failure) {
+    char *x = read_file(xml_path, 0);
+    if (!x) return NULL;
+    char *a = strstr(x, "<testcase"), *b = a ? strstr(a, "</testsuite>") : NULL;
+    if (!a || !b) {
+        free(x);
+        return NULL;
+    }
+    *b = '\0';
+    *has_failure = strstr(a, "<failure") != NULL || strstr(a, "<error") != NULL;
+    sbuf s = {0};
+    sb_add(&s, "    ");
+    sb_add(&s, a);
+    free(x);
+    while (s.len && (s.s[s.len - 1] == ' ' || s.s[s.len - 1] == '\n')) s.s[--s.len] = '\0';
+    sb_add(&s, "\n");
+    return s.s;
+}
+
+/* ------------------------------------------------------------- the tests */
+
+typedef struct name_list {
+    char **v;
+    int n;
+} name_list;
+
+static void names_add(name_list *l, const char *s) {
+    l->v = realloc(l->v, (size_t)(l->n + 1) * sizeof *l->v);
+    if (!l->v) abort();
+    l->v[l->n++] = xstrdup(s);
+}
+static bool names_has(const name_list *l, const char *s) {
+    for (int i = 0; i < l->n; i++)
+        if (!strcmp(l->v[i], s)) return true;
+    return false;
+}
+
+/* Parses the console output of a whole cmocka run (standard output mode)
+ * into per-test blocks: used when the test program has no RAS_TEST_FILTER. */
+static void grade_tests_whole(const grader *g, assignment_result *a, const cJSON *tests,
+                              const char *out_text, run_result rr, const char *crash_hint) {
+    name_list seen = {0};
+    const char *p = out_text;
+    char current[256] = "";
+    sbuf block = {0};
+    while (*p) {
+        const char *nl = strchr(p, '\n');
+        size_t n = nl ? (size_t)(nl - p) : strlen(p);
+        char line[1024];
+        fmt(line, sizeof line, "%.*s", (int)(n < 1000 ? n : 1000), p);
+        p += n + (nl ? 1 : 0);
+        if (!strncmp(line, "[ RUN      ] ", 13)) {
+            fmt(current, sizeof current, "%s", line + 13);
+            block.len = 0;
+            if (block.s) block.s[0] = '\0';
+            continue;
+        }
+        bool ok = !strncmp(line, "[       OK ] ", 13);
+        bool failed = !strncmp(line, "[  FAILED  ] ", 13) || !strncmp(line, "[  ERROR   ] ", 13);
+        if ((ok || failed) && current[0] && !strcmp(line + 13, current)) {
+            item *it = add_item(a);
+            it->name = xstrdup(current);
+            it->max_score = test_points(g, tests, current, &it->default_weight);
+            char *clean = clean_output(sb_str(&block));
+            run_result fake = {RUN_EXITED, ok ? 0 : 1, 0};
+            judge_test(it, fake, failed, clean, g->test_limit, crash_hint);
+            free(clean);
+            junit_case(it, a->id, NULL);
+            names_add(&seen, current);
+            current[0] = '\0';
+            continue;
+        }
+        if (current[0]) {
+            sb_add(&block, line);
+            sb_add(&block, "\n");
+        }
+    }
+    if (current[0]) { /* the run died inside this test */
+        item *it = add_item(a);
+        it->name = xstrdup(current);
+        it->max_score = test_points(g, tests, current, &it->default_weight);
+        char *clean = clean_output(sb_str(&block));
+        judge_test(it, rr.kind == RUN_EXITED ? (run_result){RUN_SIGNALED, SIGABRT, 0} : rr, true,
+                   clean, g->test_limit, crash_hint);
+        free(clean);
+        junit_case(it, a->id, NULL);
+        names_add(&seen, current);
+    }
+    /* rubric tests never reached */
+    for (const cJSON *t = tests ? tests->child : NULL; t; t = t->next) {
+        if (names_has(&seen, t->string)) continue;
+        item *it = add_item(a);
+        it->name = xstrdup(t->string);
+        it->max_score = cJSON_IsNumber(t) ? t->valuedouble : g->default_points;
+        bool died = rr.kind != RUN_EXITED || seen.n == 0;
+        if (died) {
+            it->status = xstrdup("NOT RUN");
+            it->output = xstrdup("not run: the test program stopped before reaching this test "
+                                 "(see the test that crashed or timed out above)");
+            it->reason = xstrdup("not run: the test program stopped earlier");
+        } else {
+            it->counted = false;
+            it->status = xstrdup("MISSING");
+            it->output = xstrdup("the rubric names this test but the test program has none by "
+                                 "that name (not counted; update tests/rubric.json)");
+            it->reason = xstrdup("not in the test program (rubric out of date; not counted)");
+        }
+        junit_case(it, a->id, NULL);
+    }
+    for (int i = 0; i < seen.n; i++) free(seen.v[i]);
+    free(seen.v);
+    free(block.s);
+}
+
+static void grade_tests(const grader *g, assignment_result *a, const cJSON *asg,
+                        const char *test_bin, const char *dir) {
+    const cJSON *tests = cJSON_GetObjectItemCaseSensitive(asg, "tests");
+    const char *crash_hint = str_or(asg, "crash_hint", "look for an out-of-bounds access");
+    char out_path[4096], xml_dir[4096];
+    fmt(xml_dir, sizeof xml_dir, "%s/xml", dir);
+    mkdirs(xml_dir);
+    fmt(out_path, sizeof out_path, "%s/list.txt", dir);
+    char *argv[] = {(char *)test_bin, NULL};
+    const char *list_env[] = {"RAS_TEST_LIST=1", NULL};
+    int n_rubric = cJSON_GetArraySize(tests);
+    double whole_limit = g->test_limit * (n_rubric > 0 ? n_rubric + 5 : 30);
+    if (whole_limit > 600) whole_limit = 600;
+    run_result lr = run_limited(argv, list_env, out_path, whole_limit, g->mem_mb);
+    char *listing = read_file(out_path, 1 << 20);
+    if (!listing) listing = xstrdup("");
+    if (strncmp(listing, "RAS_TEST_LIST\n", 14) != 0) {
+        /* No ras_test_main.h: that run ran all the tests; use its output. */
+        sbuf note = {0};
+        if (a->note) sb_add(&note, a->note);
+        sb_add(&note, "(this test program does not support RAS_TEST_FILTER, so its tests ran in "
+                      "one process: a crash stops the rest) ");
+        free(a->note);
+        a->note = note.s;
+        grade_tests_whole(g, a, tests, listing, lr, crash_hint);
+        free(listing);
+        return;
+    }
+    name_list names = {0};
+    for (char *line = strtok(listing + 14, "\n"); line; line = strtok(NULL, "\n"))
+        if (*line) names_add(&names, line);
+    for (int i = 0; i < names.n; i++) {
+        const char *name = names.v[i];
+        item *it = add_item(a);
+        it->name = xstrdup(name);
+        it->max_score = test_points(g, tests, name, &it->default_weight);
+        char xml_path[4096], filter[512], xml_env[4200], test_out[4096];
+        fmt(xml_path, sizeof xml_path, "%s/%s.xml", xml_dir, name);
+        fmt(test_out, sizeof test_out, "%s/%s.out", xml_dir, name);
+        fmt(filter, sizeof filter, "RAS_TEST_FILTER=%s", name);
+        fmt(xml_env, sizeof xml_env, "CMOCKA_XML_FILE=%s", xml_path);
+        unlink(xml_path);
+        const char *env[] = {filter, "CMOCKA_MESSAGE_OUTPUT=xml", xml_env, NULL};
+        run_result rr = run_limited(argv, env, test_out, g->test_limit, g->mem_mb);
+        char *raw = read_file(test_out, 64 * 1024);
+        char *clean = clean_output(raw ? raw : "");
+        bool xml_failure = false;
+        char *cases = rr.kind == RUN_EXITED ? cmocka_testcases(xml_path, &xml_failure) : NULL;
+        /* cmocka's XML mode puts assertion texts only into the XML: add them */
+        const char *cdata = cases ? strstr(cases, "<failure><![CDATA[") : NULL;
+        if (cdata) {
+            cdata += strlen("<failure><![CDATA[");
+            const char *end = strstr(cdata, "]]>");
+            size_t n = end ? (size_t)(end - cdata) : 0;
+            char *msg = malloc(n + 1);
+            if (!msg) abort();
+            memcpy(msg, cdata, n);
+            msg[n] = '\0';
+            char *first_nl = strchr(msg, '\n');
+            if (first_nl) *first_nl = '\0';
+            if (n && !strstr(clean, msg) && !strstr(msg, "error: Failure!")) {
+                sbuf c = {0};
+                sb_printf(&c, "%s%s%s", clean, *clean ? "\n" : "", cdata);
+                c.len = strlen(clean) + (*clean ? 1 : 0) + n;
+                c.s[c.len] = '\0';
+                free(clean);
+                clean = c.s;
+            }
+            free(msg);
+        }
+        judge_test(it, rr, xml_failure, clean, g->test_limit, crash_hint);
+        junit_case(it, a->id, cases);
+        free(cases);
+        free(raw);
+        free(clean);
+    }
+    for (const cJSON *t = tests ? tests->child : NULL; t; t = t->next) {
+        if (names_has(&names, t->string)) continue;
+        item *it = add_item(a);
+        it->name = xstrdup(t->string);
+        it->counted = false;
+        it->max_score = cJSON_IsNumber(t) ? t->valuedouble : g->default_points;
+        it->status = xstrdup("MISSING");
+        it->output = xstrdup("the rubric names this test but the test program has none by that "
+                             "name (not counted; update tests/rubric.json)");
+        it->reason = xstrdup("not in the test program (rubric out of date; not counted)");
+        junit_case(it, a->id, NULL);
+    }
+    for (int i = 0; i < names.n; i++) free(names.v[i]);
+    free(names.v);
+    free(listing);
+}
+
+/* ------------------------------------------------------------- the images */
+
+/* Vertical mirror, to recognise a missing y-flip. */
+static ras_image *flip_rows(const ras_image *img) {
+    ras_image *f = ras_image_clone(img);
+    if (!f) return NULL;
+    for (int r = 0; r < img->height; r++)
+        for (int c = 0; c < img->width; c++)
+            ras_image_set(f, c, img->height - 1 - r, ras_image_get(img, c, r));
+    return f;
+}
+
+static double mean_luma(const ras_image *img) {
+    double s = 0;
+    long n = (long)img->width * img->height;
+    for (long i = 0; i < n; i++)
+        s += 0.299 * img->pixels[i].x + 0.587 * img->pixels[i].y + 0.114 * img->pixels[i].z;
+    return n ? s / (double)n : 0;
+}
+
+static bool is_flat(const ras_image *img) {
+    long n = (long)img->width * img->height;
+    for (long i = 1; i < n; i++)
+        if (ras_unit_to_byte(img->pixels[i].x) != ras_unit_to_byte(img->pixels[0].x) ||
+            ras_unit_to_byte(img->pixels[i].y) != ras_unit_to_byte(img->pixels[0].y) ||
+            ras_unit_to_byte(img->pixels[i].z) != ras_unit_to_byte(img->pixels[0].z))
+            return false;
+    return true;
+}
+
+/* Likely-mistake lines recognised from the pictures themselves. */
+static void image_signatures(sbuf *o, const ras_image *expected, const ras_image *got,
+                             const ras_compare_options *opt) {
+    if (is_flat(got) && !is_flat(expected)) {
+        sb_add(o, "likely mistake: your image is one flat colour: nothing was drawn (are the "
+                  "TODOs written? do the matrices put the scene in front of the camera?)\n");
+        return;
+    }
+    ras_image *flipped = flip_rows(got);
+    ras_compare_result fr;
+    ras_error err;
+    if (flipped && ras_compare_images(expected, flipped, opt, &fr, &err) && fr.pass)
+        sb_add(o, "likely mistake: your image is the reference upside down: the y-flip is "
+                  "missing (image row = height - 1 - y) or the projection flips y\n");
+    ras_image_destroy(flipped);
+    double le = mean_luma(expected), lg = mean_luma(got);
+    if (le > 0.02 && lg < 0.97 * le)
+        sb_printf(o, "note: your image is darker than the reference on average (mean luma %.4f "
+                     "vs %.4f): dark edges or seams? (resolve in floating point, colour per "
+                     "sample)\n", lg, le);
+    else if (le > 0.02 && lg > 1.03 * le)
+        sb_printf(o, "note: your image is brighter than the reference on average (mean luma "
+                     "%.4f vs %.4f): light added twice (ambient once per light?)\n", lg, le);
+}
+
+static void grade_image(const grader *g, assignment_result *a, const cJSON *img,
+                        const char *dir, const char *reldir, const char *crash_hint) {
+    const char *name = str_or(img, "name", "image");
+    const char *program = str_or(img, "program", "");
+    const char *reference = str_or(img, "reference", "");
+    const char *metric = str_or(img, "metric", "edge");
+    const char *hint = str_or(img, "hint", NULL);
+    item *it = add_item(a);
+    it->is_image = true;
+    char label[300];
+    fmt(label, sizeof label, "image %s", name);
+    it->name = xstrdup(label);
+    it->max_score = num_or(img, "points", g->default_points);
+    sbuf o = {0};
+    char ref_path[4096], prog_path[4096], got_path[4096], log_path[4096];
+    fmt(ref_path, sizeof ref_path, "%s/tests/reference/%s", g->source, reference);
+    fmt(prog_path, sizeof prog_path, "%s/bin/%s%s", g->build, program,
+             strcmp(g->variant, "ref") == 0 ? "_ref" : "");
+    fmt(got_path, sizeof got_path, "%s/%s.got.png", dir, name);
+    fmt(log_path, sizeof log_path, "%s/%s.log", dir, name);
+    if (!file_exists(ref_path)) {
+        it->counted = false;
+        it->status = xstrdup("SKIP");
+        it->reason = xstrdup("no reference image yet (not counted)");
+        sb_printf(&o, "tests/reference/%s does not exist (make reference-images); not counted",
+                  reference);
+        it->output = o.s;
+        junit_case(it, a->id, NULL);
+        return;
+    }
+    ras_error err = {{0}};
+    ras_compare_kind kind;
+    if (!ras_compare_kind_parse(metric, &kind, &err)) {
+        it->counted = false;
+        it->status = xstrdup("SKIP");
+        it->reason = xstrdup("bad metric in the rubric (not counted)");
+        it->output = xstrdup(err.msg);
+        junit_case(it, a->id, NULL);
+        return;
+    }
+    ras_compare_options opt = ras_compare_defaults(kind);
+    opt.tolerance = (int)num_or(img, "tolerance", opt.tolerance);
+    opt.max_bad_fraction = num_or(img, "max_bad", opt.max_bad_fraction);
+    opt.min_psnr_db = num_or(img, "min_psnr", opt.min_psnr_db);
+    opt.min_ssim = num_or(img, "min_ssim", opt.min_ssim);
+
+    /* the copy of the reference that the report shows */
+    char exp_copy[4096], rel[4200];
+    fmt(exp_copy, sizeof exp_copy, "%s/%s.expected.png", dir, name);
+    copy_file(ref_path, exp_copy);
+    fmt(rel, sizeof rel, "%s/%s.expected.png", reldir, name);
+    it->img_expected = xstrdup(rel);
+
+    const cJSON *args = cJSON_GetObjectItemCaseSensitive(img, "args");
+    char *argv[40] = {prog_path};
+    int n = 1;
+    for (const cJSON *v = args ? args->child : NULL; v && n < 36; v = v->next)
+        if (cJSON_IsString(v)) argv[n++] = v->valuestring;
+    argv[n++] = "-o";
+    argv[n++] = got_path;
+    argv[n] = NULL;
+    sb_printf(&o, "command: %s", program);
+    for (int i = 1; i < n - 2; i++) sb_printf(&o, " %s", argv[i]);
+    sb_printf(&o, " -o %s.png   (metric %s)\n", name, metric);
+    unlink(got_path);
+    run_result rr = file_exists(prog_path)
+                        ? run_limited(argv, NULL, log_path, g->render_limit, g->mem_mb)
+                        : (run_result){RUN_NOT_STARTED, 0, 0};
+    char *log = read_file(log_path, 16 * 1024);
+    char *clean = clean_output(log ? log : "");
+    free(log);
+    bool todo = has_todo_notice(clean);
+    ras_image *got = NULL, *expected = NULL;
+    if (rr.kind == RUN_NOT_STARTED) {
+        it->status = xstrdup("ERROR");
+        sb_printf(&o, "the program %s was not built\n", program);
+    } else if (rr.kind == RUN_TIMEOUT) {
+        it->status = xstrdup("TIMEOUT");
+        sb_printf(&o, "the program did not finish within %.0f s: an endless loop?\n",
+                  g->render_limit);
+    } else if (rr.kind == RUN_SIGNALED) {
+        it->status = xstrdup("CRASH");
+        sb_printf(&o, "the program crashed with %s\nlikely mistake: %s\n", signal_text(rr.code),
+                  crash_hint);
+    } else if (!(got = ras_image_load(got_path, &err))) {
+        it->status = xstrdup("FAIL");
+        sb_printf(&o, "the program exited with status %d and wrote no image (%s)\n", rr.code,
+                  err.msg);
+    }
+    if (*clean) sb_printf(&o, "program output:\n%s\n", clean);
+    free(clean);
+    if (got && (expected = ras_image_load(ref_path, &err)) != NULL) {
+        ras_compare_result r;
+        fmt(rel, sizeof rel, "%s/%s.got.png", reldir, name);
+        it->img_got = xstrdup(rel);
+        if (!ras_compare_images(expected, got, &opt, &r, &err)) {
+            it->status = xstrdup("FAIL");
+            sb_printf(&o, "%s\n", err.msg);
+        } else {
+            it->passed = r.pass;
+            it->status = xstrdup(r.pass ? (todo ? "TODO" : "PASS") : (todo ? "TODO" : "FAIL"));
+            sb_printf(&o, "%s\n", r.summary);
+            if (!r.pass) {
+                image_signatures(&o, expected, got, &opt);
+                if (kind == RAS_COMPARE_EXACT || kind == RAS_COMPARE_EDGE_TOLERANT) {
+                    char mask[2048];
+                    if (ras_compare_ascii_mask(expected, got, (vec3s){{0, 0, 0}}, r.worst_col,
+                                               r.worst_row, 8, mask, sizeof mask, &err))
+                        sb_printf(&o, "coverage around the worst pixel (%d,%d), %s:\n%s",
+                                  r.worst_col, r.worst_row, RAS_COMPARE_ASCII_LEGEND, mask);
+                }
+                if (hint) sb_printf(&o, "what this image checks: %s\n", hint);
+            }
+            ras_image *heat = ras_compare_heatmap(expected, got, kind, &err);
+            char p[4096];
+            fmt(p, sizeof p, "%s/%s.diff.png", dir, name);
+            if (heat && ras_image_save(heat, p, &err)) {
+                fmt(rel, sizeof rel, "%s/%s.diff.png", reldir, name);
+                it->img_diff = xstrdup(rel);
+            }
+            ras_image_destroy(heat);
+            if (!r.pass) {
+                ras_image *crop = ras_compare_crop(expected, got, kind, r.worst_col, r.worst_row,
+                                                   &err);
+                fmt(p, sizeof p, "%s/%s.crop.png", dir, name);
+                if (crop && ras_image_save(crop, p, &err)) {
+                    fmt(rel, sizeof rel, "%s/%s.crop.png", reldir, name);
+                    it->img_crop = xstrdup(rel);
+                }
+                ras_image_destroy(crop);
+            }
+        }
+    } else if (got) {
+        it->status = xstrdup("ERROR");
+        sb_printf(&o, "could not read the reference: %s\n", err.msg);
+    }
+    if (it->passed && todo)
+        sb_add(&o, "(matches, but the program called a TODO stub: no points until it is "
+                   "written)\n");
+    ras_image_destroy(got);
+    ras_image_destroy(expected);
+    while (o.len && o.s[o.len - 1] == '\n') o.s[--o.len] = '\0';
+    it->output = o.s;
+    it->score = it->passed && !todo ? it->max_score : 0;
+    if (it->score > 0) it->reason = xstrdup("");
+    else if (it->passed) it->reason = xstrdup("matches only on a placeholder (TODO not written)");
+    else {
+        const char *lm = strstr(it->output, "likely mistake");
+        const char *summary = strstr(it->output, " FAIL: ");
+        if (lm) it->reason = reason_line(lm);
+        else if (summary) {
+            while (summary > it->output && summary[-1] != '\n') summary--;
+            it->reason = reason_line(summary);
+        } else if (rr.kind != RUN_EXITED) it->reason = reason_line(strstr(it->output, "\n") + 1);
+        else it->reason = reason_line(it->output + strcspn(it->output, "\n") + 1);
+    }
+    junit_case(it, a->id, NULL);
+}
+
+/* ------------------------------------------------------------- outputs */
+
+static void mark_build_failed(const grader *g, assignment_result *a, const cJSON *asg,
+                              const char *log_path) {
+    char *log = read_file(log_path, 0);
+    sbuf tail = {0};
+    /* the compiler's error lines, at most 30 */
+    int lines = 0;
+    for (char *line = log ? strtok(log, "\n") : NULL; line && lines < 30;
+         line = strtok(NULL, "\n"))
+        if (strstr(line, "error") || strstr(line, "Error")) {
+            sb_printf(&tail, "%s\n", line);
+            lines++;
+        }
+    free(log);
+    const cJSON *tests = cJSON_GetObjectItemCaseSensitive(asg, "tests");
+    const cJSON *images = cJSON_GetObjectItemCaseSensitive(asg, "images");
+    for (int pass = 0; pass < 2; pass++)
+        for (const cJSON *t = (pass ? images : tests) ? (pass ? images : tests)->child : NULL; t;
+             t = t->next) {
+            item *it = add_item(a);
+            char label[300];
+            fmt(label, sizeof label, "%s%s", pass ? "image " : "",
+                     pass ? str_or(t, "name", "?") : t->string);
+            it->name = xstrdup(label);
+            it->is_image = pass;
+            it->max_score = pass ? num_or(t, "points", g->default_points)
+                                 : (cJSON_IsNumber(t) ? t->valuedouble : g->default_points);
+            it->status = xstrdup("BUILD");
+            it->reason = xstrdup("your code does not compile");
+            sbuf o = {0};
+            sb_printf(&o, "your code for %s does not compile, so nothing could be tested.\n%s",
+                      a->id, sb_str(&tail));
+            it->output = o.s;
+            junit_case(it, a->id, NULL);
+        }
+    free(tail.s);
+}
+
+static void write_outputs(const grader *g, assignment_result *as, int n, double total,
+                          double max_total) {
+    char path[4096];
+    /* results.json — Gradescope */
+    cJSON *root = cJSON_CreateObject();
+    cJSON_AddNumberToObject(root, "score", total);
+    cJSON_AddNumberToObject(root, "max_score", max_total);
+    sbuf summary = {0};
+    cJSON *tests = cJSON_AddArrayToObject(root, "tests");
+    cJSON *extra = cJSON_AddObjectToObject(root, "extra_data");
+    for (int i = 0; i < n; i++) {
+        assignment_result *a = &as[i];
+        cJSON *ea = cJSON_AddObjectToObject(extra, a->id);
+        cJSON_AddBoolToObject(ea, "graded", a->graded);
+        cJSON_AddNumberToObject(ea, "score", a->score);
+        cJSON_AddNumberToObject(ea, "max_score", a->max_score);
+        if (a->note) cJSON_AddStringToObject(ea, "note", a->note);
+        if (a->graded) sb_printf(&summary, "%s: %g / %g\n", a->id, a->score, a->max_score);
+        else sb_printf(&summary, "%s: not graded (%s)\n", a->id, a->note ? a->note : "");
+        for (int k = 0; k < a->n_items; k++) {
+            item *it = &a->items[k];
+            if (!it->counted) continue;
+            cJSON *t = cJSON_CreateObject();
+            char name[400];
+            fmt(name, sizeof name, "%s: %s%s", a->id, it->name,
+                     it->default_weight ? " (default weight)" : "");
+            cJSON_AddStringToObject(t, "name", name);
+            cJSON_AddNumberToObject(t, "score", it->score);
+            cJSON_AddNumberToObject(t, "max_score", it->max_score);
+            cJSON_AddStringToObject(t, "status", it->score >= it->max_score ? "passed" : "failed");
+            cJSON_AddStringToObject(t, "output", it->output ? it->output : "");
+            cJSON_AddStringToObject(t, "visibility", "visible");
+            cJSON_AddItemToArray(tests, t);
+        }
+    }
+    cJSON_AddStringToObject(root, "output", sb_str(&summary));
+    char *json = cJSON_Print(root);
+    fmt(path, sizeof path, "%s/results.json", g->out);
+    FILE *f = fopen(path, "w");
+    if (f) {
+        fprintf(f, "%s\n", json);
+        fclose(f);
+    }
+    free(json);
+    cJSON_Delete(root);
+    free(summary.s);
+
+    /* scores.csv — one row per item, for tests/grade-all */
+    fmt(path, sizeof path, "%s/scores.csv", g->out);
+    f = fopen(path, "w");
+    if (f) {
+        fprintf(f, "assignment,item,score,max_score,status\n");
+        for (int i = 0; i < n; i++) {
+            for (int k = 0; k < as[i].n_items; k++) {
+                item *it = &as[i].items[k];
+                if (it->counted)
+                    fprintf(f, "%s,%s,%g,%g,%s\n", as[i].id, it->name, it->score, it->max_score,
+                            it->status);
+            }
+            if (as[i].graded)
+                fprintf(f, "%s,total,%g,%g,\n", as[i].id, as[i].score, as[i].max_score);
+        }
+        fprintf(f, "all,total,%g,%g,\n", total, max_total);
+        fclose(f);
+    }
+
+    /* hwN/cmocka.xml — JUnit, one suite per assignment */
+    for (int i = 0; i < n; i++) {
+        if (!as[i].graded) continue;
+        fmt(path, sizeof path, "%s/%s/cmocka.xml", g->out, as[i].id);
+        f = fopen(path, "w");
+        if (!f) continue;
+        int n_tests = 0, n_fail = 0;
+        for (int k = 0; k < as[i].n_items; k++)
+            if (!as[i].items[k].is_image && as[i].items[k].counted) {
+                n_tests++;
+                n_fail += !as[i].items[k].passed;
+            }
+        fprintf(f, "<?xml version=\"1.0\" encoding=\"UTF-8\" ?>\n<testsuites>\n"
+                   "  <testsuite name=\"%s\" tests=\"%d\" failures=\"%d\" errors=\"0\" "
+                   "skipped=\"0\">\n",
+                as[i].id, n_tests, n_fail);
+        for (int k = 0; k < as[i].n_items; k++)
+            if (!as[i].items[k].is_image && as[i].items[k].counted && as[i].items[k].xml)
+                fputs(as[i].items[k].xml, f);
+        fprintf(f, "  </testsuite>\n</testsuites>\n");
+        fclose(f);
+    }
+
+    /* report.md */
+    fmt(path, sizeof path, "%s/report.md", g->out);
+    f = fopen(path, "w");
+    if (!f) return;
+    fprintf(f, "# Raster101 grade report\n\n**Total: %g / %g**", total, max_total);
+    if (strcmp(g->variant, "ref") == 0) fprintf(f, " (reference solutions graded as the student)");
+    fprintf(f, "\n\n| assignment | points |\n|---|---|\n");
+    for (int i = 0; i < n; i++) {
+        if (as[i].graded) fprintf(f, "| %s %s | %g / %g |\n", as[i].id, as[i].title, as[i].score,
+                                  as[i].max_score);
+        else fprintf(f, "| %s %s | not graded: %s |\n", as[i].id, as[i].title,
+                     as[i].note ? as[i].note : "");
+    }
+    for (int i = 0; i < n; i++) {
+        assignment_result *a = &as[i];
+        if (!a->graded) continue;
+        fprintf(f, "\n## %s — %s: %g / %g\n\n", a->id, a->title, a->score, a->max_score);
+        if (a->note) fprintf(f, "_%s_\n\n", a->note);
+        fprintf(f, "| | test | points | why |\n|---|---|---|---|\n");
+        for (int k = 0; k < a->n_items; k++) {
+            item *it = &a->items[k];
+            fprintf(f, "| %s | `%s`%s | ", it->status, it->name,
+                    it->default_weight ? " (default weight)" : "");
+            if (it->counted) fprintf(f, "%g / %g | ", it->score, it->max_score);
+            else fprintf(f, "not counted | ");
+            for (const char *c = it->reason ? it->reason : ""; *c; c++)
+                fputc(*c == '|' ? '/' : *c, f);
+            fprintf(f, " |\n");
+        }
+        for (int k = 0; k < a->n_items; k++) {
+            item *it = &a->items[k];
+            if (it->is_image && it->img_expected) {
+                fprintf(f, "\n### %s — %s (%g / %g)\n\n", it->name, it->status, it->score,
+                        it->max_score);
+                fprintf(f, "| reference | yours | difference |\n|---|---|---|\n");
+                fprintf(f, "| ![reference](%s) | %s%s%s | %s%s%s |\n", it->img_expected,
+                        it->img_got ? "![yours](" : "(no image)", it->img_got ? it->img_got : "",
+                        it->img_got ? ")" : "", it->img_diff ? "![difference](" : "",
+                        it->img_diff ? it->img_diff : "", it->img_diff ? ")" : "");
+                if (it->img_crop)
+                    fprintf(f, "\nWorst region (reference | yours | difference):\n\n"
+                               "![worst region](%s)\n", it->img_crop);
+                fprintf(f, "\n```\n%s\n```\n", it->output ? it->output : "");
+            }
+        }
+        bool any_fail = false;
+        for (int k = 0; k < a->n_items; k++)
+            any_fail |= !a->items[k].is_image && a->items[k].score < a->items[k].max_score &&
+                        a->items[k].counted;
+        if (any_fail) {
+            fprintf(f, "\n### What the failing tests said\n");
+            for (int k = 0; k < a->n_items; k++) {
+                item *it = &a->items[k];
+                if (it->is_image || !it->counted || it->score >= it->max_score) continue;
+                fprintf(f, "\n**`%s`** (%s)\n\n```\n%s\n```\n", it->name, it->status,
+                        it->output ? it->output : "");
+            }
+        }
+    }
+    fclose(f);
+}
+
+static void print_table(const grader *g, assignment_result *as, int n, double total,
+                        double max_total) {
+    bool defaults = false;
+    for (int i = 0; i < n; i++) {
+        assignment_result *a = &as[i];
+        if (!a->graded) {
+            printf("%-4s %-48s not graded: %s\n", a->id, a->title, a->note ? a->note : "");
+            continue;
+        }
+        printf("%s  %s\n", a->id, a->title);
+        if (a->note) printf("  note: %s\n", a->note);
+        for (int k = 0; k < a->n_items; k++) {
+            item *it = &a->items[k];
+            char name[300];
+            fmt(name, sizeof name, "%s%s", it->name, it->default_weight ? " *" : "");
+            defaults |= it->default_weight;
+            if (it->counted)
+                printf("  %-7s %-50.50s %5g / %-3g %s\n", it->status, name, it->score,
+                       it->max_score, it->reason ? it->reason : "");
+            else
+                printf("  %-7s %-50.50s   (not counted) %s\n", it->status, name,
+                       it->reason ? it->reason : "");
+        }
+        printf("  %-58s %5g / %-3g (%.1f s)\n", "total", a->score, a->max_score, a->seconds);
+    }
+    if (defaults)
+        printf("* not in tests/rubric.json: scored with the default weight (%g point%s)\n",
+               g->default_points, g->default_points == 1 ? "" : "s");
+    printf("TOTAL %g / %g%s\n", total, max_total,
+           strcmp(g->variant, "ref") == 0 ? "   (reference solutions graded as the student)" : "");
+    printf("report: %s/report.md   Gradescope: %s/results.json\n", g->out, g->out);
+}
+
+/* ------------------------------------------------------------- main */
+
+static void usage(FILE *f) {
+    fputs("usage: raster101-grade --source SRC --build BUILD --out OUT [--rubric FILE]\n"
+          "         [--hw hwN]... [--variant student|ref] [--build-failed hwN=LOG]...\n"
+          "         [--expect full|POINTS]\n"
+          "       raster101-grade --list RUBRIC   (assignments and their programs)\n",
+          f);
+}
+
+int main(int argc, char **argv) {
+    grader g = {.variant = "student"};
+    const char *rubric_path = NULL, *expect = NULL, *list = NULL;
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
+        if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
+            usage(stdout);
+            return 0;
+        }
+        if (!v) {
+            usage(stderr);
+            return 2;
+        }
+        i++;
+        if (!strcmp(a, "--source")) g.source = v;
+        else if (!strcmp(a, "--build")) g.build = v;
+        else if (!strcmp(a, "--out")) g.out = v;
+        else if (!strcmp(a, "--rubric")) rubric_path = v;
+        else if (!strcmp(a, "--variant")) g.variant = v;
+        else if (!strcmp(a, "--expect")) expect = v;
+        else if (!strcmp(a, "--hw") && g.n_only < 8) g.only[g.n_only++] = v;
+        else if (!strcmp(a, "--list")) list = v;
+        else if (!strcmp(a, "--build-failed") && g.n_failed < 8 && strchr(v, '=')) {
+            char *hw = xstrdup(v);
+            char *eq = strchr(hw, '=');
+            *eq = '\0';
+            g.failed_hw[g.n_failed] = hw;
+            g.failed_log[g.n_failed++] = eq + 1;
+        } else {
+            usage(stderr);
+            return 2;
+        }
+    }
+    if (list) { /* --list RUBRIC: "hwN program..." per assignment, for tests/grade */
+        char *t = read_file(list, 0);
+        cJSON *r = t ? cJSON_Parse(t) : NULL;
+        free(t);
+        const cJSON *as = cJSON_GetObjectItemCaseSensitive(r, "assignments");
+        if (!cJSON_IsArray(as)) {
+            fprintf(stderr, "raster101-grade: %s: missing, not JSON or no \"assignments\"\n", list);
+            return 2;
+        }
+        for (const cJSON *a = as->child; a; a = a->next) {
+            printf("%s", str_or(a, "id", "?"));
+            name_list progs = {0};
+            const cJSON *imgs = cJSON_GetObjectItemCaseSensitive(a, "images");
+            for (const cJSON *i = imgs ? imgs->child : NULL; i; i = i->next)
+                if (!names_has(&progs, str_or(i, "program", ""))) {
+                    names_add(&progs, str_or(i, "program", ""));
+                    printf(" %s", str_or(i, "program", ""));
+                }
+            printf("\n");
+        }
+        cJSON_Delete(r);
+        return 0;
+    }
+    if (!g.source || !g.build || !g.out ||
+        (strcmp(g.variant, "student") && strcmp(g.variant, "ref"))) {
+        usage(stderr);
+        return 2;
+    }
+    char default_rubric[4096];
+    if (!rubric_path) {
+        fmt(default_rubric, sizeof default_rubric, "%s/tests/rubric.json", g.source);
+        rubric_path = default_rubric;
+    }
+    char *text = read_file(rubric_path, 0);
+    g.rubric = text ? cJSON_Parse(text) : NULL;
+    free(text);
+    const cJSON *asgs = cJSON_GetObjectItemCaseSensitive(g.rubric, "assignments");
+    if (!cJSON_IsArray(asgs)) {
+        fprintf(stderr, "raster101-grade: %s: %s\n", rubric_path,
+                g.rubric ? "no \"assignments\" array" : "missing or not valid JSON");
+        return 2;
+    }
+    g.default_points = num_or(g.rubric, "default_points", 1);
+    g.test_limit = num_or(g.rubric, "test_time_limit_s", 10);
+    g.render_limit = num_or(g.rubric, "render_time_limit_s", 60);
+    g.mem_mb = (long)num_or(g.rubric, "memory_limit_mb", 4096);
+    if (getenv("RAS_GRADE_NO_MEMORY_LIMIT")) g.mem_mb = 0; /* sanitizer builds */
+    mkdirs(g.out);
+
+    int n = cJSON_GetArraySize(asgs);
+    assignment_result *as = calloc((size_t)n, sizeof *as);
+    double total = 0, max_total = 0;
+    int k = 0;
+    for (const cJSON *asg = asgs->child; asg; asg = asg->next) {
+        const char *id = str_or(asg, "id", "?");
+        bool wanted = g.n_only == 0;
+        for (int i = 0; i < g.n_only; i++) wanted |= !strcmp(g.only[i], id);
+        if (!wanted) continue;
+        assignment_result *a = &as[k++];
+        a->id = xstrdup(id);
+        a->title = xstrdup(str_or(asg, "title", ""));
+        double t0 = now_s();
+        char dir[4096], test_bin[4096];
+        fmt(dir, sizeof dir, "%s/%s", g.out, id);
+        fmt(test_bin, sizeof test_bin, "%s/tests/test_%s_%s", g.build, id, g.variant);
+        const char *failed_log = NULL;
+        for (int i = 0; i < g.n_failed; i++)
+            if (!strcmp(g.failed_hw[i], id)) failed_log = g.failed_log[i];
+        const cJSON *images = cJSON_GetObjectItemCaseSensitive(asg, "images");
+        bool any_program = false;
+        for (const cJSON *img = images ? images->child : NULL; img; img = img->next) {
+            char p[4096];
+            fmt(p, sizeof p, "%s/bin/%s%s", g.build, str_or(img, "program", ""),
+                     strcmp(g.variant, "ref") == 0 ? "_ref" : "");
+            any_program |= file_exists(p);
+        }
+        mkdirs(dir);
+        if (failed_log) {
+            a->graded = true;
+            a->note = xstrdup("the code does not compile");
+            mark_build_failed(&g, a, asg, failed_log);
+        } else if (!file_exists(test_bin) && !any_program) {
+            a->note = xstrdup("not in this build yet");
+        } else {
+            a->graded = true;
+            if (file_exists(test_bin)) grade_tests(&g, a, asg, test_bin, dir);
+            else a->note = xstrdup("no test program built; images only");
+            for (const cJSON *img = images ? images->child : NULL; img; img = img->next)
+                grade_image(&g, a, img, dir, id,
+                            str_or(asg, "crash_hint", "look for an out-of-bounds access"));
+        }
+        for (int i = 0; i < a->n_items; i++)
+            if (a->items[i].counted) {
+                a->score += a->items[i].score;
+                a->max_score += a->items[i].max_score;
+            }
+        a->seconds = now_s() - t0;
+        total += a->score;
+        max_total += a->max_score;
+    }
+    write_outputs(&g, as, k, total, max_total);
+    print_table(&g, as, k, total, max_total);
+    if (expect) {
+        double want = !strcmp(expect, "full") ? max_total : atof(expect);
+        if (fabs(total - want) > 1e-9 || max_total <= 0) {
+            fprintf(stderr, "raster101-grade: expected %s (%g points), got %g / %g\n", expect,
+                    want, total, max_total);
+            return 1;
+        }
+    }
+    return 0;
+}
