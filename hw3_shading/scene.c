@@ -343,7 +343,7 @@ bool hw3_render(hw3_scene *scene, const hw3_render_options *opt, ras_image *out,
     if (mip_levels) p->counters.stages_run |= RAS_STAGE_MIPMAP;
 
     mat4s view = ras_view_matrix_eye(scene->eye);
-    mat4s projection = get_projection_matrix(scene->fov_deg,
+    mat4s projection = (opt->projection ? opt->projection : get_projection_matrix)(scene->fov_deg,
                                              (float)scene->width / (float)scene->height,
                                              scene->z_near, scene->z_far);
     bool ok = true;

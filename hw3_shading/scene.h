@@ -112,6 +112,9 @@ typedef struct hw3_render_options {
     ras_aa_mode aa;
     ras_sample_pattern pattern; /* for MSAA/SSAA */
     bool affine;                /* interpolate without the 1/w correction */
+    /* NULL: hw1's get_projection_matrix (the program carries your hw1 forward);
+     * the tests pass their own so hw3 is graded on its own. */
+    mat4s (*projection)(float fov_deg, float aspect, float z_near, float z_far);
 } hw3_render_options;
 
 /* Defaults: normal shader, bilinear, angle 0, no AA, perspective-correct. */
