@@ -541,7 +541,9 @@ static void test_index_all_in_range_and_distinct(void **state) {
 }
 
 /* A framebuffer whose buffers sit inside larger ones with canaries around
- * them: any write outside the frame is seen (no sanitizer needed). */
+ * them: any write outside the frame is seen (no sanitizer needed). The depth
+ * canary is +INF, like a cleared buffer, so a stray depth test passes and the
+ * stray write shows. */
 #define GUARD 4096
 typedef struct guarded {
     ras_framebuffer fb;
@@ -558,7 +560,7 @@ static void guarded_init(guarded *g, int w, int h, int samples) {
     assert_non_null(g->depth_mem);
     for (size_t i = 0; i < g->n + 2 * GUARD; i++) {
         g->color_mem[i] = (vec3s){{7, 7, 7}};
-        g->depth_mem[i] = -7;
+        g->depth_mem[i] = INFINITY;
     }
     g->fb = (ras_framebuffer){.width = w, .height = h, .samples = samples,
                               .color = g->color_mem + GUARD, .depth = g->depth_mem + GUARD};
@@ -567,7 +569,7 @@ static void guarded_init(guarded *g, int w, int h, int samples) {
 
 static bool guarded_intact(const guarded *g) {
     for (size_t i = 0; i < GUARD; i++)
-        if (g->depth_mem[i] != -7 || g->depth_mem[GUARD + g->n + i] != -7 ||
+        if (!isinf(g->depth_mem[i]) || !isinf(g->depth_mem[GUARD + g->n + i]) ||
             g->color_mem[i].x != 7 || g->color_mem[GUARD + g->n + i].x != 7)
             return false;
     return true;
