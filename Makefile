@@ -47,3 +47,9 @@ clean:
 .PHONY: grade
 grade: configure
 	@tests/grade --build $(BUILD) --jobs $(JOBS) $(if $(HW),--hw $(HW)) $(if $(STUDENT),--student $(STUDENT))
+
+# The student edition: build/handout/raster101-handout.tar.gz, no solution/
+# folders; fails if any solution text would ship (tests/make-handout).
+.PHONY: handout
+handout:
+	@tests/make-handout --out $(BUILD)/handout
