@@ -83,8 +83,11 @@ static int compare_with_reference(app *a) {
         printf("compare with %s: %s\n", ref, res.summary);
         status = res.pass ? 0 : 1;
         if (a->cli.output) {
+            /* out.png → out_diff.png, as hw2 does */
             char diff[1100];
-            snprintf(diff, sizeof diff, "%s.diff.png", a->cli.output);
+            const char *dot = strrchr(a->cli.output, '.');
+            int stem = dot ? (int)(dot - a->cli.output) : (int)strlen(a->cli.output);
+            snprintf(diff, sizeof diff, "%.*s_diff.png", stem, a->cli.output);
             ras_image *heat = ras_compare_heatmap(expected, a->image, RAS_COMPARE_PSNR, &err);
             if (heat && ras_image_save(heat, diff, &err)) printf("difference image: %s\n", diff);
             ras_image_destroy(heat);
