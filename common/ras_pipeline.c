@@ -84,15 +84,21 @@ static void raster_one(ras_pipeline *p, const ras_clip_vertex *a, const ras_clip
     p->config.rasterize(&t, &p->raster);
 }
 
+static bool clip_vertex_finite(const ras_clip_vertex *v) {
+    return ras_vec4_finite(v->p_clip) && ras_vec3_finite(v->color) &&
+           ras_vec3_finite(v->normal) && ras_vec2_finite(v->uv) && ras_vec3_finite(v->view_pos);
+}
+
 void ras_pipeline_draw_clip_triangle(ras_pipeline *p, const ras_clip_vertex *a,
                                      const ras_clip_vertex *b, const ras_clip_vertex *c) {
     ras_counters *k = &p->counters;
     k->triangles_in++;
     k->stages_run |= RAS_STAGE_CLIP | RAS_STAGE_SETUP;
     /* NaN positions would slip through every plane test (comparisons with NaN
-     * are false both ways), so reject them before clipping. */
-    if (!ras_vec4_finite(a->p_clip) || !ras_vec4_finite(b->p_clip) ||
-        !ras_vec4_finite(c->p_clip)) {
+     * are false both ways), so reject them before clipping; non-finite
+     * varyings too, so a triangle the clipper splits is rejected (and
+     * counted) once, not once per piece. */
+    if (!clip_vertex_finite(a) || !clip_vertex_finite(b) || !clip_vertex_finite(c)) {
         k->triangles_rejected_nonfinite++;
         return;
     }

@@ -60,8 +60,15 @@ ras_clip_result ras_clip_triangle(const ras_clip_vertex *a, const ras_clip_verte
             float dp = plane_distance(k, p->p_clip), dq = plane_distance(k, q->p_clip);
             if (dp >= 0) tmp[m++] = *p;
             /* Exactly one of the two inside: the edge crosses the plane. t is
-             * in [0, 1] and the denominator cannot be 0 because the signs differ. */
-            if ((dp >= 0) != (dq >= 0)) tmp[m++] = lerp_vertex(p, q, dp / (dp - dq));
+             * in [0, 1] and the denominator cannot be 0 because the signs differ.
+             * Always interpolate from the inside corner to the outside one: a
+             * neighbour sharing this edge walks it the other way, and only a
+             * direction-independent formula gives it the same cut point bit for
+             * bit — otherwise the shared edge moves and the mesh cracks on
+             * screen (tests/test_hardcases.c, test_watertight_clipped_fan). */
+            if ((dp >= 0) != (dq >= 0))
+                tmp[m++] = dp >= 0 ? lerp_vertex(p, q, dp / (dp - dq))
+                                   : lerp_vertex(q, p, dq / (dq - dp));
         }
         n = m;
         memcpy(out, tmp, (size_t)n * sizeof *out);
