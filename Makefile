@@ -53,3 +53,11 @@ grade: configure
 .PHONY: handout
 handout:
 	@tests/make-handout --out $(BUILD)/handout
+
+# The accuracy report (issue 6): time and error of every accuracy option,
+# measured on this machine, into docs/accuracy.md, docs/accuracy.csv and
+# docs/img/accuracy_*.png. A few minutes; `bench_accuracy --quick` for seconds.
+.PHONY: bench-accuracy
+bench-accuracy: configure
+	@cmake --build $(BUILD) -j $(JOBS) --target bench_accuracy
+	@$(BUILD)/bin/bench_accuracy --out docs
