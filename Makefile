@@ -61,3 +61,9 @@ handout:
 bench-accuracy: configure
 	@cmake --build $(BUILD) -j $(JOBS) --target bench_accuracy
 	@$(BUILD)/bin/bench_accuracy --out docs
+
+# The tests are tested: known student mistakes (tests/mutants/) injected into
+# the reference, each must lose points and be named (docs/mutants.md).
+.PHONY: mutants
+mutants: configure
+	@tests/run-mutants --build $(BUILD)

@@ -960,6 +960,21 @@ static void write_outputs(const grader *g, assignment_result *as, int n, double 
         fclose(f);
     }
 
+    /* failures.txt — every item that lost points, with what it said (for
+     * tests/run-mutants and for a quick read) */
+    fmt(path, sizeof path, "%s/failures.txt", g->out);
+    f = fopen(path, "w");
+    if (f) {
+        for (int i = 0; i < n; i++)
+            for (int k = 0; k < as[i].n_items; k++) {
+                item *it = &as[i].items[k];
+                if (it->counted && it->score < it->max_score)
+                    fprintf(f, "== %s: %s (%s)\n%s\n", as[i].id, it->name, it->status,
+                            it->output ? it->output : "");
+            }
+        fclose(f);
+    }
+
     /* hwN/cmocka.xml — JUnit, one suite per assignment */
     for (int i = 0; i < n; i++) {
         if (!as[i].graded) continue;
