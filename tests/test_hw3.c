@@ -72,8 +72,9 @@ static ras_triangle tilted_plane(void) {
     ras_triangle t = {0};
     for (int i = 0; i < 3; i++) {
         double w = -P[i][2];
+        /* depth: any increasing function of w that is affine in 1/w will do */
         t.v[i] = (vec4s){{(float)(50 + FOCAL * P[i][0] / w), (float)(50 + FOCAL * P[i][1] / w),
-                          0.5f, (float)w}};
+                          (float)(1 - 1 / w), (float)w}};
         t.normal[i] = V3(0, 0, 1);
     }
     t.uv[0] = (vec2s){{0, 0}};
@@ -151,12 +152,12 @@ static void test_interp_tilted_plane_exact(void **state) {
             vec2s with_z = interpolate_vec2(&t_z, bary, t.uv, true);
             (void)t_w1;
             const char *hint = "check b_i = λ_i / w_i and the division by their sum";
-            if (fabsf(got.x - affine.x) < 1e-5f && fabsf(got.y - affine.y) < 1e-5f)
-                hint = "this is the AFFINE value: the 1/w correction is missing (w forced to 1, "
-                       "or `perspective` ignored) — the w = 1 pitfall, docs/hw3.md section 1";
-            else if (fabsf(got.x - with_z.x) < 1e-4f && fabsf(got.y - with_z.y) < 1e-4f)
+            if (fabsf(got.x - with_z.x) < 1e-4f && fabsf(got.y - with_z.y) < 1e-4f)
                 hint = "you divided by the screen depth v[i].z; the correction needs the clip "
                        "w kept in v[i].w";
+            else if (fabsf(got.x - affine.x) < 1e-5f && fabsf(got.y - affine.y) < 1e-5f)
+                hint = "this is the AFFINE value: the 1/w correction is missing (w forced to 1, "
+                       "or `perspective` ignored) — the w = 1 pitfall, docs/hw3.md section 1";
             fail_msg("interpolate_vec2 on the tilted plane at screen (%.2f, %.2f): expected uv "
                      "(%.6f, %.6f) (ray-plane intersection), got (%.6f, %.6f). Likely mistake: %s",
                      x, y, s, tt, (double)got.x, (double)got.y, hint);
@@ -289,6 +290,8 @@ static void test_shader_blinn_phong_one_light(void **state) {
         hint = "the ambient term ka·Ia is missing";
     else if (c.x > 5)
         hint = "no 1/r² fall-off: divide the intensity by the squared distance to the light";
+    else if (c.x > 1.5f)
+        hint = "a direction is not normalised: l, v, h (and n) must be unit vectors";
     else if (near3(c, glms_vec3_adds(V3(0.55f, 0.3f, 0.17f), 0.0f), 1e-2f) || c.x < 0.5f)
         hint = "is v = normalize(−point)? The viewer is at the view-space origin";
     fail_msg("Blinn-Phong, one light at (4,0,-7), I = 50, P = (0,0,-10), n = (0,0,1), "
@@ -531,9 +534,12 @@ static void expect_bilinear(const ras_texture *tex, float u, float v, vec3s want
      * with clamp-to-edge its bilinear value is the clamped ramp itself). */
     if (tex->wrap == RAS_WRAP_CLAMP) {
         float x_ok = fminf(fmaxf(u * 4 - 0.5f, 0), 3);
+        float y_ok = fminf(fmaxf(v * 2 - 0.5f, 0), 1);
         float x_noshift = fminf(fmaxf(u * 4, 0), 3), y_noshift = fminf(fmaxf(v * 2, 0), 1);
         float y_flip = fminf(fmaxf((1 - v) * 2 - 0.5f, 0), 1);
-        if (near3(got, V3(x_noshift / 4, y_noshift / 2, 0.3f), 1e-5f))
+        if (near3(got, V3(x_noshift / 4, y_noshift / 2, 0.3f), 1e-5f) ||
+            near3(got, V3(x_noshift / 4, y_ok / 2, 0.3f), 1e-5f) ||
+            near3(got, V3(x_ok / 4, y_noshift / 2, 0.3f), 1e-5f))
             hint = "half-texel shift missing: texel centres are at u·W − 0.5, not u·W";
         else if (near3(got, V3(x_ok / 4, y_flip / 2, 0.3f), 1e-5f))
             hint = "v is flipped: the texture already stores the bottom row at v = 0";
