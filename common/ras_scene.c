@@ -37,10 +37,10 @@
 /* ------------------------------------------------------------------------ */
 /* Names                                                                     */
 
-static const char *const shape_names[RAS_SHAPE_COUNT] = {
-    "triangle", "plane", "cube", "sphere", "torus", "teapot", "thin_fan", "model"};
-static const char *const shader_names[RAS_SHADER_COUNT] = {
-    "flat", "normal", "phong", "texture", "bump", "displacement"};
+static const char *const shape_names[RAS_SHAPE_COUNT] = {"triangle", "plane",  "cube",     "sphere",
+                                                         "torus",    "teapot", "thin_fan", "model"};
+static const char *const shader_names[RAS_SHADER_COUNT] = {"flat",    "normal", "phong",
+                                                           "texture", "bump",   "displacement"};
 static const char *const filter_names[] = {"nearest", "bilinear", "trilinear"};
 static const char *const cull_names[] = {"none", "back", "front"};
 static const char *const aa_names[] = {"none", "msaa", "ssaa"};
@@ -112,31 +112,43 @@ static void quote(const char *s, char *buf, size_t size) {
 }
 
 static const char *describe_number(double d, char *buf, size_t size) {
-    if (isfinite(d)) snprintf(buf, size, "%.9g", d);
-    else snprintf(buf, size, "a number too large to represent (it reads as %sinfinity)",
-                  d < 0 ? "minus " : "");
+    if (isfinite(d))
+        snprintf(buf, size, "%.9g", d);
+    else
+        snprintf(buf, size, "a number too large to represent (it reads as %sinfinity)",
+                 d < 0 ? "minus " : "");
     return buf;
 }
 
 /* What a JSON value is, for "got ..." (a type mismatch). */
 static const char *describe(const cJSON *v, char *buf, size_t size) {
     char tmp[96];
-    if (!v) snprintf(buf, size, "nothing");
+    if (!v)
+        snprintf(buf, size, "nothing");
     else if (cJSON_IsString(v)) {
         quote(v->valuestring, tmp, sizeof tmp);
         snprintf(buf, size, "a string (%s)", tmp);
     } else if (cJSON_IsNumber(v)) {
-        if (isfinite(v->valuedouble)) snprintf(buf, size, "a number (%.9g)", v->valuedouble);
-        else describe_number(v->valuedouble, buf, size);
+        if (isfinite(v->valuedouble))
+            snprintf(buf, size, "a number (%.9g)", v->valuedouble);
+        else
+            describe_number(v->valuedouble, buf, size);
     } else if (cJSON_IsArray(v)) {
         int n = cJSON_GetArraySize(v);
-        if (n == 0) snprintf(buf, size, "an empty array");
-        else snprintf(buf, size, "an array of %d item%s", n, n == 1 ? "" : "s");
-    } else if (cJSON_IsObject(v)) snprintf(buf, size, "an object");
-    else if (cJSON_IsTrue(v)) snprintf(buf, size, "true");
-    else if (cJSON_IsFalse(v)) snprintf(buf, size, "false");
-    else if (cJSON_IsNull(v)) snprintf(buf, size, "null");
-    else snprintf(buf, size, "an unknown value");
+        if (n == 0)
+            snprintf(buf, size, "an empty array");
+        else
+            snprintf(buf, size, "an array of %d item%s", n, n == 1 ? "" : "s");
+    } else if (cJSON_IsObject(v))
+        snprintf(buf, size, "an object");
+    else if (cJSON_IsTrue(v))
+        snprintf(buf, size, "true");
+    else if (cJSON_IsFalse(v))
+        snprintf(buf, size, "false");
+    else if (cJSON_IsNull(v))
+        snprintf(buf, size, "null");
+    else
+        snprintf(buf, size, "an unknown value");
     return buf;
 }
 
@@ -148,9 +160,11 @@ static bool fail_type(ctx *c, const char *path, const char *expected, const cJSO
 /* parent.key (or key at the top level), cut to PATH_LEN - 1 characters. */
 static void join(char *out, const char *parent, const char *key) {
     size_t o = 0;
-    for (const char *s = parent; s && *s && o + 1 < PATH_LEN; s++) out[o++] = *s;
+    for (const char *s = parent; s && *s && o + 1 < PATH_LEN; s++)
+        out[o++] = *s;
     if (o > 0 && o + 1 < PATH_LEN) out[o++] = '.';
-    for (const char *s = key; *s && o + 1 < PATH_LEN; s++) out[o++] = *s;
+    for (const char *s = key; *s && o + 1 < PATH_LEN; s++)
+        out[o++] = *s;
     out[o] = '\0';
 }
 
@@ -159,8 +173,10 @@ static void join_index(char *out, const char *parent, int i) {
     char index[16];
     snprintf(index, sizeof index, "[%d]", i);
     size_t o = 0;
-    for (const char *s = parent; *s && o + 1 < PATH_LEN; s++) out[o++] = *s;
-    for (const char *s = index; *s && o + 1 < PATH_LEN; s++) out[o++] = *s;
+    for (const char *s = parent; *s && o + 1 < PATH_LEN; s++)
+        out[o++] = *s;
+    for (const char *s = index; *s && o + 1 < PATH_LEN; s++)
+        out[o++] = *s;
     out[o] = '\0';
 }
 
@@ -172,7 +188,8 @@ static int edit_distance(const char *a, const char *b) {
     size_t la = strlen(a), lb = strlen(b);
     if (la > 40 || lb > 40) return 99;
     int row[41];
-    for (size_t j = 0; j <= lb; j++) row[j] = (int)j;
+    for (size_t j = 0; j <= lb; j++)
+        row[j] = (int)j;
     for (size_t i = 1; i <= la; i++) {
         int diag = row[0];
         row[0] = (int)i;
@@ -211,7 +228,10 @@ static void list_names(const char *const *names, int n, char *buf, size_t size) 
     size_t o = 0;
     buf[0] = '\0';
     for (int i = 0; i < n && o < size; i++)
-        o += (size_t)snprintf(buf + o, size - o, "%s%s", i == 0 ? "" : i == n - 1 ? " or " : ", ",
+        o += (size_t)snprintf(buf + o, size - o, "%s%s",
+                              i == 0       ? ""
+                              : i == n - 1 ? " or "
+                                           : ", ",
                               names[i]);
 }
 
@@ -219,8 +239,8 @@ static void list_names(const char *const *names, int n, char *buf, size_t size) 
  * explains keys that are known elsewhere but not here: it returns a message
  * for such a key, or NULL. */
 typedef const char *(*other_key_fn)(const char *key, const void *user, char *buf, size_t size);
-static bool check_keys(ctx *c, const cJSON *obj, const char *path, const char *const *known,
-                       int n, other_key_fn other, const void *user) {
+static bool check_keys(ctx *c, const cJSON *obj, const char *path, const char *const *known, int n,
+                       other_key_fn other, const void *user) {
     for (const cJSON *k = obj->child; k; k = k->next) {
         char p[PATH_LEN];
         join(p, path, k->string);
@@ -228,7 +248,8 @@ static bool check_keys(ctx *c, const cJSON *obj, const char *path, const char *c
             if (!strcmp(j->string, k->string))
                 return fail(c, p, "duplicate key \"%s\": each key may appear once", k->string);
         bool ok = false;
-        for (int i = 0; i < n && !ok; i++) ok = !strcmp(k->string, known[i]);
+        for (int i = 0; i < n && !ok; i++)
+            ok = !strcmp(k->string, known[i]);
         if (ok) continue;
         char why[300];
         if (other && other(k->string, user, why, sizeof why)) return fail(c, p, "%s", why);
@@ -262,9 +283,11 @@ static const range R_POS = {0, BIG, true, false, false};
 static const range R_UNIT = {0, 1, false, false, false};
 
 static void describe_range(range r, char *buf, size_t size) {
-    if (r.integer) snprintf(buf, size, "a whole number in %.0f..%.0f", r.lo, r.hi);
-    else snprintf(buf, size, "a number in %c%g, %g%c", r.lo_open ? '(' : '[', r.lo, r.hi,
-                  r.hi_open ? ')' : ']');
+    if (r.integer)
+        snprintf(buf, size, "a whole number in %.0f..%.0f", r.lo, r.hi);
+    else
+        snprintf(buf, size, "a number in %c%g, %g%c", r.lo_open ? '(' : '[', r.lo, r.hi,
+                 r.hi_open ? ')' : ']');
 }
 
 static bool in_range(double d, range r) {
@@ -348,8 +371,8 @@ static bool opt_vec3(ctx *c, const cJSON *obj, const char *path, const char *key
     return !v || read_vec3(c, v, p, r, out);
 }
 
-static bool opt_vec3_or_scalar(ctx *c, const cJSON *obj, const char *path, const char *key,
-                               range r, vec3s *out) {
+static bool opt_vec3_or_scalar(ctx *c, const cJSON *obj, const char *path, const char *key, range r,
+                               vec3s *out) {
     const cJSON *v = member(obj, key);
     char p[PATH_LEN];
     join(p, path, key);
@@ -369,7 +392,8 @@ static bool read_color(ctx *c, const cJSON *v, const char *path, vec3s *out) {
     if (cJSON_IsString(v)) {
         const char *s = v->valuestring;
         bool ok = strlen(s) == 7 && s[0] == '#';
-        for (int i = 1; ok && i < 7; i++) ok = hex_digit(s[i]) >= 0;
+        for (int i = 1; ok && i < 7; i++)
+            ok = hex_digit(s[i]) >= 0;
         if (!ok) return fail_type(c, path, want, v);
         for (int i = 0; i < 3; i++)
             out->raw[i] = (float)(hex_digit(s[1 + 2 * i]) * 16 + hex_digit(s[2 + 2 * i])) / 255.0f;
@@ -389,7 +413,8 @@ static bool read_color(ctx *c, const cJSON *v, const char *path, vec3s *out) {
     }
     if (bytes && over) {
         int b[3], i = 0;
-        for (const cJSON *e = v->child; e; e = e->next) b[i++] = (int)e->valuedouble;
+        for (const cJSON *e = v->child; e; e = e->next)
+            b[i++] = (int)e->valuedouble;
         return fail(c, path,
                     "expected colour components in [0, 1], got [%d, %d, %d]; for 8-bit values "
                     "write \"#%02x%02x%02x\" (or divide each by 255)",
@@ -444,8 +469,10 @@ static bool fail_missing(ctx *c, const char *path, const char *key, const char *
 static char *dup_str(ctx *c, const char *s) {
     size_t n = strlen(s) + 1;
     char *d = malloc(n);
-    if (!d) fail(c, NULL, "out of memory");
-    else memcpy(d, s, n);
+    if (!d)
+        fail(c, NULL, "out of memory");
+    else
+        memcpy(d, s, n);
     return d;
 }
 
@@ -481,8 +508,7 @@ static bool parse_image(ctx *c, const cJSON *v, ras_scene *s) {
 
 static bool parse_camera(ctx *c, const cJSON *v, ras_scene_camera *cam) {
     static const char *const keys[] = {"eye", "look_at", "up", "fov_deg", "near", "far"};
-    if (!read_object(c, v, "camera") ||
-        !check_keys(c, v, "camera", keys, COUNT(keys), NULL, NULL))
+    if (!read_object(c, v, "camera") || !check_keys(c, v, "camera", keys, COUNT(keys), NULL, NULL))
         return false;
     if (!opt_vec3(c, v, "camera", "eye", R_ANY, &cam->eye) ||
         !opt_vec3(c, v, "camera", "look_at", R_ANY, &cam->look_at) ||
@@ -511,8 +537,7 @@ static bool parse_camera(ctx *c, const cJSON *v, ras_scene_camera *cam) {
                         cam->up.x, cam->up.y, cam->up.z);
     }
     if (!(cam->z_near < cam->z_far))
-        return fail(c, "camera.far", "expected far > near (%g), got %g", cam->z_near,
-                    cam->z_far);
+        return fail(c, "camera.far", "expected far > near (%g), got %g", cam->z_near, cam->z_far);
     return true;
 }
 
@@ -575,7 +600,8 @@ static const char *other_shape_key(const char *key, const void *user, char *buf,
                 const char *const *own = shape_keys(shape, &own_n);
                 char list[200];
                 list_names(own, own_n, list, sizeof list);
-                snprintf(buf, size, "shape \"%s\" takes no \"%s\" (a parameter of %s); its "
+                snprintf(buf, size,
+                         "shape \"%s\" takes no \"%s\" (a parameter of %s); its "
                          "parameters are %s",
                          shape_names[shape], key, shape_names[s], list);
                 return buf;
@@ -633,8 +659,7 @@ static bool parse_shape_params(ctx *c, const cJSON *v, const char *path, ras_sce
         sp->arc_deg = 360;
         return opt_int(c, v, path, "count", 1, 100000, &sp->count) &&
                opt_float(c, v, path, "radius", R_POS, &sp->radius) &&
-               opt_float(c, v, path, "arc_deg", (range){0, 360, true, false, false},
-                         &sp->arc_deg);
+               opt_float(c, v, path, "arc_deg", (range){0, 360, true, false, false}, &sp->arc_deg);
     case RAS_SHAPE_MODEL: {
         char p[PATH_LEN];
         join(p, path, "model");
@@ -683,8 +708,7 @@ static bool parse_transform(ctx *c, const cJSON *v, const char *path, ras_scene_
     if (rot && cJSON_IsArray(rot)) {
         int n = cJSON_GetArraySize(rot);
         if (n > RAS_SCENE_MAX_ROTATIONS)
-            return fail(c, p, "expected at most %d rotations, got %d", RAS_SCENE_MAX_ROTATIONS,
-                        n);
+            return fail(c, p, "expected at most %d rotations, got %d", RAS_SCENE_MAX_ROTATIONS, n);
         int i = 0;
         for (const cJSON *e = rot->child; e; e = e->next, i++) {
             char pi[PATH_LEN];
@@ -705,8 +729,8 @@ static bool parse_transform(ctx *c, const cJSON *v, const char *path, ras_scene_
 }
 
 static bool parse_map(ctx *c, const cJSON *v, const char *path, ras_scene_map *m) {
-    static const char *const all_keys[] = {"file", "builtin", "size", "squares",
-                                           "colors", "bumps", "wrap"};
+    static const char *const all_keys[] = {"file",   "builtin", "size", "squares",
+                                           "colors", "bumps",   "wrap"};
     m->wrap = RAS_WRAP_REPEAT;
     m->size = 256;
     m->squares = 8;
@@ -729,8 +753,7 @@ static bool parse_map(ctx *c, const cJSON *v, const char *path, ras_scene_map *m
                          "{\"builtin\": \"checker\" | \"brick\" | \"bumps\", ...}",
                          v);
     const cJSON *file = member(v, "file"), *builtin = member(v, "builtin");
-    if (file && builtin)
-        return fail(c, path, "expected either \"file\" or \"builtin\", got both");
+    if (file && builtin) return fail(c, path, "expected either \"file\" or \"builtin\", got both");
     if (!file && !builtin)
         return fail_missing(c, path, "file\" or \"builtin",
                             "a file path, or one of checker, brick, bumps");
@@ -757,21 +780,25 @@ static bool parse_map(ctx *c, const cJSON *v, const char *path, ras_scene_map *m
     /* colors is a checker key (checked separately: it would make the list 5 long). */
     for (const cJSON *k = v->child; k; k = k->next) {
         bool own = false;
-        for (int i = 0; i < n && !own; i++) own = !strcmp(k->string, keys[i]);
+        for (int i = 0; i < n && !own; i++)
+            own = !strcmp(k->string, keys[i]);
         if (own || (m->kind == RAS_MAP_CHECKER && !strcmp(k->string, "colors"))) continue;
         bool known = false;
-        for (int i = 0; i < COUNT(all_keys) && !known; i++) known = !strcmp(k->string, all_keys[i]);
+        for (int i = 0; i < COUNT(all_keys) && !known; i++)
+            known = !strcmp(k->string, all_keys[i]);
         if (known) {
             join(p, path, k->string);
             return fail(c, p, "\"%s\" does not apply to %s", k->string,
-                        file ? "a texture file" : m->kind == RAS_MAP_CHECKER ? "the checker"
-                        : m->kind == RAS_MAP_BRICK                          ? "the brick texture"
-                                                                            : "the bumps");
+                        file                         ? "a texture file"
+                        : m->kind == RAS_MAP_CHECKER ? "the checker"
+                        : m->kind == RAS_MAP_BRICK   ? "the brick texture"
+                                                     : "the bumps");
         }
     }
     const char *known[8];
     int kn = 0;
-    for (int i = 0; i < n; i++) known[kn++] = keys[i];
+    for (int i = 0; i < n; i++)
+        known[kn++] = keys[i];
     if (m->kind == RAS_MAP_CHECKER) known[kn++] = "colors";
     if (!check_keys(c, v, path, known, kn, NULL, NULL)) return false;
     int wrap = 0;
@@ -782,8 +809,7 @@ static bool parse_map(ctx *c, const cJSON *v, const char *path, ras_scene_map *m
         !opt_int(c, v, path, "bumps", 1, 256, &m->bumps))
         return false;
     if (m->kind == RAS_MAP_CHECKER && m->squares > m->size)
-        return fail(c, path, "expected squares <= size (%d), got %d squares", m->size,
-                    m->squares);
+        return fail(c, path, "expected squares <= size (%d), got %d squares", m->size, m->squares);
     const cJSON *colors = member(v, "colors");
     if (colors) {
         join(p, path, "colors");
@@ -810,8 +836,7 @@ static bool parse_material(ctx *c, const cJSON *v, const char *path, ras_scene_m
         !opt_vec3_or_scalar(c, v, path, "kd", R_NONNEG, &m->kd) ||
         !opt_vec3_or_scalar(c, v, path, "ks", R_NONNEG, &m->ks) ||
         !opt_float(c, v, path, "p", (range){0, 10000, false, false, false}, &m->p) ||
-        !opt_float(c, v, path, "kh", R_ANY, &m->kh) ||
-        !opt_float(c, v, path, "kn", R_ANY, &m->kn))
+        !opt_float(c, v, path, "kh", R_ANY, &m->kh) || !opt_float(c, v, path, "kn", R_ANY, &m->kn))
         return false;
     m->kd_set = member(v, "kd") != NULL;
     const cJSON *uv = member(v, "uv_scale");
@@ -856,9 +881,8 @@ static void material_defaults(ras_scene_material *m) {
 static mat4s object_matrix(const ras_scene_object *o, mat4s spin) {
     mat4s r = glms_mat4_identity();
     for (int i = 0; i < o->rotation_count; i++)
-        r = glms_mat4_mul(glms_rotate_make(ras_deg_to_rad(o->rotations[i].deg),
-                                           o->rotations[i].axis),
-                          r);
+        r = glms_mat4_mul(
+            glms_rotate_make(ras_deg_to_rad(o->rotations[i].deg), o->rotations[i].axis), r);
     mat4s m = glms_mat4_mul(glms_translate_make(o->translate), spin);
     return glms_mat4_mul(glms_mat4_mul(m, r), glms_scale_make(o->scale));
 }
@@ -874,8 +898,9 @@ static bool parse_object(ctx *c, const cJSON *v, const char *path, ras_scene_obj
     const cJSON *shape = member(v, "shape"), *model = member(v, "model");
     char p[PATH_LEN];
     if (shape && model)
-        return fail(c, path, "expected either \"shape\" (a built-in) or \"model\" (a file), got "
-                             "both");
+        return fail(c, path,
+                    "expected either \"shape\" (a built-in) or \"model\" (a file), got "
+                    "both");
     if (!shape && !model) {
         char list[200];
         list_names(shape_names, RAS_SHAPE_COUNT - 1, list, sizeof list);
@@ -886,8 +911,9 @@ static bool parse_object(ctx *c, const cJSON *v, const char *path, ras_scene_obj
         int k;
         join(p, path, "shape");
         if (cJSON_IsString(shape) && !strcmp(shape->valuestring, "model"))
-            return fail(c, p, "a model file is given as \"model\": \"path/to/file.obj\", not as "
-                              "a shape");
+            return fail(c, p,
+                        "a model file is given as \"model\": \"path/to/file.obj\", not as "
+                        "a shape");
         if (!read_enum(c, shape, p, shape_names, RAS_SHAPE_COUNT - 1, &k)) return false;
         o->shape = (ras_scene_shape)k;
     } else {
@@ -896,7 +922,8 @@ static bool parse_object(ctx *c, const cJSON *v, const char *path, ras_scene_obj
     const char *keys[16] = {"name", "shape", "transform", "material"};
     int n = 4, pn;
     const char *const *params = shape_keys(o->shape, &pn);
-    for (int i = 0; i < pn; i++) keys[n++] = params[i];
+    for (int i = 0; i < pn; i++)
+        keys[n++] = params[i];
     if (!check_keys(c, v, path, keys, n, other_shape_key, &o->shape)) return false;
     const cJSON *name = member(v, "name");
     if (name) {
@@ -919,8 +946,9 @@ static bool parse_objects(ctx *c, const cJSON *v, ras_scene *s) {
     if (!cJSON_IsArray(v)) return fail_type(c, "objects", "an array of 1 or more objects", v);
     int n = cJSON_GetArraySize(v);
     if (n == 0)
-        return fail(c, "objects", "expected 1 or more objects, got an empty array: there is "
-                                  "nothing to draw");
+        return fail(c, "objects",
+                    "expected 1 or more objects, got an empty array: there is "
+                    "nothing to draw");
     if (n > RAS_SCENE_MAX_OBJECTS)
         return fail(c, "objects", "expected at most %d objects, got %d", RAS_SCENE_MAX_OBJECTS, n);
     s->objects = calloc((size_t)n, sizeof *s->objects);
@@ -1002,8 +1030,8 @@ static bool parse_aa(ctx *c, const cJSON *v, ras_scene *s) {
 
 static bool parse_root(ctx *c, const cJSON *root, ras_scene *s) {
     static const char *const keys[] = {
-        "description", "image", "camera", "model_rotation", "objects", "lights", "ambient",
-        "aa",          "shader", "filter", "cull", "edges", "clear_color", "wireframe"};
+        "description", "image",  "camera", "model_rotation", "objects", "lights",      "ambient",
+        "aa",          "shader", "filter", "cull",           "edges",   "clear_color", "wireframe"};
     if (!cJSON_IsObject(root)) return fail_type(c, "the top level", "an object {...}", root);
     if (!check_keys(c, root, "", keys, COUNT(keys), NULL, NULL)) return false;
     const cJSON *v;
@@ -1087,7 +1115,8 @@ static size_t unclosed_at(const char *text, size_t len, char *what) {
         char ch = text[i];
         if (ch == '"') {
             size_t start = i++;
-            while (i < len && text[i] != '"') i += text[i] == '\\' ? 2 : 1;
+            while (i < len && text[i] != '"')
+                i += text[i] == '\\' ? 2 : 1;
             if (i >= len) {
                 *what = '"';
                 return start;
@@ -1114,27 +1143,33 @@ static bool syntax_error(ctx *c, const char *text, size_t len, size_t off) {
     if (off > 0 && off < len && text[off - 1] == '/' && (text[off] == '/' || text[off] == '*'))
         off--;
     /* ... and one character into a word (an unquoted key, a bad literal). */
-    while (off > 0 && off < len && is_word_char(text[off]) && is_word_char(text[off - 1])) off--;
+    while (off > 0 && off < len && is_word_char(text[off]) && is_word_char(text[off - 1]))
+        off--;
     int line, col;
     line_col(text, off, &line, &col);
     char where[PATH_LEN + 32];
     snprintf(where, sizeof where, "%s:%d:%d", c->file, line, col);
     /* The token at the error, and the last significant character before it. */
     size_t end = off;
-    while (end < len && is_word_char(text[end])) end++;
+    while (end < len && is_word_char(text[end]))
+        end++;
     size_t rest = end == off ? off + 1 : end;
-    while (rest < len && isspace((unsigned char)text[rest])) rest++;
+    while (rest < len && isspace((unsigned char)text[rest]))
+        rest++;
     size_t b = off;
-    while (b > 0 && isspace((unsigned char)text[b - 1])) b--;
+    while (b > 0 && isspace((unsigned char)text[b - 1]))
+        b--;
     char prev = b > 0 ? text[b - 1] : '\0';
     char ch = off < len ? text[off] : '\0';
     char got[64];
-    if (off >= len) snprintf(got, sizeof got, "the end of the text");
-    else if (end > off) snprintf(got, sizeof got, "'%.*s'", (int)(end - off > 20 ? 20 : end - off),
-                                 text + off);
-    else if ((unsigned char)ch < 0x20) snprintf(got, sizeof got, "a control character (0x%02x)",
-                                                (unsigned char)ch);
-    else snprintf(got, sizeof got, "'%c'", ch);
+    if (off >= len)
+        snprintf(got, sizeof got, "the end of the text");
+    else if (end > off)
+        snprintf(got, sizeof got, "'%.*s'", (int)(end - off > 20 ? 20 : end - off), text + off);
+    else if ((unsigned char)ch < 0x20)
+        snprintf(got, sizeof got, "a control character (0x%02x)", (unsigned char)ch);
+    else
+        snprintf(got, sizeof got, "'%c'", ch);
 
     char what;
     size_t open = unclosed_at(text, len, &what);
@@ -1169,8 +1204,7 @@ static bool syntax_error(ctx *c, const char *text, size_t len, size_t off) {
                              "single quote (JSON strings and keys take \"...\")",
                              where);
     if (end > off) {
-        static const char *const special[] = {"NaN", "nan", "Infinity", "-Infinity", "inf",
-                                              "-inf"};
+        static const char *const special[] = {"NaN", "nan", "Infinity", "-Infinity", "inf", "-inf"};
         for (int i = 0; i < COUNT(special); i++)
             if (end - off == strlen(special[i]) && !strncmp(text + off, special[i], end - off))
                 return ras_error_set(c->err,
@@ -1183,18 +1217,17 @@ static bool syntax_error(ctx *c, const char *text, size_t len, size_t off) {
                              "%s: JSON syntax error: expected a key in double quotes, got %s "
                              "(write \"key\": value)",
                              where, ch == ':' ? "an unquoted key before ':'" : got);
-    bool prev_ends_value = prev == '"' || prev == '}' || prev == ']' ||
-                           isalnum((unsigned char)prev);
-    bool starts_value = ch == '"' || ch == '{' || ch == '[' || ch == '-' ||
-                        isalnum((unsigned char)ch);
+    bool prev_ends_value =
+        prev == '"' || prev == '}' || prev == ']' || isalnum((unsigned char)prev);
+    bool starts_value =
+        ch == '"' || ch == '{' || ch == '[' || ch == '-' || isalnum((unsigned char)ch);
     if (b < off && prev_ends_value && starts_value)
         return ras_error_set(c->err,
                              "%s: JSON syntax error: expected ',' or a closing bracket, got %s "
                              "(a ',' is missing between two values)",
                              where, got);
     if (ch == ',')
-        return ras_error_set(c->err,
-                             "%s: JSON syntax error: expected a value after '%c', got ','",
+        return ras_error_set(c->err, "%s: JSON syntax error: expected a value after '%c', got ','",
                              where, prev ? prev : '{');
     if (isalpha((unsigned char)ch))
         return ras_error_set(c->err,
@@ -1231,7 +1264,8 @@ static ras_scene *parse_text(const char *text, size_t len, const char *name, con
     size_t start = 0;
     if (len >= 3 && !memcmp(text, "\xEF\xBB\xBF", 3)) start = 3;
     size_t first = start;
-    while (first < len && isspace((unsigned char)text[first])) first++;
+    while (first < len && isspace((unsigned char)text[first]))
+        first++;
     if (first == len) {
         fail(&c, NULL, "expected a JSON object {...}, got %s",
              len == 0 ? "an empty file" : "only white space");
@@ -1253,8 +1287,8 @@ static ras_scene *parse_text(const char *text, size_t len, const char *name, con
         return NULL;
     }
     scene_defaults(s);
-    bool ok = (s->path = dup_str(&c, name)) && (s->dir = dup_str(&c, dir)) &&
-              parse_root(&c, root, s);
+    bool ok =
+        (s->path = dup_str(&c, name)) && (s->dir = dup_str(&c, dir)) && parse_root(&c, root, s);
     cJSON_Delete(root);
     if (!ok) {
         ras_scene_destroy(s);
@@ -1265,8 +1299,7 @@ static ras_scene *parse_text(const char *text, size_t len, const char *name, con
 
 ras_scene *ras_scene_parse(const char *text, const char *name, const char *base_dir,
                            ras_error *err) {
-    return parse_text(text, strlen(text), name ? name : "(scene)", base_dir ? base_dir : ".",
-                      err);
+    return parse_text(text, strlen(text), name ? name : "(scene)", base_dir ? base_dir : ".", err);
 }
 
 ras_scene *ras_scene_load(const char *path, ras_error *err) {
@@ -1411,13 +1444,13 @@ static bool same_map(const ras_scene_map *a, const ras_scene_map *b) {
  * shared with an earlier identical one. NULL and err on failure. */
 static ras_texture *get_map(const ras_scene *s, ras_scene_assets *a, int i, int which,
                             ras_error *err) {
-    const ras_scene_map *m = which ? &s->objects[i].material.height_map
-                                   : &s->objects[i].material.texture;
+    const ras_scene_map *m =
+        which ? &s->objects[i].material.height_map : &s->objects[i].material.texture;
     for (int j = 0; j <= i; j++)
         for (int w = 0; w < 2; w++) {
             if (j == i && w >= which) break;
-            const ras_scene_map *o = w ? &s->objects[j].material.height_map
-                                       : &s->objects[j].material.texture;
+            const ras_scene_map *o =
+                w ? &s->objects[j].material.height_map : &s->objects[j].material.texture;
             ras_texture *t = w ? a->height_maps[j] : a->textures[j];
             if (t && same_map(m, o)) return t;
         }
@@ -1496,8 +1529,10 @@ ras_scene_assets *ras_scene_load_assets(const ras_scene *s, ras_error *err) {
 void ras_scene_assets_destroy(ras_scene_assets *a) {
     if (!a) return;
     if (a->meshes)
-        for (int i = 0; i < a->object_count; i++) ras_mesh_destroy(a->meshes[i]);
-    for (int i = 0; i < a->owned_texture_count; i++) ras_texture_destroy(a->owned_textures[i]);
+        for (int i = 0; i < a->object_count; i++)
+            ras_mesh_destroy(a->meshes[i]);
+    for (int i = 0; i < a->owned_texture_count; i++)
+        ras_texture_destroy(a->owned_textures[i]);
     free(a->meshes);
     free(a->textures);
     free(a->height_maps);

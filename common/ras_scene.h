@@ -93,18 +93,18 @@ typedef enum ras_scene_shape {
 #define RAS_SHAPE_COUNT 8
 
 typedef struct ras_scene_shape_params {
-    vec3s vertices[3];   /* triangle */
-    float size;          /* plane (side), cube (edge) */
-    int divisions;       /* plane (quads per side), teapot (per patch side) */
-    float radius;        /* sphere, thin_fan */
-    int stacks, slices;  /* sphere */
+    vec3s vertices[3];                /* triangle */
+    float size;                       /* plane (side), cube (edge) */
+    int divisions;                    /* plane (quads per side), teapot (per patch side) */
+    float radius;                     /* sphere, thin_fan */
+    int stacks, slices;               /* sphere */
     float major_radius, minor_radius; /* torus */
-    int rings, sides;    /* torus */
-    int count;           /* thin_fan: number of triangles */
-    float arc_deg;       /* thin_fan: the angle they share, in (0, 360] */
-    char *model_path;    /* model: resolved against the scene file's folder */
-    float fit;           /* model: > 0 centres the model and scales its largest
-                            extent to `fit` units (ras_mesh_fit_matrix); 0 = as is */
+    int rings, sides;                 /* torus */
+    int count;                        /* thin_fan: number of triangles */
+    float arc_deg;                    /* thin_fan: the angle they share, in (0, 360] */
+    char *model_path;                 /* model: resolved against the scene file's folder */
+    float fit;                        /* model: > 0 centres the model and scales its largest
+                                         extent to `fit` units (ras_mesh_fit_matrix); 0 = as is */
 } ras_scene_shape_params;
 
 typedef enum ras_scene_map_kind {
@@ -118,23 +118,23 @@ typedef enum ras_scene_map_kind {
 /* A colour texture or a height map: a file or a built-in picture. */
 typedef struct ras_scene_map {
     ras_scene_map_kind kind;
-    char *path;       /* RAS_MAP_FILE: resolved against the scene file's folder */
-    int size;         /* built-ins: texels per side, 1..4096 (default 256) */
-    int squares;      /* checker: squares per side (default 8) */
-    vec3s colors[2];  /* checker: the two colours */
-    int bumps;        /* bumps: bumps per side (default 8) */
-    ras_wrap wrap;    /* default RAS_WRAP_REPEAT */
+    char *path;      /* RAS_MAP_FILE: resolved against the scene file's folder */
+    int size;        /* built-ins: texels per side, 1..4096 (default 256) */
+    int squares;     /* checker: squares per side (default 8) */
+    vec3s colors[2]; /* checker: the two colours */
+    int bumps;       /* bumps: bumps per side (default 8) */
+    ras_wrap wrap;   /* default RAS_WRAP_REPEAT */
 } ras_scene_map;
 
 typedef struct ras_scene_material {
-    vec3s color;            /* base colour, [0,1] (default white) */
-    ras_scene_map texture;  /* colour map (kind NONE: none) */
+    vec3s color;           /* base colour, [0,1] (default white) */
+    ras_scene_map texture; /* colour map (kind NONE: none) */
     ras_scene_map height_map;
-    vec3s ka, kd, ks;       /* kd is meaningful only when kd_set */
-    bool kd_set;            /* false: kd is the colour, or the texel (GAMES101) */
-    float p;                /* specular exponent */
-    float kh, kn;           /* bump/displacement strengths */
-    vec2s uv_scale;         /* multiplies the mesh's UVs (tiling with repeat) */
+    vec3s ka, kd, ks; /* kd is meaningful only when kd_set */
+    bool kd_set;      /* false: kd is the colour, or the texel (GAMES101) */
+    float p;          /* specular exponent */
+    float kh, kn;     /* bump/displacement strengths */
+    vec2s uv_scale;   /* multiplies the mesh's UVs (tiling with repeat) */
 } ras_scene_material;
 
 typedef struct ras_scene_rotation {
@@ -162,8 +162,8 @@ typedef struct ras_scene_light {
 } ras_scene_light;
 
 typedef enum ras_scene_shader {
-    RAS_SHADER_FLAT,         /* the material/vertex colour, unlit (hw2) */
-    RAS_SHADER_NORMAL,       /* hw3 */
+    RAS_SHADER_FLAT,   /* the material/vertex colour, unlit (hw2) */
+    RAS_SHADER_NORMAL, /* hw3 */
     RAS_SHADER_PHONG,
     RAS_SHADER_TEXTURE,
     RAS_SHADER_BUMP,
@@ -194,7 +194,7 @@ typedef struct ras_scene {
     int light_count; /* 0..RAS_SCENE_MAX_LIGHTS */
     vec3s ambient;
     ras_aa_mode aa;
-    int samples;                /* as written (1 for RAS_AA_NONE) */
+    int samples; /* as written (1 for RAS_AA_NONE) */
     ras_pattern_kind pattern_kind;
     ras_sample_pattern pattern; /* validated with ras_sample_pattern_make */
     ras_scene_shader shader;

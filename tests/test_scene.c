@@ -58,7 +58,8 @@ static int group_setup(void **state) {
 static int group_teardown(void **state) {
     fixture *fx = *state;
     if (!fx) return 0;
-    for (int i = fx->file_count - 1; i >= 0; i--) remove(fx->files[i]);
+    for (int i = fx->file_count - 1; i >= 0; i--)
+        remove(fx->files[i]);
     rmdir(fx->dir);
     free(fx);
     return 0;
@@ -169,8 +170,9 @@ static void assert_vec3_near(vec3s got, float x, float y, float z, float tol) {
 static void test_scene_examples_all_load(void **state) {
     (void)state;
     static const char *const expected[] = {
-        "hw1_classic.json",          "hw2_classic.json",      "hw3_default.json",
-        "textured_teapot_trilinear.json", "msaa_thin_triangles.json", "near_plane_crossing.json",
+        "hw1_classic.json",         "hw2_classic.json",
+        "hw3_default.json",         "textured_teapot_trilinear.json",
+        "msaa_thin_triangles.json", "near_plane_crossing.json",
         "bump_sphere.json"};
     int found[sizeof expected / sizeof expected[0]] = {0}, total = 0;
     DIR *d = opendir(RAS_SOURCE_DIR "/scenes");
@@ -186,7 +188,8 @@ static void test_scene_examples_all_load(void **state) {
         ras_scene_assets *a = ras_scene_load_assets(s, &err);
         if (!a) fail_msg("example scene %s: assets do not load: %s", e->d_name, err.msg);
         assert_int_equal(a->object_count, s->object_count);
-        for (int i = 0; i < a->object_count; i++) assert_non_null(a->meshes[i]);
+        for (int i = 0; i < a->object_count; i++)
+            assert_non_null(a->meshes[i]);
         ras_scene_assets_destroy(a);
         ras_scene_destroy(s);
         for (size_t i = 0; i < sizeof expected / sizeof expected[0]; i++)
@@ -318,16 +321,16 @@ static void test_scene_transform_order(void **state) {
 /* look_at gives glms_lookat; the fixed view is a translation by -eye. */
 static void test_scene_camera_views(void **state) {
     (void)state;
-    ras_scene *s = parse_ok("{\"camera\": {\"eye\": [1, 2, 3], \"look_at\": [0, 0, 0]}," ONE_CUBE
-                            "}");
+    ras_scene *s =
+        parse_ok("{\"camera\": {\"eye\": [1, 2, 3], \"look_at\": [0, 0, 0]}," ONE_CUBE "}");
     assert_int_equal(s->camera.view, RAS_SCENE_VIEW_LOOK_AT);
     assert_vec3_near(s->camera.up, 0, 1, 0, 0);
     mat4s want = glms_lookat((vec3s){{1, 2, 3}}, (vec3s){{0, 0, 0}}, (vec3s){{0, 1, 0}});
     assert_true(ras_mat4_near(ras_scene_view_matrix(s), want, 1e-6f));
     ras_scene_destroy(s);
     s = parse_ok("{\"camera\": {\"eye\": [1, 2, 3]}," ONE_CUBE "}");
-    assert_true(ras_mat4_near(ras_scene_view_matrix(s), ras_view_matrix_eye((vec3s){{1, 2, 3}}),
-                              0));
+    assert_true(
+        ras_mat4_near(ras_scene_view_matrix(s), ras_view_matrix_eye((vec3s){{1, 2, 3}}), 0));
     ras_scene_destroy(s);
 }
 
@@ -337,12 +340,16 @@ static void test_scene_values_read(void **state) {
     ras_scene *s = parse_ok(
         "{\"objects\": [{\"shape\": \"sphere\", \"material\": {\"color\": \"#ff8000\","
         "\"ka\": [0.1, 0.2, 0.3], \"kd\": 0.5, \"p\": 32, \"uv_scale\": [2, 3],"
-        "\"texture\": {\"builtin\": \"checker\", \"squares\": 4, \"colors\": [[1, 0, 0], \"#00ff00\"],"
+        "\"texture\": {\"builtin\": \"checker\", \"squares\": 4, \"colors\": [[1, 0, 0], "
+        "\"#00ff00\"],"
         "\"wrap\": \"clamp\"}, \"height_map\": {\"builtin\": \"bumps\", \"bumps\": 5}}}],"
-        "\"lights\": [{\"position\": [1, 2, 3]}, {\"position\": [0, 5, 0], \"intensity\": [1, 2, 3],"
+        "\"lights\": [{\"position\": [1, 2, 3]}, {\"position\": [0, 5, 0], \"intensity\": [1, 2, "
+        "3],"
         "\"space\": \"world\"}],"
-        "\"ambient\": [1, 2, 3], \"aa\": {\"mode\": \"ssaa\", \"samples\": 8, \"pattern\": \"standard\"},"
-        "\"shader\": \"phong\", \"filter\": \"trilinear\", \"cull\": \"back\", \"edges\": \"float\","
+        "\"ambient\": [1, 2, 3], \"aa\": {\"mode\": \"ssaa\", \"samples\": 8, \"pattern\": "
+        "\"standard\"},"
+        "\"shader\": \"phong\", \"filter\": \"trilinear\", \"cull\": \"back\", \"edges\": "
+        "\"float\","
         "\"clear_color\": [0.1, 0.2, 0.3], \"wireframe\": true,"
         "\"model_rotation\": {\"angle_deg\": 20, \"axis\": [0, 1, 0]}, \"description\": \"d\"}");
     const ras_scene_material *m = &s->objects[0].material;
@@ -406,8 +413,8 @@ static void test_scene_syntax_trailing_comma(void **state) {
 /* A missing comma between two members points at the second. */
 static void test_scene_syntax_missing_comma(void **state) {
     (void)state;
-    expect_error("{\n  \"image\": {\"width\": 10}\n  \"objects\": []\n}", "scene.json:3:3:",
-                 "expected ',' or a closing bracket", "a ',' is missing", NULL);
+    expect_error("{\n  \"image\": {\"width\": 10}\n  \"objects\": []\n}",
+                 "scene.json:3:3:", "expected ',' or a closing bracket", "a ',' is missing", NULL);
 }
 
 /* Comments, single quotes, NaN and unquoted keys each get their own hint. */
@@ -426,15 +433,17 @@ static void test_scene_syntax_hints(void **state) {
 /* Text that stops early says which bracket or string is left open, and where. */
 static void test_scene_syntax_ends_early(void **state) {
     (void)state;
-    expect_error("{\n  \"objects\": [\n    {\"shape\": \"cube\"}\n", "scene.json:",
-                 "expected ']' to close the '[' at 2:14", "got the end of the text", NULL);
+    expect_error("{\n  \"objects\": [\n    {\"shape\": \"cube\"}\n",
+                 "scene.json:", "expected ']' to close the '[' at 2:14", "got the end of the text",
+                 NULL);
     expect_error("{\"description\": \"abc", "expected '\"' to close the '\"' at 1:17", NULL);
 }
 
 /* Columns count characters, not bytes, on lines with UTF-8 text. */
 static void test_scene_syntax_column_counts_characters(void **state) {
     (void)state;
-    expect_error("{\"description\": \"\xc3\xa9\xc3\xa9\", \"x\": ,}", "scene.json:1:28:", "expected a value after ':', got ','", NULL);
+    expect_error("{\"description\": \"\xc3\xa9\xc3\xa9\", \"x\": ,}",
+                 "scene.json:1:28:", "expected a value after ':', got ','", NULL);
 }
 
 /* Empty text and a top level that is not an object are errors. */
@@ -442,7 +451,8 @@ static void test_scene_syntax_empty_and_top_level(void **state) {
     (void)state;
     expect_error("", "scene.json: expected a JSON object {...}, got an empty file", NULL);
     expect_error("  \n ", "got only white space", NULL);
-    expect_error("[1, 2]", "scene.json: the top level: expected an object {...}, got an array of 2 items",
+    expect_error("[1, 2]",
+                 "scene.json: the top level: expected an object {...}, got an array of 2 items",
                  NULL);
     expect_error("{" ONE_CUBE "} trailing", "scene.json:1:34:",
                  "expected the end of the text after the top-level object, got 'trailing'", NULL);
@@ -539,9 +549,10 @@ static void test_scene_out_of_range(void **state) {
                  "objects[0].transform.rotate.axis: expected a non-zero axis", NULL);
     expect_error("{\"camera\": {\"eye\": [0, 0, 5], \"look_at\": [0, 0, 5]}," ONE_CUBE "}",
                  "camera.look_at: expected a point other than the eye", NULL);
-    expect_error("{\"camera\": {\"eye\": [0, 0, 5], \"look_at\": [0, 0, 0], \"up\": [0, 0, 1]},"
-                 ONE_CUBE "}",
-                 "camera.up: expected a direction not parallel to the view direction", NULL);
+    expect_error(
+        "{\"camera\": {\"eye\": [0, 0, 5], \"look_at\": [0, 0, 0], \"up\": [0, 0, 1]}," ONE_CUBE
+        "}",
+        "camera.up: expected a direction not parallel to the view direction", NULL);
 }
 
 /* JSON has no NaN, but 1e400 reads as infinity and 1e300 overflows a float. */
@@ -566,9 +577,9 @@ static void test_scene_samples_checked_for_pattern(void **state) {
     expect_error("{\"aa\": {\"mode\": \"msaa\", \"samples\": 8, \"pattern\": \"ordered\"}," ONE_CUBE
                  "}",
                  "scene.json: aa.samples:", "(pattern \"ordered\")", "8", NULL);
-    expect_error("{\"aa\": {\"mode\": \"msaa\", \"samples\": 64, \"pattern\": \"standard\"},"
-                 ONE_CUBE "}",
-                 "aa.samples:", "(pattern \"standard\")", NULL);
+    expect_error(
+        "{\"aa\": {\"mode\": \"msaa\", \"samples\": 64, \"pattern\": \"standard\"}," ONE_CUBE "}",
+        "aa.samples:", "(pattern \"standard\")", NULL);
     expect_error("{\"aa\": {\"samples\": 4}," ONE_CUBE "}",
                  "scene.json: aa.samples: expected 1 (or no \"samples\") with mode \"none\", got "
                  "4; set \"mode\": \"msaa\" or \"ssaa\"",
@@ -580,10 +591,11 @@ static void test_scene_samples_checked_for_pattern(void **state) {
 /* 8-bit colours get a hint with the hex spelling. */
 static void test_scene_color_8bit_hint(void **state) {
     (void)state;
-    expect_error("{\"objects\": [{\"shape\": \"cube\", \"material\": {\"color\": [217, 238, 185]}}]}",
-                 "objects[0].material.color: expected colour components in [0, 1], got [217, "
-                 "238, 185]; for 8-bit values write \"#d9eeb9\"",
-                 NULL);
+    expect_error(
+        "{\"objects\": [{\"shape\": \"cube\", \"material\": {\"color\": [217, 238, 185]}}]}",
+        "objects[0].material.color: expected colour components in [0, 1], got [217, "
+        "238, 185]; for 8-bit values write \"#d9eeb9\"",
+        NULL);
     expect_error("{\"clear_color\": \"#12345\"," ONE_CUBE "}",
                  "clear_color: expected a colour: an array of 3 numbers in [0, 1] or a "
                  "\"#rrggbb\" string, got a string (\"#12345\")",
@@ -610,10 +622,10 @@ static void test_scene_missing_required(void **state) {
                  NULL);
     expect_error("{\"objects\": [{\"shape\": \"cube\", \"material\": {\"texture\": {\"wrap\": "
                  "\"clamp\"}}}]}",
-                 "objects[0].material.texture: missing required key \"file\" or \"builtin\"",
-                 NULL);
-    expect_error("{\"objects\": [{\"shape\": \"cube\", \"transform\": {\"rotate\": {\"deg\": 5}}}]}",
-                 "objects[0].transform.rotate: missing required key \"axis\"", NULL);
+                 "objects[0].material.texture: missing required key \"file\" or \"builtin\"", NULL);
+    expect_error(
+        "{\"objects\": [{\"shape\": \"cube\", \"transform\": {\"rotate\": {\"deg\": 5}}}]}",
+        "objects[0].transform.rotate: missing required key \"axis\"", NULL);
 }
 
 /* Texture maps: built-in names as strings, keys of another kind, squares > size. */
@@ -629,11 +641,12 @@ static void test_scene_map_errors(void **state) {
     expect_error("{\"objects\": [{\"shape\": \"cube\", \"material\": {\"texture\": {\"builtin\": "
                  "\"checker\", \"size\": 4, \"squares\": 8}}}]}",
                  "expected squares <= size (4), got 8 squares", NULL);
-    expect_error("{\"objects\": [{\"shape\": \"cube\", \"material\": {\"height_map\": {\"builtin\": "
-                 "\"bumpz\"}}}]}",
-                 "objects[0].material.height_map.builtin: expected one of checker, brick or "
-                 "bumps, got \"bumpz\"; did you mean \"bumps\"?",
-                 NULL);
+    expect_error(
+        "{\"objects\": [{\"shape\": \"cube\", \"material\": {\"height_map\": {\"builtin\": "
+        "\"bumpz\"}}}]}",
+        "objects[0].material.height_map.builtin: expected one of checker, brick or "
+        "bumps, got \"bumpz\"; did you mean \"bumps\"?",
+        NULL);
 }
 
 /* Limits on counts: lights and rotations. */
@@ -663,7 +676,9 @@ static void test_scene_file_errors(void **state) {
     expect_load_error(nul, ":2:4: expected JSON text, got a NUL byte", NULL);
     const char *big = write_file(state, "big.json", "{}");
     assert_int_equal(truncate(big, (off_t)RAS_SCENE_MAX_BYTES + 1), 0);
-    expect_load_error(big, big, "expected a scene file of at most 16 MiB (16777216 bytes), got 16777217 bytes", NULL);
+    expect_load_error(
+        big, big, "expected a scene file of at most 16 MiB (16777216 bytes), got 16777217 bytes",
+        NULL);
 }
 
 /* A file we may not read says so (skipped as root, who reads everything). */
@@ -681,7 +696,8 @@ static void test_scene_file_unreadable(void **state) {
 /* Syntax errors in a loaded file carry the file's path. */
 static void test_scene_file_syntax_error_names_path(void **state) {
     const char *path = write_file(state, "bad.json", "{\n  \"objects\": [,]\n}\n");
-    expect_load_error(path, path, ":2:15: JSON syntax error: expected a value after '[', got ','", NULL);
+    expect_load_error(path, path, ":2:15: JSON syntax error: expected a value after '[', got ','",
+                      NULL);
 }
 
 /* Model and texture paths resolve against the scene file's folder; absolute
@@ -701,7 +717,8 @@ static void test_scene_relative_paths(void **state) {
     char text[1024];
     snprintf(text, sizeof text,
              "{\"objects\": [{\"model\": \"../models/tri.obj\", \"fit\": 2,"
-             " \"material\": {\"texture\": \"tex.png\", \"height_map\": {\"file\": \"%s/scenes/tex.png\"}}}]}",
+             " \"material\": {\"texture\": \"tex.png\", \"height_map\": {\"file\": "
+             "\"%s/scenes/tex.png\"}}}]}",
              fx->dir);
     const char *scene_path = write_file(state, "scenes/scene.json", text);
     ras_scene *s = ras_scene_load(scene_path, &err);
@@ -736,8 +753,9 @@ static void test_scene_relative_paths(void **state) {
 static void test_scene_assets_missing_files(void **state) {
     (void)state;
     ras_error err = {{0}};
-    ras_scene *s = ras_scene_parse("{\"objects\": [{\"shape\": \"cube\"}, {\"model\": \"nope.obj\"}]}",
-                                   "scene.json", "/nonexistent", &err);
+    ras_scene *s =
+        ras_scene_parse("{\"objects\": [{\"shape\": \"cube\"}, {\"model\": \"nope.obj\"}]}",
+                        "scene.json", "/nonexistent", &err);
     assert_non_null(s);
     expect_assets_error(s, "scene.json: objects[1].model: cannot load \"/nonexistent/nope.obj\"",
                         NULL);
@@ -758,12 +776,13 @@ static void test_scene_assets_missing_files(void **state) {
  * and the thin fan's inner edges are shared between neighbours. */
 static void test_scene_assets_built(void **state) {
     (void)state;
-    ras_scene *s = parse_ok(
-        "{\"objects\": [{\"shape\": \"plane\", \"material\": {\"color\": [0.5, 0.25, 1],"
-        "\"uv_scale\": 4, \"texture\": {\"builtin\": \"checker\", \"wrap\": \"clamp\"}}},"
-        "{\"shape\": \"cube\", \"material\": {\"texture\": {\"builtin\": \"checker\", \"wrap\": \"clamp\"},"
-        "\"height_map\": {\"builtin\": \"bumps\"}}},"
-        "{\"shape\": \"thin_fan\", \"count\": 12}]}");
+    ras_scene *s =
+        parse_ok("{\"objects\": [{\"shape\": \"plane\", \"material\": {\"color\": [0.5, 0.25, 1],"
+                 "\"uv_scale\": 4, \"texture\": {\"builtin\": \"checker\", \"wrap\": \"clamp\"}}},"
+                 "{\"shape\": \"cube\", \"material\": {\"texture\": {\"builtin\": \"checker\", "
+                 "\"wrap\": \"clamp\"},"
+                 "\"height_map\": {\"builtin\": \"bumps\"}}},"
+                 "{\"shape\": \"thin_fan\", \"count\": 12}]}");
     ras_error err = {{0}};
     ras_scene_assets *a = ras_scene_load_assets(s, &err);
     if (!a) fail_msg("%s", err.msg);
