@@ -96,7 +96,8 @@ typedef vec3s (*fragment_shader_fn)(const fragment_shader_payload *payload);
 /* GIVEN (the worked example): the normal as a colour, (n + 1) / 2. */
 vec3s normal_fragment_shader(const fragment_shader_payload *payload);
 
-/* Blinn-Phong at `point` with unit normal `normal` and diffuse colour kd:
+/* Blinn-Phong at `point` with normal `normal` (any length: normalised here —
+ * interpolated and perturbed normals are not unit) and diffuse colour kd:
  *   L = ka·I_a + Σ_lights [ kd·(I/r²)·max(0, n·l) + ks·(I/r²)·max(0, n·h)^p ]
  * with l the unit vector to the light, v = normalize(-point) to the viewer,
  * h = normalize(l + v), r the distance to the light (products are per channel). */
