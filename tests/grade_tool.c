@@ -671,6 +671,26 @@ static bool is_flat(const ras_image *img) {
     return true;
 }
 
+/* Bounding box of the pixels that differ from the top-left (background)
+ * pixel; false when there are none. */
+static bool content_box(const ras_image *img, int *x0, int *y0, int *x1, int *y1) {
+    vec3s bg = ras_image_get(img, 0, 0);
+    *x0 = img->width, *y0 = img->height, *x1 = -1, *y1 = -1;
+    for (int r = 0; r < img->height; r++)
+        for (int c = 0; c < img->width; c++) {
+            vec3s p = ras_image_get(img, c, r);
+            if (ras_unit_to_byte(p.x) == ras_unit_to_byte(bg.x) &&
+                ras_unit_to_byte(p.y) == ras_unit_to_byte(bg.y) &&
+                ras_unit_to_byte(p.z) == ras_unit_to_byte(bg.z))
+                continue;
+            if (c < *x0) *x0 = c;
+            if (c > *x1) *x1 = c;
+            if (r < *y0) *y0 = r;
+            if (r > *y1) *y1 = r;
+        }
+    return *x1 >= 0;
+}
+
 /* Likely-mistake lines recognised from the pictures themselves. */
 static void image_signatures(sbuf *o, const ras_image *expected, const ras_image *got,
                              const ras_compare_options *opt) {
@@ -686,6 +706,24 @@ static void image_signatures(sbuf *o, const ras_image *expected, const ras_image
         sb_add(o, "likely mistake: your image is the reference upside down: the y-flip is "
                   "missing (image row = height - 1 - y) or the projection flips y\n");
     ras_image_destroy(flipped);
+    int ex0, ey0, ex1, ey1, gx0, gy0, gx1, gy1;
+    if (content_box(expected, &ex0, &ey0, &ex1, &ey1) && content_box(got, &gx0, &gy0, &gx1, &gy1)) {
+        double cx = (gx0 + gx1 - ex0 - ex1) / 2.0, cy = (gy0 + gy1 - ey0 - ey1) / 2.0;
+        double sx = (gx1 - gx0 + 1.0) / (ex1 - ex0 + 1.0), sy = (gy1 - gy0 + 1.0) / (ey1 - ey0 + 1.0);
+        double cxe = (ex0 + ex1) / 2.0, cye = (ey0 + ey1) / 2.0;
+        double ccx = expected->width / 2.0, ccy = expected->height / 2.0;
+        /* same centre of projection, different size: the field of view */
+        double scale = (sx + sy) / 2;
+        if (fabs(sx - sy) < 0.05 && fabs(scale - 1) > 0.05 &&
+            fabs((cxe - ccx) * scale - (cxe + cx - ccx)) < 4 &&
+            fabs((cye - ccy) * scale - (cye + cy - ccy)) < 4)
+            sb_printf(o, "likely mistake: your picture is the reference scaled by %.2f about the "
+                         "image centre: the field of view is off (the whole fov used instead of "
+                         "half of it, or degrees given to tanf)\n", scale);
+        else if (fabs(sx - 1) > 0.05 && fabs(sy - 1) < 0.05)
+            sb_printf(o, "likely mistake: your picture is stretched horizontally by %.2f: the "
+                         "aspect ratio is applied to the wrong axis\n", sx);
+    }
     double le = mean_luma(expected), lg = mean_luma(got);
     if (le > 0.02 && lg < 0.97 * le)
         sb_printf(o, "note: your image is darker than the reference on average (mean luma %.4f "
