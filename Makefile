@@ -67,3 +67,13 @@ bench-accuracy: configure
 .PHONY: mutants
 mutants: configure
 	@tests/run-mutants --build $(BUILD)
+
+# The performance report (issue 9): frame times of the classic hw3 scene,
+# plain teaching pipeline vs the reference fast path, into docs/performance.md.
+# SPOT=DIR uses DIR/spot_triangulated_good.obj (else a built-in teapot).
+.PHONY: bench-perf
+bench-perf: BUILD = build-perf
+bench-perf: deps
+	@cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release >/dev/null
+	@cmake --build $(BUILD) -j $(JOBS) --target bench_perf hw3_shading_ref -- --no-print-directory
+	@$(BUILD)/bin/bench_perf $(if $(SPOT),--spot $(SPOT)) --out docs/performance.md

@@ -3,6 +3,9 @@
 
 #include "rasterizer.h" /* hw2: rasterize_triangle, resolve_pixel */
 #include "transform.h"  /* hw1: get_projection_matrix */
+#ifdef HW3_FAST_PATH
+#include "solution/fast_render.h" /* reference build only: hw3_fast_render */
+#endif
 
 #include <math.h>   /* cosf, sinf */
 #include <stdlib.h> /* calloc, free */
@@ -296,6 +299,11 @@ hw3_render_options hw3_render_defaults(void) {
                                 .pattern = ras_sample_pattern_center()};
 }
 
+/* The object's model matrix: place · spin about y · orient. */
+static mat4s object_model(const hw3_object *o, float angle_deg) {
+    return glms_mat4_mul(glms_mat4_mul(o->place, rotate_y(o->yaw_deg + angle_deg)), o->orient);
+}
+
 static bool shader_reads_texture(hw3_shader shader) {
     return shader == HW3_SHADER_TEXTURE;
 }
@@ -316,6 +324,32 @@ bool hw3_render(hw3_scene *scene, const hw3_render_options *opt, ras_image *out,
     hw3_fragment_stage stage = {.shader = hw3_shader_function(opt->shader),
                                 .varyings = hw3_shader_varyings(opt->shader),
                                 .perspective = !opt->affine};
+    fragment_shader_payload *b = &stage.base;
+    b->filter = opt->filter;
+    b->ka = scene->ka;
+    b->ks = scene->ks;
+    b->p = scene->p;
+    b->light_count = scene->light_count;
+    for (int i = 0; i < scene->light_count; i++) b->lights[i] = scene->lights[i];
+    b->ambient_intensity = scene->ambient_intensity;
+    mat4s view = ras_view_matrix_eye(scene->eye);
+    mat4s projection = (opt->projection ? opt->projection : get_projection_matrix)(scene->fov_deg,
+                                             (float)scene->width / (float)scene->height,
+                                             scene->z_near, scene->z_far);
+#ifdef HW3_FAST_PATH
+    /* Reference build only: the same frame through screen tiles and threads,
+     * bit-identical to the loop below (solution/fast_render.c, docs/performance.md). */
+    if (hw3_fast_wanted(opt)) {
+        mat4s models[HW3_MAX_OBJECTS];
+        for (int i = 0; i < scene->object_count; i++)
+            models[i] = object_model(&scene->objects[i], opt->angle_deg);
+        ras_counters k = {.mip_levels_built = mip_levels,
+                          .stages_run = mip_levels ? RAS_STAGE_MIPMAP : 0u};
+        bool fast_ok = hw3_fast_render(scene, opt, &stage, models, view, projection, out, &k, err);
+        if (stats) *stats = k;
+        return fast_ok;
+    }
+#endif
     ras_pipeline_config cfg = {.width = scene->width,
                                .height = scene->height,
                                .clear_color = scene->clear_color,
@@ -330,22 +364,10 @@ bool hw3_render(hw3_scene *scene, const hw3_render_options *opt, ras_image *out,
                                .shade_user = &stage};
     ras_pipeline *p = ras_pipeline_create(&cfg, err);
     if (!p) return false;
-    fragment_shader_payload *b = &stage.base;
-    b->filter = opt->filter;
-    b->ka = scene->ka;
-    b->ks = scene->ks;
-    b->p = scene->p;
-    b->light_count = scene->light_count;
-    for (int i = 0; i < scene->light_count; i++) b->lights[i] = scene->lights[i];
-    b->ambient_intensity = scene->ambient_intensity;
     b->counters = &p->counters;
     p->counters.mip_levels_built = mip_levels;
     if (mip_levels) p->counters.stages_run |= RAS_STAGE_MIPMAP;
 
-    mat4s view = ras_view_matrix_eye(scene->eye);
-    mat4s projection = (opt->projection ? opt->projection : get_projection_matrix)(scene->fov_deg,
-                                             (float)scene->width / (float)scene->height,
-                                             scene->z_near, scene->z_far);
     bool ok = true;
     for (int i = 0; i < scene->object_count && ok; i++) {
         const hw3_object *o = &scene->objects[i];
@@ -354,9 +376,8 @@ bool hw3_render(hw3_scene *scene, const hw3_render_options *opt, ras_image *out,
         b->height_map = o->height_map;
         b->kh = o->kh;
         b->kn = o->kn;
-        mat4s model = glms_mat4_mul(glms_mat4_mul(o->place, rotate_y(o->yaw_deg + opt->angle_deg)),
-                                    o->orient);
-        ok = ras_pipeline_draw_mesh(p, o->mesh, model, view, projection, err);
+        ok = ras_pipeline_draw_mesh(p, o->mesh, object_model(o, opt->angle_deg), view, projection,
+                                    err);
     }
     if (ok) ras_pipeline_end_frame(p, out);
     if (stats) *stats = p->counters;

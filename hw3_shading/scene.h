@@ -115,6 +115,14 @@ typedef struct hw3_render_options {
     /* NULL: hw1's get_projection_matrix (the program carries your hw1 forward);
      * the tests pass their own so hw3 is graded on its own. */
     mat4s (*projection)(float fov_deg, float aspect, float z_near, float z_far);
+    /* Speed only, never the picture (docs/performance.md). The reference build
+     * renders through a fast path (screen tiles, threads) that draws the same
+     * image bit for bit; `plain` asks for the teaching pipeline instead (one
+     * triangle at a time through rasterize_triangle and hw3_shade_fragment), as
+     * does RAS_PLAIN=1 in the environment. Student builds are always plain.
+     * threads: the fast path's worker count; 0 = $RAS_THREADS, else one per CPU. */
+    bool plain;
+    int threads;
 } hw3_render_options;
 
 /* Defaults: normal shader, bilinear, angle 0, no AA, perspective-correct. */

@@ -1,0 +1,583 @@
+/* solution/fast_render.c — the reference build's fast frame. RASTER101-SOLUTION
+ * This marker must never appear in a student handout.
+ *
+ * Draws exactly what hw3_render's plain loop draws (common/ras_pipeline.c →
+ * hw2's rasterize_triangle → hw3_shade_fragment → the shader → resolve_pixel),
+ * bit for bit, counters included, but organised for speed
+ * (docs/performance.md says why each step keeps the result):
+ *
+ *   1. setup, in submission order, on the calling thread: vertex transform,
+ *      clipping, viewport and the fixed-point snap of every triangle — the
+ *      same common/ functions and the same integer maths as the reference
+ *      rasterizer — into a flat array of triangle records;
+ *   2. binning: each record goes into the list of every 64×64 screen tile its
+ *      bounding box touches, still in submission order;
+ *   3. tiles, on N threads (pthreads; a shared counter hands out tiles): each
+ *      worker clears a tile-sized colour/depth buffer that stays in cache,
+ *      draws the tile's triangles in order — integer edge functions stepped by
+ *      one addition per pixel, 8×8 blocks wholly outside an edge skipped —
+ *      shades the visible fragments (the perspective-correct weights once per
+ *      fragment, not once per varying; one payload per worker, not a copy per
+ *      fragment), and resolves the tile straight into the image.
+ * A tile's pixels depend only on the tile's triangles in submission order, so
+ * the image is the same for any thread count and any tile schedule.
+ * No full-screen framebuffer exists: memory is the image plus one tile buffer
+ * per worker.
+ */
+#include "fast_render.h"
+
+#include "rasterizer.h"   /* hw2: resolve_pixel (the same resolve) */
+#include "stage2_clip.h"  /* ras_clip_triangle */
+#include "stage3_setup.h" /* ras_setup_triangle */
+
+#include <math.h>      /* llround, fabsf, isfinite */
+#include <pthread.h>   /* pthread_create, pthread_join */
+#include <stdatomic.h> /* atomic_int */
+#include <stdint.h>    /* int64_t, uint64_t */
+#include <stdlib.h>    /* malloc, free, getenv, atoi */
+#include <string.h>    /* memset */
+#include <unistd.h>    /* sysconf */
+
+#define TILE 64         /* pixels per tile side */
+#define BLOCK 8         /* pixels per rejection block side */
+#define MAX_THREADS 64
+#define SUBPIXEL_BITS 8 /* as hw2_rasterize/solution/rasterizer.c */
+#define SUBPIXEL_ONE (1 << SUBPIXEL_BITS)
+#define FIXED_LIMIT_PX (1 << 20)
+
+/* ---- triangle records ------------------------------------------------------ */
+
+typedef struct fast_tri {
+    ras_triangle t;
+    /* E_k(P) = a[k]·Px + b[k]·Py + c[k] (sub-pixel units) for the edge
+     * opposite corner k of the CCW-ordered triangle; covered when
+     * E_k >= thr[k] (thr = -bias: 0 on top-left edges, 1 elsewhere). */
+    int64_t a[3], b[3], c[3], thr[3], area2;
+    int order[3]; /* original vertex index of corner k */
+    int x0, x1, y0, y1; /* pixel bounding box, clamped, inclusive */
+    int object;
+} fast_tri;
+
+static int64_t floor_div(int64_t a, int64_t b) { /* b > 0 */
+    int64_t q = a / b;
+    return (a % b != 0 && a < 0) ? q - 1 : q;
+}
+
+static int clamp_int(int64_t v, int lo, int hi) { return v < lo ? lo : v > hi ? hi : (int)v; }
+
+static bool is_top_left(int64_t dx, int64_t dy) { return dy < 0 || (dy == 0 && dx < 0); }
+
+/* The reference rasterizer's setup_fixed, into a record. False: degenerate.
+ * An empty (off-screen) box is kept with x1 < x0, as the reference does. */
+static bool setup_fixed(fast_tri *r, int width, int height) {
+    int64_t X[3], Y[3];
+    for (int i = 0; i < 3; i++) {
+        X[i] = llround((double)r->t.v[i].x * SUBPIXEL_ONE);
+        Y[i] = llround((double)r->t.v[i].y * SUBPIXEL_ONE);
+    }
+    int64_t area2 = (X[1] - X[0]) * (Y[2] - Y[0]) - (X[2] - X[0]) * (Y[1] - Y[0]);
+    if (area2 == 0) return false;
+    r->order[0] = 0;
+    r->order[1] = area2 > 0 ? 1 : 2;
+    r->order[2] = area2 > 0 ? 2 : 1;
+    r->area2 = area2 > 0 ? area2 : -area2;
+    for (int k = 0; k < 3; k++) {
+        int i = r->order[(k + 1) % 3], j = r->order[(k + 2) % 3];
+        int64_t dx = X[j] - X[i], dy = Y[j] - Y[i];
+        r->a[k] = -dy;
+        r->b[k] = dx;
+        r->c[k] = dy * X[i] - dx * Y[i];
+        r->thr[k] = is_top_left(dx, dy) ? 0 : 1;
+    }
+    int64_t minx = X[0], maxx = X[0], miny = Y[0], maxy = Y[0];
+    for (int i = 1; i < 3; i++) {
+        minx = X[i] < minx ? X[i] : minx;
+        maxx = X[i] > maxx ? X[i] : maxx;
+        miny = Y[i] < miny ? Y[i] : miny;
+        maxy = Y[i] > maxy ? Y[i] : maxy;
+    }
+    r->x0 = clamp_int(floor_div(minx, SUBPIXEL_ONE), 0, width - 1);
+    r->x1 = clamp_int(floor_div(maxx, SUBPIXEL_ONE), 0, width - 1);
+    r->y0 = clamp_int(floor_div(miny, SUBPIXEL_ONE), 0, height - 1);
+    r->y1 = clamp_int(floor_div(maxy, SUBPIXEL_ONE), 0, height - 1);
+    if (floor_div(maxx, SUBPIXEL_ONE) < 0 || floor_div(minx, SUBPIXEL_ONE) >= width ||
+        floor_div(maxy, SUBPIXEL_ONE) < 0 || floor_div(miny, SUBPIXEL_ONE) >= height)
+        r->x1 = r->x0 - 1;
+    return true;
+}
+
+typedef struct tri_list {
+    fast_tri *tri;
+    size_t count, capacity;
+} tri_list;
+
+static bool clip_vertex_finite(const ras_clip_vertex *v) {
+    return ras_vec4_finite(v->p_clip) && ras_vec3_finite(v->color) &&
+           ras_vec3_finite(v->normal) && ras_vec2_finite(v->uv) && ras_vec3_finite(v->view_pos);
+}
+
+/* ras_pipeline_draw_clip_triangle + the reference rasterizer's prologue, with
+ * the same counters; records what would be rasterized. */
+static bool setup_triangle(tri_list *L, const ras_clip_vertex *a, const ras_clip_vertex *b,
+                           const ras_clip_vertex *c, int object, int width, int height,
+                           ras_counters *k) {
+    k->triangles_in++;
+    if (!clip_vertex_finite(a) || !clip_vertex_finite(b) || !clip_vertex_finite(c)) {
+        k->triangles_rejected_nonfinite++;
+        return true;
+    }
+    ras_clip_vertex poly[RAS_CLIP_MAX_VERTICES];
+    int n = 0;
+    ras_clip_result cr = ras_clip_triangle(a, b, c, poly, &n);
+    if (cr == RAS_CLIP_OUTSIDE) {
+        k->triangles_clipped_away++;
+        return true;
+    }
+    if (cr == RAS_CLIP_SPLIT) k->triangles_clip_split++;
+    k->stages_run |= RAS_STAGE_RASTER | RAS_STAGE_FRAGMENT;
+    for (int i = 1; i + 1 < n; i++) {
+        if (L->count == L->capacity) {
+            size_t cap = L->capacity ? 2 * L->capacity : 1024;
+            fast_tri *grown = realloc(L->tri, cap * sizeof *grown);
+            if (!grown) return false;
+            L->tri = grown;
+            L->capacity = cap;
+        }
+        fast_tri *r = &L->tri[L->count];
+        if (!ras_setup_triangle(&poly[0], &poly[i], &poly[i + 1], width, height, &r->t)) {
+            k->triangles_rejected_nonfinite++;
+            continue;
+        }
+        k->triangles_rasterized++; /* hw3 draws with RAS_CULL_NONE */
+        bool in_range = true;
+        for (int v = 0; v < 3; v++)
+            in_range = in_range && fabsf(r->t.v[v].x) <= FIXED_LIMIT_PX &&
+                       fabsf(r->t.v[v].y) <= FIXED_LIMIT_PX;
+        /* The guard band (stage2_clip.h) keeps screen coordinates within 9
+         * viewports, so the reference never leaves its fixed-point path here. */
+        if (!in_range) continue;
+        if (!setup_fixed(r, width, height)) {
+            k->triangles_degenerate++;
+            continue;
+        }
+        if (r->x1 < r->x0) continue; /* off screen: nothing tested */
+        r->object = object;
+        L->count++;
+    }
+    return true;
+}
+
+/* ---- shading: hw3_shade_fragment, same arithmetic ------------------------ */
+
+typedef struct frame {
+    const hw3_scene *scene;
+    const hw3_fragment_stage *stage;
+    int width, height, n; /* samples per pixel */
+    bool ssaa;
+    ras_sample_pattern pattern;
+    int64_t off_x[RAS_MAX_SAMPLES + 1], off_y[RAS_MAX_SAMPLES + 1]; /* [n] = centre */
+    unsigned varyings;
+    uint64_t varyings_per_fragment;
+    int centre_sample; /* a sample whose position is the pixel centre, or -1 */
+    const fast_tri *tri;
+    /* bins: tile t holds bin_index[bin_start[t] .. bin_start[t+1]) */
+    int tiles_x, tiles_y;
+    size_t *bin_start;
+    uint32_t *bin_index;
+    atomic_int next_tile;
+    ras_image *out;
+} frame;
+
+typedef struct worker {
+    frame *fr;
+    vec3s *color; /* TILE² · n, sample s of tile pixel (lx, ly) at (ly·TILE + lx)·n + s */
+    float *depth;
+    fragment_shader_payload pay[HW3_MAX_OBJECTS];
+    ras_counters k;
+    pthread_t thread;
+} worker;
+
+/* perspective_correct_barycentric (solution/shading.c), inlined. */
+static inline vec3s persp_bary(const ras_triangle *t, vec3s bs) {
+    vec3s b = {{bs.x / t->v[0].w, bs.y / t->v[1].w, bs.z / t->v[2].w}};
+    float sum = b.x + b.y + b.z;
+    if (!(sum > 0.0f) || !isfinite(sum)) return bs;
+    return glms_vec3_scale(b, 1.0f / sum);
+}
+
+static inline vec3s interp3(vec3s b, const vec3s attr[3]) {
+    vec3s r = glms_vec3_scale(attr[0], b.x);
+    r = glms_vec3_muladds(attr[1], b.y, r);
+    return glms_vec3_muladds(attr[2], b.z, r);
+}
+
+static inline vec2s interp2(vec3s b, const vec2s attr[3]) {
+    return (vec2s){{attr[0].x * b.x + attr[1].x * b.y + attr[2].x * b.z,
+                    attr[0].y * b.x + attr[1].y * b.y + attr[2].y * b.z}};
+}
+
+static vec3s shade(worker *w, const fast_tri *r, vec3s bary) {
+    const frame *fr = w->fr;
+    const ras_triangle *t = &r->t;
+    fragment_shader_payload *pay = &w->pay[r->object];
+    bool persp = fr->stage->perspective;
+    unsigned vary = fr->varyings;
+    vec3s b = persp ? persp_bary(t, bary) : bary;
+    if (vary & RAS_VARYING_NORMAL) pay->normal = glms_vec3_normalize(interp3(b, t->normal));
+    if (vary & RAS_VARYING_VIEW_POS) pay->view_pos = interp3(b, t->view_pos);
+    if (vary & RAS_VARYING_UV) {
+        pay->uv = interp2(b, t->uv);
+        if (pay->filter == FILTER_TRILINEAR) {
+            /* scene.c's bary_gradients and finite difference */
+            float area2 = ras_triangle_area2(t);
+            float inv = area2 != 0.0f ? 1.0f / area2 : 0.0f;
+            const vec4s *v = t->v;
+            vec3s d_dx = {{-(v[2].y - v[1].y) * inv, -(v[0].y - v[2].y) * inv,
+                           -(v[1].y - v[0].y) * inv}};
+            vec3s d_dy = {{(v[2].x - v[1].x) * inv, (v[0].x - v[2].x) * inv,
+                           (v[1].x - v[0].x) * inv}};
+            vec3s bx = glms_vec3_add(bary, d_dx), by = glms_vec3_add(bary, d_dy);
+            vec2s uv_x = interp2(persp ? persp_bary(t, bx) : bx, t->uv);
+            vec2s uv_y = interp2(persp ? persp_bary(t, by) : by, t->uv);
+            pay->duv_dx = glms_vec2_sub(uv_x, pay->uv);
+            pay->duv_dy = glms_vec2_sub(uv_y, pay->uv);
+        }
+    }
+    w->k.varyings_interpolated += fr->varyings_per_fragment;
+    w->k.fragments_shaded++;
+    return fr->stage->shader(pay);
+}
+
+/* ---- rasterizing one triangle into one tile --------------------------------- */
+
+static inline vec3s bary_of(const fast_tri *r, const int64_t e[3]) {
+    float l[3], orig[3];
+    for (int i = 0; i < 3; i++) l[i] = (float)((double)e[i] / (double)r->area2);
+    for (int i = 0; i < 3; i++) orig[r->order[i]] = l[i];
+    return (vec3s){{orig[0], orig[1], orig[2]}};
+}
+
+static inline float depth_of(const ras_triangle *t, vec3s b) {
+    return b.x * t->v[0].z + b.y * t->v[1].z + b.z * t->v[2].z;
+}
+
+/* Is the whole block [bx0, bx1] × [by0, by1] of pixels outside one edge for
+ * every sample position? The edge function is affine, so its largest value
+ * over the block's sample points is at a corner of the box spanned by the
+ * extreme sample offsets. */
+static bool block_outside(const frame *fr, const fast_tri *r, int bx0, int by0, int bx1,
+                          int by1, int64_t omin_x, int64_t omax_x, int64_t omin_y,
+                          int64_t omax_y) {
+    (void)fr;
+    for (int i = 0; i < 3; i++) {
+        int64_t px = r->a[i] > 0 ? (int64_t)bx1 * SUBPIXEL_ONE + omax_x
+                                 : (int64_t)bx0 * SUBPIXEL_ONE + omin_x;
+        int64_t py = r->b[i] > 0 ? (int64_t)by1 * SUBPIXEL_ONE + omax_y
+                                 : (int64_t)by0 * SUBPIXEL_ONE + omin_y;
+        if (r->a[i] * px + r->b[i] * py + r->c[i] < r->thr[i]) return true;
+    }
+    return false;
+}
+
+static void draw_pixel_samples(worker *w, const fast_tri *r, int x, int y, int tx0, int ty0,
+                               int64_t e[][3]) {
+    const frame *fr = w->fr;
+    const int n = fr->n;
+    int base = ((y - ty0) * TILE + (x - tx0)) * n;
+    vec3s bary[RAS_MAX_SAMPLES];
+    float z[RAS_MAX_SAMPLES];
+    uint64_t visible = 0;
+    for (int k = 0; k < n; k++) {
+        if (e[k][0] < r->thr[0] || e[k][1] < r->thr[1] || e[k][2] < r->thr[2]) continue;
+        w->k.samples_covered++;
+        bary[k] = bary_of(r, e[k]);
+        z[k] = depth_of(&r->t, bary[k]);
+        if (!(z[k] < w->depth[base + k])) continue;
+        w->k.depth_tests_passed++;
+        w->depth[base + k] = z[k];
+        visible |= (uint64_t)1 << k;
+    }
+    if (!visible) return;
+    if (fr->ssaa) {
+        for (int k = 0; k < n; k++)
+            if (visible >> k & 1) w->color[base + k] = shade(w, r, bary[k]);
+        return;
+    }
+    vec3s bc;
+    const int64_t *ec = e[n]; /* the pixel centre */
+    if (fr->centre_sample >= 0 && (visible >> fr->centre_sample & 1)) {
+        bc = bary[fr->centre_sample]; /* a sample at the centre: the same integers */
+    } else if (ec[0] >= r->thr[0] && ec[1] >= r->thr[1] && ec[2] >= r->thr[2]) {
+        bc = bary_of(r, ec);
+    } else {
+        int best = -1;
+        float best_d2 = 0;
+        for (int k = 0; k < n; k++) {
+            if (!(visible >> k & 1)) continue;
+            float dx = fr->pattern.offsets[k].x - 0.5f, dy = fr->pattern.offsets[k].y - 0.5f;
+            float d2 = dx * dx + dy * dy;
+            if (best < 0 || d2 < best_d2) {
+                best = k;
+                best_d2 = d2;
+            }
+        }
+        bc = bary[best];
+    }
+    vec3s color = shade(w, r, bc);
+    for (int k = 0; k < n; k++)
+        if (visible >> k & 1) w->color[base + k] = color;
+}
+
+static void draw_in_tile(worker *w, const fast_tri *r, int tx0, int ty0, int tx1, int ty1) {
+    const frame *fr = w->fr;
+    const int n = fr->n;
+    int x0 = r->x0 > tx0 ? r->x0 : tx0, x1 = r->x1 < tx1 ? r->x1 : tx1;
+    int y0 = r->y0 > ty0 ? r->y0 : ty0, y1 = r->y1 < ty1 ? r->y1 : ty1;
+    if (x0 > x1 || y0 > y1) return;
+    /* The reference tests every sample of the bounding box. */
+    w->k.samples_tested += (uint64_t)(x1 - x0 + 1) * (uint64_t)(y1 - y0 + 1) * (uint64_t)n;
+    int64_t omin_x = fr->off_x[0], omax_x = omin_x, omin_y = fr->off_y[0], omax_y = omin_y;
+    for (int k = 1; k <= n; k++) {
+        omin_x = fr->off_x[k] < omin_x ? fr->off_x[k] : omin_x;
+        omax_x = fr->off_x[k] > omax_x ? fr->off_x[k] : omax_x;
+        omin_y = fr->off_y[k] < omin_y ? fr->off_y[k] : omin_y;
+        omax_y = fr->off_y[k] > omax_y ? fr->off_y[k] : omax_y;
+    }
+    const int64_t step[3] = {r->a[0] * SUBPIXEL_ONE, r->a[1] * SUBPIXEL_ONE,
+                             r->a[2] * SUBPIXEL_ONE};
+    bool small = (x1 - x0) < BLOCK && (y1 - y0) < BLOCK;
+    for (int by0 = y0; by0 <= y1; by0 += BLOCK) {
+        int by1 = by0 + BLOCK - 1 < y1 ? by0 + BLOCK - 1 : y1;
+        for (int bx0 = x0; bx0 <= x1; bx0 += BLOCK) {
+            int bx1 = bx0 + BLOCK - 1 < x1 ? bx0 + BLOCK - 1 : x1;
+            if (!small &&
+                block_outside(fr, r, bx0, by0, bx1, by1, omin_x, omax_x, omin_y, omax_y))
+                continue;
+            for (int y = by0; y <= by1; y++) {
+                /* Edge values at (bx0, y) for every sample and the centre,
+                 * then one addition per pixel: exact integers, the same
+                 * values the reference computes from scratch. */
+                int64_t e[RAS_MAX_SAMPLES + 1][3];
+                for (int k = 0; k <= n; k++) {
+                    int64_t px = (int64_t)bx0 * SUBPIXEL_ONE + fr->off_x[k];
+                    int64_t py = (int64_t)y * SUBPIXEL_ONE + fr->off_y[k];
+                    for (int i = 0; i < 3; i++) e[k][i] = r->a[i] * px + r->b[i] * py + r->c[i];
+                }
+                for (int x = bx0; x <= bx1; x++) {
+                    draw_pixel_samples(w, r, x, y, tx0, ty0, e);
+                    for (int k = 0; k <= n; k++)
+                        for (int i = 0; i < 3; i++) e[k][i] += step[i];
+                }
+            }
+        }
+    }
+}
+
+/* ---- tiles ----------------------------------------------------------------- */
+
+static void do_tile(worker *w, int tile) {
+    frame *fr = w->fr;
+    const int n = fr->n;
+    int tx = tile % fr->tiles_x, ty = tile / fr->tiles_x;
+    int tx0 = tx * TILE, ty0 = ty * TILE;
+    int tx1 = tx0 + TILE - 1 < fr->width - 1 ? tx0 + TILE - 1 : fr->width - 1;
+    int ty1 = ty0 + TILE - 1 < fr->height - 1 ? ty0 + TILE - 1 : fr->height - 1;
+    vec3s clear = fr->scene->clear_color;
+    for (int i = 0; i < TILE * TILE * n; i++) {
+        w->color[i] = clear;
+        w->depth[i] = INFINITY;
+    }
+    for (size_t j = fr->bin_start[tile]; j < fr->bin_start[tile + 1]; j++)
+        draw_in_tile(w, &fr->tri[fr->bin_index[j]], tx0, ty0, tx1, ty1);
+    /* Resolve: sample 0 with one sample (ras_resolve_frame), else the hw2
+     * reference resolve_pixel on a framebuffer view of this tile. */
+    ras_framebuffer view = {.width = TILE, .height = TILE, .samples = n,
+                            .color = w->color, .depth = w->depth};
+    for (int y = ty0; y <= ty1; y++) {
+        vec3s *dst = &fr->out->pixels[(size_t)(fr->height - 1 - y) * (size_t)fr->width];
+        const vec3s *src = &w->color[(size_t)(y - ty0) * TILE * (size_t)n];
+        if (n == 1) {
+            memcpy(&dst[tx0], src, sizeof *dst * (size_t)(tx1 - tx0 + 1));
+        } else {
+            /* resolve_pixel reads screen pixel (x, y) of the view at row
+             * TILE-1-y: hand it the mirrored row. */
+            for (int x = tx0; x <= tx1; x++)
+                dst[x] = resolve_pixel(&view, x - tx0, TILE - 1 - (y - ty0));
+        }
+    }
+}
+
+static void *worker_main(void *arg) {
+    worker *w = arg;
+    frame *fr = w->fr;
+    int tiles = fr->tiles_x * fr->tiles_y;
+    for (;;) {
+        int tile = atomic_fetch_add(&fr->next_tile, 1);
+        if (tile >= tiles) break;
+        do_tile(w, tile);
+    }
+    return NULL;
+}
+
+/* ---- the frame ------------------------------------------------------------- */
+
+bool hw3_fast_wanted(const hw3_render_options *opt) {
+    const char *env = getenv("RAS_PLAIN");
+    return !opt->plain && !(env && *env && strcmp(env, "0") != 0);
+}
+
+static int thread_count(const hw3_render_options *opt) {
+    int n = opt->threads;
+    if (n <= 0) {
+        const char *env = getenv("RAS_THREADS");
+        n = env ? atoi(env) : 0;
+    }
+    if (n <= 0) n = (int)sysconf(_SC_NPROCESSORS_ONLN);
+    return n < 1 ? 1 : n > MAX_THREADS ? MAX_THREADS : n;
+}
+
+bool hw3_fast_render(const hw3_scene *scene, const hw3_render_options *opt,
+                     const hw3_fragment_stage *stage, const mat4s *models, mat4s view,
+                     mat4s projection, ras_image *out, ras_counters *k, ras_error *err) {
+    int width = scene->width, height = scene->height;
+    if (width < 1 || height < 1 || width > RAS_IMAGE_MAX_SIDE || height > RAS_IMAGE_MAX_SIDE)
+        return ras_error_set(err, "frame size %dx%d is out of range", width, height);
+    ras_sample_pattern pattern = opt->aa == RAS_AA_NONE ? ras_sample_pattern_center() : opt->pattern;
+    if (pattern.count < 1 || pattern.count > RAS_MAX_SAMPLES)
+        return ras_error_set(err, "the sample pattern is empty: build it with ras_sample_pattern_make");
+    double t0 = ras_now_ms();
+    frame fr = {.scene = scene, .stage = stage, .width = width, .height = height,
+                .n = pattern.count, .ssaa = opt->aa == RAS_AA_SSAA, .pattern = pattern,
+                .varyings = stage->varyings, .out = out};
+    for (int s = 0; s <= fr.n; s++) {
+        vec2s o = s < fr.n ? pattern.offsets[s] : (vec2s){{0.5f, 0.5f}};
+        fr.off_x[s] = llround((double)o.x * SUBPIXEL_ONE);
+        fr.off_y[s] = llround((double)o.y * SUBPIXEL_ONE);
+    }
+    fr.centre_sample = -1;
+    for (int s = 0; s < fr.n && fr.centre_sample < 0; s++)
+        if (fr.off_x[s] == fr.off_x[fr.n] && fr.off_y[s] == fr.off_y[fr.n]) fr.centre_sample = s;
+    fr.varyings_per_fragment = (uint64_t)(!!(stage->varyings & RAS_VARYING_NORMAL) +
+                                          !!(stage->varyings & RAS_VARYING_VIEW_POS) +
+                                          !!(stage->varyings & RAS_VARYING_UV));
+
+    /* 1. setup in submission order */
+    tri_list L = {0};
+    ras_clip_vertex *clip = NULL;
+    size_t clip_cap = 0;
+    bool ok = true;
+    for (int o = 0; o < scene->object_count && ok; o++) {
+        const ras_mesh *mesh = scene->objects[o].mesh;
+        if (mesh->vertex_count > clip_cap) {
+            ras_clip_vertex *grown = realloc(clip, mesh->vertex_count * sizeof *clip);
+            if (!grown) {
+                ok = false;
+                break;
+            }
+            clip = grown;
+            clip_cap = mesh->vertex_count;
+        }
+        ras_vertex_transform(mesh, models[o], view, projection, stage->varyings, clip);
+        k->stages_run |= RAS_STAGE_VERTEX;
+        k->vertices_transformed += mesh->vertex_count;
+        for (size_t i = 0; i < mesh->triangle_count && ok; i++) {
+            const unsigned *idx = &mesh->indices[3 * i];
+            k->stages_run |= RAS_STAGE_CLIP | RAS_STAGE_SETUP;
+            ok = setup_triangle(&L, &clip[idx[0]], &clip[idx[1]], &clip[idx[2]], o, width,
+                                height, k);
+        }
+    }
+    free(clip);
+    double t1 = ras_now_ms();
+
+    /* 2. binning, in submission order */
+    fr.tri = L.tri;
+    fr.tiles_x = (width + TILE - 1) / TILE;
+    fr.tiles_y = (height + TILE - 1) / TILE;
+    int tiles = fr.tiles_x * fr.tiles_y;
+    int threads = thread_count(opt);
+    if (threads > tiles) threads = tiles;
+    fr.bin_start = ok ? calloc((size_t)tiles + 1, sizeof *fr.bin_start) : NULL;
+    worker *workers = ok ? calloc((size_t)threads, sizeof *workers) : NULL;
+    ok = ok && fr.bin_start && workers;
+    if (ok) {
+        for (size_t i = 0; i < L.count; i++) {
+            const fast_tri *r = &L.tri[i];
+            for (int ty = r->y0 / TILE; ty <= r->y1 / TILE; ty++)
+                for (int tx = r->x0 / TILE; tx <= r->x1 / TILE; tx++)
+                    fr.bin_start[ty * fr.tiles_x + tx + 1]++;
+        }
+        for (int t = 0; t < tiles; t++) fr.bin_start[t + 1] += fr.bin_start[t];
+        fr.bin_index = malloc((fr.bin_start[tiles] + 1) * sizeof *fr.bin_index);
+        size_t *fill = malloc((size_t)tiles * sizeof *fill);
+        ok = fr.bin_index && fill;
+        if (ok) {
+            memcpy(fill, fr.bin_start, (size_t)tiles * sizeof *fill);
+            for (size_t i = 0; i < L.count; i++) {
+                const fast_tri *r = &L.tri[i];
+                for (int ty = r->y0 / TILE; ty <= r->y1 / TILE; ty++)
+                    for (int tx = r->x0 / TILE; tx <= r->x1 / TILE; tx++)
+                        fr.bin_index[fill[ty * fr.tiles_x + tx]++] = (uint32_t)i;
+            }
+        }
+        free(fill);
+    }
+
+    /* 3. tiles on the workers */
+    size_t tile_samples = (size_t)TILE * TILE * (size_t)fr.n;
+    for (int i = 0; ok && i < threads; i++) {
+        worker *w = &workers[i];
+        w->fr = &fr;
+        w->color = malloc(tile_samples * sizeof *w->color);
+        w->depth = malloc(tile_samples * sizeof *w->depth);
+        ok = w->color && w->depth;
+        for (int o = 0; o < scene->object_count; o++) {
+            const hw3_object *ob = &scene->objects[o];
+            fragment_shader_payload *p = &w->pay[o];
+            *p = stage->base;
+            p->color = ob->color;
+            p->texture = ob->texture;
+            p->height_map = ob->height_map;
+            p->kh = ob->kh;
+            p->kn = ob->kn;
+            p->counters = &w->k;
+        }
+    }
+    if (ok) {
+        atomic_init(&fr.next_tile, 0);
+        int started = 1;
+        for (; started < threads; started++)
+            if (pthread_create(&workers[started].thread, NULL, worker_main, &workers[started]))
+                break; /* fewer workers is only slower */
+        worker_main(&workers[0]);
+        for (int i = 1; i < started; i++) pthread_join(workers[i].thread, NULL);
+        for (int i = 0; i < threads; i++) {
+            const ras_counters *c = &workers[i].k;
+            k->stages_run |= c->stages_run;
+            k->samples_tested += c->samples_tested;
+            k->samples_covered += c->samples_covered;
+            k->depth_tests_passed += c->depth_tests_passed;
+            k->fragments_shaded += c->fragments_shaded;
+            k->varyings_interpolated += c->varyings_interpolated;
+            k->texels_fetched += c->texels_fetched;
+            k->lighting_evaluations += c->lighting_evaluations;
+        }
+        if (fr.n > 1) k->stages_run |= RAS_STAGE_RESOLVE;
+        k->buffer_bytes = (size_t)threads * tile_samples * (sizeof(vec3s) + sizeof(float));
+    } else {
+        ras_error_set(err, "out of memory drawing %zu triangles", L.count);
+    }
+    for (int i = 0; workers && i < threads; i++) {
+        free(workers[i].color);
+        free(workers[i].depth);
+    }
+    free(workers);
+    free(fr.bin_start);
+    free(fr.bin_index);
+    free(L.tri);
+    double t2 = ras_now_ms();
+    k->ms_vertex += t1 - t0;
+    k->ms_raster += t2 - t1;
+    k->ms_total += t2 - t0;
+    return ok;
+}

@@ -1,0 +1,169 @@
+/* test_fast_path.c — the reference fast path draws what the plain pipeline draws.
+ *
+ * hw3_render has two ways through a frame in the reference build: the plain
+ * teaching pipeline (one triangle at a time through rasterize_triangle and
+ * hw3_shade_fragment) and the fast path (screen tiles on threads,
+ * hw3_shading/solution/fast_render.c). Every scene × shader × AA mode here
+ * must give the same image, byte for byte, and the same counters (all but the
+ * timings and the buffer memory) in plain mode, fast mode with 1 thread and
+ * fast mode with 2 and 3 threads. See docs/performance.md.
+ */
+#include <setjmp.h> /* cmocka needs these three first */
+#include <stdarg.h>
+#include <stddef.h>
+
+#include <cmocka.h>
+
+#include "ras_test_main.h"
+#include "scene.h"
+
+#include <stdio.h>  /* snprintf */
+#include <string.h> /* memcmp */
+
+static hw3_scene *scene;
+static ras_image *plain_img, *fast_img;
+
+static int group_setup(void **state) {
+    (void)state;
+    ras_error err = {{0}};
+    scene = hw3_scene_create_default(&err);
+    plain_img = ras_image_create(700, 700, &err);
+    fast_img = ras_image_create(700, 700, &err);
+    return scene && plain_img && fast_img ? 0 : -1;
+}
+
+static int group_teardown(void **state) {
+    (void)state;
+    hw3_scene_destroy(scene);
+    ras_image_destroy(plain_img);
+    ras_image_destroy(fast_img);
+    return 0;
+}
+
+/* The counters that describe the work, not the time or the memory it took. */
+static void check_same_counters(const ras_counters *a, const ras_counters *b, const char *what) {
+#define SAME(f)                                                                                   \
+    if (a->f != b->f)                                                                             \
+        fail_msg("%s: counter " #f " differs: plain %llu, fast %llu", what,                        \
+                 (unsigned long long)a->f, (unsigned long long)b->f)
+    SAME(stages_run);
+    SAME(vertices_transformed);
+    SAME(triangles_in);
+    SAME(triangles_clipped_away);
+    SAME(triangles_clip_split);
+    SAME(triangles_culled);
+    SAME(triangles_rejected_nonfinite);
+    SAME(triangles_degenerate);
+    SAME(triangles_rasterized);
+    SAME(samples_tested);
+    SAME(samples_covered);
+    SAME(depth_tests_passed);
+    SAME(fragments_shaded);
+    SAME(varyings_interpolated);
+    SAME(texels_fetched);
+    SAME(mip_levels_built);
+    SAME(lighting_evaluations);
+#undef SAME
+}
+
+static void render(hw3_render_options opt, bool plain, int threads, ras_image *img,
+                   ras_counters *k) {
+    ras_error err = {{0}};
+    opt.plain = plain;
+    opt.threads = threads;
+    img->width = scene->width; /* the images are allocated at the largest size */
+    img->height = scene->height;
+    if (!hw3_render(scene, &opt, img, k, &err)) fail_msg("hw3_render: %s", err.msg);
+}
+
+/* Plain vs fast with 1, 2 and 3 threads for every shader and AA mode. */
+static void check_all(const char *label, hw3_render_options base) {
+    const ras_aa_mode aas[3] = {RAS_AA_NONE, RAS_AA_MSAA, RAS_AA_SSAA};
+    for (int s = 0; s < HW3_SHADER_COUNT; s++)
+        for (int a = 0; a < 3; a++) {
+            hw3_render_options opt = base;
+            opt.shader = (hw3_shader)s;
+            opt.aa = aas[a];
+            if (opt.aa == RAS_AA_NONE) opt.pattern = ras_sample_pattern_center();
+            ras_counters kp, kf;
+            render(opt, true, 1, plain_img, &kp);
+            for (int threads = 1; threads <= 3; threads++) {
+                render(opt, false, threads, fast_img, &kf);
+                char what[160];
+                snprintf(what, sizeof what, "%s, %s shader, %s, %d thread(s)", label,
+                         hw3_shader_name(opt.shader), ras_aa_mode_name(opt.aa), threads);
+                size_t bytes = sizeof *plain_img->pixels * (size_t)scene->width * (size_t)scene->height;
+                if (memcmp(plain_img->pixels, fast_img->pixels, bytes) != 0) {
+                    int first = 0;
+                    while (!memcmp(&plain_img->pixels[first], &fast_img->pixels[first],
+                                   sizeof *plain_img->pixels))
+                        first++;
+                    fail_msg("%s: the fast image differs from the plain one, first at pixel "
+                             "(col %d, row %d)", what, first % scene->width, first / scene->width);
+                }
+                check_same_counters(&kp, &kf, what);
+            }
+        }
+}
+
+static hw3_render_options options(ras_pattern_kind kind, int samples) {
+    hw3_render_options opt = hw3_render_defaults();
+    ras_error err = {{0}};
+    if (!ras_sample_pattern_make(kind, samples, &opt.pattern, &err)) fail_msg("%s", err.msg);
+    return opt;
+}
+
+/* The default scene (five objects, textures, bump maps) at 700×700, ordered 4x. */
+static void test_fast_path_default_scene(void **state) {
+    (void)state;
+    scene->width = scene->height = 700;
+    check_all("default scene", options(RAS_PATTERN_ORDERED, 4));
+}
+
+/* An odd size (tiles cut by the frame's edges), turned, trilinear, the
+ * standard 8x pattern. */
+static void test_fast_path_odd_size_trilinear(void **state) {
+    (void)state;
+    scene->width = 301;
+    scene->height = 157;
+    hw3_render_options opt = options(RAS_PATTERN_STANDARD, 8);
+    opt.angle_deg = 57;
+    opt.filter = FILTER_TRILINEAR;
+    /* The first trilinear frame builds the mip levels (and counts them): build
+     * them here so every compared frame starts from the same scene. */
+    ras_counters k;
+    hw3_render_options first = opt;
+    first.shader = HW3_SHADER_TEXTURE;
+    render(first, true, 1, plain_img, &k);
+    check_all("301x157 trilinear", opt);
+    scene->width = scene->height = 700;
+}
+
+/* The camera among the objects: triangles cross the near plane and are
+ * clipped and split; affine interpolation and nearest filtering. */
+static void test_fast_path_clipping_affine(void **state) {
+    (void)state;
+    vec3s eye = scene->eye;
+    scene->width = 256;
+    scene->height = 200;
+    scene->eye = (vec3s){{1.0f, 1.2f, 0.6f}};
+    hw3_render_options opt = options(RAS_PATTERN_STANDARD, 4);
+    opt.affine = true;
+    opt.filter = FILTER_NEAREST;
+    opt.angle_deg = -20;
+    ras_counters k;
+    render(opt, true, 1, plain_img, &k);
+    assert_true(k.triangles_clip_split > 0);
+    check_all("near-plane clipping, affine", opt);
+    scene->eye = eye;
+    scene->width = scene->height = 700;
+}
+
+int main(void) {
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_fast_path_default_scene),
+        cmocka_unit_test(test_fast_path_odd_size_trilinear),
+        cmocka_unit_test(test_fast_path_clipping_affine),
+    };
+    return RAS_RUN_TESTS("fast_path", tests, group_setup, group_teardown);
+}
