@@ -3,9 +3,15 @@
 
 vec4s ras_viewport(vec4s p_clip, int width, int height) {
     float inv_w = 1.0f / p_clip.w;
+    /* Clamped to [0, 1] like D3D's viewport depth: a vertex the clipper cut
+     * where w is tiny can land a little outside -w <= z <= w (its z and w
+     * round separately; tests/fuzz found depth -8.8e-5). NaN passes through
+     * (fmaxf/fminf would hide it), so setup still rejects it. */
+    float depth = (1.0f - p_clip.z * inv_w) * 0.5f;
+    if (depth < 0.0f) depth = 0.0f;
+    if (depth > 1.0f) depth = 1.0f;
     return (vec4s){{(p_clip.x * inv_w + 1.0f) * 0.5f * (float)width,
-                    (p_clip.y * inv_w + 1.0f) * 0.5f * (float)height,
-                    (1.0f - p_clip.z * inv_w) * 0.5f, p_clip.w}};
+                    (p_clip.y * inv_w + 1.0f) * 0.5f * (float)height, depth, p_clip.w}};
 }
 
 bool ras_setup_triangle(const ras_clip_vertex *a, const ras_clip_vertex *b,

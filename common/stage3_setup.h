@@ -5,7 +5,8 @@
  * That minus sign is the GAMES101 viewport fix: with the course's projection
  * the near plane lands at z_ndc = +1, so without it larger would be closer and
  * the two hw2 triangles swap. With it, 0 is the near plane, 1 the far plane,
- * and smaller is closer. w is kept (clip w) for perspective correction.
+ * and smaller is closer; depth is clamped to [0, 1] (float clipping can leave
+ * a cut vertex a rounding error outside the near or far plane). w is kept (clip w) for perspective correction.
  */
 #ifndef STAGE3_SETUP_H
 #define STAGE3_SETUP_H
