@@ -179,6 +179,7 @@ typedef struct frame {
     unsigned varyings;
     uint64_t varyings_per_fragment;
     int centre_sample; /* a sample whose position is the pixel centre, or -1 */
+    float spec_zero;   /* powf(x, p) is +0 for 0 <= x <= spec_zero (fast_blinn_phong) */
     const fast_tri *tri;
     /* bins: tile t holds bin_index[bin_start[t] .. bin_start[t+1]) */
     int tiles_x, tiles_y;
@@ -216,6 +217,39 @@ static inline vec2s interp2(vec3s b, const vec2s attr[3]) {
                     attr[0].y * b.x + attr[1].y * b.y + attr[2].y * b.z}};
 }
 
+/* blinn_phong_lighting (solution/shading.c) with the same float operations in
+ * the same order, except that powf is not called where its result is certainly
+ * +0: for x <= spec_zero, x^p <= 2^-200, far below half the smallest float
+ * (2^-150), so every powf returns 0 there (and 0·anything added to the colour
+ * adds nothing). The plain shader pays powf's slow underflow path on most of
+ * the surface (n·h < 0.56 underflows at p = 150). */
+static vec3s fast_blinn_phong(const fragment_shader_payload *payload, vec3s kd, vec3s point,
+                              vec3s normal, float spec_zero) {
+    if (payload->counters) {
+        payload->counters->stages_run |= RAS_STAGE_LIGHTING;
+        payload->counters->lighting_evaluations += (uint64_t)payload->light_count;
+    }
+    vec3s n = glms_vec3_normalize(normal);
+    vec3s v = glms_vec3_normalize(glms_vec3_negate(point));
+    vec3s color = glms_vec3_mul(payload->ka, payload->ambient_intensity);
+    for (int i = 0; i < payload->light_count; i++) {
+        const light *L = &payload->lights[i];
+        vec3s to_light = glms_vec3_sub(L->position, point);
+        float r2 = glms_vec3_dot(to_light, to_light);
+        vec3s l = glms_vec3_normalize(to_light);
+        vec3s h = glms_vec3_normalize(glms_vec3_add(l, v));
+        vec3s irradiance = glms_vec3_divs(L->intensity, r2);
+        float nl = glms_vec3_dot(n, l), nh = glms_vec3_dot(n, h);
+        float diffuse = nl > 0.0f ? nl : 0.0f; /* fmaxf(0, x): NaN gives 0 too */
+        float x = nh > 0.0f ? nh : 0.0f;
+        float specular = x <= spec_zero ? 0.0f : powf(x, payload->p);
+        color = glms_vec3_add(color, glms_vec3_scale(glms_vec3_mul(kd, irradiance), diffuse));
+        color = glms_vec3_add(color,
+                              glms_vec3_scale(glms_vec3_mul(payload->ks, irradiance), specular));
+    }
+    return color;
+}
+
 static vec3s shade(worker *w, const fast_tri *r, vec3s bary) {
     const frame *fr = w->fr;
     const ras_triangle *t = &r->t;
@@ -245,16 +279,25 @@ static vec3s shade(worker *w, const fast_tri *r, vec3s bary) {
     }
     w->k.varyings_interpolated += fr->varyings_per_fragment;
     w->k.fragments_shaded++;
+    if (fr->stage->shader == phong_fragment_shader)
+        return fast_blinn_phong(pay, pay->color, pay->view_pos, pay->normal, fr->spec_zero);
+    if (fr->stage->shader == texture_fragment_shader) {
+        vec3s kd = pay->texture ? texture_sample(pay, pay->texture, pay->uv) : pay->color;
+        return fast_blinn_phong(pay, kd, pay->view_pos, pay->normal, fr->spec_zero);
+    }
     return fr->stage->shader(pay);
 }
 
 /* ---- rasterizing one triangle into one tile --------------------------------- */
 
+/* The reference's barycentrics of a covered point, in the original vertex
+ * order (order is 0,1,2 or 0,2,1: a select, not a scatter through memory). */
 static inline vec3s bary_of(const fast_tri *r, const int64_t e[3]) {
-    float l[3], orig[3];
-    for (int i = 0; i < 3; i++) l[i] = (float)((double)e[i] / (double)r->area2);
-    for (int i = 0; i < 3; i++) orig[r->order[i]] = l[i];
-    return (vec3s){{orig[0], orig[1], orig[2]}};
+    double area2 = (double)r->area2;
+    float l0 = (float)((double)e[0] / area2);
+    float l1 = (float)((double)e[1] / area2);
+    float l2 = (float)((double)e[2] / area2);
+    return r->order[1] == 1 ? (vec3s){{l0, l1, l2}} : (vec3s){{l0, l2, l1}};
 }
 
 static inline float depth_of(const ras_triangle *t, vec3s b) {
@@ -279,10 +322,10 @@ static bool block_outside(const frame *fr, const fast_tri *r, int bx0, int by0, 
     return false;
 }
 
-static void draw_pixel_samples(worker *w, const fast_tri *r, int x, int y, int tx0, int ty0,
-                               int64_t e[][3]) {
+static inline __attribute__((always_inline)) void
+draw_pixel_samples(worker *w, const fast_tri *r, int x, int y, int tx0, int ty0,
+                   int64_t e[][3], const int n) {
     const frame *fr = w->fr;
-    const int n = fr->n;
     int base = ((y - ty0) * TILE + (x - tx0)) * n;
     vec3s bary[RAS_MAX_SAMPLES];
     float z[RAS_MAX_SAMPLES];
@@ -328,9 +371,11 @@ static void draw_pixel_samples(worker *w, const fast_tri *r, int x, int y, int t
         if (visible >> k & 1) w->color[base + k] = color;
 }
 
-static void draw_in_tile(worker *w, const fast_tri *r, int tx0, int ty0, int tx1, int ty1) {
+/* `n` (samples per pixel) is a constant in each inlined copy: the loops over
+ * samples unroll and the edge values stay in registers. */
+static inline __attribute__((always_inline)) void
+draw_in_tile_n(worker *w, const fast_tri *r, int tx0, int ty0, int tx1, int ty1, const int n) {
     const frame *fr = w->fr;
-    const int n = fr->n;
     int x0 = r->x0 > tx0 ? r->x0 : tx0, x1 = r->x1 < tx1 ? r->x1 : tx1;
     int y0 = r->y0 > ty0 ? r->y0 : ty0, y1 = r->y1 < ty1 ? r->y1 : ty1;
     if (x0 > x1 || y0 > y1) return;
@@ -364,12 +409,20 @@ static void draw_in_tile(worker *w, const fast_tri *r, int tx0, int ty0, int tx1
                     for (int i = 0; i < 3; i++) e[k][i] = r->a[i] * px + r->b[i] * py + r->c[i];
                 }
                 for (int x = bx0; x <= bx1; x++) {
-                    draw_pixel_samples(w, r, x, y, tx0, ty0, e);
+                    draw_pixel_samples(w, r, x, y, tx0, ty0, e, n);
                     for (int k = 0; k <= n; k++)
                         for (int i = 0; i < 3; i++) e[k][i] += step[i];
                 }
             }
         }
+    }
+}
+
+static void draw_in_tile(worker *w, const fast_tri *r, int tx0, int ty0, int tx1, int ty1) {
+    switch (w->fr->n) {
+    case 1: draw_in_tile_n(w, r, tx0, ty0, tx1, ty1, 1); break;
+    case 4: draw_in_tile_n(w, r, tx0, ty0, tx1, ty1, 4); break;
+    default: draw_in_tile_n(w, r, tx0, ty0, tx1, ty1, w->fr->n); break;
     }
 }
 
@@ -454,6 +507,9 @@ bool hw3_fast_render(const hw3_scene *scene, const hw3_render_options *opt,
         fr.off_x[s] = llround((double)o.x * SUBPIXEL_ONE);
         fr.off_y[s] = llround((double)o.y * SUBPIXEL_ONE);
     }
+    float p = stage->base.p;
+    fr.spec_zero = -1.0f; /* never */
+    if (p >= 1.0f && isfinite(p)) fr.spec_zero = nextafterf((float)pow(2.0, -200.0 / p), 0.0f);
     fr.centre_sample = -1;
     for (int s = 0; s < fr.n && fr.centre_sample < 0; s++)
         if (fr.off_x[s] == fr.off_x[fr.n] && fr.off_y[s] == fr.off_y[fr.n]) fr.centre_sample = s;
