@@ -394,6 +394,11 @@ static void judge_test(item *it, run_result rr, bool failed_in_output, const cha
     } else if (rr.kind == RUN_NOT_STARTED) {
         it->status = xstrdup("ERROR");
         sb_add(&o, "the test program could not be started\n");
+    } else if (strstr(out, "Test failed with exception")) {
+        /* cmocka caught the signal itself: still a crash of the student code */
+        it->status = xstrdup("CRASH");
+        sb_printf(&o, "the test crashed (cmocka caught the signal)\nlikely mistake: %s\n",
+                  crash_hint);
     } else if (rr.code == 0 && !failed_in_output) {
         it->passed = true;
         it->status = xstrdup(has_todo_notice(out) ? "TODO" : "PASS");
