@@ -5,13 +5,15 @@
  * model (get_model_matrix or get_rotation) · view · projection → clip →
  * divide → viewport → lines.
  *
- *   hw1_transform                  window: a/d rotate by ±10°, Esc quits
+ *   hw1_transform                  window: a/d rotate by ±10°, v: yours /
+ *                                  reference / difference, Esc quits
  *   hw1_transform -r 20 -o out.png render once, headless
  *   hw1_transform -r 20 out.png    the classic positional form
  *   hw1_transform --axis 0,1,0 -r 30 -o out.png   bonus: rotation about any axis
  */
 #include "ras_cli.h"
 #include "ras_pipeline.h"
+#include "ras_viewer.h"
 #include "ras_window.h"
 #include "transform.h"
 
@@ -47,22 +49,48 @@ static bool render(app *a, float angle, ras_error *err) {
     return true;
 }
 
-static int run_window(app *a, float angle) {
+/* The reference image for these settings: hw1_r<angle>, or hw1_axis_y<angle>
+ * for the y axis (tests/reference/, scripts/reference-images). */
+static const char *reference_name(const app *a, float angle, char *buf, size_t size) {
+    int deg = (int)angle;
+    if ((float)deg != angle) return NULL;
+    if (!a->cli.axis_set) snprintf(buf, size, "hw1_r%d", deg);
+    else if (a->cli.axis.x == 0 && a->cli.axis.y > 0 && a->cli.axis.z == 0)
+        snprintf(buf, size, "hw1_axis_y%d", deg);
+    else return NULL;
+    return buf;
+}
+
+static int run_window(app *a, float angle, const char *argv0) {
     ras_error err;
     const char *title = "hw1_transform";
+    ras_viewer viewer;
+    ras_viewer_init(&viewer, title, argv0, RAS_COMPARE_EDGE_TOLERANT);
+    bool dirty = true;
     for (;;) {
-        if (!render(a, angle, &err)) break;
+        if (dirty) {
+            ras_viewer_frame_begin(&viewer);
+            if (!render(a, angle, &err)) break;
+            ras_viewer_frame_end(&viewer);
+            char name[64];
+            ras_viewer_set_reference(&viewer, reference_name(a, angle, name, sizeof name),
+                                     a->image->width, a->image->height);
+        }
         char status[128];
         snprintf(status, sizeof status, "angle %.0f deg   a/d: rotate   Esc: quit", angle);
-        if (!ras_window_show(title, a->image, status, &err)) break;
+        if (!ras_viewer_show(&viewer, a->image, status, &err)) break;
         int key = ras_window_wait_key(title, 0);
         if (key == RAS_KEY_ESC || key == 'q' || key == -2) {
             ras_window_close(title);
+            ras_viewer_release(&viewer);
             return 0;
         }
+        dirty = key == 'a' || key == 'd';
         if (key == 'a') angle += 10;
         if (key == 'd') angle -= 10;
+        ras_viewer_key(&viewer, key);
     }
+    ras_viewer_release(&viewer);
     fprintf(stderr, "hw1_transform: %s\n", err.msg);
     return 1;
 }
@@ -76,7 +104,7 @@ int main(int argc, char **argv) {
         ras_cli_help(ACCEPTED, "hw1_transform",
                      "Draws the hw1 triangle as a wireframe. With -o it renders once and "
                      "writes a PNG;\nwithout it, a window opens (a/d rotate by 10 degrees, "
-                     "Esc quits).\nClassic form: hw1_transform -r ANGLE FILE.png\n",
+                     "v: yours/reference/difference, Esc quits).\nClassic form: hw1_transform -r ANGLE FILE.png\n",
                      help, sizeof help);
         fputs(help, stdout);
         return 0;
@@ -125,7 +153,7 @@ int main(int argc, char **argv) {
             fprintf(stderr, "wrote %s\n", a.cli.output);
         }
     } else {
-        status = run_window(&a, a.cli.angle);
+        status = run_window(&a, a.cli.angle, argv[0]);
     }
     ras_image_destroy(a.image);
     ras_pipeline_destroy(a.pipeline);

@@ -8,7 +8,8 @@
  *
  *   hw2_rasterize                          window: m AA mode, s samples,
  *                                          p pattern, e edges; the pixel under
- *                                          the mouse is magnified with its samples
+ *                                          the mouse is magnified with its samples;
+ *                                          v: yours / reference / difference
  *   hw2_rasterize -o out.png               render once, headless
  *   hw2_rasterize --aa msaa --samples 4 -o out.png
  *   hw2_rasterize --aa msaa --compare      compare with tests/reference/hw2_msaa4.png
@@ -17,6 +18,7 @@
 #include "ras_cli.h"
 #include "ras_compare.h"
 #include "ras_pipeline.h"
+#include "ras_viewer.h"
 #include "ras_window.h"
 #include "rasterizer.h"
 #include "transform.h"
@@ -224,15 +226,23 @@ static int next_count(ras_pattern_kind kind, int count) {
     return 4; /* every pattern has 4 */
 }
 
-static int run_window(app *a) {
+static int run_window(app *a, const char *argv0) {
     const char *title = PROGRAM;
     ras_error err = {{0}};
+    ras_viewer viewer;
+    ras_viewer_init(&viewer, title, argv0, RAS_COMPARE_EDGE_TOLERANT);
     ras_image *view = NULL;
     bool dirty = true, redraw = true;
     int mouse_col = -1, mouse_row = -1;
     for (;;) {
         if (dirty) {
+            ras_viewer_frame_begin(&viewer);
             if (!make_pipeline(a, &err) || !render(a, &err)) break;
+            ras_viewer_frame_end(&viewer);
+            char variant[64], name[80];
+            variant_name(&a->set, variant, sizeof variant);
+            snprintf(name, sizeof name, "hw2_%s", variant);
+            ras_viewer_set_reference(&viewer, name, a->width, a->height);
             dirty = false;
             redraw = true;
         }
@@ -248,20 +258,22 @@ static int run_window(app *a) {
             else
                 snprintf(mode, sizeof mode, "%s %dx %s", ras_aa_mode_name(a->set.aa),
                          a->set.samples, ras_pattern_kind_name(a->set.pattern));
-            if (mouse_col >= 0)
+            if (mouse_col >= 0 && ras_viewer_showing_program(&viewer))
                 draw_inspector(a, view, mouse_col, a->height - 1 - mouse_row, info, sizeof info);
             char status[320];
-            snprintf(status, sizeof status, "%s, %s edges | %s | m aa  s samples  p pattern  e edges  Esc",
+            snprintf(status, sizeof status, "%s, %s edges   m aa  s samples  p pattern  e edges  Esc\n%s",
                      mode, a->set.edges == RAS_EDGES_FIXED ? "fixed" : "float", info);
-            if (!ras_window_show(title, view, status, &err)) break;
+            if (!ras_viewer_show(&viewer, view, status, &err)) break;
             redraw = false;
         }
         int key = ras_window_wait_key(title, 30);
         if (key == RAS_KEY_ESC || key == 'q' || key == -2) {
             ras_window_close(title);
             ras_image_destroy(view);
+            ras_viewer_release(&viewer);
             return 0;
         }
+        if (ras_viewer_key(&viewer, key)) redraw = true;
         settings *s = &a->set;
         if (key == 'm') {
             s->aa = s->aa == RAS_AA_NONE ? RAS_AA_MSAA : s->aa == RAS_AA_MSAA ? RAS_AA_SSAA : RAS_AA_NONE;
@@ -288,6 +300,7 @@ static int run_window(app *a) {
         }
     }
     ras_image_destroy(view);
+    ras_viewer_release(&viewer);
     fprintf(stderr, PROGRAM ": %s\n", err.msg);
     return 1;
 }
@@ -304,7 +317,8 @@ int main(int argc, char **argv) {
                      "Draws the two hw2 triangles with your rasterizer (coverage, z-buffer, "
                      "anti-aliasing).\nWith -o or --compare it renders once, headless; "
                      "without, a window opens:\n  m AA mode, s sample count, p sample "
-                     "pattern, e edge functions, Esc quits;\n  the pixel under the mouse "
+                     "pattern, e edge functions,\n  v your picture / the reference / "
+                     "the difference, Esc quits;\n  the pixel under the mouse "
                      "is magnified with its samples and their depths.\n"
                      "--compare uses tests/reference/hw2_<1x|msaa4|ssaa4|msaa4_standard>.png\n",
                      help, sizeof help);
@@ -374,7 +388,7 @@ int main(int argc, char **argv) {
             if (cli.compare) status = compare_with_reference(&a, cli.reference, cli.output);
         }
     } else {
-        status = run_window(&a);
+        status = run_window(&a, argv[0]);
     }
     ras_image_destroy(a.image);
     ras_pipeline_destroy(a.pipeline);

@@ -9,13 +9,15 @@
  *
  *   hw3_shading                               window: 1-5 shader, f filter,
  *                                             p perspective-correct on/off,
- *                                             a/d or the mouse rotate, Esc quits
+ *                                             a/d or the mouse rotate, v: yours /
+ *                                             reference / difference, Esc quits
  *   hw3_shading --shader phong -o out.png     render once, headless
  *   hw3_shading out.png phong                 the classic positional form
  *   hw3_shading --model spot.obj --texture spot_texture.png --shader texture -o spot.png
  */
 #include "ras_cli.h"
 #include "ras_compare.h"
+#include "ras_viewer.h"
 #include "ras_window.h"
 #include "scene.h"
 
@@ -28,7 +30,8 @@
 static const char usage[] =
     "Shades the hw3 scene with one of the five fragment shaders. With -o it renders\n"
     "once and writes a PNG; without it, a window opens (1-5: shader, f: filter,\n"
-    "p: perspective-correct on/off, a/d or mouse: rotate, Esc quits).\n"
+    "p: perspective-correct on/off, a/d or mouse: rotate, v: yours/reference/\n"
+    "difference, Esc quits).\n"
     "Default scene: built-in sphere, torus, cube and teapot on a floor (no files).\n"
     "Classic form: hw3_shading OUTPUT.png [normal|phong|texture|bump|displacement]\n"
     "Classic model scene (GAMES101 numbers): --model spot_triangulated_good.obj\n"
@@ -41,6 +44,7 @@ typedef struct app {
     hw3_render_options opt;
     ras_image *image;
     ras_counters stats;
+    const char *argv0;
 } app;
 
 static bool parse_aa(const ras_cli *cli, hw3_render_options *opt, ras_error *err) {
@@ -103,23 +107,50 @@ static void window_status(const app *a, char *buf, size_t size) {
              a->opt.affine ? "AFFINE (w=1 pitfall)" : "persp-correct", a->opt.angle_deg);
 }
 
+/* tests/reference/hw3_<shader>.png is the default scene with default options. */
+static const char *reference_name(const app *a, char *buf, size_t size) {
+    hw3_render_options d = hw3_render_defaults();
+    float turns = a->opt.angle_deg / 360.0f;
+    if (a->cli.model || a->cli.width || a->opt.filter != d.filter || a->opt.aa != d.aa ||
+        a->opt.affine || turns != (float)(int)turns)
+        return NULL;
+    snprintf(buf, size, "hw3_%s", hw3_shader_name(a->opt.shader));
+    return buf;
+}
+
 static int run_window(app *a) {
     ras_error err = {{0}};
     const char *title = PROGRAM;
     int last_col = -1;
-    bool dirty = true;
+    bool dirty = true, redraw = true;
+    ras_viewer viewer;
+    ras_viewer_init(&viewer, title, a->argv0, RAS_COMPARE_EXACT);
     for (;;) {
         if (dirty) {
+            ras_viewer_frame_begin(&viewer);
             if (!hw3_render(a->scene, &a->opt, a->image, &a->stats, &err)) break;
+            ras_viewer_frame_end(&viewer);
+            char name[64];
+            ras_viewer_set_reference(&viewer, reference_name(a, name, sizeof name),
+                                     a->image->width, a->image->height);
+            dirty = false;
+            redraw = true;
+        }
+        if (redraw) {
             char status[200];
             window_status(a, status, sizeof status);
-            if (!ras_window_show(title, a->image, status, &err)) break;
-            dirty = false;
+            if (!ras_viewer_show(&viewer, a->image, status, &err)) break;
+            redraw = false;
         }
         int key = ras_window_wait_key(title, 30);
         if (key == RAS_KEY_ESC || key == 'q' || key == -2) {
             ras_window_close(title);
+            ras_viewer_release(&viewer);
             return 0;
+        }
+        if (ras_viewer_key(&viewer, key)) {
+            redraw = true;
+            continue;
         }
         if (key >= '1' && key < '1' + HW3_SHADER_COUNT) a->opt.shader = (hw3_shader)(key - '1');
         else if (key == 'f') a->opt.filter = (texture_filter)((a->opt.filter + 1) % 3);
@@ -137,6 +168,7 @@ static int run_window(app *a) {
             last_col = col;
         }
     }
+    ras_viewer_release(&viewer);
     fprintf(stderr, PROGRAM ": %s\n", err.msg);
     return 1;
 }
@@ -223,6 +255,7 @@ int main(int argc, char **argv) {
     case RAS_CLI_ERROR: fprintf(stderr, PROGRAM ": %s\n", err.msg); return 2;
     case RAS_CLI_RUN: break;
     }
+    a.argv0 = argv[0];
     int status = run(&a);
     ras_image_destroy(a.image);
     hw3_scene_destroy(a.scene);

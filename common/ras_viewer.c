@@ -1,0 +1,120 @@
+/* ras_viewer.c — see ras_viewer.h. */
+#include "ras_viewer.h"
+
+#include "cv_bridge.h" /* Required for: cv_bridge_draw_text, cv_bridge_window_show */
+
+#include <stdio.h>  /* snprintf */
+#include <stdlib.h> /* malloc, free */
+#include <string.h> /* strrchr, strcmp, strchr */
+#include <time.h>   /* clock_gettime */
+
+#ifndef RAS_SOURCE_DIR
+#define RAS_SOURCE_DIR "."
+#endif
+
+static const char *const view_names[RAS_VIEW_COUNT] = {"program", "reference", "difference"};
+
+static double now_seconds(void) {
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
+void ras_viewer_init(ras_viewer *v, const char *title, const char *argv0,
+                     ras_compare_kind diff_kind) {
+    *v = (ras_viewer){.title = title, .diff_kind = diff_kind, .view = RAS_VIEW_PROGRAM};
+    const char *slash = argv0 ? strrchr(argv0, '/') : NULL;
+    snprintf(v->program, sizeof v->program, "%s", slash ? slash + 1 : argv0 ? argv0 : title);
+}
+
+void ras_viewer_release(ras_viewer *v) {
+    if (!v) return;
+    ras_image_destroy(v->reference);
+    v->reference = NULL;
+    v->reference_name[0] = '\0';
+}
+
+void ras_viewer_frame_begin(ras_viewer *v) { v->frame_start = now_seconds(); }
+
+void ras_viewer_frame_end(ras_viewer *v) {
+    v->frame_ms = (now_seconds() - v->frame_start) * 1000.0;
+}
+
+void ras_viewer_set_reference(ras_viewer *v, const char *name, int width, int height) {
+    if (!name) name = "";
+    if (strcmp(name, v->reference_name) == 0 &&
+        (!v->reference || (v->reference->width == width && v->reference->height == height)))
+        return; /* unchanged */
+    ras_image_destroy(v->reference);
+    v->reference = NULL;
+    snprintf(v->reference_name, sizeof v->reference_name, "%s", name);
+    if (!name[0]) return;
+    char path[1200];
+    snprintf(path, sizeof path, "%s/tests/reference/%s.png", RAS_SOURCE_DIR, name);
+    ras_error err = {{0}};
+    ras_image *ref = ras_image_load(path, &err); /* missing: no reference, not an error */
+    if (ref && (ref->width != width || ref->height != height)) {
+        ras_image_destroy(ref);
+        ref = NULL;
+    }
+    v->reference = ref;
+}
+
+bool ras_viewer_key(ras_viewer *v, int key) {
+    if (key != RAS_VIEWER_KEY_VIEW) return false;
+    v->view = (ras_view)((v->view + 1) % RAS_VIEW_COUNT);
+    return true;
+}
+
+bool ras_viewer_showing_program(const ras_viewer *v) {
+    return v->view == RAS_VIEW_PROGRAM || !v->reference;
+}
+
+/* The viewer's own status line: what is shown, the frame time, the key.
+ *   "program: hw2_rasterize  12.3 ms   v: reference"
+ *   "reference: hw2_msaa4.png  12.3 ms   v: difference"
+ *   "difference: vs hw2_msaa4.png (black = same)  12.3 ms   v: program"
+ *   "reference: none for these settings  12.3 ms   v: difference" */
+static void viewer_line(const ras_viewer *v, char *buf, size_t size) {
+    char what[160];
+    if (v->view == RAS_VIEW_PROGRAM) snprintf(what, sizeof what, "%s", v->program);
+    else if (!v->reference) snprintf(what, sizeof what, "none for these settings");
+    else if (v->view == RAS_VIEW_REFERENCE) snprintf(what, sizeof what, "%s.png", v->reference_name);
+    else snprintf(what, sizeof what, "vs %s.png (black = same)", v->reference_name);
+    snprintf(buf, size, "%s: %s  %.1f ms   v: %s", view_names[v->view], what, v->frame_ms,
+             view_names[(v->view + 1) % RAS_VIEW_COUNT]);
+}
+
+bool ras_viewer_show(ras_viewer *v, const ras_image *img, const char *status, ras_error *err) {
+    const ras_image *shown = img;
+    ras_image *heat = NULL;
+    if (v->reference && v->view == RAS_VIEW_REFERENCE) shown = v->reference;
+    if (v->reference && v->view == RAS_VIEW_DIFFERENCE) {
+        heat = ras_compare_heatmap(v->reference, img, v->diff_kind, err);
+        if (!heat) return false;
+        shown = heat;
+    }
+    int width = shown->width, height = shown->height;
+    uint8_t *rgb = malloc((size_t)width * (size_t)height * 3);
+    if (rgb) ras_image_to_rgb8(shown, rgb);
+    ras_image_destroy(heat);
+    if (!rgb) return ras_error_set(err, "out of memory showing the window");
+    /* Status: the viewer's line, then the program's lines, 18 px apart. */
+    char line[256];
+    viewer_line(v, line, sizeof line);
+    int row = 20;
+    cv_bridge_draw_text(rgb, width, height, 8, row, line, 0.5);
+    for (const char *s = status; s && *s;) {
+        const char *end = strchr(s, '\n');
+        int len = end ? (int)(end - s) : (int)strlen(s);
+        snprintf(line, sizeof line, "%.*s", len, s);
+        row += 18;
+        cv_bridge_draw_text(rgb, width, height, 8, row, line, 0.5);
+        s = end ? end + 1 : s + len;
+    }
+    char msg[512] = "";
+    bool ok = cv_bridge_window_show(v->title, width, height, rgb, msg, sizeof msg);
+    free(rgb);
+    if (!ok) return ras_error_set(err, "%s", msg);
+    return true;
+}

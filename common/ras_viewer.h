@@ -1,0 +1,86 @@
+/* ras_viewer.h — the window the three programs share: your picture, the
+ * reference picture, or their difference, with a status line.
+ *
+ * A program renders a frame between ras_viewer_frame_begin/end (the status
+ * line shows how long it took), names the reference image for its current
+ * settings (ras_viewer_set_reference: "hw2_msaa4" → tests/reference/
+ * hw2_msaa4.png; NULL when no reference exists for these settings), and
+ * shows the frame with ras_viewer_show. The key `v` (ras_viewer_key) cycles
+ * what the window shows:
+ *
+ *   program     what this program rendered (your code, or the reference
+ *               solution in a *_ref build)
+ *   reference   the committed reference image for the same settings
+ *   difference  ras_compare_heatmap(reference, program): black = same,
+ *               blue → red = more different (fixed scale, see ras_compare.h)
+ *
+ * Without a reference for the current settings the program's picture stays
+ * on screen and the status line says "no reference for these settings".
+ * Status lines: the viewer's own line (view, frame time, key) first, then
+ * the program's status, one screen line per '\n'.
+ *
+ * Only for windows: callers check ras_window_available() first, and headless
+ * paths never create a viewer (highgui aborts without a display).
+ * Ownership: ras_viewer_init / ras_viewer_release (NULL-safe); the viewer
+ * owns the loaded reference image, nothing else.
+ */
+#ifndef RAS_VIEWER_H
+#define RAS_VIEWER_H
+
+#include "ras_compare.h" /* ras_compare_kind */
+#include "ras_error.h"
+#include "ras_image.h"
+
+#include <stdbool.h>
+
+typedef enum ras_view {
+    RAS_VIEW_PROGRAM,
+    RAS_VIEW_REFERENCE,
+    RAS_VIEW_DIFFERENCE,
+} ras_view;
+#define RAS_VIEW_COUNT 3
+
+/* The key that cycles the views. */
+#define RAS_VIEWER_KEY_VIEW 'v'
+
+typedef struct ras_viewer {
+    const char *title;          /* window title, not owned (a string literal) */
+    char program[64];           /* basename of argv[0], for the status line */
+    ras_compare_kind diff_kind; /* metric of the difference view */
+    ras_view view;
+    double frame_ms;    /* duration of the last frame_begin..frame_end */
+    double frame_start; /* seconds, monotonic clock */
+    char reference_name[64]; /* "" when there is none for these settings */
+    ras_image *reference;    /* loaded reference, NULL when missing */
+} ras_viewer;
+
+/* argv0 names the program in the status line; diff_kind is the metric the
+ * difference view shows (EDGE_TOLERANT for line and edge pictures, EXACT for
+ * shading). */
+void ras_viewer_init(ras_viewer *v, const char *title, const char *argv0,
+                     ras_compare_kind diff_kind);
+
+/* Frees the reference image. NULL-safe. */
+void ras_viewer_release(ras_viewer *v);
+
+/* Time one frame: call around the render. */
+void ras_viewer_frame_begin(ras_viewer *v);
+void ras_viewer_frame_end(ras_viewer *v);
+
+/* The reference for the current settings, by name (no directory, no ".png"):
+ * loads tests/reference/<name>.png when the name changed. NULL, a missing
+ * file, or a size different from `width` x `height` mean "no reference". */
+void ras_viewer_set_reference(ras_viewer *v, const char *name, int width, int height);
+
+/* Handles the view key; true when it was one (the window needs a redraw). */
+bool ras_viewer_key(ras_viewer *v, int key);
+
+/* True when the window shows the program's own picture (overlays such as
+ * hw2's pixel inspector belong only on that view). */
+bool ras_viewer_showing_program(const ras_viewer *v);
+
+/* Shows the current view of `img` (the program's frame) with the status
+ * lines. False and err when the window cannot be shown or memory runs out. */
+bool ras_viewer_show(ras_viewer *v, const ras_image *img, const char *status, ras_error *err);
+
+#endif
