@@ -261,7 +261,7 @@ static int run_window(app *a, const char *argv0) {
             if (mouse_col >= 0 && ras_viewer_showing_program(&viewer))
                 draw_inspector(a, view, mouse_col, a->height - 1 - mouse_row, info, sizeof info);
             char status[320];
-            snprintf(status, sizeof status, "%s, %s edges   m aa  s samples  p pattern  e edges  Esc\n%s",
+            snprintf(status, sizeof status, "%s, %s edges\nm aa  s samples  p pattern  e edges  Esc\n%s",
                      mode, a->set.edges == RAS_EDGES_FIXED ? "fixed" : "float", info);
             if (!ras_viewer_show(&viewer, view, status, &err)) break;
             redraw = false;

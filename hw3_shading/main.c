@@ -102,7 +102,7 @@ static int compare_with_reference(app *a) {
 }
 
 static void window_status(const app *a, char *buf, size_t size) {
-    snprintf(buf, size, "%s  filter %s  %s  angle %.0f   1-5 shader  f filter  p persp  a/d rotate",
+    snprintf(buf, size, "%s  filter %s  %s  angle %.0f\n1-5 shader  f filter  p persp  a/d rotate",
              hw3_shader_name(a->opt.shader), hw3_filter_name(a->opt.filter),
              a->opt.affine ? "AFFINE (w=1 pitfall)" : "persp-correct", a->opt.angle_deg);
 }

@@ -25,7 +25,7 @@ bin=${1:?usage: gui_test.sh BIN_DIR SOURCE_DIR [OUT_DIR]}
 src=${2:?usage: gui_test.sh BIN_DIR SOURCE_DIR [OUT_DIR]}
 out=${3:-$bin/../gui-test}
 ref=$src/tests/reference
-MASK=64   # status-line rows at the top of the picture, not compared
+MASK=84   # status-line rows at the top of the picture, not compared
 SIDE=700  # the programs' default frame
 
 convert_cmd=$(command -v convert-im6.q16 || command -v convert || true)
