@@ -77,3 +77,9 @@ bench-perf: deps
 	@cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release >/dev/null
 	@cmake --build $(BUILD) -j $(JOBS) --target bench_perf hw3_shading_ref -- --no-print-directory
 	@$(BUILD)/bin/bench_perf $(if $(SPOT),--spot $(SPOT)) --out docs/performance.md
+
+# The pictures and grader messages of docs/pitfalls.md (+ docs/zh/), made from
+# the mutants (scripts/pitfall-gallery; about 20 s a mistake).
+.PHONY: pitfall-gallery
+pitfall-gallery: build
+	@scripts/pitfall-gallery $(BUILD)
