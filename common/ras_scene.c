@@ -768,7 +768,7 @@ static bool parse_map(ctx *c, const cJSON *v, const char *path, ras_scene_map *m
         join(p, path, "file");
         if (!read_path(c, file, p, "a file path (a non-empty string)", &m->path)) return false;
     } else {
-        int kind;
+        int kind = 0; /* gcc -O2 cannot see read_enum sets it on success */
         join(p, path, "builtin");
         if (!read_enum(c, builtin, p, builtin_map_names, COUNT(builtin_map_names), &kind))
             return false;

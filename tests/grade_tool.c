@@ -43,8 +43,7 @@
 #include <unistd.h>
 
 /* snprintf that cuts silently (paths here are far below the buffer sizes). */
-__attribute__((format(printf, 3, 4))) static void fmt(char *buf, size_t size, const char *f,
-                                                      ...) {
+__attribute__((format(printf, 3, 4))) static void fmt(char *buf, size_t size, const char *f, ...) {
     va_list ap;
     va_start(ap, f);
     vsnprintf(buf, size, f, ap);
@@ -61,7 +60,8 @@ typedef struct sbuf {
 static void sb_addn(sbuf *b, const char *s, size_t n) {
     if (b->len + n + 1 > b->cap) {
         size_t cap = b->cap ? b->cap : 256;
-        while (cap < b->len + n + 1) cap *= 2;
+        while (cap < b->len + n + 1)
+            cap *= 2;
         char *p = realloc(b->s, cap);
         if (!p) abort();
         b->s = p;
@@ -123,7 +123,8 @@ static bool copy_file(const char *from, const char *to) {
     bool ok = in && out;
     char buf[65536];
     size_t n;
-    while (ok && (n = fread(buf, 1, sizeof buf, in)) > 0) ok = fwrite(buf, 1, n, out) == n;
+    while (ok && (n = fread(buf, 1, sizeof buf, in)) > 0)
+        ok = fwrite(buf, 1, n, out) == n;
     if (in) fclose(in);
     if (out && fclose(out) != 0) ok = false;
     return ok;
@@ -164,7 +165,8 @@ static char *clean_output(const char *raw) {
         p += n + (nl ? 1 : 0);
     }
     /* trim trailing blank lines */
-    while (b.len > 0 && (b.s[b.len - 1] == '\n' || b.s[b.len - 1] == ' ')) b.s[--b.len] = '\0';
+    while (b.len > 0 && (b.s[b.len - 1] == '\n' || b.s[b.len - 1] == ' '))
+        b.s[--b.len] = '\0';
     return b.s ? b.s : xstrdup("");
 }
 
@@ -255,7 +257,8 @@ static run_result run_limited(char *const argv[], const char *const env[], const
         }
         int devnull = open("/dev/null", O_RDONLY);
         if (devnull >= 0) dup2(devnull, 0);
-        for (int i = 0; env && env[i]; i++) putenv((char *)env[i]);
+        for (int i = 0; env && env[i]; i++)
+            putenv((char *)env[i]);
         unsetenv("DISPLAY"); /* never open a window while grading */
         struct rlimit core = {0, 0};
         setrlimit(RLIMIT_CORE, &core);
@@ -314,16 +317,16 @@ static const char *signal_text(int sig) {
 /* ---------------------------------------------------------------- results */
 
 typedef struct item {
-    char *name;     /* test name or "image NAME" */
+    char *name; /* test name or "image NAME" */
     bool is_image;
-    bool counted;   /* false: reported but not in the score */
+    bool counted; /* false: reported but not in the score */
     bool passed;
     bool default_weight;
     double score, max_score;
-    char *status;   /* PASS, FAIL, CRASH, TIMEOUT, TODO, BUILD, SKIP */
-    char *reason;   /* one line for the table */
-    char *output;   /* everything for the student */
-    char *xml;      /* JUnit <testcase> for tests */
+    char *status; /* PASS, FAIL, CRASH, TIMEOUT, TODO, BUILD, SKIP */
+    char *reason; /* one line for the table */
+    char *output; /* everything for the student */
+    char *xml;    /* JUnit <testcase> for tests */
     /* images: paths relative to OUT */
     char *img_expected, *img_got, *img_diff, *img_crop;
 } item;
@@ -348,6 +351,25 @@ static item *add_item(assignment_result *a) {
     memset(it, 0, sizeof *it);
     it->counted = true;
     return it;
+}
+
+static void item_free(item *it) {
+    char *owned[] = {it->name,         it->status,  it->reason,   it->output,  it->xml,
+                     it->img_expected, it->img_got, it->img_diff, it->img_crop};
+    for (size_t i = 0; i < sizeof owned / sizeof owned[0]; i++)
+        free(owned[i]);
+}
+
+static void assignment_results_free(assignment_result *as, int n) {
+    for (int k = 0; k < n; k++) {
+        for (int i = 0; i < as[k].n_items; i++)
+            item_free(&as[k].items[i]);
+        free(as[k].items);
+        free(as[k].id);
+        free(as[k].title);
+        free(as[k].note);
+    }
+    free(as);
 }
 
 typedef struct grader {
@@ -385,8 +407,10 @@ static void judge_test(item *it, run_result rr, bool failed_in_output, const cha
     it->passed = false;
     if (rr.kind == RUN_TIMEOUT) {
         it->status = xstrdup("TIMEOUT");
-        sb_printf(&o, "the test did not finish within %.0f s and was stopped: an endless loop, or "
-                      "far too much work (e.g. a bounding box that is not clamped)\n", limit);
+        sb_printf(&o,
+                  "the test did not finish within %.0f s and was stopped: an endless loop, or "
+                  "far too much work (e.g. a bounding box that is not clamped)\n",
+                  limit);
     } else if (rr.kind == RUN_SIGNALED) {
         it->status = xstrdup("CRASH");
         sb_printf(&o, "the test crashed with %s\nlikely mistake: %s\n", signal_text(rr.code),
@@ -411,9 +435,12 @@ static void judge_test(item *it, run_result rr, bool failed_in_output, const cha
                    "yet, so no points)");
     it->output = o.s ? o.s : xstrdup("");
     it->score = it->passed && !has_todo_notice(out) ? it->max_score : 0;
-    if (it->passed && !has_todo_notice(out)) it->reason = xstrdup("");
-    else if (it->passed) it->reason = xstrdup("passes only on the placeholder (TODO not written)");
-    else it->reason = reason_line(it->output);
+    if (it->passed && !has_todo_notice(out))
+        it->reason = xstrdup("");
+    else if (it->passed)
+        it->reason = xstrdup("passes only on the placeholder (TODO not written)");
+    else
+        it->reason = reason_line(it->output);
 }
 
 static void junit_case(item *it, const char *classname, const char *raw_xml) {
@@ -453,7 +480,8 @@ static char *cmocka_testcases(const char *xml_path, bool *has_failure) {
     sb_add(&s, "    ");
     sb_add(&s, a);
     free(x);
-    while (s.len && (s.s[s.len - 1] == ' ' || s.s[s.len - 1] == '\n')) s.s[--s.len] = '\0';
+    while (s.len && (s.s[s.len - 1] == ' ' || s.s[s.len - 1] == '\n'))
+        s.s[--s.len] = '\0';
     sb_add(&s, "\n");
     return s.s;
 }
@@ -469,6 +497,12 @@ static void names_add(name_list *l, const char *s) {
     l->v = realloc(l->v, (size_t)(l->n + 1) * sizeof *l->v);
     if (!l->v) abort();
     l->v[l->n++] = xstrdup(s);
+}
+static void names_free(name_list *l) {
+    for (int i = 0; i < l->n; i++)
+        free(l->v[i]);
+    free(l->v);
+    *l = (name_list){0};
 }
 static bool names_has(const name_list *l, const char *s) {
     for (int i = 0; i < l->n; i++)
@@ -548,8 +582,7 @@ static void grade_tests_whole(const grader *g, assignment_result *a, const cJSON
         }
         junit_case(it, a->id, NULL);
     }
-    for (int i = 0; i < seen.n; i++) free(seen.v[i]);
-    free(seen.v);
+    names_free(&seen);
     free(block.s);
 }
 
@@ -641,8 +674,7 @@ static void grade_tests(const grader *g, assignment_result *a, const cJSON *asg,
         it->reason = xstrdup("not in the test program (rubric out of date; not counted)");
         junit_case(it, a->id, NULL);
     }
-    for (int i = 0; i < names.n; i++) free(names.v[i]);
-    free(names.v);
+    names_free(&names);
     free(listing);
 }
 
@@ -714,7 +746,8 @@ static void image_signatures(sbuf *o, const ras_image *expected, const ras_image
     int ex0, ey0, ex1, ey1, gx0, gy0, gx1, gy1;
     if (content_box(expected, &ex0, &ey0, &ex1, &ey1) && content_box(got, &gx0, &gy0, &gx1, &gy1)) {
         double cx = (gx0 + gx1 - ex0 - ex1) / 2.0, cy = (gy0 + gy1 - ey0 - ey1) / 2.0;
-        double sx = (gx1 - gx0 + 1.0) / (ex1 - ex0 + 1.0), sy = (gy1 - gy0 + 1.0) / (ey1 - ey0 + 1.0);
+        double sx = (gx1 - gx0 + 1.0) / (ex1 - ex0 + 1.0),
+               sy = (gy1 - gy0 + 1.0) / (ey1 - ey0 + 1.0);
         double cxe = (ex0 + ex1) / 2.0, cye = (ey0 + ey1) / 2.0;
         double ccx = expected->width / 2.0, ccy = expected->height / 2.0;
         /* same centre of projection, different size: the field of view */
@@ -722,25 +755,33 @@ static void image_signatures(sbuf *o, const ras_image *expected, const ras_image
         if (fabs(sx - sy) < 0.05 && fabs(scale - 1) > 0.05 &&
             fabs((cxe - ccx) * scale - (cxe + cx - ccx)) < 4 &&
             fabs((cye - ccy) * scale - (cye + cy - ccy)) < 4)
-            sb_printf(o, "likely mistake: your picture is the reference scaled by %.2f about the "
-                         "image centre: the field of view is off (the whole fov used instead of "
-                         "half of it, or degrees given to tanf)\n", scale);
+            sb_printf(o,
+                      "likely mistake: your picture is the reference scaled by %.2f about the "
+                      "image centre: the field of view is off (the whole fov used instead of "
+                      "half of it, or degrees given to tanf)\n",
+                      scale);
         else if (fabs(sx - 1) > 0.05 && fabs(sy - 1) < 0.05)
-            sb_printf(o, "likely mistake: your picture is stretched horizontally by %.2f: the "
-                         "aspect ratio is applied to the wrong axis\n", sx);
+            sb_printf(o,
+                      "likely mistake: your picture is stretched horizontally by %.2f: the "
+                      "aspect ratio is applied to the wrong axis\n",
+                      sx);
     }
     double le = mean_luma(expected), lg = mean_luma(got);
     if (le > 0.02 && lg < 0.97 * le)
-        sb_printf(o, "note: your image is darker than the reference on average (mean luma %.4f "
-                     "vs %.4f): dark edges or seams? (resolve in floating point, colour per "
-                     "sample)\n", lg, le);
+        sb_printf(o,
+                  "note: your image is darker than the reference on average (mean luma %.4f "
+                  "vs %.4f): dark edges or seams? (resolve in floating point, colour per "
+                  "sample)\n",
+                  lg, le);
     else if (le > 0.02 && lg > 1.03 * le)
-        sb_printf(o, "note: your image is brighter than the reference on average (mean luma "
-                     "%.4f vs %.4f): light added twice (ambient once per light?)\n", lg, le);
+        sb_printf(o,
+                  "note: your image is brighter than the reference on average (mean luma "
+                  "%.4f vs %.4f): light added twice (ambient once per light?)\n",
+                  lg, le);
 }
 
-static void grade_image(const grader *g, assignment_result *a, const cJSON *img,
-                        const char *dir, const char *reldir, const char *crash_hint) {
+static void grade_image(const grader *g, assignment_result *a, const cJSON *img, const char *dir,
+                        const char *reldir, const char *crash_hint) {
     const char *name = str_or(img, "name", "image");
     const char *program = str_or(img, "program", "");
     const char *reference = str_or(img, "reference", "");
@@ -756,7 +797,7 @@ static void grade_image(const grader *g, assignment_result *a, const cJSON *img,
     char ref_path[4096], prog_path[4096], got_path[4096], log_path[4096];
     fmt(ref_path, sizeof ref_path, "%s/tests/reference/%s", g->source, reference);
     fmt(prog_path, sizeof prog_path, "%s/bin/%s%s", g->build, program,
-             strcmp(g->variant, "ref") == 0 ? "_ref" : "");
+        strcmp(g->variant, "ref") == 0 ? "_ref" : "");
     fmt(got_path, sizeof got_path, "%s/%s.got.png", dir, name);
     fmt(log_path, sizeof log_path, "%s/%s.log", dir, name);
     if (!file_exists(ref_path)) {
@@ -801,7 +842,8 @@ static void grade_image(const grader *g, assignment_result *a, const cJSON *img,
     argv[n++] = got_path;
     argv[n] = NULL;
     sb_printf(&o, "command: %s", program);
-    for (int i = 1; i < n - 2; i++) sb_printf(&o, " %s", argv[i]);
+    for (int i = 1; i < n - 2; i++)
+        sb_printf(&o, " %s", argv[i]);
     sb_printf(&o, " -o %s.png   (metric %s)\n", name, metric);
     unlink(got_path);
     run_result rr = file_exists(prog_path)
@@ -861,8 +903,8 @@ static void grade_image(const grader *g, assignment_result *a, const cJSON *img,
             }
             ras_image_destroy(heat);
             if (!r.pass) {
-                ras_image *crop = ras_compare_crop(expected, got, kind, r.worst_col, r.worst_row,
-                                                   &err);
+                ras_image *crop =
+                    ras_compare_crop(expected, got, kind, r.worst_col, r.worst_row, &err);
                 fmt(p, sizeof p, "%s/%s.crop.png", dir, name);
                 if (crop && ras_image_save(crop, p, &err)) {
                     fmt(rel, sizeof rel, "%s/%s.crop.png", reldir, name);
@@ -880,20 +922,27 @@ static void grade_image(const grader *g, assignment_result *a, const cJSON *img,
                    "written)\n");
     ras_image_destroy(got);
     ras_image_destroy(expected);
-    while (o.len && o.s[o.len - 1] == '\n') o.s[--o.len] = '\0';
+    while (o.len && o.s[o.len - 1] == '\n')
+        o.s[--o.len] = '\0';
     it->output = o.s;
     it->score = it->passed && !todo ? it->max_score : 0;
-    if (it->score > 0) it->reason = xstrdup("");
-    else if (it->passed) it->reason = xstrdup("matches only on a placeholder (TODO not written)");
+    if (it->score > 0)
+        it->reason = xstrdup("");
+    else if (it->passed)
+        it->reason = xstrdup("matches only on a placeholder (TODO not written)");
     else {
         const char *lm = strstr(it->output, "likely mistake");
         const char *summary = strstr(it->output, " FAIL: ");
-        if (lm) it->reason = reason_line(lm);
+        if (lm)
+            it->reason = reason_line(lm);
         else if (summary) {
-            while (summary > it->output && summary[-1] != '\n') summary--;
+            while (summary > it->output && summary[-1] != '\n')
+                summary--;
             it->reason = reason_line(summary);
-        } else if (rr.kind != RUN_EXITED) it->reason = reason_line(strstr(it->output, "\n") + 1);
-        else it->reason = reason_line(it->output + strcspn(it->output, "\n") + 1);
+        } else if (rr.kind != RUN_EXITED)
+            it->reason = reason_line(strstr(it->output, "\n") + 1);
+        else
+            it->reason = reason_line(it->output + strcspn(it->output, "\n") + 1);
     }
     junit_case(it, a->id, NULL);
 }
@@ -906,8 +955,7 @@ static void mark_build_failed(const grader *g, assignment_result *a, const cJSON
     sbuf tail = {0};
     /* the compiler's error lines, at most 30 */
     int lines = 0;
-    for (char *line = log ? strtok(log, "\n") : NULL; line && lines < 30;
-         line = strtok(NULL, "\n"))
+    for (char *line = log ? strtok(log, "\n") : NULL; line && lines < 30; line = strtok(NULL, "\n"))
         if (strstr(line, "error") || strstr(line, "Error")) {
             sb_printf(&tail, "%s\n", line);
             lines++;
@@ -921,7 +969,7 @@ static void mark_build_failed(const grader *g, assignment_result *a, const cJSON
             item *it = add_item(a);
             char label[300];
             fmt(label, sizeof label, "%s%s", pass ? "image " : "",
-                     pass ? str_or(t, "name", "?") : t->string);
+                pass ? str_or(t, "name", "?") : t->string);
             it->name = xstrdup(label);
             it->is_image = pass;
             it->max_score = pass ? num_or(t, "points", g->default_points)
@@ -954,15 +1002,17 @@ static void write_outputs(const grader *g, assignment_result *as, int n, double 
         cJSON_AddNumberToObject(ea, "score", a->score);
         cJSON_AddNumberToObject(ea, "max_score", a->max_score);
         if (a->note) cJSON_AddStringToObject(ea, "note", a->note);
-        if (a->graded) sb_printf(&summary, "%s: %g / %g\n", a->id, a->score, a->max_score);
-        else sb_printf(&summary, "%s: not graded (%s)\n", a->id, a->note ? a->note : "");
+        if (a->graded)
+            sb_printf(&summary, "%s: %g / %g\n", a->id, a->score, a->max_score);
+        else
+            sb_printf(&summary, "%s: not graded (%s)\n", a->id, a->note ? a->note : "");
         for (int k = 0; k < a->n_items; k++) {
             item *it = &a->items[k];
             if (!it->counted) continue;
             cJSON *t = cJSON_CreateObject();
             char name[400];
             fmt(name, sizeof name, "%s: %s%s", a->id, it->name,
-                     it->default_weight ? " (default weight)" : "");
+                it->default_weight ? " (default weight)" : "");
             cJSON_AddStringToObject(t, "name", name);
             cJSON_AddNumberToObject(t, "score", it->score);
             cJSON_AddNumberToObject(t, "max_score", it->max_score);
@@ -1030,9 +1080,10 @@ static void write_outputs(const grader *g, assignment_result *as, int n, double 
                 n_tests++;
                 n_fail += !as[i].items[k].passed;
             }
-        fprintf(f, "<?xml version=\"1.0\" encoding=\"UTF-8\" ?>\n<testsuites>\n"
-                   "  <testsuite name=\"%s\" tests=\"%d\" failures=\"%d\" errors=\"0\" "
-                   "skipped=\"0\">\n",
+        fprintf(f,
+                "<?xml version=\"1.0\" encoding=\"UTF-8\" ?>\n<testsuites>\n"
+                "  <testsuite name=\"%s\" tests=\"%d\" failures=\"%d\" errors=\"0\" "
+                "skipped=\"0\">\n",
                 as[i].id, n_tests, n_fail);
         for (int k = 0; k < as[i].n_items; k++)
             if (!as[i].items[k].is_image && as[i].items[k].counted && as[i].items[k].xml)
@@ -1049,10 +1100,12 @@ static void write_outputs(const grader *g, assignment_result *as, int n, double 
     if (strcmp(g->variant, "ref") == 0) fprintf(f, " (reference solutions graded as the student)");
     fprintf(f, "\n\n| assignment | points |\n|---|---|\n");
     for (int i = 0; i < n; i++) {
-        if (as[i].graded) fprintf(f, "| %s %s | %g / %g |\n", as[i].id, as[i].title, as[i].score,
-                                  as[i].max_score);
-        else fprintf(f, "| %s %s | not graded: %s |\n", as[i].id, as[i].title,
-                     as[i].note ? as[i].note : "");
+        if (as[i].graded)
+            fprintf(f, "| %s %s | %g / %g |\n", as[i].id, as[i].title, as[i].score,
+                    as[i].max_score);
+        else
+            fprintf(f, "| %s %s | not graded: %s |\n", as[i].id, as[i].title,
+                    as[i].note ? as[i].note : "");
     }
     for (int i = 0; i < n; i++) {
         assignment_result *a = &as[i];
@@ -1064,8 +1117,10 @@ static void write_outputs(const grader *g, assignment_result *as, int n, double 
             item *it = &a->items[k];
             fprintf(f, "| %s | `%s`%s | ", it->status, it->name,
                     it->default_weight ? " (default weight)" : "");
-            if (it->counted) fprintf(f, "%g / %g | ", it->score, it->max_score);
-            else fprintf(f, "not counted | ");
+            if (it->counted)
+                fprintf(f, "%g / %g | ", it->score, it->max_score);
+            else
+                fprintf(f, "not counted | ");
             for (const char *c = it->reason ? it->reason : ""; *c; c++)
                 fputc(*c == '|' ? '/' : *c, f);
             fprintf(f, " |\n");
@@ -1081,8 +1136,10 @@ static void write_outputs(const grader *g, assignment_result *as, int n, double 
                         it->img_got ? ")" : "", it->img_diff ? "![difference](" : "",
                         it->img_diff ? it->img_diff : "", it->img_diff ? ")" : "");
                 if (it->img_crop)
-                    fprintf(f, "\nWorst region (reference | yours | difference):\n\n"
-                               "![worst region](%s)\n", it->img_crop);
+                    fprintf(f,
+                            "\nWorst region (reference | yours | difference):\n\n"
+                            "![worst region](%s)\n",
+                            it->img_crop);
                 fprintf(f, "\n```\n%s\n```\n", it->output ? it->output : "");
             }
         }
@@ -1160,14 +1217,22 @@ int main(int argc, char **argv) {
             return 2;
         }
         i++;
-        if (!strcmp(a, "--source")) g.source = v;
-        else if (!strcmp(a, "--build")) g.build = v;
-        else if (!strcmp(a, "--out")) g.out = v;
-        else if (!strcmp(a, "--rubric")) rubric_path = v;
-        else if (!strcmp(a, "--variant")) g.variant = v;
-        else if (!strcmp(a, "--expect")) expect = v;
-        else if (!strcmp(a, "--hw") && g.n_only < 8) g.only[g.n_only++] = v;
-        else if (!strcmp(a, "--list")) list = v;
+        if (!strcmp(a, "--source"))
+            g.source = v;
+        else if (!strcmp(a, "--build"))
+            g.build = v;
+        else if (!strcmp(a, "--out"))
+            g.out = v;
+        else if (!strcmp(a, "--rubric"))
+            rubric_path = v;
+        else if (!strcmp(a, "--variant"))
+            g.variant = v;
+        else if (!strcmp(a, "--expect"))
+            expect = v;
+        else if (!strcmp(a, "--hw") && g.n_only < 8)
+            g.only[g.n_only++] = v;
+        else if (!strcmp(a, "--list"))
+            list = v;
         else if (!strcmp(a, "--build-failed") && g.n_failed < 8 && strchr(v, '=')) {
             char *hw = xstrdup(v);
             char *eq = strchr(hw, '=');
@@ -1198,6 +1263,7 @@ int main(int argc, char **argv) {
                     printf(" %s", str_or(i, "program", ""));
                 }
             printf("\n");
+            names_free(&progs);
         }
         cJSON_Delete(r);
         return 0;
@@ -1235,7 +1301,8 @@ int main(int argc, char **argv) {
     for (const cJSON *asg = asgs->child; asg; asg = asg->next) {
         const char *id = str_or(asg, "id", "?");
         bool wanted = g.n_only == 0;
-        for (int i = 0; i < g.n_only; i++) wanted |= !strcmp(g.only[i], id);
+        for (int i = 0; i < g.n_only; i++)
+            wanted |= !strcmp(g.only[i], id);
         if (!wanted) continue;
         assignment_result *a = &as[k++];
         a->id = xstrdup(id);
@@ -1252,7 +1319,7 @@ int main(int argc, char **argv) {
         for (const cJSON *img = images ? images->child : NULL; img; img = img->next) {
             char p[4096];
             fmt(p, sizeof p, "%s/bin/%s%s", g.build, str_or(img, "program", ""),
-                     strcmp(g.variant, "ref") == 0 ? "_ref" : "");
+                strcmp(g.variant, "ref") == 0 ? "_ref" : "");
             any_program |= file_exists(p);
         }
         mkdirs(dir);
@@ -1264,8 +1331,10 @@ int main(int argc, char **argv) {
             a->note = xstrdup("not in this build yet");
         } else {
             a->graded = true;
-            if (file_exists(test_bin)) grade_tests(&g, a, asg, test_bin, dir);
-            else a->note = xstrdup("no test program built; images only");
+            if (file_exists(test_bin))
+                grade_tests(&g, a, asg, test_bin, dir);
+            else
+                a->note = xstrdup("no test program built; images only");
             for (const cJSON *img = images ? images->child : NULL; img; img = img->next)
                 grade_image(&g, a, img, dir, id,
                             str_or(asg, "crash_hint", "look for an out-of-bounds access"));
@@ -1281,11 +1350,17 @@ int main(int argc, char **argv) {
     }
     write_outputs(&g, as, k, total, max_total);
     print_table(&g, as, k, total, max_total);
+    /* Freed although the process ends: the sanitizer CI step runs this tool
+     * and counts any leak as a failure. */
+    assignment_results_free(as, k);
+    cJSON_Delete(g.rubric);
+    for (int i = 0; i < g.n_failed; i++)
+        free((char *)g.failed_hw[i]);
     if (expect) {
         double want = !strcmp(expect, "full") ? max_total : atof(expect);
         if (fabs(total - want) > 1e-9 || max_total <= 0) {
-            fprintf(stderr, "raster101-grade: expected %s (%g points), got %g / %g\n", expect,
-                    want, total, max_total);
+            fprintf(stderr, "raster101-grade: expected %s (%g points), got %g / %g\n", expect, want,
+                    total, max_total);
             return 1;
         }
     }

@@ -29,6 +29,7 @@
 
 #include <cmocka.h>
 
+#include "ras_test_main.h" /* RAS_RUN_TESTS: one test per process for the grader */
 #include "ras_compare.h"
 #include "ras_pipeline.h"
 #include "rasterizer.h"
@@ -39,9 +40,9 @@
 #include <string.h> /* memset */
 
 /* Fails with a message that says what was expected and what came. */
-#define CHECK(cond, ...)                                                     \
-    do {                                                                     \
-        if (!(cond)) fail_msg(__VA_ARGS__);                                  \
+#define CHECK(cond, ...)                                                                           \
+    do {                                                                                           \
+        if (!(cond)) fail_msg(__VA_ARGS__);                                                        \
     } while (0)
 
 /* ---- builders -------------------------------------------------------------- */
@@ -85,8 +86,7 @@ static ras_raster_ctx ctx_none(ras_framebuffer *fb) {
     return make_ctx(fb, RAS_AA_NONE, ras_sample_pattern_center());
 }
 
-static const vec3s WHITE = {{1, 1, 1}}, BLACK = {{0, 0, 0}}, RED = {{1, 0, 0}},
-                   BLUE = {{0, 0, 1}};
+static const vec3s WHITE = {{1, 1, 1}}, BLACK = {{0, 0, 0}}, RED = {{1, 0, 0}}, BLUE = {{0, 0, 1}};
 
 static bool near3(vec3s a, vec3s b, float tol) {
     return fabsf(a.x - b.x) <= tol && fabsf(a.y - b.y) <= tol && fabsf(a.z - b.z) <= tol;
@@ -118,7 +118,8 @@ static void ascii_raster(const int *counts, const int *expected, int w, int h, c
     }
     buf[n] = '\0';
 }
-#define ASCII_LEGEND "('#' once, '.' never, '2'.. several times, 'o' missing, 'x' extra; top row first)"
+#define ASCII_LEGEND                                                                               \
+    "('#' once, '.' never, '2'.. several times, 'o' missing, 'x' extra; top row first)"
 
 /* ---- 1. inside_triangle -------------------------------------------------------- */
 
@@ -126,9 +127,11 @@ static void ascii_raster(const int *counts, const int *expected, int w, int h, c
 static void test_inside_basic_both_windings(void **state) {
     (void)state;
     ras_triangle ccw = tri3(1, 1, 9, 1, 1, 9), cw = tri3(1, 1, 1, 9, 9, 1);
-    const struct { float x, y; bool in; } pts[] = {
-        {2, 2, true}, {3.5f, 4.25f, true}, {1.5f, 7, true}, {8, 8, false},
-        {0, 0, false}, {5, 0.5f, false}, {-3, 4, false}, {5.5f, 5.5f, false}};
+    const struct {
+        float x, y;
+        bool in;
+    } pts[] = {{2, 2, true},  {3.5f, 4.25f, true}, {1.5f, 7, true}, {8, 8, false},
+               {0, 0, false}, {5, 0.5f, false},    {-3, 4, false},  {5.5f, 5.5f, false}};
     for (size_t i = 0; i < sizeof pts / sizeof pts[0]; i++) {
         bool a = inside_triangle(pts[i].x, pts[i].y, &ccw);
         bool b = inside_triangle(pts[i].x, pts[i].y, &cw);
@@ -245,8 +248,8 @@ static int expect_square(double px, double py, const void *user) {
 
 /* Draws the triangles one by one and checks every sample's count against
  * `expect`; on failure prints the coverage per pixel as ASCII. */
-static void check_exactly_once(const char *what, const ras_triangle *tris, int ntris, int w,
-                               int h, ras_aa_mode aa, ras_sample_pattern pat, expect_fn expect,
+static void check_exactly_once(const char *what, const ras_triangle *tris, int ntris, int w, int h,
+                               ras_aa_mode aa, ras_sample_pattern pat, expect_fn expect,
                                const void *user) {
     int S = pat.count;
     int *counts = calloc((size_t)(w * h * S), sizeof *counts);
@@ -286,8 +289,9 @@ static void check_exactly_once(const char *what, const ras_triangle *tris, int n
                  "Likely mistake: %s\nper pixel %s\n%s",
                  what, bad_s, bad_x, bad_y, bad_x + pat.offsets[bad_s].x,
                  bad_y + pat.offsets[bad_s].y, bad_got,
-                 bad_exp == 1 ? "exactly once (it is inside the shape)"
-                 : bad_exp == 0 ? "never (it is outside the shape)" : "at most once",
+                 bad_exp == 1   ? "exactly once (it is inside the shape)"
+                 : bad_exp == 0 ? "never (it is outside the shape)"
+                                : "at most once",
                  bad_got > 1 ? "a sample exactly on a shared edge counted by both triangles — "
                                "apply the top-left rule (docs/hw2.md 3.3): E == 0 counts only "
                                "on a top or left edge"
@@ -325,8 +329,8 @@ static void test_inside_shared_edge_exactly_once(void **state) {
                           tri3(0.5f, 0.5f, 0.5f, 8.5f, 8.5f, 8.5f)};
     check_exactly_once("square (0.5,0.5)-(8.5,8.5) cut along its diagonal", sq, 2, 10, 10,
                        RAS_AA_NONE, ras_sample_pattern_center(), expect_square, lohi);
-    check_exactly_once("the same square, both triangles clockwise", sq + 2, 2, 10, 10,
-                       RAS_AA_NONE, ras_sample_pattern_center(), expect_square, lohi);
+    check_exactly_once("the same square, both triangles clockwise", sq + 2, 2, 10, 10, RAS_AA_NONE,
+                       ras_sample_pattern_center(), expect_square, lohi);
     /* Four triangles meeting at a pixel centre: horizontal, vertical and
      * diagonal shared edges through sample points. */
     const double diamond[4][2] = {{8.5, 4.5}, {4.5, 8.5}, {0.5, 4.5}, {4.5, 0.5}};
@@ -348,7 +352,7 @@ static void test_inside_fan_watertight(void **state) {
         pts[i][0] = floor((8.25 + 7 * cos(a)) * 4 + 0.5) / 4;
         pts[i][1] = floor((7.75 + 7 * sin(a)) * 4 + 0.5) / 4;
     }
-    fan f = {8.25, 7.75, (const double (*)[2])pts, 12};
+    fan f = {8.25, 7.75, (const double(*)[2])pts, 12};
     ras_triangle tris[12];
     int n = fan_triangles(&f, tris);
     check_exactly_once("12-triangle fan, 1 sample", tris, n, 17, 16, RAS_AA_NONE,
@@ -370,19 +374,23 @@ static void test_bary_vertices_centroid_sum(void **state) {
         for (int i = 0; i < 3; i++) {
             CHECK(compute_barycentric_2d(t->v[i].x, t->v[i].y, t, &b),
                   "compute_barycentric_2d at vertex %d: expected true (a proper triangle), got "
-                  "false. Likely mistake: the degenerate check is inverted.", i);
+                  "false. Likely mistake: the degenerate check is inverted.",
+                  i);
             float e[3] = {i == 0, i == 1, i == 2};
-            CHECK(fabsf(b.x - e[0]) < 1e-5f && fabsf(b.y - e[1]) < 1e-5f && fabsf(b.z - e[2]) < 1e-5f,
-                  "compute_barycentric_2d at vertex v%d of a %s triangle: expected (%g, %g, %g), "
-                  "got (%g, %g, %g). Likely mistake: the coordinates are in the wrong order "
-                  "(alpha belongs to v0 and is the area OPPOSITE v0), or divided by the wrong area.",
-                  i, w ? "clockwise" : "counter-clockwise", e[0], e[1], e[2], b.x, b.y, b.z);
+            CHECK(
+                fabsf(b.x - e[0]) < 1e-5f && fabsf(b.y - e[1]) < 1e-5f && fabsf(b.z - e[2]) < 1e-5f,
+                "compute_barycentric_2d at vertex v%d of a %s triangle: expected (%g, %g, %g), "
+                "got (%g, %g, %g). Likely mistake: the coordinates are in the wrong order "
+                "(alpha belongs to v0 and is the area OPPOSITE v0), or divided by the wrong area.",
+                i, w ? "clockwise" : "counter-clockwise", e[0], e[1], e[2], b.x, b.y, b.z);
         }
-        float cx = (t->v[0].x + t->v[1].x + t->v[2].x) / 3, cy = (t->v[0].y + t->v[1].y + t->v[2].y) / 3;
+        float cx = (t->v[0].x + t->v[1].x + t->v[2].x) / 3,
+              cy = (t->v[0].y + t->v[1].y + t->v[2].y) / 3;
         compute_barycentric_2d(cx, cy, t, &b);
         CHECK(near3(b, (vec3s){{1 / 3.0f, 1 / 3.0f, 1 / 3.0f}}, 1e-5f),
               "compute_barycentric_2d at the centroid: expected (1/3, 1/3, 1/3), got (%g, %g, %g). "
-              "Likely mistake: a wrong edge function or area.", b.x, b.y, b.z);
+              "Likely mistake: a wrong edge function or area.",
+              b.x, b.y, b.z);
         const float pts[][2] = {{3, 4}, {7.3f, 5.1f}, {20, -3}, {-5, 30}, {0.1f, 0.2f}};
         for (size_t i = 0; i < sizeof pts / sizeof pts[0]; i++) {
             compute_barycentric_2d(pts[i][0], pts[i][1], t, &b);
@@ -390,7 +398,8 @@ static void test_bary_vertices_centroid_sum(void **state) {
             CHECK(fabsf(sum - 1) < 1e-4f,
                   "compute_barycentric_2d(%g, %g): alpha + beta + gamma = %g, expected 1. "
                   "Likely mistake: one coordinate divided by a different area, or gamma computed "
-                  "with the wrong sign.", pts[i][0], pts[i][1], sum);
+                  "with the wrong sign.",
+                  pts[i][0], pts[i][1], sum);
             /* It reproduces the point. */
             float x = b.x * t->v[0].x + b.y * t->v[1].x + b.z * t->v[2].x;
             float y = b.x * t->v[0].y + b.y * t->v[1].y + b.z * t->v[2].y;
@@ -412,7 +421,8 @@ static void test_bary_outside_is_negative(void **state) {
         CHECK(b.x < 0 || b.y < 0 || b.z < 0,
               "compute_barycentric_2d(%g, %g), outside the triangle: expected a negative "
               "coordinate, got (%g, %g, %g). Likely mistake: absolute values (fabsf) of the "
-              "areas — the sign is what says 'outside'.", out[i][0], out[i][1], b.x, b.y, b.z);
+              "areas — the sign is what says 'outside'.",
+              out[i][0], out[i][1], b.x, b.y, b.z);
     }
 }
 
@@ -426,7 +436,8 @@ static void test_bary_degenerate_flagged(void **state) {
     CHECK(b.x == 0 && b.y == 0 && b.z == 0 && !isnan(b.x),
           "compute_barycentric_2d on a degenerate triangle: expected *bary = (0, 0, 0), got "
           "(%g, %g, %g). Likely mistake: dividing by the zero area (NaN/Inf) instead of "
-          "returning early.", b.x, b.y, b.z);
+          "returning early.",
+          b.x, b.y, b.z);
     CHECK(!compute_barycentric_2d(2, 2, &point, &b),
           "compute_barycentric_2d on a triangle collapsed to a point: expected false, got true.");
 }
@@ -472,9 +483,10 @@ static void test_bary_at_pixel_centre(void **state) {
         vec3s want = {{(float)(edge_exact(t.v[1].x, t.v[1].y, t.v[2].x, t.v[2].y, cx, cy) / area),
                        (float)(edge_exact(t.v[2].x, t.v[2].y, t.v[0].x, t.v[0].y, cx, cy) / area),
                        (float)(edge_exact(t.v[0].x, t.v[0].y, t.v[1].x, t.v[1].y, cx, cy) / area)}};
-        vec3s corner = {{(float)(edge_exact(t.v[1].x, t.v[1].y, t.v[2].x, t.v[2].y, f->x, f->y) / area),
-                         (float)(edge_exact(t.v[2].x, t.v[2].y, t.v[0].x, t.v[0].y, f->x, f->y) / area),
-                         (float)(edge_exact(t.v[0].x, t.v[0].y, t.v[1].x, t.v[1].y, f->x, f->y) / area)}};
+        vec3s corner = {
+            {(float)(edge_exact(t.v[1].x, t.v[1].y, t.v[2].x, t.v[2].y, f->x, f->y) / area),
+             (float)(edge_exact(t.v[2].x, t.v[2].y, t.v[0].x, t.v[0].y, f->x, f->y) / area),
+             (float)(edge_exact(t.v[0].x, t.v[0].y, t.v[1].x, t.v[1].y, f->x, f->y) / area)}};
         CHECK(near3(f->bary, want, 1e-4f),
               "fragment of pixel (%d, %d): expected the barycentrics of its centre (%g, %g) = "
               "(%.4f, %.4f, %.4f), got (%.4f, %.4f, %.4f). Likely mistake: %s",
@@ -487,7 +499,8 @@ static void test_bary_at_pixel_centre(void **state) {
         CHECK(fabsf(f->depth - z) < 1e-4f,
               "fragment of pixel (%d, %d): expected depth %.5f (interpolated at the centre), "
               "got %.5f. Likely mistake: depth not interpolated with the barycentrics, or taken "
-              "at another point.", f->x, f->y, z, f->depth);
+              "at another point.",
+              f->x, f->y, z, f->depth);
         float d = fb->depth[ras_fb_sample_index(fb, f->x, f->y, 0)];
         CHECK(fabsf(d - z) < 1e-4f,
               "depth buffer at pixel (%d, %d): expected %.5f, got %.5f. Likely mistake: the "
@@ -502,7 +515,9 @@ static void test_bary_at_pixel_centre(void **state) {
 static void test_index_corners_and_flip(void **state) {
     (void)state;
     ras_framebuffer *fb = make_fb(7, 5, 4);
-    const struct { int x, y, want; } c[] = {{0, 0, 4 * 7}, {6, 0, 4 * 7 + 6}, {0, 4, 0}, {6, 4, 6}, {3, 2, 2 * 7 + 3}};
+    const struct {
+        int x, y, want;
+    } c[] = {{0, 0, 4 * 7}, {6, 0, 4 * 7 + 6}, {0, 4, 0}, {6, 4, 6}, {3, 2, 2 * 7 + 3}};
     for (size_t i = 0; i < sizeof c / sizeof c[0]; i++) {
         int got = ras_fb_pixel_index(fb, c[i].x, c[i].y);
         CHECK(got == c[i].want,
@@ -512,8 +527,8 @@ static void test_index_corners_and_flip(void **state) {
         for (int s = 0; s < 4; s++)
             CHECK(ras_fb_sample_index(fb, c[i].x, c[i].y, s) == c[i].want * 4 + s,
                   "ras_fb_sample_index(%d, %d, %d): expected %d, got %d (samples of a pixel "
-                  "are consecutive).", c[i].x, c[i].y, s, c[i].want * 4 + s,
-                  ras_fb_sample_index(fb, c[i].x, c[i].y, s));
+                  "are consecutive).",
+                  c[i].x, c[i].y, s, c[i].want * 4 + s, ras_fb_sample_index(fb, c[i].x, c[i].y, s));
     }
     ras_framebuffer_destroy(fb);
 }
@@ -530,9 +545,12 @@ static void test_index_all_in_range_and_distinct(void **state) {
             for (int x = 0; x < fb->width; x++)
                 for (int s = 0; s < fb->samples; s++) {
                     int i = ras_fb_sample_index(fb, x, y, s);
-                    CHECK(i >= 0 && i < n, "sample (%d, %d, %d) of a %dx%d buffer with %d samples: "
-                          "index %d is outside 0..%d.", x, y, s, fb->width, fb->height, fb->samples, i, n - 1);
-                    CHECK(!seen[i], "samples share index %d: (%d, %d, %d) and an earlier one.", i, x, y, s);
+                    CHECK(i >= 0 && i < n,
+                          "sample (%d, %d, %d) of a %dx%d buffer with %d samples: "
+                          "index %d is outside 0..%d.",
+                          x, y, s, fb->width, fb->height, fb->samples, i, n - 1);
+                    CHECK(!seen[i], "samples share index %d: (%d, %d, %d) and an earlier one.", i,
+                          x, y, s);
                     seen[i] = 1;
                 }
         free(seen);
@@ -562,8 +580,11 @@ static void guarded_init(guarded *g, int w, int h, int samples) {
         g->color_mem[i] = (vec3s){{7, 7, 7}};
         g->depth_mem[i] = INFINITY;
     }
-    g->fb = (ras_framebuffer){.width = w, .height = h, .samples = samples,
-                              .color = g->color_mem + GUARD, .depth = g->depth_mem + GUARD};
+    g->fb = (ras_framebuffer){.width = w,
+                              .height = h,
+                              .samples = samples,
+                              .color = g->color_mem + GUARD,
+                              .depth = g->depth_mem + GUARD};
     ras_framebuffer_clear(&g->fb, BLACK);
 }
 
@@ -582,7 +603,8 @@ static void guarded_free(guarded *g) {
 
 static int covered_pixels(const ras_framebuffer *fb) {
     int n = 0;
-    for (int i = 0; i < fb->width * fb->height * fb->samples; i++) n += !isinf(fb->depth[i]);
+    for (int i = 0; i < fb->width * fb->height * fb->samples; i++)
+        n += !isinf(fb->depth[i]);
     return n;
 }
 
@@ -609,7 +631,8 @@ static void test_index_rasterizer_writes_flipped(void **state) {
     CHECK(!isinf(g.fb.depth[5]) && covered_pixels(&g.fb) == 1,
           "a tiny triangle around the centre of screen pixel (5, 3) (top-right of a 6x4 "
           "frame): expected exactly buffer index 5 written, got %d samples written. Likely "
-          "mistake: the y-flip, or x and y swapped.", covered_pixels(&g.fb));
+          "mistake: the y-flip, or x and y swapped.",
+          covered_pixels(&g.fb));
     CHECK(guarded_intact(&g), "rasterize_triangle wrote outside the frame's buffers.");
     guarded_free(&g);
 }
@@ -620,17 +643,18 @@ static void test_raster_clamped_to_screen(void **state) {
     (void)state;
     const int W = 9, H = 7;
     const ras_triangle cases[] = {
-        tri3(-1000, -1000, 3000, -1000, -1000, 3000),   /* covers the whole frame */
-        tri3(-50, 3.2f, 4.5f, -40, 4.5f, 60),           /* sticks out on three sides */
-        tri3(-1e7f, -1e7f, 1e7f, -1e7f, 0, 1e7f),       /* far beyond any fixed-point range */
-        tri3(30, 30, 40, 30, 30, 40),                   /* wholly off-screen */
-        tri3(-40, 2, -30, 2, -35, 5),                   /* wholly left of the screen */
+        tri3(-1000, -1000, 3000, -1000, -1000, 3000), /* covers the whole frame */
+        tri3(-50, 3.2f, 4.5f, -40, 4.5f, 60),         /* sticks out on three sides */
+        tri3(-1e7f, -1e7f, 1e7f, -1e7f, 0, 1e7f),     /* far beyond any fixed-point range */
+        tri3(30, 30, 40, 30, 30, 40),                 /* wholly off-screen */
+        tri3(-40, 2, -30, 2, -35, 5),                 /* wholly left of the screen */
     };
     const int want_all[] = {1, -1, 1, 0, 0}; /* 1 all pixels, 0 none, -1 some */
     for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
         for (int aa = 0; aa < 2; aa++) {
             guarded g;
-            ras_sample_pattern pat = aa ? pattern(RAS_PATTERN_STANDARD, 4) : ras_sample_pattern_center();
+            ras_sample_pattern pat =
+                aa ? pattern(RAS_PATTERN_STANDARD, 4) : ras_sample_pattern_center();
             guarded_init(&g, W, H, pat.count);
             ras_raster_ctx ctx = make_ctx(&g.fb, aa ? RAS_AA_MSAA : RAS_AA_NONE, pat);
             ras_triangle t = tri_z(cases[k], 0.5f, WHITE);
@@ -638,19 +662,23 @@ static void test_raster_clamped_to_screen(void **state) {
             CHECK(guarded_intact(&g),
                   "triangle %zu (partly or wholly off-screen): rasterize_triangle wrote outside "
                   "the %dx%d frame's buffers. Likely mistake: the bounding box is not clamped to "
-                  "0..width-1 / 0..height-1 (clamp the floats before casting to int).", k, W, H);
+                  "0..width-1 / 0..height-1 (clamp the floats before casting to int).",
+                  k, W, H);
             int n = covered_pixels(&g.fb), all = W * H * pat.count;
             CHECK(want_all[k] != 1 || n == all,
                   "triangle %zu covers the whole %dx%d frame: expected all %d samples covered, "
                   "got %d. Likely mistake: the bounding box clamped wrongly (e.g. to the first "
-                  "vertex), or an overflow for huge coordinates.", k, W, H, all, n);
+                  "vertex), or an overflow for huge coordinates.",
+                  k, W, H, all, n);
             CHECK(want_all[k] != 0 || n == 0,
                   "triangle %zu is wholly off-screen: expected nothing drawn, got %d samples. "
                   "Likely mistake: clamping the box INTO the screen drew its edge pixels; an "
-                  "empty box must stay empty.", k, n);
+                  "empty box must stay empty.",
+                  k, n);
             CHECK(want_all[k] != -1 || (n > 0 && n < all),
                   "triangle %zu is partly on-screen: expected some but not all samples, got %d "
-                  "of %d.", k, n, all);
+                  "of %d.",
+                  k, n, all);
             guarded_free(&g);
         }
     }
@@ -672,7 +700,8 @@ static void test_raster_rejects_nan_and_zero_area(void **state) {
         CHECK(covered_pixels(&g.fb) == 0 && guarded_intact(&g),
               "a triangle with %s: expected nothing drawn, got %d pixels%s. Likely mistake: "
               "zero area not rejected, or NaN/Inf turned into a huge int bounding box.",
-              what[k], covered_pixels(&g.fb), guarded_intact(&g) ? "" : " AND writes outside the buffers");
+              what[k], covered_pixels(&g.fb),
+              guarded_intact(&g) ? "" : " AND writes outside the buffers");
     }
     guarded_free(&g);
 }
@@ -693,9 +722,11 @@ static void test_raster_depth_test_order(void **state) {
         CHECK(near3(c, RED, 1e-6f) && fabsf(d - 0.2f) < 1e-6f,
               "two triangles at depth 0.2 (red) and 0.7 (blue), %s drawn first: expected red "
               "with depth 0.2 at pixel (2, 2), got (%g, %g, %g) with depth %g. Likely mistake: "
-              "%s", order ? "the far one" : "the near one", c.x, c.y, c.z, d,
+              "%s",
+              order ? "the far one" : "the near one", c.x, c.y, c.z, d,
               near3(c, BLUE, 1e-6f) ? (order ? "the depth test reversed (smaller is closer: draw "
-                                              "when z < depth[i])" : "no depth test (the last one wins)")
+                                               "when z < depth[i])"
+                                             : "no depth test (the last one wins)")
               : isinf(d)            ? "nothing drawn at all."
                                     : "the depth buffer not updated after a pass.");
     }
@@ -711,7 +742,8 @@ static void test_raster_depth_test_order(void **state) {
             CHECK(fabsf(got - want) < 1e-5f,
                   "sloped triangle, pixel (%d, %d): expected depth %.5f (the plane through the "
                   "vertices, at the pixel centre), got %.5f. Likely mistake: depth not "
-                  "interpolated (one vertex's z), or interpolated at the corner.", x, y, want, got);
+                  "interpolated (one vertex's z), or interpolated at the corner.",
+                  x, y, want, got);
         }
     ras_framebuffer_destroy(fb);
 }
@@ -729,16 +761,16 @@ static void test_raster_counters(void **state) {
     CHECK(k.samples_covered == (uint64_t)covered && k.depth_tests_passed == (uint64_t)covered,
           "MSAA 4x, one triangle on an empty frame: expected samples_covered = "
           "depth_tests_passed = %d (the samples written), got %llu and %llu. Likely mistake: "
-          "counters not updated (ctx->counters may be NULL: check before adding).", covered,
-          (unsigned long long)k.samples_covered, (unsigned long long)k.depth_tests_passed);
-    CHECK(k.samples_tested >= k.samples_covered,
-          "samples_tested (%llu) < samples_covered (%llu).", (unsigned long long)k.samples_tested,
-          (unsigned long long)k.samples_covered);
+          "counters not updated (ctx->counters may be NULL: check before adding).",
+          covered, (unsigned long long)k.samples_covered, (unsigned long long)k.depth_tests_passed);
+    CHECK(k.samples_tested >= k.samples_covered, "samples_tested (%llu) < samples_covered (%llu).",
+          (unsigned long long)k.samples_tested, (unsigned long long)k.samples_covered);
     int pixels = 0;
     for (int y = 0; y < 10; y++)
         for (int x = 0; x < 10; x++) {
             int any = 0;
-            for (int s = 0; s < 4; s++) any |= !isinf(fb->depth[ras_fb_sample_index(fb, x, y, s)]);
+            for (int s = 0; s < 4; s++)
+                any |= !isinf(fb->depth[ras_fb_sample_index(fb, x, y, s)]);
             pixels += any;
         }
     CHECK(k.fragments_shaded == (uint64_t)pixels,
@@ -766,14 +798,15 @@ static void test_resolve_box_filter_float(void **state) {
         ras_framebuffer *fb = make_fb(3, 2, S);
         for (int lit = 0; lit <= S; lit++) {
             ras_framebuffer_clear(fb, BLACK);
-            for (int s = 0; s < lit; s++) fb->color[ras_fb_sample_index(fb, 2, 1, s)] = (vec3s){{1, 0.5f, 0.25f}};
+            for (int s = 0; s < lit; s++)
+                fb->color[ras_fb_sample_index(fb, 2, 1, s)] = (vec3s){{1, 0.5f, 0.25f}};
             vec3s got = resolve_pixel(fb, 2, 1);
             float f = (float)lit / (float)S;
             vec3s want = {{f, 0.5f * f, 0.25f * f}};
             CHECK(near3(got, want, 1e-5f),
                   "resolve_pixel with %d of %d samples coloured (1, 0.5, 0.25) over black: "
-                  "expected (%g, %g, %g), got (%g, %g, %g). Likely mistake: %s", lit, S,
-                  want.x, want.y, want.z, got.x, got.y, got.z,
+                  "expected (%g, %g, %g), got (%g, %g, %g). Likely mistake: %s",
+                  lit, S, want.x, want.y, want.z, got.x, got.y, got.z,
                   (lit > 0 && lit < S && got.x == 0)
                       ? "integer division (cnt / 4 is 0 for a partial pixel): divide in float."
                   : (S == 16 && fabsf(got.x - lit / 4.0f) < 1e-5f)
@@ -789,7 +822,8 @@ static void test_resolve_box_filter_float(void **state) {
 static vec3s render_pixel(const ras_triangle *tris, int n, ras_aa_mode aa, ras_sample_pattern pat) {
     ras_framebuffer *fb = make_fb(3, 3, pat.count);
     ras_raster_ctx ctx = make_ctx(fb, aa, pat);
-    for (int i = 0; i < n; i++) rasterize_triangle(&tris[i], &ctx);
+    for (int i = 0; i < n; i++)
+        rasterize_triangle(&tris[i], &ctx);
     vec3s c = resolve_pixel(fb, 1, 1);
     ras_framebuffer_destroy(fb);
     return c;
@@ -798,10 +832,15 @@ static vec3s render_pixel(const ras_triangle *tris, int n, ras_aa_mode aa, ras_s
 /* One triangle whose vertical edge x = 1.5 halves pixel (1, 1): half its colour. */
 static void test_resolve_half_covered_pixel(void **state) {
     (void)state;
-    ras_triangle half = tri_z(tri3(-10, -10, 1.5f, -10, 1.5f, 40), 0.5f, (vec3s){{0.8f, 0.6f, 0.4f}});
-    const struct { ras_aa_mode aa; ras_pattern_kind kind; } modes[] = {
-        {RAS_AA_MSAA, RAS_PATTERN_ORDERED}, {RAS_AA_MSAA, RAS_PATTERN_STANDARD},
-        {RAS_AA_SSAA, RAS_PATTERN_ORDERED}, {RAS_AA_SSAA, RAS_PATTERN_STANDARD}};
+    ras_triangle half =
+        tri_z(tri3(-10, -10, 1.5f, -10, 1.5f, 40), 0.5f, (vec3s){{0.8f, 0.6f, 0.4f}});
+    const struct {
+        ras_aa_mode aa;
+        ras_pattern_kind kind;
+    } modes[] = {{RAS_AA_MSAA, RAS_PATTERN_ORDERED},
+                 {RAS_AA_MSAA, RAS_PATTERN_STANDARD},
+                 {RAS_AA_SSAA, RAS_PATTERN_ORDERED},
+                 {RAS_AA_SSAA, RAS_PATTERN_STANDARD}};
     for (size_t m = 0; m < sizeof modes / sizeof modes[0]; m++) {
         vec3s got = render_pixel(&half, 1, modes[m].aa, pattern(modes[m].kind, 4));
         vec3s want = {{0.4f, 0.3f, 0.2f}};
@@ -810,7 +849,8 @@ static void test_resolve_half_covered_pixel(void **state) {
               "half its colour (0.4, 0.3, 0.2), got (%g, %g, %g). Likely mistake: %s",
               ras_aa_mode_name(modes[m].aa), ras_pattern_kind_name(modes[m].kind), got.x, got.y,
               got.z,
-              got.x == 0 ? "nothing resolved: integer division in the resolve, or samples not written."
+              got.x == 0
+                  ? "nothing resolved: integer division in the resolve, or samples not written."
               : got.x > 0.79f ? "coverage tested at the pixel centre only (one sample), or the "
                                 "colour written to all samples of a partly covered pixel."
                               : "samples not placed at (x + offset.x, y + offset.y).");
@@ -894,10 +934,8 @@ static void test_resolve_per_sample_depth(void **state) {
  * out here (n = -0.1, f = -50) so hw2's tests do not depend on hw1. */
 static mat4s classic_projection(void) {
     float cot = (float)(1.0 / tan(22.5 * RAS_PI / 180)), n = -0.1f, f = -50;
-    return ras_mat4_rows(-cot, 0, 0, 0,
-                         0, -cot, 0, 0,
-                         0, 0, (n + f) / (n - f), -2 * n * f / (n - f),
-                         0, 0, 1, 0);
+    return ras_mat4_rows(-cot, 0, 0, 0, 0, -cot, 0, 0, 0, 0, (n + f) / (n - f),
+                         -2 * n * f / (n - f), 0, 0, 1, 0);
 }
 
 static const float GREEN_POS[3][3] = {{2, 0, -2}, {0, 2, -2}, {-2, 0, -2}};
@@ -906,15 +944,18 @@ static const unsigned char GREEN8[3] = {217, 238, 185}, BLUE8[3] = {185, 217, 23
 
 static ras_image *render_scene(ras_aa_mode aa, ras_pattern_kind kind, int samples) {
     ras_error err = {{0}};
-    ras_pipeline_config cfg = {.width = SIDE, .height = SIDE, .aa = aa,
+    ras_pipeline_config cfg = {.width = SIDE,
+                               .height = SIDE,
+                               .aa = aa,
                                .varyings = RAS_VARYING_COLOR,
-                               .rasterize = rasterize_triangle, .resolve = resolve_pixel};
+                               .rasterize = rasterize_triangle,
+                               .resolve = resolve_pixel};
     cfg.pattern = aa == RAS_AA_NONE ? ras_sample_pattern_center() : pattern(kind, samples);
     ras_pipeline *p = ras_pipeline_create(&cfg, &err);
     if (!p) fail_msg("test setup: %s", err.msg);
     ras_mesh *m[2];
     for (int i = 0; i < 2; i++) {
-        const float (*v)[3] = i ? BLUE_POS : GREEN_POS;
+        const float(*v)[3] = i ? BLUE_POS : GREEN_POS;
         const unsigned char *c = i ? BLUE8 : GREEN8;
         m[i] = ras_mesh_create_triangle((vec3s){{v[0][0], v[0][1], v[0][2]}},
                                         (vec3s){{v[1][0], v[1][1], v[1][2]}},
@@ -979,27 +1020,33 @@ static void check_scene_image(const ras_image *img, const char *what, bool antia
     long checked = 0, mixtures = 0, edge_pixels = 0;
     for (int y = 0; y < SIDE; y += 3)
         for (int x = 0; x < SIDE; x += 3) {
-            double dg = inside_distance(g, x + 0.5, y + 0.5), db = inside_distance(b, x + 0.5, y + 0.5);
+            double dg = inside_distance(g, x + 0.5, y + 0.5),
+                   db = inside_distance(b, x + 0.5, y + 0.5);
             const unsigned char *want = NULL;
             const char *region = NULL;
-            if (dg > 1.5) want = GREEN8, region = db > 1.5 ? "the overlap (green is nearer)" : "green";
-            else if (dg < -1.5 && db > 1.5) want = BLUE8, region = "blue only";
-            else if (dg < -1.5 && db < -1.5) want = black8, region = "background";
+            if (dg > 1.5)
+                want = GREEN8, region = db > 1.5 ? "the overlap (green is nearer)" : "green";
+            else if (dg < -1.5 && db > 1.5)
+                want = BLUE8, region = "blue only";
+            else if (dg < -1.5 && db < -1.5)
+                want = black8, region = "background";
             if (!want) continue;
             checked++;
             if (!pixel_is(img, x, y, want)) {
                 vec3s c = ras_image_get(img, x, SIDE - 1 - y);
-                bool got_blue = ras_unit_to_byte(c.x) == BLUE8[0] && ras_unit_to_byte(c.z) == BLUE8[2];
+                bool got_blue =
+                    ras_unit_to_byte(c.x) == BLUE8[0] && ras_unit_to_byte(c.z) == BLUE8[2];
                 fail_msg("%s: screen pixel (%d, %d) (image col %d, row %d) is in %s: expected "
-                         "(%d, %d, %d), got (%d, %d, %d). Likely mistake: %s", what, x, y, x,
-                         SIDE - 1 - y, region, want[0], want[1], want[2], ras_unit_to_byte(c.x),
-                         ras_unit_to_byte(c.y), ras_unit_to_byte(c.z),
+                         "(%d, %d, %d), got (%d, %d, %d). Likely mistake: %s",
+                         what, x, y, x, SIDE - 1 - y, region, want[0], want[1], want[2],
+                         ras_unit_to_byte(c.x), ras_unit_to_byte(c.y), ras_unit_to_byte(c.z),
                          (want == GREEN8 && got_blue) ? "the depth test reversed — blue drawn over "
                                                         "green (smaller depth is closer)."
-                         : want == black8 ? "coverage outside the triangle (bounding box filled, or "
-                                            "an inside test with the wrong sign)."
-                                          : "missing coverage (a wrong inside test), or a y-flip "
-                                            "missing (the picture upside down).");
+                         : want == black8
+                             ? "coverage outside the triangle (bounding box filled, or "
+                               "an inside test with the wrong sign)."
+                             : "missing coverage (a wrong inside test), or a y-flip "
+                               "missing (the picture upside down).");
             }
         }
     assert_true(checked > 10000);
@@ -1028,8 +1075,10 @@ static ras_image *load_reference(const char *name) {
     snprintf(path, sizeof path, "%s/tests/reference/%s", RAS_SOURCE_DIR, name);
     ras_error err = {{0}};
     ras_image *img = ras_image_load(path, &err);
-    if (!img) fail_msg("cannot read the reference image %s: %s (regenerate with "
-                       "`make reference-images`)", path, err.msg);
+    if (!img)
+        fail_msg("cannot read the reference image %s: %s (regenerate with "
+                 "`make reference-images`)",
+                 path, err.msg);
     CHECK(img->width == SIDE && img->height == SIDE, "reference %s: expected 700x700, got %dx%d",
           path, img->width, img->height);
     return img;
@@ -1038,9 +1087,13 @@ static ras_image *load_reference(const char *name) {
 /* The reference PNGs themselves pass the hand-computed checks. */
 static void test_scene_reference_images_sane(void **state) {
     (void)state;
-    const struct { const char *file; bool aa; } refs[] = {
-        {"hw2_1x.png", false}, {"hw2_msaa4.png", true}, {"hw2_ssaa4.png", true},
-        {"hw2_msaa4_standard.png", true}};
+    const struct {
+        const char *file;
+        bool aa;
+    } refs[] = {{"hw2_1x.png", false},
+                {"hw2_msaa4.png", true},
+                {"hw2_ssaa4.png", true},
+                {"hw2_msaa4_standard.png", true}};
     for (size_t i = 0; i < sizeof refs / sizeof refs[0]; i++) {
         ras_image *img = load_reference(refs[i].file);
         check_scene_image(img, refs[i].file, refs[i].aa);
@@ -1064,7 +1117,8 @@ static void test_scene_depth_order(void **state) {
     ras_image_destroy(img);
 }
 
-static void compare_scene(const char *ref_name, ras_aa_mode aa, ras_pattern_kind kind, int samples) {
+static void compare_scene(const char *ref_name, ras_aa_mode aa, ras_pattern_kind kind,
+                          int samples) {
     ras_image *want = load_reference(ref_name);
     ras_image *got = render_scene(aa, kind, samples);
     check_scene_image(got, ref_name, aa != RAS_AA_NONE);
@@ -1082,8 +1136,9 @@ static void compare_scene(const char *ref_name, ras_aa_mode aa, ras_pattern_kind
         ras_compare_ascii_mask(want, got, (vec3s){{0, 0, 0}}, res.worst_col, res.worst_row, 10,
                                mask, sizeof mask, NULL);
         fail_msg("classic scene vs tests/reference/%s: %s\nAround the worst pixel (%d, %d) "
-                 "(image col, row), %s:\n%s", ref_name, res.summary, res.worst_col,
-                 res.worst_row, RAS_COMPARE_ASCII_LEGEND, mask);
+                 "(image col, row), %s:\n%s",
+                 ref_name, res.summary, res.worst_col, res.worst_row, RAS_COMPARE_ASCII_LEGEND,
+                 mask);
     }
     ras_image_destroy(want);
     ras_image_destroy(got);
@@ -1138,5 +1193,5 @@ int main(void) {
         cmocka_unit_test(test_scene_matches_reference_ssaa4),
         cmocka_unit_test(test_scene_matches_reference_msaa4_standard),
     };
-    return cmocka_run_group_tests_name("hw2", tests, NULL, NULL);
+    return RAS_RUN_TESTS("hw2", tests, NULL, NULL);
 }
