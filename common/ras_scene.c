@@ -908,7 +908,7 @@ static bool parse_object(ctx *c, const cJSON *v, const char *path, ras_scene_obj
                     list);
     }
     if (shape) {
-        int k;
+        int k = 0;
         join(p, path, "shape");
         if (cJSON_IsString(shape) && !strcmp(shape->valuestring, "model"))
             return fail(c, p,
