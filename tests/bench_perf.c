@@ -18,6 +18,10 @@
  *     --frames N   timed frames per row (default 21, at least 20 for the report)
  *     --out FILE   write the report (docs/performance.md) there
  *     --quick      3 frames, no process timing (a smoke run)
+ *     --shader NAME, --aa none|msaa|ssaa, --threads 1|2
+ *                  only those rows, no process timing and no report (for
+ *                  profiling one configuration under perf or callgrind;
+ *                  the plain row is then one frame, the reference image)
  */
 #include "ras_mesh.h"
 #include "scene.h"
@@ -47,6 +51,7 @@ typedef struct row {
     hw3_shader shader;
     ras_aa_mode aa;
     double median, min, max;
+    double cpu_median; /* process CPU time per frame, all threads: robust to a busy machine */
     uint64_t fragments;
     size_t buffer_bytes;
     bool identical; /* fast rows: the image equals the plain one */
@@ -87,8 +92,15 @@ static bool write_teapot_obj(const char *path) {
     return ok;
 }
 
+/* CPU time of the whole process (every thread), ms. */
+static double cpu_ms(void) {
+    struct timespec ts;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
+}
+
 static bool render(hw3_scene *scene, hw3_shader shader, ras_aa_mode aa, bool plain, int threads,
-                   ras_image *out, ras_counters *k, double *ms) {
+                   ras_image *out, ras_counters *k, double *ms, double *cpu) {
     hw3_render_options opt = hw3_render_defaults();
     opt.shader = shader;
     opt.aa = aa;
@@ -99,23 +111,27 @@ static bool render(hw3_scene *scene, hw3_shader shader, ras_aa_mode aa, bool pla
         if (!ras_sample_pattern_make(RAS_PATTERN_ORDERED, 4, &opt.pattern, &e)) return false;
     }
     ras_error err = {{0}};
-    double t0 = ras_now_ms();
+    double c0 = cpu_ms(), t0 = ras_now_ms();
     bool ok = hw3_render(scene, &opt, out, k, &err);
     *ms = ras_now_ms() - t0;
+    *cpu = cpu_ms() - c0;
     if (!ok) fprintf(stderr, "bench_perf: %s\n", err.msg);
     return ok;
 }
 
 static bool measure(hw3_scene *scene, hw3_shader shader, ras_aa_mode aa, bool plain, int threads,
                     int frames, const ras_image *expected, ras_image *img, row *r) {
-    double *t = malloc(sizeof *t * (size_t)frames);
+    double *t = malloc(sizeof *t * 2 * (size_t)frames), *c = t ? t + frames : NULL;
     ras_counters k;
-    double ms;
+    double ms, cpu;
     bool ok = t != NULL;
-    for (int i = 0; ok && i < 2; i++) ok = render(scene, shader, aa, plain, threads, img, &k, &ms);
-    for (int i = 0; ok && i < frames; i++) ok = render(scene, shader, aa, plain, threads, img, &k, &t[i]);
+    for (int i = 0; ok && i < 2; i++)
+        ok = render(scene, shader, aa, plain, threads, img, &k, &ms, &cpu);
+    for (int i = 0; ok && i < frames; i++)
+        ok = render(scene, shader, aa, plain, threads, img, &k, &t[i], &c[i]);
     if (ok) {
         qsort(t, (size_t)frames, sizeof *t, cmp_double);
+        qsort(c, (size_t)frames, sizeof *c, cmp_double);
         *r = (row){.mode = plain ? "plain" : "fast",
                    .threads = threads,
                    .shader = shader,
@@ -123,11 +139,12 @@ static bool measure(hw3_scene *scene, hw3_shader shader, ras_aa_mode aa, bool pl
                    .median = t[frames / 2],
                    .min = t[0],
                    .max = t[frames - 1],
+                   .cpu_median = c[frames / 2],
                    .fragments = k.fragments_shaded,
                    .buffer_bytes = k.buffer_bytes,
-                   .identical = !expected ||
-                                !memcmp(expected->pixels, img->pixels,
-                                        sizeof *img->pixels * (size_t)img->width * (size_t)img->height)};
+                   .identical = !expected || !memcmp(expected->pixels, img->pixels,
+                                                     sizeof *img->pixels * (size_t)img->width *
+                                                         (size_t)img->height)};
     }
     free(t);
     return ok;
@@ -140,15 +157,15 @@ static const char *aa_label(ras_aa_mode aa) {
 static void print_row(FILE *f, const row *r, bool md) {
     double ns = r->fragments ? r->median * 1e6 / (double)r->fragments : 0;
     if (md)
-        fprintf(f, "| %s | %s | %s | %d | %.2f | %.2f | %.2f | %llu | %.1f | %.1f | %s |\n",
+        fprintf(f, "| %s | %s | %s | %d | %.2f | %.2f | %.2f | %.2f | %llu | %.1f | %.1f | %s |\n",
                 hw3_shader_name(r->shader), aa_label(r->aa), r->mode, r->threads, r->median, r->min,
-                r->max, (unsigned long long)r->fragments, ns, (double)r->buffer_bytes / 1048576.0,
-                r->identical ? "yes" : "**NO**");
+                r->max, r->cpu_median, (unsigned long long)r->fragments, ns,
+                (double)r->buffer_bytes / 1048576.0, r->identical ? "yes" : "**NO**");
     else
-        fprintf(f, "%-12s %-8s %-5s %2d %9.2f %9.2f %9.2f %9llu %8.1f %8.1f %s\n",
+        fprintf(f, "%-12s %-8s %-5s %2d %9.2f %9.2f %9.2f %9.2f %9llu %8.1f %8.1f %s\n",
                 hw3_shader_name(r->shader), aa_label(r->aa), r->mode, r->threads, r->median, r->min,
-                r->max, (unsigned long long)r->fragments, ns, (double)r->buffer_bytes / 1048576.0,
-                r->identical ? "same" : "DIFFERENT");
+                r->max, r->cpu_median, (unsigned long long)r->fragments, ns,
+                (double)r->buffer_bytes / 1048576.0, r->identical ? "same" : "DIFFERENT");
 }
 
 /* ---- whole processes ----------------------------------------------------- */
@@ -216,11 +233,36 @@ int main(int argc, char **argv) {
     const char *spot = NULL, *out_path = NULL;
     int frames = 21;
     bool quick = false;
+    int only_shader = -1, only_aa = -1, only_threads = 0;
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--spot") && i + 1 < argc) spot = argv[++i];
         else if (!strcmp(argv[i], "--out") && i + 1 < argc) out_path = argv[++i];
         else if (!strcmp(argv[i], "--quick")) quick = true;
-        else if (!strcmp(argv[i], "--frames") && i + 1 < argc) {
+        else if (!strcmp(argv[i], "--shader") && i + 1 < argc) {
+            i++;
+            for (int sh = 0; sh < HW3_SHADER_COUNT; sh++)
+                if (!strcmp(argv[i], hw3_shader_name((hw3_shader)sh))) only_shader = sh;
+            if (only_shader < 0) {
+                fprintf(stderr, "bench_perf: unknown shader '%s'\n", argv[i]);
+                return 2;
+            }
+        } else if (!strcmp(argv[i], "--threads") && i + 1 < argc) {
+            only_threads = atoi(argv[++i]);
+            if (only_threads < 1 || only_threads > 2) {
+                fprintf(stderr, "bench_perf: --threads expects 1 or 2\n");
+                return 2;
+            }
+        } else if (!strcmp(argv[i], "--aa") && i + 1 < argc) {
+            i++;
+            only_aa = !strcmp(argv[i], "none")   ? 0
+                      : !strcmp(argv[i], "msaa") ? 1
+                      : !strcmp(argv[i], "ssaa") ? 2
+                                                 : -1;
+            if (only_aa < 0) {
+                fprintf(stderr, "bench_perf: --aa expects none, msaa or ssaa\n");
+                return 2;
+            }
+        } else if (!strcmp(argv[i], "--frames") && i + 1 < argc) {
             char *end;
             long v = strtol(argv[++i], &end, 10);
             if (*end || v < 1 || v > 1000) {
@@ -229,11 +271,15 @@ int main(int argc, char **argv) {
             }
             frames = (int)v;
         } else {
-            fprintf(stderr, "usage: bench_perf [--spot DIR] [--frames N] [--out FILE] [--quick]\n");
+            fprintf(stderr, "usage: bench_perf [--spot DIR] [--frames N] [--out FILE] [--quick] "
+                            "[--shader NAME] [--aa none|msaa|ssaa] [--threads 1|2]\n");
             return 2;
         }
     }
     if (quick) frames = 3;
+    /* A filtered run has no full table: no goals, no report. */
+    bool filtered = only_shader >= 0 || only_aa >= 0 || only_threads > 0;
+    if (filtered) out_path = NULL;
 
     char model[1200], texture[1200], tmp_obj[256] = "";
     ras_error err = {{0}};
@@ -268,11 +314,17 @@ int main(int argc, char **argv) {
             scene->objects[0].mesh->triangle_count, frames);
     for (int s = 0; s < HW3_SHADER_COUNT; s++)
         for (int a = 0; a < 3; a++) {
+            if ((only_shader >= 0 && s != only_shader) || (only_aa >= 0 && a != only_aa)) continue;
             row *r = &rows[row_count];
-            if (!measure(scene, (hw3_shader)s, aas[a], true, 1, frames, NULL, expected, r)) return 1;
+            /* Filtered runs time the plain path over one frame only: it is
+             * the reference image, and stays out of a profile of the fast path. */
+            if (!measure(scene, (hw3_shader)s, aas[a], true, 1, filtered ? 1 : frames, NULL,
+                         expected, r))
+                return 1;
             print_row(stdout, r, false);
             row_count++;
             for (int th = 1; th <= 2; th++) {
+                if (only_threads && th != only_threads) continue;
                 r = &rows[row_count];
                 if (!measure(scene, (hw3_shader)s, aas[a], false, th, frames, expected, img, r))
                     return 1;
@@ -289,7 +341,7 @@ int main(int argc, char **argv) {
     bool have_proc = false;
     char out_png[256];
     snprintf(out_png, sizeof out_png, "/tmp/raster101_bench_out_%d.png", (int)getpid());
-    if (!quick) {
+    if (!quick && !filtered) {
         char prog[1200];
         snprintf(prog, sizeof prog, "%s/bin/hw3_shading_ref", RAS_BINARY_DIR);
         char *v_argv[] = {prog, "--version", NULL};
@@ -341,14 +393,19 @@ int main(int argc, char **argv) {
         if (getloadavg(load, 3) == 3)
             fprintf(f, "Load average when the report was written: %.2f (1 min), %.2f (5 min) on "
                        "%ld CPUs.\n\n", load[0], load[1], sysconf(_SC_NPROCESSORS_ONLN));
-        fprintf(f, "| shader | AA | mode | threads | median ms | min ms | max ms | fragments shaded "
-                   "| ns/fragment | buffers MiB | same image as plain |\n"
-                   "|---|---|---|---|---|---|---|---|---|---|---|\n");
+        fprintf(f, "| shader | AA | mode | threads | median ms | min ms | max ms | CPU ms | "
+                   "fragments shaded | ns/fragment | buffers MiB | same image as plain |\n"
+                   "|---|---|---|---|---|---|---|---|---|---|---|---|\n");
         for (int i = 0; i < row_count; i++) print_row(f, &rows[i], true);
-        fprintf(f, "\nns/fragment is the median frame time over the fragments shaded (the whole "
-                   "frame, not the shader alone). \"buffers\" is the colour and depth memory the "
-                   "frame held: the plain pipeline's full-screen framebuffer (samples per pixel × "
-                   "16 bytes × 700²), the fast path's per-thread tile buffers.\n");
+        fprintf(f,
+                "\nns/fragment is the median frame time over the fragments shaded (the whole "
+                "frame, not the shader alone). \"CPU ms\" is the median processor time of a "
+                "frame summed over all the process's threads (CLOCK_PROCESS_CPUTIME_ID): time "
+                "spent preempted by other processes is not in it, so on a busy machine it is the "
+                "steadier figure; with 2 threads it is the work of both. \"buffers\" is the colour "
+                "and depth memory the "
+                "frame held: the plain pipeline's full-screen framebuffer (samples per pixel × "
+                "16 bytes × 700²), the fast path's per-thread tile buffers.\n");
         /* The goals of issue 9, from the rows above. */
         const row *g[HW3_SHADER_COUNT][3][3] = {{{0}}}; /* shader, aa, 0 plain / 1-2 threads */
         for (int i = 0; i < row_count; i++) {

@@ -30,6 +30,8 @@
 #include "stage2_clip.h"  /* ras_clip_triangle */
 #include "stage3_setup.h" /* ras_setup_triangle */
 
+#include "fast_simd.h" /* vf4, v3x4: four fragments at once */
+
 #include <math.h>      /* llround, fabsf, isfinite */
 #include <pthread.h>   /* pthread_create, pthread_join */
 #include <stdatomic.h> /* atomic_int */
@@ -187,7 +189,19 @@ typedef struct frame {
     uint32_t *bin_index;
     atomic_int next_tile;
     ras_image *out;
+    int batch; /* BATCH_*: shade through the queue, four at a time */
 } frame;
+
+/* A visible fragment waiting to be shaded: its colour goes to the tile
+ * samples base + k for every bit k of mask. */
+typedef struct queued {
+    const fast_tri *r;
+    vec3s bary;
+    int base;
+    uint64_t mask; /* RAS_MAX_SAMPLES is 64 */
+} queued;
+
+#define QUEUE 8
 
 typedef struct worker {
     frame *fr;
@@ -196,6 +210,10 @@ typedef struct worker {
     fragment_shader_payload pay[HW3_MAX_OBJECTS];
     ras_counters k;
     pthread_t thread;
+    queued q[QUEUE];
+    int qn;
+    bool sz_valid; /* spec_zero_for's cache */
+    float sz_p, sz;
 } worker;
 
 /* perspective_correct_barycentric (solution/shading.c), inlined. */
@@ -288,6 +306,207 @@ static vec3s shade(worker *w, const fast_tri *r, vec3s bary) {
     return fr->stage->shader(pay);
 }
 
+/* ---- batched shading: four fragments at a time ----------------------------- */
+
+/* The Normal, Blinn-Phong and texture shaders are straight-line float
+ * arithmetic, so visible fragments are queued (in drawing order) and shaded
+ * four at a time by the same operations in vector lanes (fast_simd.h says why
+ * that is bit-exact). Colours are written when the queue is flushed, in queue
+ * order, so a pixel drawn twice still ends with the later triangle's colour;
+ * depth was already tested and written when the fragment was queued. A queue
+ * holds one object's fragments (one material). powf, the texture lookup and the
+ * rare lanes with a near-zero vector to normalise (see v3_normalize) are done
+ * per lane with the scalar functions. */
+
+enum { BATCH_NONE, BATCH_NORMAL, BATCH_PHONG, BATCH_TEXTURE };
+
+/* shade() without counting: for a lane redone by the scalar path after the
+ * vector path has already counted it. */
+static vec3s shade_silent(worker *w, const fast_tri *r, vec3s bary) {
+    ras_counters saved = w->k; /* the payloads' counters point at w->k too */
+    vec3s c = shade(w, r, bary);
+    w->k = saved;
+    return c;
+}
+
+/* glms_vec3_scale(a0, b.x), then glms_vec3_muladds with a1, b.y and a2, b.z */
+static inline vf4 interp_lane(vf4 a0, vf4 a1, vf4 a2, v3x4 b) {
+    vf4 r = a0 * b.x;
+    r = r + a1 * b.y;
+    return r + a2 * b.z;
+}
+
+static inline v3x4 interp3_x4(const v3x4 a[3], v3x4 b) {
+    return (v3x4){interp_lane(a[0].x, a[1].x, a[2].x, b), interp_lane(a[0].y, a[1].y, a[2].y, b),
+                  interp_lane(a[0].z, a[1].z, a[2].z, b)};
+}
+
+/* powf(x, p) is +0 for 0 <= x <= spec_zero (see fast_blinn_phong); cached per
+ * worker for the last exponent seen. */
+static float spec_zero_for(worker *w, float p) {
+    if (w->sz_valid && w->sz_p == p) return w->sz;
+    float sz = -1.0f; /* never */
+    if (p >= 1.0f && isfinite(p)) sz = nextafterf((float)pow(2.0, -200.0 / p), 0.0f);
+    w->sz_valid = true;
+    w->sz_p = p;
+    w->sz = sz;
+    return sz;
+}
+
+static void shade4(worker *w, const queued *q, int lanes) {
+    const frame *fr = w->fr;
+    fragment_shader_payload *pay = &w->pay[q[0].r->object];
+    /* gather: screen barycentrics, 1/w's corners and the varyings, lane by
+     * lane (unused lanes repeat lane 0) */
+    v3x4 bs, wv, nrm[3], pos[3];
+    vf4 uvx[3], uvy[3];
+    for (int i = 0; i < 4; i++) {
+        const queued *e = &q[i < lanes ? i : 0];
+        const ras_triangle *t = &e->r->t;
+        bs.x[i] = e->bary.x;
+        bs.y[i] = e->bary.y;
+        bs.z[i] = e->bary.z;
+        wv.x[i] = t->v[0].w;
+        wv.y[i] = t->v[1].w;
+        wv.z[i] = t->v[2].w;
+        for (int c = 0; c < 3; c++) {
+            nrm[c].x[i] = t->normal[c].x;
+            nrm[c].y[i] = t->normal[c].y;
+            nrm[c].z[i] = t->normal[c].z;
+        }
+        if (fr->batch != BATCH_NORMAL)
+            for (int c = 0; c < 3; c++) {
+                pos[c].x[i] = t->view_pos[c].x;
+                pos[c].y[i] = t->view_pos[c].y;
+                pos[c].z[i] = t->view_pos[c].z;
+            }
+        if (fr->batch == BATCH_TEXTURE)
+            for (int c = 0; c < 3; c++) {
+                uvx[c][i] = t->uv[c].x;
+                uvy[c][i] = t->uv[c].y;
+            }
+    }
+    vi4 odd = {0, 0, 0, 0};
+    /* persp_bary */
+    v3x4 b = bs;
+    if (fr->stage->perspective) {
+        v3x4 p = {bs.x / wv.x, bs.y / wv.y, bs.z / wv.z};
+        vf4 sum = p.x + p.y + p.z;
+        vi4 ok = (sum > vf4_splat(0.0f)) & (sum <= vf4_splat(FLT_MAX)); /* > 0 and finite */
+        v3x4 s = v3_scale(p, vf4_splat(1.0f) / sum);
+        b = (v3x4){vf4_select(ok, s.x, bs.x), vf4_select(ok, s.y, bs.y), vf4_select(ok, s.z, bs.z)};
+    }
+    v3x4 normal = v3_normalize(interp3_x4(nrm, b), &odd); /* payload->normal */
+    for (int i = 0; i < lanes; i++) {
+        w->k.varyings_interpolated += fr->varyings_per_fragment;
+        w->k.fragments_shaded++;
+    }
+    v3x4 color;
+    if (fr->batch == BATCH_NORMAL) {
+        /* normal_fragment_shader: (normalize(n) + 1) · 0.5 */
+        v3x4 n = v3_normalize(normal, &odd);
+        color = v3_scale(v3_add(n, v3_splat((vec3s){{1.0f, 1.0f, 1.0f}})), vf4_splat(0.5f));
+    } else {
+        v3x4 point = interp3_x4(pos, b); /* payload->view_pos */
+        v3x4 kd = v3_splat(pay->color);
+        if (fr->batch == BATCH_TEXTURE && pay->texture) {
+            vf4 u = interp_lane(uvx[0], uvx[1], uvx[2], b),
+                vv = interp_lane(uvy[0], uvy[1], uvy[2], b);
+            for (int i = 0; i < 4; i++) {
+                /* lanes past `lanes` copy lane 0: no lookup, no count */
+                vec3s c = i < lanes ? texture_sample(pay, pay->texture, (vec2s){{u[i], vv[i]}})
+                                    : (vec3s){{kd.x[0], kd.y[0], kd.z[0]}};
+                kd.x[i] = c.x;
+                kd.y[i] = c.y;
+                kd.z[i] = c.z;
+            }
+        }
+        /* fast_blinn_phong */
+        if (pay->counters) {
+            pay->counters->stages_run |= RAS_STAGE_LIGHTING;
+            pay->counters->lighting_evaluations += (uint64_t)pay->light_count * (uint64_t)lanes;
+        }
+        float spec_zero = spec_zero_for(w, pay->p);
+        v3x4 n = v3_normalize(normal, &odd);
+        v3x4 v = v3_normalize((v3x4){-point.x, -point.y, -point.z}, &odd);
+        color = v3_splat(glms_vec3_mul(pay->ka, pay->ambient_intensity));
+        v3x4 ks = v3_splat(pay->ks);
+        for (int li = 0; li < pay->light_count; li++) {
+            const light *L = &pay->lights[li];
+            v3x4 to_light = v3_sub(v3_splat(L->position), point);
+            vf4 r2 = v3_dot(to_light, to_light);
+            v3x4 l = v3_normalize(to_light, &odd);
+            v3x4 h = v3_normalize(v3_add(l, v), &odd);
+            v3x4 irradiance = v3_divs(v3_splat(L->intensity), r2);
+            vf4 nl = v3_dot(n, l), nh = v3_dot(n, h);
+            vf4 zero = vf4_splat(0.0f);
+            vf4 diffuse = vf4_select(nl > zero, nl, zero);
+            vf4 x = vf4_select(nh > zero, nh, zero);
+            vf4 specular = zero;
+            vi4 lit = x > vf4_splat(spec_zero);
+            if (vi4_any(lit))
+                for (int i = 0; i < 4; i++)
+                    if (lit[i]) specular[i] = powf(x[i], pay->p);
+            color = v3_add(color, v3_scale(v3_mul(kd, irradiance), diffuse));
+            color = v3_add(color, v3_scale(v3_mul(ks, irradiance), specular));
+        }
+    }
+    for (int i = 0; i < lanes; i++) {
+        vec3s c = {{color.x[i], color.y[i], color.z[i]}};
+        if (odd[i]) c = shade_silent(w, q[i].r, q[i].bary);
+        for (uint64_t m = q[i].mask; m; m &= m - 1)
+            w->color[q[i].base + __builtin_ctzll(m)] = c;
+    }
+}
+
+static void flush_queue(worker *w) {
+    int n = w->qn;
+    w->qn = 0;
+    for (int c = 0; c < n; c += 4)
+        shade4(w, &w->q[c], n - c < 4 ? n - c : 4);
+}
+
+/* The colour map is far larger than the caches and bilinear lookups wait on
+ * memory: when a fragment is queued, name the cache lines its lookup will read
+ * (two texel rows, from the screen-space uv, which is close to the
+ * perspective-correct one), so they arrive while the queue fills. Only a
+ * hint: the lookup itself is the reference's. */
+static inline void prefetch_texels(const worker *w, const fast_tri *r, vec3s b) {
+    const ras_texture *tex = w->pay[r->object].texture;
+    if (!tex) return;
+    const ras_triangle *t = &r->t;
+    float u = t->uv[0].x * b.x + t->uv[1].x * b.y + t->uv[2].x * b.z;
+    float v = t->uv[0].y * b.x + t->uv[1].y * b.y + t->uv[2].y * b.z;
+    if (!(u >= 0.0f && u <= 1.0f && v >= 0.0f && v <= 1.0f)) return;
+    int x = (int)(u * (float)(tex->width - 1)), y = (int)(v * (float)(tex->height - 1));
+    const vec3s *row = tex->texels + (size_t)y * (size_t)tex->width + x;
+    __builtin_prefetch(row);
+    if (y + 1 < tex->height) __builtin_prefetch(row + tex->width);
+}
+
+/* Queue a visible fragment: its colour goes to the samples `mask` of tile
+ * sample index `base`. */
+static inline void enqueue(worker *w, const fast_tri *r, vec3s bary, int base, uint64_t mask) {
+    if (w->fr->batch == BATCH_TEXTURE) prefetch_texels(w, r, bary);
+    if (w->qn == QUEUE || (w->qn && w->q[0].r->object != r->object)) flush_queue(w);
+    w->q[w->qn++] = (queued){r, bary, base, mask};
+}
+
+static int batch_kind(const hw3_scene *scene, const hw3_render_options *opt,
+                      const hw3_fragment_stage *stage) {
+    unsigned v = stage->varyings;
+    bool lit =
+        stage->base.light_count > 0 && (v & RAS_VARYING_NORMAL) && (v & RAS_VARYING_VIEW_POS);
+    (void)scene;
+    if (stage->shader == normal_fragment_shader && (v & RAS_VARYING_NORMAL)) return BATCH_NORMAL;
+    if (stage->shader == phong_fragment_shader && lit) return BATCH_PHONG;
+    /* trilinear needs each fragment's uv derivatives: the scalar path */
+    if (stage->shader == texture_fragment_shader && lit && (v & RAS_VARYING_UV) &&
+        opt->filter != FILTER_TRILINEAR)
+        return BATCH_TEXTURE;
+    return BATCH_NONE;
+}
+
 /* ---- rasterizing one triangle into one tile --------------------------------- */
 
 /* The reference's barycentrics of a covered point, in the original vertex
@@ -342,8 +561,13 @@ draw_pixel_samples(worker *w, const fast_tri *r, int x, int y, int tx0, int ty0,
     }
     if (!visible) return;
     if (fr->ssaa) {
-        for (int k = 0; k < n; k++)
-            if (visible >> k & 1) w->color[base + k] = shade(w, r, bary[k]);
+        for (int k = 0; k < n; k++) {
+            if (!(visible >> k & 1)) continue;
+            if (fr->batch)
+                enqueue(w, r, bary[k], base + k, 1);
+            else
+                w->color[base + k] = shade(w, r, bary[k]);
+        }
         return;
     }
     vec3s bc;
@@ -365,6 +589,10 @@ draw_pixel_samples(worker *w, const fast_tri *r, int x, int y, int tx0, int ty0,
             }
         }
         bc = bary[best];
+    }
+    if (fr->batch) {
+        enqueue(w, r, bc, base, visible);
+        return;
     }
     vec3s color = shade(w, r, bc);
     for (int k = 0; k < n; k++)
@@ -436,12 +664,44 @@ static void do_tile(worker *w, int tile) {
     int tx1 = tx0 + TILE - 1 < fr->width - 1 ? tx0 + TILE - 1 : fr->width - 1;
     int ty1 = ty0 + TILE - 1 < fr->height - 1 ? ty0 + TILE - 1 : fr->height - 1;
     vec3s clear = fr->scene->clear_color;
+    size_t first = fr->bin_start[tile], end = fr->bin_start[tile + 1];
+    if (first == end) {
+        /* No triangle touches the tile (most of the screen around a model):
+         * every pixel resolves like one pixel of clear samples, so resolve
+         * that one pixel and fill, without clearing a tile of samples. */
+        vec3s c = clear;
+        if (n > 1) {
+            for (int s = 0; s < n; s++)
+                w->color[s] = clear;
+            ras_framebuffer one = {
+                .width = 1, .height = 1, .samples = n, .color = w->color, .depth = w->depth};
+            c = resolve_pixel(&one, 0, 0);
+        }
+        for (int y = ty0; y <= ty1; y++) {
+            vec3s *dst = &fr->out->pixels[(size_t)(fr->height - 1 - y) * (size_t)fr->width];
+            for (int x = tx0; x <= tx1; x++)
+                dst[x] = c;
+        }
+        return;
+    }
     for (int i = 0; i < TILE * TILE * n; i++) {
         w->color[i] = clear;
         w->depth[i] = INFINITY;
     }
-    for (size_t j = fr->bin_start[tile]; j < fr->bin_start[tile + 1]; j++)
+    for (size_t j = first; j < end; j++) {
+        /* The records are visited in bin order, scattered in memory: fetch
+         * the next ones while this one is drawn. */
+        if (j + 2 < end) {
+            const char *next = (const char *)&fr->tri[fr->bin_index[j + 2]];
+            __builtin_prefetch(next);
+            __builtin_prefetch(next + 64);
+            __builtin_prefetch(next + 128);
+            __builtin_prefetch(next + 192);
+            __builtin_prefetch(next + 256);
+        }
         draw_in_tile(w, &fr->tri[fr->bin_index[j]], tx0, ty0, tx1, ty1);
+    }
+    flush_queue(w);
     /* Resolve: sample 0 with one sample (ras_resolve_frame), else the hw2
      * reference resolve_pixel on a framebuffer view of this tile. */
     ras_framebuffer view = {.width = TILE, .height = TILE, .samples = n,
@@ -513,6 +773,7 @@ bool hw3_fast_render(const hw3_scene *scene, const hw3_render_options *opt,
     fr.centre_sample = -1;
     for (int s = 0; s < fr.n && fr.centre_sample < 0; s++)
         if (fr.off_x[s] == fr.off_x[fr.n] && fr.off_y[s] == fr.off_y[fr.n]) fr.centre_sample = s;
+    fr.batch = batch_kind(scene, opt, stage);
     fr.varyings_per_fragment = (uint64_t)(!!(stage->varyings & RAS_VARYING_NORMAL) +
                                           !!(stage->varyings & RAS_VARYING_VIEW_POS) +
                                           !!(stage->varyings & RAS_VARYING_UV));
