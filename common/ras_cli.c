@@ -234,7 +234,10 @@ void ras_cli_help(unsigned accepted, const char *program, const char *usage, cha
         ADD("      --height FILE     height map for bump / displacement\n");
         ADD("      --fit             scale and centre the model to fill the view\n");
     }
-    if (accepted & RAS_OPT_SCENE) ADD("      --scene FILE      scene description (JSON)\n");
+    if (accepted & RAS_OPT_SCENE)
+        ADD("      --scene FILE      the scene to draw (JSON, docs/scenes.md; default: the "
+            "built-in\n                        scene of this assignment); the options here "
+            "override it\n");
     if (accepted & RAS_OPT_COMPARE) {
         ADD("      --compare         compare the render with its reference image and write a "
             "difference image\n");

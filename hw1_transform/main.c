@@ -10,7 +10,14 @@
  *   hw1_transform -r 20 -o out.png render once, headless
  *   hw1_transform -r 20 out.png    the classic positional form
  *   hw1_transform --axis 0,1,0 -r 30 -o out.png   bonus: rotation about any axis
+ *   hw1_transform --scene scenes/hw1_classic.json -o out.png
+ *
+ * The scene (camera, objects, size, starting angle) comes from --scene FILE or,
+ * without it, from the built-in copy of scenes/hw1_classic.json; -r, --axis
+ * and --size override it. hw1 has no rasterizer yet: every scene is drawn as
+ * a wireframe, each object in its material colour.
  */
+#include "ras_builtin_scenes.h"
 #include "ras_cli.h"
 #include "ras_pipeline.h"
 #include "ras_viewer.h"
@@ -20,31 +27,40 @@
 #include <stdio.h>
 #include <stdlib.h>
 
-#define ACCEPTED (RAS_OPT_ANGLE | RAS_OPT_STATS)
-
-/* The classic hw1 scene. */
-static const vec3s eye = {{0, 0, 5}};
-static const float fov_deg = 45, z_near = 0.1f, z_far = 50;
+#define ACCEPTED (RAS_OPT_ANGLE | RAS_OPT_SCENE | RAS_OPT_STATS)
+#define PROGRAM "hw1_transform"
 
 typedef struct app {
     ras_cli cli;
-    ras_mesh *triangle;
+    ras_scene *scene;
+    ras_scene_assets *assets;
+    bool axis_set; /* --axis, or the scene's model_rotation.axis */
+    vec3s axis;
     ras_pipeline *pipeline;
     ras_image *image;
 } app;
 
-static mat4s model_matrix(const app *a, float angle) {
-    return a->cli.axis_set ? get_rotation(a->cli.axis, angle) : get_model_matrix(angle);
+/* The program's rotation: get_model_matrix (about z) or, with an axis, the
+ * bonus get_rotation. The scene inserts it after each object's own rotations
+ * (ras_scene_model_matrix), so each object turns about its own origin. */
+static mat4s spin_matrix(const app *a, float angle) {
+    return a->axis_set ? get_rotation(a->axis, angle) : get_model_matrix(angle);
 }
 
 static bool render(app *a, float angle, ras_error *err) {
+    const ras_scene *s = a->scene;
     ras_pipeline_begin_frame(a->pipeline);
     mat4s projection =
-        get_projection_matrix(fov_deg, (float)a->image->width / (float)a->image->height, z_near,
-                              z_far);
-    if (!ras_pipeline_draw_mesh(a->pipeline, a->triangle, model_matrix(a, angle),
-                                ras_view_matrix_eye(eye), projection, err))
-        return false;
+        get_projection_matrix(s->camera.fov_deg, (float)a->image->width / (float)a->image->height,
+                              s->camera.z_near, s->camera.z_far);
+    mat4s view = ras_scene_view_matrix(s), spin = spin_matrix(a, angle);
+    for (int i = 0; i < s->object_count; i++) {
+        a->pipeline->config.wire_color = s->objects[i].material.color;
+        if (!ras_pipeline_draw_mesh(a->pipeline, a->assets->meshes[i],
+                                    ras_scene_model_matrix(&s->objects[i], spin), view, projection,
+                                    err))
+            return false;
+    }
     ras_pipeline_end_frame(a->pipeline, a->image);
     return true;
 }
@@ -54,8 +70,10 @@ static bool render(app *a, float angle, ras_error *err) {
 static const char *reference_name(const app *a, float angle, char *buf, size_t size) {
     int deg = (int)angle;
     if ((float)deg != angle) return NULL;
-    if (!a->cli.axis_set) snprintf(buf, size, "hw1_r%d", deg);
-    else if (a->cli.axis.x == 0 && a->cli.axis.y > 0 && a->cli.axis.z == 0)
+    if (a->cli.scene) return NULL; /* the references show the classic scene */
+    if (!a->axis_set)
+        snprintf(buf, size, "hw1_r%d", deg);
+    else if (a->axis.x == 0 && a->axis.y > 0 && a->axis.z == 0)
         snprintf(buf, size, "hw1_axis_y%d", deg);
     else return NULL;
     return buf;
@@ -101,11 +119,14 @@ int main(int argc, char **argv) {
     switch (ras_cli_parse(argc, argv, ACCEPTED, &a.cli, &err)) {
     case RAS_CLI_HELP: {
         char help[4096];
-        ras_cli_help(ACCEPTED, "hw1_transform",
-                     "Draws the hw1 triangle as a wireframe. With -o it renders once and "
-                     "writes a PNG;\nwithout it, a window opens (a/d rotate by 10 degrees, "
-                     "v: yours/reference/difference, Esc quits).\nClassic form: hw1_transform -r ANGLE FILE.png\n",
-                     help, sizeof help);
+        ras_cli_help(
+            ACCEPTED, "hw1_transform",
+            "Draws the hw1 scene (default: the classic triangle) as a wireframe. With -o it\n"
+            "renders once and "
+            "writes a PNG;\nwithout it, a window opens (a/d rotate by 10 degrees, "
+            "v: yours/reference/difference, Esc quits).\nClassic form: hw1_transform -r ANGLE "
+            "FILE.png\n",
+            help, sizeof help);
         fputs(help, stdout);
         return 0;
     }
@@ -127,21 +148,33 @@ int main(int argc, char **argv) {
                         "render to a file instead, e.g. hw1_transform -r 20 -o out.png\n");
         return 2;
     }
-    int width = a.cli.width ? a.cli.width : 700, height = a.cli.height ? a.cli.height : 700;
-    a.triangle = ras_mesh_create_triangle((vec3s){{2, 0, -2}}, (vec3s){{0, 2, -2}},
-                                          (vec3s){{-2, 0, -2}}, (vec3s){{1, 1, 1}});
+    /* The scene first: a scene that does not load draws nothing (exit 2). */
+    a.scene = ras_scene_load_or_builtin(a.cli.scene, "hw1_classic", &err);
+    a.assets = a.scene ? ras_scene_load_assets(a.scene, &err) : NULL;
+    if (!a.assets) {
+        fprintf(stderr, PROGRAM ": %s\n", err.msg);
+        ras_scene_destroy(a.scene);
+        return 2;
+    }
+    /* Command-line flags override the scene. */
+    float angle = a.cli.angle_set ? a.cli.angle : a.scene->model_rotation_deg;
+    a.axis_set = a.cli.axis_set || a.scene->model_rotation_axis_set;
+    a.axis = a.cli.axis_set ? a.cli.axis : a.scene->model_rotation_axis;
+    int width = a.cli.width ? a.cli.width : a.scene->width;
+    int height = a.cli.height ? a.cli.height : a.scene->height;
     ras_pipeline_config cfg = {.width = width,
                                .height = height,
+                               .clear_color = a.scene->clear_color,
                                .wireframe = true,
                                .wire_color = {{1, 1, 1}}};
     a.pipeline = ras_pipeline_create(&cfg, &err);
     a.image = a.pipeline ? ras_image_create(width, height, &err) : NULL;
     int status = 0;
-    if (!a.triangle || !a.pipeline || !a.image) {
-        fprintf(stderr, "hw1_transform: %s\n", a.triangle ? err.msg : "out of memory");
+    if (!a.pipeline || !a.image) {
+        fprintf(stderr, PROGRAM ": %s\n", err.msg);
         status = 1;
     } else if (a.cli.output) {
-        if (!render(&a, a.cli.angle, &err) || !ras_image_save(a.image, a.cli.output, &err)) {
+        if (!render(&a, angle, &err) || !ras_image_save(a.image, a.cli.output, &err)) {
             fprintf(stderr, "hw1_transform: %s\n", err.msg);
             status = 1;
         } else {
@@ -153,10 +186,11 @@ int main(int argc, char **argv) {
             fprintf(stderr, "wrote %s\n", a.cli.output);
         }
     } else {
-        status = run_window(&a, a.cli.angle, argv[0]);
+        status = run_window(&a, angle, argv[0]);
     }
     ras_image_destroy(a.image);
     ras_pipeline_destroy(a.pipeline);
-    ras_mesh_destroy(a.triangle);
+    ras_scene_assets_destroy(a.assets);
+    ras_scene_destroy(a.scene);
     return status;
 }

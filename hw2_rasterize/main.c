@@ -14,7 +14,14 @@
  *   hw2_rasterize --aa msaa --samples 4 -o out.png
  *   hw2_rasterize --aa msaa --compare      compare with tests/reference/hw2_msaa4.png
  *   hw2_rasterize --stats -o out.png       what each stage did, as JSON on stdout
+ *   hw2_rasterize --scene scenes/msaa_thin_triangles.json -o fan.png
+ *
+ * The scene comes from --scene FILE or, without it, from the built-in copy of
+ * scenes/hw2_classic.json; --aa, --samples, --pattern, --edges and --size
+ * override its values. hw2 draws flat colours (material × vertex colour):
+ * a scene's hw3 shader, textures and lights are not used here.
  */
+#include "ras_builtin_scenes.h"
 #include "ras_cli.h"
 #include "ras_compare.h"
 #include "ras_pipeline.h"
@@ -27,20 +34,12 @@
 #include <stdio.h>  /* printf, fprintf, snprintf */
 #include <string.h> /* strrchr, strlen */
 
-#define ACCEPTED (RAS_OPT_AA | RAS_OPT_COMPARE | RAS_OPT_STATS)
+#define ACCEPTED (RAS_OPT_AA | RAS_OPT_COMPARE | RAS_OPT_SCENE | RAS_OPT_STATS)
 #define PROGRAM "hw2_rasterize"
 
 #ifndef RAS_SOURCE_DIR
 #define RAS_SOURCE_DIR "."
 #endif
-
-/* The classic hw2 scene (GAMES101 assignment 2). */
-static const vec3s eye = {{0, 0, 5}};
-static const float fov_deg = 45, z_near = 0.1f, z_far = 50;
-static const vec3s tri_pos[2][3] = {{{{2, 0, -2}}, {{0, 2, -2}}, {{-2, 0, -2}}},
-                                    {{{3.5f, -1, -5}}, {{2.5f, 1.5f, -5}}, {{-1, 0.5f, -5}}}};
-static const vec3s tri_color[2] = {{{217 / 255.0f, 238 / 255.0f, 185 / 255.0f}},
-                                   {{185 / 255.0f, 217 / 255.0f, 238 / 255.0f}}};
 
 /* What the keys change. */
 typedef struct settings {
@@ -53,7 +52,9 @@ typedef struct settings {
 typedef struct app {
     settings set;
     int width, height;
-    ras_mesh *tri[2];
+    bool own_scene; /* --scene: the reference images show the built-in scene only */
+    ras_scene *scene;
+    ras_scene_assets *assets;
     ras_pipeline *pipeline;
     ras_image *image;
 } app;
@@ -61,6 +62,8 @@ typedef struct app {
 static bool make_pipeline(app *a, ras_error *err) {
     ras_pipeline_config cfg = {.width = a->width,
                                .height = a->height,
+                               .clear_color = a->scene->clear_color,
+                               .cull = a->scene->cull,
                                .aa = a->set.aa,
                                .edges = a->set.edges,
                                .varyings = RAS_VARYING_COLOR,
@@ -77,14 +80,24 @@ static bool make_pipeline(app *a, ras_error *err) {
     return true;
 }
 
+/* The scene's model_rotation with hw1's matrices (hw2 has no angle option);
+ * 0 degrees is exactly the identity, whatever hw1 returns. */
+static mat4s spin_matrix(const ras_scene *s) {
+    if (s->model_rotation_deg == 0) return glms_mat4_identity();
+    return s->model_rotation_axis_set ? get_rotation(s->model_rotation_axis, s->model_rotation_deg)
+                                      : get_model_matrix(s->model_rotation_deg);
+}
+
 static bool render(app *a, ras_error *err) {
+    const ras_scene *s = a->scene;
     ras_pipeline_begin_frame(a->pipeline);
-    mat4s model = glms_mat4_identity();
-    mat4s view = ras_view_matrix_eye(eye);
-    mat4s projection =
-        get_projection_matrix(fov_deg, (float)a->width / (float)a->height, z_near, z_far);
-    for (int i = 0; i < 2; i++)
-        if (!ras_pipeline_draw_mesh(a->pipeline, a->tri[i], model, view, projection, err))
+    mat4s view = ras_scene_view_matrix(s), spin = spin_matrix(s);
+    mat4s projection = get_projection_matrix(s->camera.fov_deg, (float)a->width / (float)a->height,
+                                             s->camera.z_near, s->camera.z_far);
+    for (int i = 0; i < s->object_count; i++)
+        if (!ras_pipeline_draw_mesh(a->pipeline, a->assets->meshes[i],
+                                    ras_scene_model_matrix(&s->objects[i], spin), view, projection,
+                                    err))
             return false;
     ras_pipeline_end_frame(a->pipeline, a->image);
     return true;
@@ -116,8 +129,14 @@ static void sibling_path(const char *output, const char *variant, const char *su
 static int compare_with_reference(const app *a, const char *reference, const char *output) {
     char variant[64], path[1024], diff_path[1024];
     variant_name(&a->set, variant, sizeof variant);
-    if (reference) snprintf(path, sizeof path, "%s", reference);
-    else snprintf(path, sizeof path, "%s/tests/reference/hw2_%s.png", RAS_SOURCE_DIR, variant);
+    if (reference)
+        snprintf(path, sizeof path, "%s", reference);
+    else if (a->own_scene) {
+        fprintf(stderr, PROGRAM ": --compare with --scene needs --reference FILE (the "
+                                "reference images show the built-in scene)\n");
+        return 2;
+    } else
+        snprintf(path, sizeof path, "%s/tests/reference/hw2_%s.png", RAS_SOURCE_DIR, variant);
     ras_error err = {{0}};
     ras_image *expected = ras_image_load(path, &err);
     if (!expected) {
@@ -242,7 +261,7 @@ static int run_window(app *a, const char *argv0) {
             char variant[64], name[80];
             variant_name(&a->set, variant, sizeof variant);
             snprintf(name, sizeof name, "hw2_%s", variant);
-            ras_viewer_set_reference(&viewer, name, a->width, a->height);
+            ras_viewer_set_reference(&viewer, a->own_scene ? NULL : name, a->width, a->height);
             dirty = false;
             redraw = true;
         }
@@ -314,7 +333,8 @@ int main(int argc, char **argv) {
     case RAS_CLI_HELP: {
         char help[4096];
         ras_cli_help(ACCEPTED, PROGRAM,
-                     "Draws the two hw2 triangles with your rasterizer (coverage, z-buffer, "
+                     "Draws the hw2 scene (default: the two classic triangles) with your "
+                     "rasterizer\n(coverage, z-buffer, "
                      "anti-aliasing).\nWith -o or --compare it renders once, headless; "
                      "without, a window opens:\n  m AA mode, s sample count, p sample "
                      "pattern, e edge functions,\n  v your picture / the reference / "
@@ -337,15 +357,37 @@ int main(int argc, char **argv) {
                 cli.positional[cli.positional_count - 1]);
         return 2;
     }
-    app a = {.set = {.aa = cli.aa,
-                     .samples = cli.samples ? cli.samples : 4,
-                     .pattern = cli.pattern_set ? cli.pattern : RAS_PATTERN_ORDERED,
-                     .edges = cli.edges},
-             .width = cli.width ? cli.width : 700,
-             .height = cli.height ? cli.height : 700};
-    if (cli.samples > 1 && !cli.aa_set) a.set.aa = RAS_AA_MSAA; /* --samples N alone means MSAA */
+    /* The scene first: a scene that does not load draws nothing (exit 2). */
+    app a = {.own_scene = cli.scene != NULL};
+    a.scene = ras_scene_load_or_builtin(cli.scene, "hw2_classic", &err);
+    a.assets = a.scene ? ras_scene_load_assets(a.scene, &err) : NULL;
+    if (!a.assets) {
+        fprintf(stderr, PROGRAM ": %s\n", err.msg);
+        ras_scene_destroy(a.scene);
+        return 2;
+    }
+    const ras_scene *sc = a.scene;
+    if (sc->shader != RAS_SHADER_FLAT)
+        fprintf(stderr,
+                PROGRAM ": note: hw2 draws flat colours; the scene's \"%s\" shader "
+                        "is hw3's (hw3_shading --scene)\n",
+                ras_scene_shader_name(sc->shader));
+    /* The scene's settings, then the command line over them. */
+    a.set = (settings){.aa = sc->aa,
+                       .samples = sc->aa != RAS_AA_NONE ? sc->samples : 4,
+                       .pattern = sc->pattern_kind,
+                       .edges = sc->edges};
+    if (cli.aa_set) a.set.aa = cli.aa;
+    if (cli.samples) a.set.samples = cli.samples;
+    if (cli.pattern_set) a.set.pattern = cli.pattern;
+    if (cli.edges_set) a.set.edges = cli.edges;
+    a.width = cli.width ? cli.width : sc->width;
+    a.height = cli.height ? cli.height : sc->height;
+    if (cli.samples > 1 && !cli.aa_set && a.set.aa == RAS_AA_NONE)
+        a.set.aa = RAS_AA_MSAA; /* --samples N alone means MSAA */
     /* Ordered grids have no 2x or 8x: without --pattern, those counts take
      * the standard pattern. */
+    int status = 0;
     ras_sample_pattern probe;
     if (!cli.pattern_set && a.set.aa != RAS_AA_NONE &&
         !ras_sample_pattern_make(RAS_PATTERN_ORDERED, a.set.samples, &probe, NULL))
@@ -355,23 +397,20 @@ int main(int argc, char **argv) {
         !ras_sample_pattern_make(a.set.pattern, a.set.samples, &probe, &err)) {
         fprintf(stderr, PROGRAM ": %s (--pattern %s --samples %d)\n", err.msg,
                 ras_pattern_kind_name(a.set.pattern), a.set.samples);
-        return 2;
+        status = 2;
     }
     bool headless = cli.output || cli.compare;
     /* Only ask about a display when a window is wanted: headless runs never
      * touch highgui. */
-    if (!headless && !ras_window_available()) {
-        fprintf(stderr, PROGRAM ": no display to open a window on (DISPLAY is not set); "
+    if (status) {
+        /* nothing to draw */
+    } else if (!headless && !ras_window_available()) {
+        fprintf(stderr,
+                PROGRAM ": no display to open a window on (DISPLAY is not set); "
                         "render to a file instead, e.g. " PROGRAM " --aa msaa -o out.png\n");
-        return 2;
-    }
-    for (int i = 0; i < 2; i++)
-        a.tri[i] = ras_mesh_create_triangle(tri_pos[i][0], tri_pos[i][1], tri_pos[i][2],
-                                            tri_color[i]);
-    a.image = ras_image_create(a.width, a.height, &err);
-    int status = 0;
-    if (!a.tri[0] || !a.tri[1] || !a.image) {
-        fprintf(stderr, PROGRAM ": %s\n", a.image ? "out of memory" : err.msg);
+        status = 2;
+    } else if (!(a.image = ras_image_create(a.width, a.height, &err))) {
+        fprintf(stderr, PROGRAM ": %s\n", err.msg);
         status = 1;
     } else if (headless) {
         if (!make_pipeline(&a, &err) || !render(&a, &err) ||
@@ -392,6 +431,7 @@ int main(int argc, char **argv) {
     }
     ras_image_destroy(a.image);
     ras_pipeline_destroy(a.pipeline);
-    for (int i = 0; i < 2; i++) ras_mesh_destroy(a.tri[i]);
+    ras_scene_assets_destroy(a.assets);
+    ras_scene_destroy(a.scene);
     return status;
 }

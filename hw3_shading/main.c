@@ -14,7 +14,14 @@
  *   hw3_shading --shader phong -o out.png     render once, headless
  *   hw3_shading out.png phong                 the classic positional form
  *   hw3_shading --model spot.obj --texture spot_texture.png --shader texture -o spot.png
+ *   hw3_shading --scene scenes/textured_teapot_trilinear.json -o teapot.png
+ *
+ * The scene comes from --scene FILE or, without it, from the built-in copy of
+ * scenes/hw3_default.json (or, with --model, the classic GAMES101 model
+ * scene); --shader, --filter, --aa, --samples, --pattern, --edges and --size
+ * override the scene's values.
  */
+#include "ras_builtin_scenes.h"
 #include "ras_cli.h"
 #include "ras_compare.h"
 #include "ras_viewer.h"
@@ -24,7 +31,8 @@
 #include <stdio.h>
 #include <string.h>
 
-#define ACCEPTED (RAS_OPT_SHADING | RAS_OPT_MODEL | RAS_OPT_AA | RAS_OPT_STATS | RAS_OPT_COMPARE)
+#define ACCEPTED                                                                                   \
+    (RAS_OPT_SHADING | RAS_OPT_MODEL | RAS_OPT_AA | RAS_OPT_SCENE | RAS_OPT_STATS | RAS_OPT_COMPARE)
 #define PROGRAM "hw3_shading"
 
 static const char usage[] =
@@ -32,7 +40,8 @@ static const char usage[] =
     "once and writes a PNG; without it, a window opens (1-5: shader, f: filter,\n"
     "p: perspective-correct on/off, a/d or mouse: rotate, v: yours/reference/\n"
     "difference, Esc quits).\n"
-    "Default scene: built-in sphere, torus, cube and teapot on a floor (no files).\n"
+    "Default scene: scenes/hw3_default.json (built in): a sphere, torus, cube and\n"
+    "  teapot on a floor, no files needed; --scene FILE draws another.\n"
     "Classic form: hw3_shading OUTPUT.png [normal|phong|texture|bump|displacement]\n"
     "Classic model scene (GAMES101 numbers): --model spot_triangulated_good.obj\n"
     "  --texture spot_texture.png --shader texture  (bump/displacement read --height,\n"
@@ -40,6 +49,7 @@ static const char usage[] =
 
 typedef struct app {
     ras_cli cli;
+    ras_scene *file_scene; /* the scene file (or the built-in one); NULL with --model */
     hw3_scene *scene;
     hw3_render_options opt;
     ras_image *image;
@@ -47,16 +57,23 @@ typedef struct app {
     const char *argv0;
 } app;
 
-static bool parse_aa(const ras_cli *cli, hw3_render_options *opt, ras_error *err) {
-    opt->aa = cli->aa_set ? cli->aa : RAS_AA_NONE;
+/* --aa, --samples and --pattern over the scene's anti-aliasing (`rs`, NULL
+ * with --model: none). */
+static bool parse_aa(const ras_cli *cli, const ras_scene *rs, hw3_render_options *opt,
+                     ras_error *err) {
+    if (!cli->aa_set && !cli->samples && !cli->pattern_set) return true; /* the scene's */
+    bool scene_aa = rs && rs->aa != RAS_AA_NONE;
+    opt->aa = cli->aa_set ? cli->aa : rs ? rs->aa : RAS_AA_NONE;
     if (opt->aa == RAS_AA_NONE) {
         if (cli->samples > 1)
             return ras_error_set(err, "--samples %d needs --aa msaa or --aa ssaa", cli->samples);
         opt->pattern = ras_sample_pattern_center();
         return true;
     }
-    ras_pattern_kind kind = cli->pattern_set ? cli->pattern : RAS_PATTERN_ORDERED;
-    int samples = cli->samples ? cli->samples : 4;
+    ras_pattern_kind kind = cli->pattern_set ? cli->pattern
+                            : scene_aa       ? rs->pattern_kind
+                                             : RAS_PATTERN_ORDERED;
+    int samples = cli->samples ? cli->samples : scene_aa ? rs->samples : 4;
     return ras_sample_pattern_make(kind, samples, &opt->pattern, err);
 }
 
@@ -64,8 +81,11 @@ static int compare_with_reference(app *a) {
     char path[1024];
     const char *ref = a->cli.reference;
     if (!ref) {
-        if (a->cli.model) {
-            fprintf(stderr, PROGRAM ": --compare with --model needs --reference FILE\n");
+        if (a->cli.model || a->cli.scene) {
+            fprintf(stderr,
+                    PROGRAM ": --compare with --%s needs --reference FILE (the "
+                            "reference images show the built-in scene)\n",
+                    a->cli.model ? "model" : "scene");
             return 2;
         }
         snprintf(path, sizeof path, "%s/tests/reference/hw3_%s.png", RAS_SOURCE_DIR,
@@ -111,8 +131,8 @@ static void window_status(const app *a, char *buf, size_t size) {
 static const char *reference_name(const app *a, char *buf, size_t size) {
     hw3_render_options d = hw3_render_defaults();
     float turns = a->opt.angle_deg / 360.0f;
-    if (a->cli.model || a->cli.width || a->opt.filter != d.filter || a->opt.aa != d.aa ||
-        a->opt.affine || turns != (float)(int)turns)
+    if (a->cli.model || a->cli.scene || a->cli.width || a->opt.filter != d.filter ||
+        a->opt.aa != d.aa || a->opt.affine || turns != (float)(int)turns)
         return NULL;
     snprintf(buf, size, "hw3_%s", hw3_shader_name(a->opt.shader));
     return buf;
@@ -176,6 +196,21 @@ static int run_window(app *a) {
 static int run(app *a) {
     ras_error err = {{0}};
     a->opt = hw3_render_defaults();
+    if (a->cli.model && a->cli.scene) {
+        fprintf(stderr, PROGRAM ": --model and --scene both name the scene; give one (a scene "
+                                "file names its models itself)\n");
+        return 2;
+    }
+    /* The scene first: a scene that does not load draws nothing (exit 2).
+     * Its effects become the options; the command line overrides them below. */
+    if (!a->cli.model) {
+        a->file_scene = ras_scene_load_or_builtin(a->cli.scene, "hw3_default", &err);
+        if (!a->file_scene) {
+            fprintf(stderr, PROGRAM ": %s\n", err.msg);
+            return 2;
+        }
+        a->opt = hw3_render_options_from_ras(a->file_scene);
+    }
     /* The classic positional form: OUTPUT.png [SHADER]. */
     int npos = a->cli.positional_count;
     if (npos > 2 || (npos >= 1 && a->cli.output)) {
@@ -194,10 +229,16 @@ static int run(app *a) {
     }
     if ((shader && !hw3_shader_parse(shader, &a->opt.shader, &err)) ||
         (a->cli.filter && !hw3_filter_parse(a->cli.filter, &a->opt.filter, &err)) ||
-        !parse_aa(&a->cli, &a->opt, &err)) {
+        !parse_aa(&a->cli, a->file_scene, &a->opt, &err)) {
         fprintf(stderr, PROGRAM ": %s\n", err.msg);
         return 2;
     }
+    if (a->cli.edges_set) a->opt.edges = a->cli.edges;
+    if (!shader && a->file_scene && a->file_scene->shader == RAS_SHADER_FLAT)
+        fprintf(stderr,
+                PROGRAM ": note: the scene's shader \"flat\" is hw2's unlit colour; "
+                        "drawing with %s (choose with --shader)\n",
+                hw3_shader_name(a->opt.shader));
     if (!a->cli.model && (a->cli.texture || a->cli.height_map || a->cli.fit)) {
         fprintf(stderr, PROGRAM ": --texture, --height and --fit go with --model FILE\n");
         return 2;
@@ -209,10 +250,10 @@ static int run(app *a) {
     }
     a->scene = a->cli.model ? hw3_scene_create_model(a->cli.model, a->cli.texture,
                                                      a->cli.height_map, a->cli.fit, &err)
-                            : hw3_scene_create_default(&err);
+                            : hw3_scene_from_ras(a->file_scene, &err);
     if (!a->scene) {
         fprintf(stderr, PROGRAM ": %s\n", err.msg);
-        return 1;
+        return a->cli.model ? 1 : 2; /* a scene file's models and maps are part of the scene */
     }
     if (a->cli.model && !a->scene->objects[0].mesh->has_uv &&
         (a->opt.shader == HW3_SHADER_TEXTURE || a->opt.shader == HW3_SHADER_BUMP ||
@@ -259,5 +300,6 @@ int main(int argc, char **argv) {
     int status = run(&a);
     ras_image_destroy(a.image);
     hw3_scene_destroy(a.scene);
+    ras_scene_destroy(a.file_scene);
     return status;
 }

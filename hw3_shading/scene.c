@@ -174,7 +174,10 @@ static hw3_object *add_object(hw3_scene *s, const ras_mesh *mesh, vec3s color) {
                       .orient = glms_mat4_identity(),
                       .color = color,
                       .kh = 0.2f,
-                      .kn = 0.1f};
+                      .kn = 0.1f,
+                      .ka = s->ka,
+                      .ks = s->ks,
+                      .p = s->p};
     return o;
 }
 
@@ -283,8 +286,96 @@ fail:
     return NULL;
 }
 
+/* A rotation with hw3's own matrices about x and y (the ones the built-in
+ * default scene uses, so its scene file draws the same bits), and
+ * glms_rotate_make about any other axis (no z matrix written out here: that
+ * is hw1's exercise, and this file is in the student handout). */
+static mat4s rotation(const ras_scene_rotation *r) {
+    vec3s a = r->axis;
+    if (a.y == 0 && a.z == 0 && a.x > 0) return rotate_x(r->deg);
+    if (a.x == 0 && a.z == 0 && a.y > 0) return rotate_y(r->deg);
+    return glms_rotate_make(ras_deg_to_rad(r->deg), a);
+}
+
+/* The object's transform as place · R_y(yaw + angle) · orient (object_model):
+ * place = T, and a last rotation about ±y becomes yaw_deg — the program's
+ * turn about y and that rotation commute, so T · spin · R · S is kept. */
+static void object_transform(const ras_scene_object *so, hw3_object *o) {
+    o->place = translate(so->translate.x, so->translate.y, so->translate.z);
+    int n = so->rotation_count;
+    const ras_scene_rotation *last = n > 0 ? &so->rotations[n - 1] : NULL;
+    if (last && last->axis.x == 0 && last->axis.z == 0 && last->axis.y != 0) {
+        o->yaw_deg = last->axis.y > 0 ? last->deg : -last->deg;
+        n--;
+    }
+    /* R(rotations[n-1]) ⋯ R(rotations[0]) · S, skipping identity factors so
+     * the built-in default scene's matrices come out bit for bit. */
+    mat4s orient = glms_mat4_identity();
+    for (int i = 0; i < n; i++)
+        orient = i == 0 ? rotation(&so->rotations[0])
+                        : glms_mat4_mul(rotation(&so->rotations[i]), orient);
+    vec3s k = so->scale;
+    if (k.x != 1 || k.y != 1 || k.z != 1) orient = glms_mat4_mul(orient, glms_scale_make(k));
+    o->orient = orient;
+}
+
+hw3_scene *hw3_scene_from_ras(const ras_scene *rs, ras_error *err) {
+    if (rs->object_count > HW3_MAX_OBJECTS) {
+        ras_error_set(err, "%s: objects: hw3_shading draws at most %d objects, the scene has %d",
+                      rs->path, HW3_MAX_OBJECTS, rs->object_count);
+        return NULL;
+    }
+    /* Every scene file's lights fit (RAS_SCENE_MAX_LIGHTS). */
+    _Static_assert(HW3_MAX_LIGHTS >= RAS_SCENE_MAX_LIGHTS, "hw3 must take every scene's lights");
+    hw3_scene *s = calloc(1, sizeof *s);
+    if (!s) {
+        ras_error_set(err, "%s: out of memory creating the scene", rs->path);
+        return NULL;
+    }
+    s->assets = ras_scene_load_assets(rs, err);
+    if (!s->assets) {
+        free(s);
+        return NULL;
+    }
+    s->width = rs->width;
+    s->height = rs->height;
+    s->eye = rs->camera.eye;
+    s->look_at = rs->camera.view == RAS_SCENE_VIEW_LOOK_AT;
+    s->view = ras_scene_view_matrix(rs);
+    s->fov_deg = rs->camera.fov_deg;
+    s->z_near = rs->camera.z_near;
+    s->z_far = rs->camera.z_far;
+    s->clear_color = rs->clear_color;
+    s->ambient_intensity = rs->ambient;
+    s->light_count = rs->light_count;
+    for (int i = 0; i < rs->light_count; i++) {
+        const ras_scene_light *l = &rs->lights[i];
+        /* The shaders work in view space (shading.h): world lights move there. */
+        vec3s pos = l->in_world ? glms_mat4_mulv3(s->view, l->position, 1.0f) : l->position;
+        s->lights[i] = (light){pos, l->intensity};
+    }
+    for (int i = 0; i < rs->object_count; i++) {
+        const ras_scene_object *so = &rs->objects[i];
+        const ras_scene_material *m = &so->material;
+        hw3_object *o = &s->objects[s->object_count++];
+        /* kd is the base colour of phong and displacement (the texel's for texture). */
+        *o = (hw3_object){.mesh = s->assets->meshes[i],
+                          .color = m->kd_set ? m->kd : m->color,
+                          .texture = s->assets->textures[i],
+                          .height_map = s->assets->height_maps[i],
+                          .kh = m->kh,
+                          .kn = m->kn,
+                          .ka = m->ka,
+                          .ks = m->ks,
+                          .p = m->p};
+        object_transform(so, o);
+    }
+    return s;
+}
+
 void hw3_scene_destroy(hw3_scene *scene) {
     if (!scene) return;
+    ras_scene_assets_destroy(scene->assets);
     for (int i = 0; i < scene->mesh_count; i++) ras_mesh_destroy(scene->meshes[i]);
     for (int i = 0; i < scene->texture_count; i++) ras_texture_destroy(scene->textures[i]);
     free(scene);
@@ -296,7 +387,42 @@ hw3_render_options hw3_render_defaults(void) {
     return (hw3_render_options){.shader = HW3_SHADER_NORMAL,
                                 .filter = FILTER_BILINEAR,
                                 .aa = RAS_AA_NONE,
-                                .pattern = ras_sample_pattern_center()};
+                                .pattern = ras_sample_pattern_center(),
+                                .cull = RAS_CULL_NONE,
+                                .edges = RAS_EDGES_FIXED};
+}
+
+hw3_render_options hw3_render_options_from_ras(const ras_scene *rs) {
+    hw3_render_options opt = hw3_render_defaults();
+    switch (rs->shader) {
+    case RAS_SHADER_NORMAL: opt.shader = HW3_SHADER_NORMAL; break;
+    case RAS_SHADER_PHONG: opt.shader = HW3_SHADER_PHONG; break;
+    case RAS_SHADER_TEXTURE: opt.shader = HW3_SHADER_TEXTURE; break;
+    case RAS_SHADER_BUMP: opt.shader = HW3_SHADER_BUMP; break;
+    case RAS_SHADER_DISPLACEMENT: opt.shader = HW3_SHADER_DISPLACEMENT; break;
+    case RAS_SHADER_FLAT: break;
+    }
+    opt.filter = rs->filter == RAS_FILTER_NEAREST     ? FILTER_NEAREST
+                 : rs->filter == RAS_FILTER_TRILINEAR ? FILTER_TRILINEAR
+                                                      : FILTER_BILINEAR;
+    opt.aa = rs->aa;
+    opt.pattern = rs->aa == RAS_AA_NONE ? ras_sample_pattern_center() : rs->pattern;
+    opt.cull = rs->cull;
+    opt.edges = rs->edges;
+    return opt;
+}
+
+unsigned hw3_frame_varyings(const hw3_scene *scene, hw3_shader shader) {
+    unsigned v = hw3_shader_varyings(shader);
+    bool maps = false; /* does any object have a map this shader reads? */
+    for (int i = 0; i < scene->object_count; i++)
+        maps |= shader == HW3_SHADER_TEXTURE ? scene->objects[i].texture != NULL
+                                             : scene->objects[i].height_map != NULL;
+    if (!maps) v &= ~(unsigned)RAS_VARYING_UV;
+    /* The view position only places the shaded point relative to the lights
+     * (with none, Blinn-Phong is the ambient term alone). */
+    if (scene->light_count == 0) v &= ~(unsigned)RAS_VARYING_VIEW_POS;
+    return v;
 }
 
 /* The object's model matrix: place · spin about y · orient. */
@@ -322,7 +448,7 @@ bool hw3_render(hw3_scene *scene, const hw3_render_options *opt, ras_image *out,
         }
     }
     hw3_fragment_stage stage = {.shader = hw3_shader_function(opt->shader),
-                                .varyings = hw3_shader_varyings(opt->shader),
+                                .varyings = hw3_frame_varyings(scene, opt->shader),
                                 .perspective = !opt->affine};
     fragment_shader_payload *b = &stage.base;
     b->filter = opt->filter;
@@ -332,14 +458,13 @@ bool hw3_render(hw3_scene *scene, const hw3_render_options *opt, ras_image *out,
     b->light_count = scene->light_count;
     for (int i = 0; i < scene->light_count; i++) b->lights[i] = scene->lights[i];
     b->ambient_intensity = scene->ambient_intensity;
-    mat4s view = ras_view_matrix_eye(scene->eye);
-    mat4s projection = (opt->projection ? opt->projection : get_projection_matrix)(scene->fov_deg,
-                                             (float)scene->width / (float)scene->height,
-                                             scene->z_near, scene->z_far);
+    mat4s view = scene->look_at ? scene->view : ras_view_matrix_eye(scene->eye);
+    mat4s projection = (opt->projection ? opt->projection : get_projection_matrix)(
+        scene->fov_deg, (float)scene->width / (float)scene->height, scene->z_near, scene->z_far);
 #ifdef HW3_FAST_PATH
     /* Reference build only: the same frame through screen tiles and threads,
      * bit-identical to the loop below (solution/fast_render.c, docs/performance.md). */
-    if (hw3_fast_wanted(opt)) {
+    if (hw3_fast_wanted(opt) && opt->cull == RAS_CULL_NONE && opt->edges == RAS_EDGES_FIXED) {
         mat4s models[HW3_MAX_OBJECTS];
         for (int i = 0; i < scene->object_count; i++)
             models[i] = object_model(&scene->objects[i], opt->angle_deg);
@@ -355,8 +480,8 @@ bool hw3_render(hw3_scene *scene, const hw3_render_options *opt, ras_image *out,
                                .clear_color = scene->clear_color,
                                .aa = opt->aa,
                                .pattern = opt->pattern,
-                               .edges = RAS_EDGES_FIXED,
-                               .cull = RAS_CULL_NONE,
+                               .edges = opt->edges,
+                               .cull = opt->cull,
                                .varyings = stage.varyings,
                                .rasterize = rasterize_triangle,
                                .resolve = resolve_pixel,
@@ -376,6 +501,9 @@ bool hw3_render(hw3_scene *scene, const hw3_render_options *opt, ras_image *out,
         b->height_map = o->height_map;
         b->kh = o->kh;
         b->kn = o->kn;
+        b->ka = o->ka;
+        b->ks = o->ks;
+        b->p = o->p;
         ok = ras_pipeline_draw_mesh(p, o->mesh, object_model(o, opt->angle_deg), view, projection,
                                     err);
     }

@@ -8,7 +8,8 @@
  *                        (perspective-correct, with your interpolate_*),
  *                        fills a fragment_shader_payload, runs the shader
  *   hw3_scene_*          the default scene (built-in meshes and textures, no
- *                        files) and the classic GAMES101 model scene
+ *                        files), the classic GAMES101 model scene, and any
+ *                        scene file (hw3_scene_from_ras: scenes/, ras_scene.h)
  *   hw3_render           one frame of a scene with a shader and a filter
  *
  * Conventions: view space as in shading.h (lights are given in VIEW space,
@@ -23,6 +24,7 @@
 #include "ras_error.h"
 #include "ras_mesh.h"
 #include "ras_pipeline.h"
+#include "ras_scene.h"
 #include "shading.h"
 
 typedef enum hw3_shader {
@@ -56,7 +58,7 @@ typedef struct hw3_fragment_stage {
 /* ras_shade_fn: user is a hw3_fragment_stage. */
 vec3s hw3_shade_fragment(const ras_triangle *t, const ras_fragment *f, void *user);
 
-#define HW3_MAX_OBJECTS 8
+#define HW3_MAX_OBJECTS 64
 
 typedef struct hw3_object {
     const ras_mesh *mesh;
@@ -66,17 +68,21 @@ typedef struct hw3_object {
     vec3s color;
     const ras_texture *texture, *height_map;
     float kh, kn;
+    vec3s ka, ks; /* the material: per object (scene files give each its own) */
+    float p;
 } hw3_object;
 
 typedef struct hw3_scene {
     int width, height;
     vec3s eye;
+    bool look_at; /* false: the GAMES101 view, a translation by -eye */
+    mat4s view;   /* with look_at: the scene file's camera */
     float fov_deg, z_near, z_far;
     vec3s clear_color;
-    light lights[HW3_MAX_LIGHTS];
+    light lights[HW3_MAX_LIGHTS]; /* view space */
     int light_count;
     vec3s ambient_intensity;
-    vec3s ka, ks;
+    vec3s ka, ks; /* the built-in scenes' material numbers, copied into each object */
     float p;
     hw3_object objects[HW3_MAX_OBJECTS];
     int object_count;
@@ -85,6 +91,7 @@ typedef struct hw3_scene {
     int mesh_count;
     ras_texture *textures[HW3_MAX_OBJECTS];
     int texture_count;
+    ras_scene_assets *assets; /* hw3_scene_from_ras: the meshes and textures */
 } hw3_scene;
 
 /* The default scene, 700×700: a UV sphere, a torus, a cube and the Utah
@@ -102,6 +109,18 @@ hw3_scene *hw3_scene_create_default(ras_error *err);
  * malformed file. */
 hw3_scene *hw3_scene_create_model(const char *model_path, const char *texture_path,
                                   const char *height_path, bool fit, ras_error *err);
+
+/* A scene file's scene (ras_scene_load, then this): its meshes and textures
+ * are created here (ras_scene_load_assets) and owned by the result. Each
+ * object's model matrix is T · R · S as in the file, with the program's angle
+ * as a turn about y inserted after R (ras_scene_model_matrix); a last rotation
+ * about +y or -y joins that turn (yaw_deg), as in the built-in default scene.
+ * Lights with "space": "world" are moved into view space; the material
+ * (colour or kd, ka, ks, p, kh, kn, maps) is per object. NULL and err (naming
+ * the scene file and the key) when an asset does not load or the scene has
+ * more objects than HW3_MAX_OBJECTS. The scene's shader, filter, AA and
+ * culling are options: see hw3_render_options_from_ras. */
+hw3_scene *hw3_scene_from_ras(const ras_scene *rs, ras_error *err);
 
 void hw3_scene_destroy(hw3_scene *scene);
 
@@ -123,10 +142,23 @@ typedef struct hw3_render_options {
      * threads: the fast path's worker count; 0 = $RAS_THREADS, else one per CPU. */
     bool plain;
     int threads;
+    ras_cull_mode cull;  /* default none */
+    ras_edge_mode edges; /* default fixed; the fast path draws fixed edges without culling */
 } hw3_render_options;
 
 /* Defaults: normal shader, bilinear, angle 0, no AA, perspective-correct. */
 hw3_render_options hw3_render_defaults(void);
+
+/* A scene file's effects as options: its shader, filter, anti-aliasing,
+ * culling and edge functions; the rest from hw3_render_defaults(). "flat"
+ * (hw2's unlit colour) has no hw3 shader: it gives the default, normal. */
+hw3_render_options hw3_render_options_from_ras(const ras_scene *rs);
+
+/* The varyings a frame interpolates: the shader's (hw3_shader_varyings), less
+ * those no object of the scene uses — no UVs when no object has a map the
+ * shader reads (a colour map for texture, a height map for bump and
+ * displacement), no view position when there are no lights to light it with. */
+unsigned hw3_frame_varyings(const hw3_scene *scene, hw3_shader shader);
 
 /* Renders one frame into `out` (the scene's size). Trilinear builds the mip
  * levels of the scene's colour maps the first time (ras_texture_build_mips,

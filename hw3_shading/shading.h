@@ -65,7 +65,7 @@ typedef struct light {
     vec3s intensity; /* I, divided by r² at distance r */
 } light;
 
-#define HW3_MAX_LIGHTS 4
+#define HW3_MAX_LIGHTS 8 /* = RAS_SCENE_MAX_LIGHTS: every scene file fits */
 
 /* Everything a fragment shader may read. The fragment stage fills only the
  * varyings the chosen shader declares (scene.c, hw3_shader_varyings); the

@@ -181,7 +181,9 @@ typedef struct frame {
     unsigned varyings;
     uint64_t varyings_per_fragment;
     int centre_sample; /* a sample whose position is the pixel centre, or -1 */
-    float spec_zero;   /* powf(x, p) is +0 for 0 <= x <= spec_zero (fast_blinn_phong) */
+    /* per object (each has its own p): powf(x, p) is +0 for 0 <= x <= spec_zero
+     * (fast_blinn_phong) */
+    float spec_zero[HW3_MAX_OBJECTS];
     const fast_tri *tri;
     /* bins: tile t holds bin_index[bin_start[t] .. bin_start[t+1]) */
     int tiles_x, tiles_y;
@@ -243,7 +245,7 @@ static inline vec2s interp2(vec3s b, const vec2s attr[3]) {
  * the surface (n·h < 0.56 underflows at p = 150). */
 static vec3s fast_blinn_phong(const fragment_shader_payload *payload, vec3s kd, vec3s point,
                               vec3s normal, float spec_zero) {
-    if (payload->counters) {
+    if (payload->counters && payload->light_count > 0) { /* ambient alone is no lighting work */
         payload->counters->stages_run |= RAS_STAGE_LIGHTING;
         payload->counters->lighting_evaluations += (uint64_t)payload->light_count;
     }
@@ -298,10 +300,11 @@ static vec3s shade(worker *w, const fast_tri *r, vec3s bary) {
     w->k.varyings_interpolated += fr->varyings_per_fragment;
     w->k.fragments_shaded++;
     if (fr->stage->shader == phong_fragment_shader)
-        return fast_blinn_phong(pay, pay->color, pay->view_pos, pay->normal, fr->spec_zero);
+        return fast_blinn_phong(pay, pay->color, pay->view_pos, pay->normal,
+                                fr->spec_zero[r->object]);
     if (fr->stage->shader == texture_fragment_shader) {
         vec3s kd = pay->texture ? texture_sample(pay, pay->texture, pay->uv) : pay->color;
-        return fast_blinn_phong(pay, kd, pay->view_pos, pay->normal, fr->spec_zero);
+        return fast_blinn_phong(pay, kd, pay->view_pos, pay->normal, fr->spec_zero[r->object]);
     }
     return fr->stage->shader(pay);
 }
@@ -767,9 +770,12 @@ bool hw3_fast_render(const hw3_scene *scene, const hw3_render_options *opt,
         fr.off_x[s] = llround((double)o.x * SUBPIXEL_ONE);
         fr.off_y[s] = llround((double)o.y * SUBPIXEL_ONE);
     }
-    float p = stage->base.p;
-    fr.spec_zero = -1.0f; /* never */
-    if (p >= 1.0f && isfinite(p)) fr.spec_zero = nextafterf((float)pow(2.0, -200.0 / p), 0.0f);
+    for (int o = 0; o < scene->object_count; o++) {
+        float p = scene->objects[o].p;
+        fr.spec_zero[o] = -1.0f; /* never */
+        if (p >= 1.0f && isfinite(p))
+            fr.spec_zero[o] = nextafterf((float)pow(2.0, -200.0 / p), 0.0f);
+    }
     fr.centre_sample = -1;
     for (int s = 0; s < fr.n && fr.centre_sample < 0; s++)
         if (fr.off_x[s] == fr.off_x[fr.n] && fr.off_y[s] == fr.off_y[fr.n]) fr.centre_sample = s;
@@ -857,6 +863,9 @@ bool hw3_fast_render(const hw3_scene *scene, const hw3_render_options *opt,
             p->height_map = ob->height_map;
             p->kh = ob->kh;
             p->kn = ob->kn;
+            p->ka = ob->ka;
+            p->ks = ob->ks;
+            p->p = ob->p;
             p->counters = &w->k;
         }
     }

@@ -42,7 +42,7 @@ vec3s normal_fragment_shader(const fragment_shader_payload *payload) {
 
 vec3s blinn_phong_lighting(const fragment_shader_payload *payload, vec3s kd, vec3s point,
                            vec3s normal) {
-    if (payload->counters) {
+    if (payload->counters && payload->light_count > 0) { /* ambient alone is no lighting work */
         payload->counters->stages_run |= RAS_STAGE_LIGHTING;
         payload->counters->lighting_evaluations += (uint64_t)payload->light_count;
     }
