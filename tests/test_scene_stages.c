@@ -1,0 +1,422 @@
+/* test_scene_stages.c — the pipeline runs only what a scene calls for, and
+ * --stats says so: counters of small scenes rendered through the real
+ * reference pipeline (hw3_ref: scene file → hw3_scene_from_ras → hw3_render).
+ *
+ * Every expected number is worked out by hand from the geometry, not read
+ * back from a run:
+ *   - FULL: one triangle (-6,-4,0) (6,-4,0) (0,8,0) seen from (0,0,5) with a
+ *     45° field of view. At distance 5 the view spans ±5·tan 22.5° = ±2.071
+ *     units, and the triangle's edges pass outside that square (the left edge
+ *     is at x = -2.96 where y = 2.071), so every sample of the 64×64 frame is
+ *     covered by this one triangle: 4096 pixels. Its corners project to
+ *     |x_ndc| <= 2.9, inside the guard band (8), so it is not clipped into a
+ *     fan: one triangle, one bounding box = the whole frame.
+ *   - HALF: (0,-6,0) (0,6,0) (-12,0,0): the edge x = 0 projects to screen
+ *     x = 32 exactly, and the other two edges pass outside the view (y = 4.96
+ *     at x = -2.071), so the left half is covered: 32 × 64 = 2048 pixels, and
+ *     no sample (centre 0.5, ordered 4x at 0.25 / 0.75) lies on x = 32.
+ *   - buffers: a colour is a vec3s (12 bytes), a depth a float (4 bytes),
+ *     per sample (ras_framebuffer.h).
+ *   - taps (shading.h, texture_sample and height_sample): nearest reads 1
+ *     texel, bilinear 4, trilinear 8 (two levels); bump reads the height map
+ *     3 times per fragment. A 64×64 texture has mip levels 32, 16, 8, 4, 2, 1:
+ *     6 built.
+ *   - ambient only: ka·I_a = 0.005 · 10 = 0.05 (the scene-file defaults).
+ * Each scene is drawn twice, by the teaching pipeline (plain) and the fast
+ * path, and both must report the same work.
+ */
+#include <setjmp.h> /* required by cmocka.h */
+#include <stdarg.h> /* required by cmocka.h */
+#include <stddef.h> /* required by cmocka.h */
+#include <stdint.h> /* required by cmocka.h */
+
+#include <cmocka.h>
+
+#include "ras_test_main.h"
+
+#include "ras_builtin_scenes.h"
+#include "scene.h"
+
+#include <math.h>   /* fabsf */
+#include <stdio.h>  /* snprintf, fopen */
+#include <stdlib.h> /* malloc, free */
+#include <string.h> /* strcmp */
+
+#define W 64
+#define PIXELS (W * W)
+#define FULL "[[-6, -4, 0], [6, -4, 0], [0, 8, 0]]"
+#define HALF "[[0, -6, 0], [0, 6, 0], [-12, 0, 0]]"
+#define LIGHT "{\"position\": [2, 3, 4], \"intensity\": 20}"
+#define CHECKER "\"texture\": {\"builtin\": \"checker\", \"size\": 64, \"squares\": 4}"
+#define BUMPS "\"height_map\": {\"builtin\": \"bumps\", \"size\": 64, \"bumps\": 4}"
+
+/* One object (a triangle with `vertices`) and the given material, lights,
+ * shader, filter and aa members, 64×64. */
+typedef struct spec {
+    const char *vertices, *material, *lights, *shader, *filter, *aa;
+} spec;
+
+typedef struct frame {
+    ras_counters k;
+    ras_image *image;
+    unsigned varyings; /* hw3_frame_varyings */
+} frame;
+
+static void scene_text(const spec *s, char *buf, size_t size) {
+    int n =
+        snprintf(buf, size,
+                 "{\"image\": {\"width\": %d, \"height\": %d},\n"
+                 " \"camera\": {\"eye\": [0, 0, 5], \"fov_deg\": 45, \"near\": 0.1, \"far\": 50},\n"
+                 " \"objects\": [{\"shape\": \"triangle\", \"vertices\": %s,\n"
+                 "               \"material\": {%s}}],\n"
+                 " \"lights\": [%s], \"shader\": \"%s\", \"filter\": \"%s\", \"aa\": {%s}}\n",
+                 W, W, s->vertices, s->material ? s->material : "", s->lights ? s->lights : "",
+                 s->shader, s->filter ? s->filter : "bilinear", s->aa ? s->aa : "");
+    assert_true(n > 0 && (size_t)n < size);
+}
+
+static frame render_spec(const spec *s, bool plain) {
+    char text[2048];
+    scene_text(s, text, sizeof text);
+    ras_error err = {{0}};
+    ras_scene *rs = ras_scene_parse(text, "stages.json", NULL, &err);
+    if (!rs) fail_msg("the test scene does not parse: %s\n%s", err.msg, text);
+    hw3_scene *scene = hw3_scene_from_ras(rs, &err);
+    if (!scene) fail_msg("hw3_scene_from_ras: %s", err.msg);
+    hw3_render_options opt = hw3_render_options_from_ras(rs);
+    opt.plain = plain;
+    opt.threads = 2;
+    frame f = {.varyings = hw3_frame_varyings(scene, opt.shader)};
+    f.image = ras_image_create(W, W, &err);
+    assert_non_null(f.image);
+    if (!hw3_render(scene, &opt, f.image, &f.k, &err)) fail_msg("hw3_render: %s", err.msg);
+    hw3_scene_destroy(scene);
+    ras_scene_destroy(rs);
+    return f;
+}
+
+/* The work counters of the plain and the fast path agree (timings and
+ * buffer_bytes differ by design: the fast path draws into tiles). */
+static void assert_same_work(const ras_counters *a, const ras_counters *b) {
+    assert_int_equal(a->stages_run, b->stages_run);
+    assert_int_equal(a->vertices_transformed, b->vertices_transformed);
+    assert_int_equal(a->triangles_in, b->triangles_in);
+    assert_int_equal(a->triangles_rasterized, b->triangles_rasterized);
+    assert_int_equal(a->samples_tested, b->samples_tested);
+    assert_int_equal(a->samples_covered, b->samples_covered);
+    assert_int_equal(a->depth_tests_passed, b->depth_tests_passed);
+    assert_int_equal(a->fragments_shaded, b->fragments_shaded);
+    assert_int_equal(a->varyings_interpolated, b->varyings_interpolated);
+    assert_int_equal(a->texels_fetched, b->texels_fetched);
+    assert_int_equal(a->mip_levels_built, b->mip_levels_built);
+    assert_int_equal(a->lighting_evaluations, b->lighting_evaluations);
+}
+
+/* The plain pipeline's frame, after checking the fast path did the same work. */
+static frame render(const spec *s) {
+    frame fast = render_spec(s, false), plain = render_spec(s, true);
+    assert_same_work(&plain.k, &fast.k);
+    ras_image_destroy(fast.image);
+    return plain;
+}
+
+static bool ran(const frame *f, unsigned stage) { return (f->k.stages_run & stage) != 0; }
+
+/* ---- anti-aliasing: sample buffers and shading rate ----------------------- */
+
+static void test_aa_none_has_no_sample_buffers(void **state) {
+    (void)state;
+    frame f = render(&(spec){.vertices = FULL, .shader = "normal"});
+    /* one sample per pixel: 4096 × (12 + 4) bytes, nothing per sample */
+    assert_int_equal(sizeof(vec3s), 12);
+    assert_int_equal(f.k.buffer_bytes, 65536);
+    assert_int_equal(f.k.samples_tested, PIXELS);
+    assert_int_equal(f.k.samples_covered, PIXELS);
+    assert_int_equal(f.k.fragments_shaded, PIXELS);
+    assert_false(ran(&f, RAS_STAGE_RESOLVE)); /* one sample: nothing to resolve */
+    ras_image_destroy(f.image);
+}
+
+static void test_msaa4_buffers_are_four_samples(void **state) {
+    (void)state;
+    frame f = render(
+        &(spec){.vertices = FULL, .shader = "normal", .aa = "\"mode\": \"msaa\", \"samples\": 4"});
+    assert_int_equal(f.k.buffer_bytes, 4 * 65536);
+    assert_true(ran(&f, RAS_STAGE_RESOLVE));
+    ras_image_destroy(f.image);
+}
+
+static void test_msaa_shades_once_per_pixel(void **state) {
+    (void)state;
+    frame f = render(
+        &(spec){.vertices = FULL, .shader = "normal", .aa = "\"mode\": \"msaa\", \"samples\": 4"});
+    /* one triangle whose box is the frame: every sample tested once and covered */
+    assert_int_equal(f.k.samples_tested, 4 * PIXELS);
+    assert_int_equal(f.k.samples_covered, 4 * PIXELS);
+    assert_int_equal(f.k.fragments_shaded, PIXELS); /* not 4 × */
+    ras_image_destroy(f.image);
+
+    f = render(
+        &(spec){.vertices = HALF, .shader = "normal", .aa = "\"mode\": \"msaa\", \"samples\": 4"});
+    assert_int_equal(f.k.samples_covered, 4 * PIXELS / 2);
+    assert_int_equal(f.k.fragments_shaded, PIXELS / 2); /* the covered pixels */
+    assert_true(f.k.samples_tested >= f.k.samples_covered && f.k.samples_tested % 4 == 0);
+    ras_image_destroy(f.image);
+}
+
+static void test_ssaa_shades_every_sample(void **state) {
+    (void)state;
+    frame f = render(
+        &(spec){.vertices = FULL, .shader = "normal", .aa = "\"mode\": \"ssaa\", \"samples\": 4"});
+    assert_int_equal(f.k.buffer_bytes, 4 * 65536);
+    assert_int_equal(f.k.samples_tested, 4 * PIXELS);
+    assert_int_equal(f.k.fragments_shaded, 4 * PIXELS);
+    ras_image_destroy(f.image);
+
+    f = render(
+        &(spec){.vertices = HALF, .shader = "normal", .aa = "\"mode\": \"ssaa\", \"samples\": 4"});
+    assert_int_equal(f.k.fragments_shaded, 4 * PIXELS / 2);
+    ras_image_destroy(f.image);
+
+    f = render(&(spec){.vertices = HALF, .shader = "normal"});
+    assert_int_equal(f.k.fragments_shaded, PIXELS / 2); /* no AA: the centre samples */
+    ras_image_destroy(f.image);
+}
+
+/* ---- textures: no map, no fetch, no UV --------------------------------------- */
+
+static void test_untextured_scene_fetches_no_texels(void **state) {
+    (void)state;
+    /* The texture shader with trilinear filtering, but nothing to sample. */
+    frame f = render(
+        &(spec){.vertices = FULL, .shader = "texture", .filter = "trilinear", .lights = LIGHT});
+    assert_int_equal(f.k.fragments_shaded, PIXELS);
+    assert_int_equal(f.k.texels_fetched, 0);
+    assert_int_equal(f.k.mip_levels_built, 0);
+    assert_false(ran(&f, RAS_STAGE_TEXTURE));
+    assert_false(ran(&f, RAS_STAGE_MIPMAP));
+    /* no UVs: the normal and the view position, per fragment */
+    assert_int_equal(f.varyings & RAS_VARYING_UV, 0);
+    assert_int_equal(f.k.varyings_interpolated, 2 * PIXELS);
+    ras_image_destroy(f.image);
+}
+
+static void test_height_map_alone_is_no_colour_texture(void **state) {
+    (void)state;
+    /* The texture shader reads colour maps only: a height map is not read. */
+    frame f =
+        render(&(spec){.vertices = FULL, .shader = "texture", .material = BUMPS, .lights = LIGHT});
+    assert_int_equal(f.k.texels_fetched, 0);
+    assert_int_equal(f.varyings & RAS_VARYING_UV, 0);
+    assert_int_equal(f.k.varyings_interpolated, 2 * PIXELS);
+    ras_image_destroy(f.image);
+}
+
+static void test_texels_are_fragments_times_taps(void **state) {
+    (void)state;
+    static const struct {
+        const char *filter;
+        uint64_t taps, mips;
+    } cases[] = {{"nearest", 1, 0}, {"bilinear", 4, 0}, {"trilinear", 8, 6}};
+    for (int i = 0; i < 3; i++) {
+        frame f = render(&(spec){.vertices = FULL,
+                                 .shader = "texture",
+                                 .material = CHECKER,
+                                 .filter = cases[i].filter,
+                                 .lights = LIGHT});
+        assert_int_equal(f.k.fragments_shaded, PIXELS);
+        if (f.k.texels_fetched != PIXELS * cases[i].taps)
+            fail_msg("%s: %llu texels for %d fragments, expected %llu taps each", cases[i].filter,
+                     (unsigned long long)f.k.texels_fetched, PIXELS,
+                     (unsigned long long)cases[i].taps);
+        assert_int_equal(f.k.mip_levels_built, cases[i].mips);
+        assert_true(ran(&f, RAS_STAGE_TEXTURE));
+        assert_int_equal(ran(&f, RAS_STAGE_MIPMAP), cases[i].mips > 0);
+        assert_int_equal(f.k.varyings_interpolated, 3 * PIXELS); /* normal, view pos, UV */
+        ras_image_destroy(f.image);
+    }
+    /* MSAA shades once per pixel, so it fetches once per pixel too. */
+    frame f = render(&(spec){.vertices = FULL,
+                             .shader = "texture",
+                             .material = CHECKER,
+                             .lights = LIGHT,
+                             .aa = "\"mode\": \"msaa\", \"samples\": 4"});
+    assert_int_equal(f.k.texels_fetched, 4 * PIXELS); /* bilinear × 4096 fragments */
+    ras_image_destroy(f.image);
+}
+
+static void test_bump_reads_the_height_map_three_times(void **state) {
+    (void)state;
+    frame f = render(&(spec){.vertices = FULL, .shader = "bump", .material = BUMPS});
+    assert_int_equal(f.k.texels_fetched, 3 * 4 * PIXELS); /* h(u,v), h(u+1/W,v), h(u,v+1/H) */
+    assert_true(ran(&f, RAS_STAGE_BUMP));
+    assert_int_equal(f.k.varyings_interpolated, 2 * PIXELS); /* normal, UV */
+    ras_image_destroy(f.image);
+
+    f = render(&(spec){.vertices = FULL, .shader = "bump", .material = BUMPS, .filter = "nearest"});
+    assert_int_equal(f.k.texels_fetched, 3 * PIXELS);
+    ras_image_destroy(f.image);
+
+    /* no height map: no bump work, no UVs */
+    f = render(&(spec){.vertices = FULL, .shader = "bump"});
+    assert_int_equal(f.k.texels_fetched, 0);
+    assert_false(ran(&f, RAS_STAGE_BUMP));
+    assert_int_equal(f.k.varyings_interpolated, PIXELS); /* the normal only */
+    ras_image_destroy(f.image);
+}
+
+/* ---- lights: none, no lighting stage ------------------------------------------ */
+
+static void test_no_lights_no_lighting(void **state) {
+    (void)state;
+    frame f = render(&(spec){.vertices = FULL, .shader = "phong"});
+    assert_false(ran(&f, RAS_STAGE_LIGHTING));
+    assert_int_equal(f.k.lighting_evaluations, 0);
+    /* the view position only serves the lights: the normal alone is interpolated */
+    assert_int_equal(f.varyings, RAS_VARYING_NORMAL);
+    assert_int_equal(f.k.varyings_interpolated, PIXELS);
+    /* what is left is the ambient term, ka · I_a = 0.005 · 10 */
+    vec3s c = ras_image_get(f.image, W / 2, W / 2);
+    assert_true(fabsf(c.x - 0.05f) < 1e-6f && fabsf(c.y - 0.05f) < 1e-6f &&
+                fabsf(c.z - 0.05f) < 1e-6f);
+    ras_image_destroy(f.image);
+
+    f = render(&(spec){.vertices = FULL, .shader = "phong", .lights = LIGHT "," LIGHT});
+    assert_true(ran(&f, RAS_STAGE_LIGHTING));
+    assert_int_equal(f.k.lighting_evaluations, 2 * PIXELS);
+    assert_int_equal(f.k.varyings_interpolated, 2 * PIXELS);
+    ras_image_destroy(f.image);
+}
+
+static void test_unlit_shader_no_lighting(void **state) {
+    (void)state;
+    frame f =
+        render(&(spec){.vertices = FULL, .shader = "normal", .lights = LIGHT, .material = CHECKER});
+    unsigned never = RAS_STAGE_LIGHTING | RAS_STAGE_TEXTURE | RAS_STAGE_BUMP | RAS_STAGE_MIPMAP |
+                     RAS_STAGE_RESOLVE | RAS_STAGE_WIREFRAME;
+    assert_int_equal(f.k.stages_run & never, 0);
+    assert_int_equal(f.k.stages_run, RAS_STAGE_VERTEX | RAS_STAGE_CLIP | RAS_STAGE_SETUP |
+                                         RAS_STAGE_RASTER | RAS_STAGE_FRAGMENT);
+    assert_int_equal(f.k.texels_fetched, 0);
+    assert_int_equal(f.k.varyings_interpolated, PIXELS);
+    ras_image_destroy(f.image);
+}
+
+/* ---- the adapter: scene file → hw3_scene ------------------------------------------ */
+
+static void test_world_lights_move_to_view_space(void **state) {
+    (void)state;
+    ras_error err = {{0}};
+    ras_scene *rs =
+        ras_scene_parse("{\"camera\": {\"eye\": [1, 2, 5]}, \"objects\": [{\"shape\": \"cube\"},"
+                        " {\"shape\": \"cube\", \"material\": {\"ka\": 0.5, \"ks\": 0.25, \"p\": "
+                        "8, \"kd\": 0.75}}],"
+                        " \"lights\": [{\"position\": [1, 2, 15], \"space\": \"world\"},"
+                        " {\"position\": [3, 3, 3], \"intensity\": [1, 2, 3]}]}",
+                        "adapter.json", NULL, &err);
+    if (!rs) fail_msg("%s", err.msg);
+    hw3_scene *s = hw3_scene_from_ras(rs, &err);
+    if (!s) fail_msg("%s", err.msg);
+    /* the fixed view translates by -eye: (1,2,15) - (1,2,5) = (0,0,10) */
+    assert_true(s->lights[0].position.x == 0 && s->lights[0].position.y == 0 &&
+                s->lights[0].position.z == 10);
+    assert_true(s->lights[1].position.x == 3 && s->lights[1].intensity.z == 3);
+    /* the material is per object */
+    assert_true(s->objects[0].ka.x == 0.005f && s->objects[0].p == 150);
+    assert_true(s->objects[1].ka.x == 0.5f && s->objects[1].ks.y == 0.25f && s->objects[1].p == 8 &&
+                s->objects[1].color.z == 0.75f);
+    hw3_scene_destroy(s);
+    ras_scene_destroy(rs);
+}
+
+/* ---- the built-in default scene ---------------------------------------------------- */
+
+static char *read_file(const char *path) {
+    FILE *f = fopen(path, "rb");
+    if (!f) return NULL;
+    fseek(f, 0, SEEK_END);
+    long n = ftell(f);
+    fseek(f, 0, SEEK_SET);
+    char *text = malloc((size_t)n + 1);
+    if (text && fread(text, 1, (size_t)n, f) != (size_t)n) {
+        free(text);
+        text = NULL;
+    }
+    if (text) text[n] = '\0';
+    fclose(f);
+    return text;
+}
+
+static void test_builtin_scenes_are_the_files(void **state) {
+    (void)state;
+    const char *names[] = {"hw1_classic", "hw2_classic", "hw3_default"};
+    for (int i = 0; i < 3; i++) {
+        char path[1024];
+        snprintf(path, sizeof path, "%s/scenes/%s.json", RAS_SOURCE_DIR, names[i]);
+        char *file = read_file(path);
+        assert_non_null(file);
+        const char *built_in = ras_builtin_scene_text(names[i]);
+        if (!built_in || strcmp(built_in, file))
+            fail_msg("the built-in %s differs from %s: re-run cmake", names[i], path);
+        free(file);
+        ras_error err = {{0}};
+        ras_scene *s = ras_builtin_scene_load(names[i], &err);
+        if (!s) fail_msg("%s", err.msg);
+        ras_scene_destroy(s);
+    }
+    assert_null(ras_builtin_scene_text("nope"));
+}
+
+/* scenes/hw3_default.json draws what hw3_scene_create_default draws, bit for
+ * bit, with every shader (the program's default frame did not change when it
+ * moved to the scene file). 160×160 keeps it quick. */
+static void test_default_scene_file_matches_builtin_scene(void **state) {
+    (void)state;
+    ras_error err = {{0}};
+    ras_scene *rs = ras_builtin_scene_load("hw3_default", &err);
+    if (!rs) fail_msg("%s", err.msg);
+    hw3_scene *from_file = hw3_scene_from_ras(rs, &err);
+    hw3_scene *built_in = hw3_scene_create_default(&err);
+    assert_non_null(from_file);
+    assert_non_null(built_in);
+    from_file->width = from_file->height = built_in->width = built_in->height = 160;
+    ras_image *a = ras_image_create(160, 160, &err), *b = ras_image_create(160, 160, &err);
+    for (int sh = 0; sh < HW3_SHADER_COUNT; sh++) {
+        hw3_render_options opt = hw3_render_options_from_ras(rs);
+        opt.shader = (hw3_shader)sh;
+        opt.angle_deg = 20; /* the program's turn composes with each object's rotation */
+        ras_counters ka, kb;
+        assert_true(hw3_render(from_file, &opt, a, &ka, &err));
+        assert_true(hw3_render(built_in, &opt, b, &kb, &err));
+        for (int i = 0; i < 160 * 160; i++)
+            if (memcmp(&a->pixels[i], &b->pixels[i], sizeof a->pixels[i]))
+                fail_msg("%s shader: pixel %d differs between scenes/hw3_default.json and the "
+                         "built-in default scene",
+                         hw3_shader_name((hw3_shader)sh), i);
+        assert_same_work(&ka, &kb);
+    }
+    ras_image_destroy(a);
+    ras_image_destroy(b);
+    hw3_scene_destroy(from_file);
+    hw3_scene_destroy(built_in);
+    ras_scene_destroy(rs);
+}
+
+int main(void) {
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_aa_none_has_no_sample_buffers),
+        cmocka_unit_test(test_msaa4_buffers_are_four_samples),
+        cmocka_unit_test(test_msaa_shades_once_per_pixel),
+        cmocka_unit_test(test_ssaa_shades_every_sample),
+        cmocka_unit_test(test_untextured_scene_fetches_no_texels),
+        cmocka_unit_test(test_height_map_alone_is_no_colour_texture),
+        cmocka_unit_test(test_texels_are_fragments_times_taps),
+        cmocka_unit_test(test_bump_reads_the_height_map_three_times),
+        cmocka_unit_test(test_no_lights_no_lighting),
+        cmocka_unit_test(test_unlit_shader_no_lighting),
+        cmocka_unit_test(test_world_lights_move_to_view_space),
+        cmocka_unit_test(test_builtin_scenes_are_the_files),
+        cmocka_unit_test(test_default_scene_file_matches_builtin_scene),
+    };
+    return RAS_RUN_TESTS("scene_stages", tests, NULL, NULL);
+}
