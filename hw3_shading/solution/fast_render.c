@@ -349,20 +349,42 @@ static inline v3x4 interp3_x4(const v3x4 a[3], v3x4 b) {
 static float spec_zero_for(worker *w, float p) {
     if (w->sz_valid && w->sz_p == p) return w->sz;
     float sz = -1.0f; /* never */
-    if (p >= 1.0f && isfinite(p)) sz = nextafterf((float)pow(2.0, -200.0 / p), 0.0f);
+    /* x <= 2^(-151/p) (rounded down) gives x^p <= 2^-151, a quarter of the
+     * smallest subnormal float: the exact power rounds to +0, and powf, whose
+     * error is far below a factor of 2, returns +0 too. (fast_blinn_phong's
+     * bound, 2^-200, is more cautious than needed.) */
+    if (p >= 1.0f && isfinite(p)) sz = nextafterf((float)pow(2.0, -151.0 / p), 0.0f);
     w->sz_valid = true;
     w->sz_p = p;
     w->sz = sz;
     return sz;
 }
 
-static void shade4(worker *w, const queued *q, int lanes) {
+/* Four fragments between the two halves of their shading. */
+typedef struct lanes4 {
+    const queued *q;
+    int lanes;
+    vi4 odd;
+    v3x4 b, color;
+    vf4 u, v; /* texture coordinates (BATCH_TEXTURE) */
+    /* per light: I/r², max(0, n·l), the specular power */
+    v3x4 irradiance[HW3_MAX_LIGHTS];
+    vf4 diffuse[HW3_MAX_LIGHTS], specular[HW3_MAX_LIGHTS];
+} lanes4;
+
+/* Everything up to the colour map: the weights, the varyings and, per light,
+ * the terms that do not involve kd. Then the texels the lookups will read are
+ * prefetched, and shade_finish (called after the other half-queue's prepare)
+ * finds them in cache. */
+static void shade_prepare(worker *w, const queued *q, int lanes, lanes4 *S) {
     const frame *fr = w->fr;
-    fragment_shader_payload *pay = &w->pay[q[0].r->object];
-    /* gather: screen barycentrics, 1/w's corners and the varyings, lane by
+    const fragment_shader_payload *pay = &w->pay[q[0].r->object];
+    S->q = q;
+    S->lanes = lanes;
+    /* gather: screen barycentrics, the corners' w and the varyings, lane by
      * lane (unused lanes repeat lane 0) */
-    v3x4 bs, wv, nrm[3], pos[3];
-    vf4 uvx[3], uvy[3];
+    v3x4 bs = {0}, wv = {0}, nrm[3] = {0}, pos[3] = {0};
+    vf4 uvx[3] = {0}, uvy[3] = {0};
     for (int i = 0; i < 4; i++) {
         const queued *e = &q[i < lanes ? i : 0];
         const ras_triangle *t = &e->r->t;
@@ -399,74 +421,116 @@ static void shade4(worker *w, const queued *q, int lanes) {
         v3x4 s = v3_scale(p, vf4_splat(1.0f) / sum);
         b = (v3x4){vf4_select(ok, s.x, bs.x), vf4_select(ok, s.y, bs.y), vf4_select(ok, s.z, bs.z)};
     }
+    S->b = b;
     v3x4 normal = v3_normalize(interp3_x4(nrm, b), &odd); /* payload->normal */
     for (int i = 0; i < lanes; i++) {
         w->k.varyings_interpolated += fr->varyings_per_fragment;
         w->k.fragments_shaded++;
     }
-    v3x4 color;
     if (fr->batch == BATCH_NORMAL) {
         /* normal_fragment_shader: (normalize(n) + 1) · 0.5 */
         v3x4 n = v3_normalize(normal, &odd);
-        color = v3_scale(v3_add(n, v3_splat((vec3s){{1.0f, 1.0f, 1.0f}})), vf4_splat(0.5f));
-    } else {
-        v3x4 point = interp3_x4(pos, b); /* payload->view_pos */
+        S->color = v3_scale(v3_add(n, v3_splat((vec3s){{1.0f, 1.0f, 1.0f}})), vf4_splat(0.5f));
+        S->odd = odd;
+        return;
+    }
+    v3x4 point = interp3_x4(pos, b); /* payload->view_pos */
+    if (fr->batch == BATCH_TEXTURE) {
+        S->u = interp_lane(uvx[0], uvx[1], uvx[2], b);
+        S->v = interp_lane(uvy[0], uvy[1], uvy[2], b);
+    }
+    /* fast_blinn_phong, up to kd */
+    if (pay->counters) {
+        pay->counters->stages_run |= RAS_STAGE_LIGHTING;
+        pay->counters->lighting_evaluations += (uint64_t)pay->light_count * (uint64_t)lanes;
+    }
+    float spec_zero = spec_zero_for(w, pay->p);
+    v3x4 n = v3_normalize(normal, &odd);
+    v3x4 v = v3_normalize((v3x4){-point.x, -point.y, -point.z}, &odd);
+    vf4 zero = vf4_splat(0.0f);
+    for (int li = 0; li < pay->light_count; li++) {
+        const light *L = &pay->lights[li];
+        v3x4 to_light = v3_sub(v3_splat(L->position), point);
+        vf4 r2 = v3_dot(to_light, to_light);
+        v3x4 l = v3_normalize(to_light, &odd);
+        v3x4 h = v3_normalize(v3_add(l, v), &odd);
+        S->irradiance[li] = v3_divs(v3_splat(L->intensity), r2);
+        vf4 nl = v3_dot(n, l), nh = v3_dot(n, h);
+        S->diffuse[li] = vf4_select(nl > zero, nl, zero);
+        vf4 x = vf4_select(nh > zero, nh, zero);
+        vf4 specular = zero;
+        vi4 lit = x > vf4_splat(spec_zero);
+        if (vi4_any(lit))
+            for (int i = 0; i < 4; i++)
+                if (lit[i]) specular[i] = powf(x[i], pay->p);
+        S->specular[li] = specular;
+    }
+    S->odd = odd;
+    if (fr->batch == BATCH_TEXTURE && pay->texture) {
+        /* the bilinear footprint's two rows (a hint only: see prefetch_texels) */
+        const ras_texture *tex = pay->texture;
+        for (int i = 0; i < lanes; i++) {
+            float u = S->u[i], vv = S->v[i];
+            if (!(u >= 0.0f && u <= 1.0f && vv >= 0.0f && vv <= 1.0f)) continue;
+            int x = (int)(u * (float)tex->width - 0.5f), y = (int)(vv * (float)tex->height - 0.5f);
+            x = x < 0 ? 0 : x >= tex->width - 1 ? tex->width - 2 : x;
+            y = y < 0 ? 0 : y >= tex->height - 1 ? tex->height - 2 : y;
+            if (x < 0 || y < 0) continue; /* a texture one texel wide or high */
+            const vec3s *p = tex->texels + (size_t)y * (size_t)tex->width + x;
+            __builtin_prefetch(p);
+            __builtin_prefetch(p + 1);
+            __builtin_prefetch(p + tex->width);
+            __builtin_prefetch(p + tex->width + 1);
+        }
+    }
+}
+
+/* kd (the texture lookups), the sums in fast_blinn_phong's order, and the
+ * colours into the tile. */
+static void shade_finish(worker *w, lanes4 *S) {
+    const frame *fr = w->fr;
+    const queued *q = S->q;
+    int lanes = S->lanes;
+    fragment_shader_payload *pay = &w->pay[q[0].r->object];
+    v3x4 color = S->color;
+    if (fr->batch != BATCH_NORMAL) {
         v3x4 kd = v3_splat(pay->color);
         if (fr->batch == BATCH_TEXTURE && pay->texture) {
-            vf4 u = interp_lane(uvx[0], uvx[1], uvx[2], b),
-                vv = interp_lane(uvy[0], uvy[1], uvy[2], b);
             for (int i = 0; i < 4; i++) {
                 /* lanes past `lanes` copy lane 0: no lookup, no count */
-                vec3s c = i < lanes ? texture_sample(pay, pay->texture, (vec2s){{u[i], vv[i]}})
+                vec3s c = i < lanes ? texture_sample(pay, pay->texture, (vec2s){{S->u[i], S->v[i]}})
                                     : (vec3s){{kd.x[0], kd.y[0], kd.z[0]}};
                 kd.x[i] = c.x;
                 kd.y[i] = c.y;
                 kd.z[i] = c.z;
             }
         }
-        /* fast_blinn_phong */
-        if (pay->counters) {
-            pay->counters->stages_run |= RAS_STAGE_LIGHTING;
-            pay->counters->lighting_evaluations += (uint64_t)pay->light_count * (uint64_t)lanes;
-        }
-        float spec_zero = spec_zero_for(w, pay->p);
-        v3x4 n = v3_normalize(normal, &odd);
-        v3x4 v = v3_normalize((v3x4){-point.x, -point.y, -point.z}, &odd);
         color = v3_splat(glms_vec3_mul(pay->ka, pay->ambient_intensity));
         v3x4 ks = v3_splat(pay->ks);
         for (int li = 0; li < pay->light_count; li++) {
-            const light *L = &pay->lights[li];
-            v3x4 to_light = v3_sub(v3_splat(L->position), point);
-            vf4 r2 = v3_dot(to_light, to_light);
-            v3x4 l = v3_normalize(to_light, &odd);
-            v3x4 h = v3_normalize(v3_add(l, v), &odd);
-            v3x4 irradiance = v3_divs(v3_splat(L->intensity), r2);
-            vf4 nl = v3_dot(n, l), nh = v3_dot(n, h);
-            vf4 zero = vf4_splat(0.0f);
-            vf4 diffuse = vf4_select(nl > zero, nl, zero);
-            vf4 x = vf4_select(nh > zero, nh, zero);
-            vf4 specular = zero;
-            vi4 lit = x > vf4_splat(spec_zero);
-            if (vi4_any(lit))
-                for (int i = 0; i < 4; i++)
-                    if (lit[i]) specular[i] = powf(x[i], pay->p);
-            color = v3_add(color, v3_scale(v3_mul(kd, irradiance), diffuse));
-            color = v3_add(color, v3_scale(v3_mul(ks, irradiance), specular));
+            color = v3_add(color, v3_scale(v3_mul(kd, S->irradiance[li]), S->diffuse[li]));
+            color = v3_add(color, v3_scale(v3_mul(ks, S->irradiance[li]), S->specular[li]));
         }
     }
     for (int i = 0; i < lanes; i++) {
         vec3s c = {{color.x[i], color.y[i], color.z[i]}};
-        if (odd[i]) c = shade_silent(w, q[i].r, q[i].bary);
+        if (S->odd[i]) c = shade_silent(w, q[i].r, q[i].bary);
         for (uint64_t m = q[i].mask; m; m &= m - 1)
             w->color[q[i].base + __builtin_ctzll(m)] = c;
     }
 }
 
+/* Both halves prepared before either is finished: the lighting of one hides
+ * the texel fetches of the other. */
 static void flush_queue(worker *w) {
     int n = w->qn;
     w->qn = 0;
+    lanes4 S[QUEUE / 4];
+    int chunks = 0;
     for (int c = 0; c < n; c += 4)
-        shade4(w, &w->q[c], n - c < 4 ? n - c : 4);
+        shade_prepare(w, &w->q[c], n - c < 4 ? n - c : 4, &S[chunks++]);
+    for (int c = 0; c < chunks; c++)
+        shade_finish(w, &S[c]);
 }
 
 /* The colour map is far larger than the caches and bilinear lookups wait on
@@ -659,6 +723,45 @@ static void draw_in_tile(worker *w, const fast_tri *r, int tx0, int ty0, int tx1
 
 /* ---- tiles ----------------------------------------------------------------- */
 
+/* Writing the image: 700² pixels × 12 bytes is larger than the caches, and an
+ * ordinary store first reads the line it writes. Non-temporal stores write
+ * whole lines without reading them (the same bytes land in the image); the
+ * worker's final sfence orders them before the frame is handed back. Tile rows
+ * start 16-byte aligned (64 pixels × 12 bytes = 48 × 16) when the image row
+ * does; anything else is copied plainly. */
+static void put_row(vec3s *dst, const vec3s *src, int count) {
+#if defined(__SSE2__)
+    if (((uintptr_t)dst & 15) == 0 && ((uintptr_t)src & 15) == 0 && count % 4 == 0) {
+        const float *s = &src[0].x;
+        float *d = &dst[0].x;
+        for (int i = 0; i < 3 * count; i += 4)
+            _mm_stream_ps(d + i, _mm_load_ps(s + i));
+        return;
+    }
+#endif
+    memcpy(dst, src, sizeof *dst * (size_t)count);
+}
+
+/* count copies of c */
+static void fill_row(vec3s *dst, vec3s c, int count) {
+#if defined(__SSE2__)
+    if (((uintptr_t)dst & 15) == 0 && count % 4 == 0) {
+        /* four pixels are three vectors: rgbr gbrg brgb */
+        __m128 v0 = _mm_setr_ps(c.x, c.y, c.z, c.x), v1 = _mm_setr_ps(c.y, c.z, c.x, c.y),
+               v2 = _mm_setr_ps(c.z, c.x, c.y, c.z);
+        float *d = &dst[0].x;
+        for (int i = 0; i < 3 * count; i += 12) {
+            _mm_stream_ps(d + i, v0);
+            _mm_stream_ps(d + i + 4, v1);
+            _mm_stream_ps(d + i + 8, v2);
+        }
+        return;
+    }
+#endif
+    for (int i = 0; i < count; i++)
+        dst[i] = c;
+}
+
 static void do_tile(worker *w, int tile) {
     frame *fr = w->fr;
     const int n = fr->n;
@@ -680,11 +783,9 @@ static void do_tile(worker *w, int tile) {
                 .width = 1, .height = 1, .samples = n, .color = w->color, .depth = w->depth};
             c = resolve_pixel(&one, 0, 0);
         }
-        for (int y = ty0; y <= ty1; y++) {
-            vec3s *dst = &fr->out->pixels[(size_t)(fr->height - 1 - y) * (size_t)fr->width];
-            for (int x = tx0; x <= tx1; x++)
-                dst[x] = c;
-        }
+        for (int y = ty0; y <= ty1; y++)
+            fill_row(&fr->out->pixels[(size_t)(fr->height - 1 - y) * (size_t)fr->width + tx0], c,
+                     tx1 - tx0 + 1);
         return;
     }
     for (int i = 0; i < TILE * TILE * n; i++) {
@@ -713,12 +814,14 @@ static void do_tile(worker *w, int tile) {
         vec3s *dst = &fr->out->pixels[(size_t)(fr->height - 1 - y) * (size_t)fr->width];
         const vec3s *src = &w->color[(size_t)(y - ty0) * TILE * (size_t)n];
         if (n == 1) {
-            memcpy(&dst[tx0], src, sizeof *dst * (size_t)(tx1 - tx0 + 1));
+            put_row(&dst[tx0], src, tx1 - tx0 + 1);
         } else {
             /* resolve_pixel reads screen pixel (x, y) of the view at row
              * TILE-1-y: hand it the mirrored row. */
+            _Alignas(16) vec3s row[TILE];
             for (int x = tx0; x <= tx1; x++)
-                dst[x] = resolve_pixel(&view, x - tx0, TILE - 1 - (y - ty0));
+                row[x - tx0] = resolve_pixel(&view, x - tx0, TILE - 1 - (y - ty0));
+            put_row(&dst[tx0], row, tx1 - tx0 + 1);
         }
     }
 }
@@ -732,6 +835,9 @@ static void *worker_main(void *arg) {
         if (tile >= tiles) break;
         do_tile(w, tile);
     }
+#if defined(__SSE2__)
+    _mm_sfence(); /* put_row's and fill_row's streaming stores, before the join */
+#endif
     return NULL;
 }
 
