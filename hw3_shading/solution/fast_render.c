@@ -55,6 +55,7 @@ typedef struct fast_tri {
      * opposite corner k of the CCW-ordered triangle; covered when
      * E_k >= thr[k] (thr = -bias: 0 on top-left edges, 1 elsewhere). */
     int64_t a[3], b[3], c[3], thr[3], area2;
+    double inv_area2; /* RN(1 / area2), for ratio_to_float */
     int order[3]; /* original vertex index of corner k */
     int x0, x1, y0, y1; /* pixel bounding box, clamped, inclusive */
     int object;
@@ -83,6 +84,7 @@ static bool setup_fixed(fast_tri *r, int width, int height) {
     r->order[1] = area2 > 0 ? 1 : 2;
     r->order[2] = area2 > 0 ? 2 : 1;
     r->area2 = area2 > 0 ? area2 : -area2;
+    r->inv_area2 = 1.0 / (double)r->area2;
     for (int k = 0; k < 3; k++) {
         int i = r->order[(k + 1) % 3], j = r->order[(k + 2) % 3];
         int64_t dx = X[j] - X[i], dy = Y[j] - Y[i];
@@ -578,11 +580,29 @@ static int batch_kind(const hw3_scene *scene, const hw3_render_options *opt,
 
 /* The reference's barycentrics of a covered point, in the original vertex
  * order (order is 0,1,2 or 0,2,1: a select, not a scatter through memory). */
+/* (float)((double)e / area2), the reference's barycentric, without the
+ * division where that is provably the same float. For a covered point
+ * 0 <= e <= area2 < 2^53, so (double)e is exact and q = e · RN(1/area2) is
+ * within about 3 double ulps of the correctly rounded quotient d (two
+ * roundings of 2^-53 each, against d's one). Rounding to float gives the same
+ * result for q and d unless a float rounding boundary — a midpoint between
+ * two floats, whose 29 bits below float precision read 0x10000000 — lies
+ * between them; so when q's 29 low bits are more than 8 from that pattern, q
+ * rounds like d, and otherwise (about once in 2^25) divide. q >= 2^-53 is far
+ * from float subnormals; e = 0 gives +0 either way. */
+static inline float ratio_to_float(int64_t e, const fast_tri *r) {
+    double q = (double)e * r->inv_area2;
+    uint64_t bits;
+    memcpy(&bits, &q, sizeof bits);
+    uint32_t low = (uint32_t)(bits & 0x1FFFFFFFu);
+    if (low - (0x10000000u - 8u) > 16u) return (float)q;
+    return (float)((double)e / (double)r->area2);
+}
+
 static inline vec3s bary_of(const fast_tri *r, const int64_t e[3]) {
-    double area2 = (double)r->area2;
-    float l0 = (float)((double)e[0] / area2);
-    float l1 = (float)((double)e[1] / area2);
-    float l2 = (float)((double)e[2] / area2);
+    float l0 = ratio_to_float(e[0], r);
+    float l1 = ratio_to_float(e[1], r);
+    float l2 = ratio_to_float(e[2], r);
     return r->order[1] == 1 ? (vec3s){{l0, l1, l2}} : (vec3s){{l0, l2, l1}};
 }
 
