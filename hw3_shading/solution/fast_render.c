@@ -34,6 +34,7 @@
 
 #include <math.h>      /* llround, fabsf, isfinite */
 #include <pthread.h>   /* pthread_create, pthread_join */
+#include <sched.h>     /* sched_yield */
 #include <stdatomic.h> /* atomic_int */
 #include <stdint.h>    /* int64_t, uint64_t */
 #include <stdlib.h>    /* malloc, free, getenv, atoi */
@@ -186,12 +187,24 @@ typedef struct frame {
     /* per object (each has its own p): powf(x, p) is +0 for 0 <= x <= spec_zero
      * (fast_blinn_phong) */
     float spec_zero[HW3_MAX_OBJECTS];
-    const fast_tri *tri;
-    /* bins: tile t holds bin_index[bin_start[t] .. bin_start[t+1]) */
+    /* bins: tile t holds bin_tri[bin_start[t] .. bin_start[t+1]) */
     int tiles_x, tiles_y;
     size_t *bin_start;
-    uint32_t *bin_index;
+    const fast_tri **bin_tri;
     atomic_int next_tile;
+    /* setup, shared out in chunks (setup_chunks) */
+    const mat4s *models;
+    mat4s view, projection;
+    ras_clip_vertex *clip; /* every object's vertices, object o from clip_base[o] */
+    size_t *clip_base;     /* [object_count] */
+    size_t *tri_first;     /* [object_count + 1]: object o's first triangle, counted over all */
+    int vchunks, tchunks;  /* vertex chunks: (vchunk_obj, vchunk_start) */
+    int *vchunk_obj;
+    size_t *vchunk_start;
+    tri_list *lists; /* [tchunks]: chunk c's records, in submission order */
+    atomic_int next_vchunk, vchunks_done, next_tchunk, tchunks_done, binned;
+    atomic_bool failed; /* out of memory somewhere */
+    double t_setup;     /* when setup ended (ms_vertex) */
     ras_image *out;
     int batch; /* BATCH_*: shade through the queue, four at a time */
 } frame;
@@ -213,6 +226,7 @@ typedef struct worker {
     float *depth;
     fragment_shader_payload pay[HW3_MAX_OBJECTS];
     ras_counters k;
+    ras_counters ks; /* setup's counters */
     pthread_t thread;
     queued q[QUEUE];
     int qn;
@@ -816,14 +830,14 @@ static void do_tile(worker *w, int tile) {
         /* The records are visited in bin order, scattered in memory: fetch
          * the next ones while this one is drawn. */
         if (j + 2 < end) {
-            const char *next = (const char *)&fr->tri[fr->bin_index[j + 2]];
+            const char *next = (const char *)fr->bin_tri[j + 2];
             __builtin_prefetch(next);
             __builtin_prefetch(next + 64);
             __builtin_prefetch(next + 128);
             __builtin_prefetch(next + 192);
             __builtin_prefetch(next + 256);
         }
-        draw_in_tile(w, &fr->tri[fr->bin_index[j]], tx0, ty0, tx1, ty1);
+        draw_in_tile(w, fr->bin_tri[j], tx0, ty0, tx1, ty1);
     }
     flush_queue(w);
     /* Resolve: sample 0 with one sample (ras_resolve_frame), else the hw2
@@ -846,11 +860,110 @@ static void do_tile(worker *w, int tile) {
     }
 }
 
+/* ---- setup in parallel ------------------------------------------------------ */
+
+/* Setup is shared out too (it is about a sixth of a 1x frame): vertex chunks
+ * (each vertex is transformed on its own, by the same ras_vertex_transform on
+ * a slice of the mesh), then triangle chunks, each into its own record list;
+ * the lists in chunk order are the submission order, so binning sees exactly
+ * the sequence a single thread would have produced. Chunks are claimed from
+ * shared counters, so any number of threads (even one whose siblings failed to
+ * start) finishes them; a thread that runs out waits for the stragglers. */
+#define VERTEX_CHUNK 1024
+#define TRIANGLE_CHUNK 256
+
+static void wait_for(atomic_int *v, int target) {
+    while (atomic_load(v) < target)
+        sched_yield();
+}
+
+static void transform_chunk(frame *fr, int c) {
+    int o = fr->vchunk_obj[c];
+    const ras_mesh *mesh = fr->scene->objects[o].mesh;
+    size_t start = fr->vchunk_start[c];
+    ras_mesh part = *mesh;
+    part.vertex_count =
+        mesh->vertex_count - start < VERTEX_CHUNK ? mesh->vertex_count - start : VERTEX_CHUNK;
+    part.positions += start;
+    if (part.normals) part.normals += start;
+    if (part.uvs) part.uvs += start;
+    if (part.colors) part.colors += start;
+    ras_vertex_transform(&part, fr->models[o], fr->view, fr->projection, fr->stage->varyings,
+                         fr->clip + fr->clip_base[o] + start);
+}
+
+static void setup_chunk(worker *w, int c) {
+    frame *fr = w->fr;
+    size_t g = (size_t)c * TRIANGLE_CHUNK, end = g + TRIANGLE_CHUNK;
+    if (end > fr->tri_first[fr->scene->object_count]) end = fr->tri_first[fr->scene->object_count];
+    tri_list *L = &fr->lists[c];
+    int o = 0;
+    while (fr->tri_first[o + 1] <= g)
+        o++;
+    for (; g < end; g++) {
+        while (fr->tri_first[o + 1] <= g)
+            o++;
+        const ras_mesh *mesh = fr->scene->objects[o].mesh;
+        const unsigned *idx = &mesh->indices[3 * (g - fr->tri_first[o])];
+        const ras_clip_vertex *clip = fr->clip + fr->clip_base[o];
+        if (!setup_triangle(L, &clip[idx[0]], &clip[idx[1]], &clip[idx[2]], o, fr->width,
+                            fr->height, &w->ks)) {
+            atomic_store(&fr->failed, true);
+            return;
+        }
+    }
+}
+
+/* The chunk lists in order into the tiles' bins (one thread, once). */
+static void bin_triangles(frame *fr) {
+    int tiles = fr->tiles_x * fr->tiles_y;
+    for (int c = 0; c < fr->tchunks; c++)
+        for (size_t i = 0; i < fr->lists[c].count; i++) {
+            const fast_tri *r = &fr->lists[c].tri[i];
+            for (int ty = r->y0 / TILE; ty <= r->y1 / TILE; ty++)
+                for (int tx = r->x0 / TILE; tx <= r->x1 / TILE; tx++)
+                    fr->bin_start[ty * fr->tiles_x + tx + 1]++;
+        }
+    for (int t = 0; t < tiles; t++)
+        fr->bin_start[t + 1] += fr->bin_start[t];
+    fr->bin_tri = malloc((fr->bin_start[tiles] + 1) * sizeof *fr->bin_tri);
+    size_t *fill = malloc((size_t)tiles * sizeof *fill);
+    if (!fr->bin_tri || !fill) {
+        free(fill);
+        atomic_store(&fr->failed, true);
+        return;
+    }
+    memcpy(fill, fr->bin_start, (size_t)tiles * sizeof *fill);
+    for (int c = 0; c < fr->tchunks; c++)
+        for (size_t i = 0; i < fr->lists[c].count; i++) {
+            const fast_tri *r = &fr->lists[c].tri[i];
+            for (int ty = r->y0 / TILE; ty <= r->y1 / TILE; ty++)
+                for (int tx = r->x0 / TILE; tx <= r->x1 / TILE; tx++)
+                    fr->bin_tri[fill[ty * fr->tiles_x + tx]++] = r;
+        }
+    free(fill);
+}
+
 static void *worker_main(void *arg) {
     worker *w = arg;
     frame *fr = w->fr;
+    for (int c; (c = atomic_fetch_add(&fr->next_vchunk, 1)) < fr->vchunks;) {
+        transform_chunk(fr, c);
+        atomic_fetch_add(&fr->vchunks_done, 1);
+    }
+    wait_for(&fr->vchunks_done, fr->vchunks);
+    for (int c; (c = atomic_fetch_add(&fr->next_tchunk, 1)) < fr->tchunks;) {
+        setup_chunk(w, c);
+        /* whoever finishes the last chunk bins */
+        if (atomic_fetch_add(&fr->tchunks_done, 1) == fr->tchunks - 1) {
+            fr->t_setup = ras_now_ms();
+            if (!atomic_load(&fr->failed)) bin_triangles(fr);
+            atomic_store(&fr->binned, 1);
+        }
+    }
+    wait_for(&fr->binned, 1);
     int tiles = fr->tiles_x * fr->tiles_y;
-    for (;;) {
+    while (!atomic_load(&fr->failed)) {
         int tile = atomic_fetch_add(&fr->next_tile, 1);
         if (tile >= tiles) break;
         do_tile(w, tile);
@@ -910,67 +1023,68 @@ bool hw3_fast_render(const hw3_scene *scene, const hw3_render_options *opt,
                                           !!(stage->varyings & RAS_VARYING_VIEW_POS) +
                                           !!(stage->varyings & RAS_VARYING_UV));
 
-    /* 1. setup in submission order */
-    tri_list L = {0};
-    ras_clip_vertex *clip = NULL;
-    size_t clip_cap = 0;
-    bool ok = true;
-    for (int o = 0; o < scene->object_count && ok; o++) {
-        const ras_mesh *mesh = scene->objects[o].mesh;
-        if (mesh->vertex_count > clip_cap) {
-            ras_clip_vertex *grown = realloc(clip, mesh->vertex_count * sizeof *clip);
-            if (!grown) {
-                ok = false;
-                break;
-            }
-            clip = grown;
-            clip_cap = mesh->vertex_count;
-        }
-        ras_vertex_transform(mesh, models[o], view, projection, stage->varyings, clip);
-        k->stages_run |= RAS_STAGE_VERTEX;
-        k->vertices_transformed += mesh->vertex_count;
-        for (size_t i = 0; i < mesh->triangle_count && ok; i++) {
-            const unsigned *idx = &mesh->indices[3 * i];
-            k->stages_run |= RAS_STAGE_CLIP | RAS_STAGE_SETUP;
-            ok = setup_triangle(&L, &clip[idx[0]], &clip[idx[1]], &clip[idx[2]], o, width,
-                                height, k);
-        }
-    }
-    free(clip);
-    double t1 = ras_now_ms();
-
-    /* 2. binning, in submission order */
-    fr.tri = L.tri;
+    /* 1. the setup plan: vertex chunks, triangle chunks (worker_main runs them) */
+    int objects = scene->object_count;
+    fr.models = models;
+    fr.view = view;
+    fr.projection = projection;
     fr.tiles_x = (width + TILE - 1) / TILE;
     fr.tiles_y = (height + TILE - 1) / TILE;
     int tiles = fr.tiles_x * fr.tiles_y;
     int threads = thread_count(opt);
     if (threads > tiles) threads = tiles;
-    fr.bin_start = ok ? calloc((size_t)tiles + 1, sizeof *fr.bin_start) : NULL;
-    worker *workers = ok ? calloc((size_t)threads, sizeof *workers) : NULL;
-    ok = ok && fr.bin_start && workers;
-    if (ok) {
-        for (size_t i = 0; i < L.count; i++) {
-            const fast_tri *r = &L.tri[i];
-            for (int ty = r->y0 / TILE; ty <= r->y1 / TILE; ty++)
-                for (int tx = r->x0 / TILE; tx <= r->x1 / TILE; tx++)
-                    fr.bin_start[ty * fr.tiles_x + tx + 1]++;
-        }
-        for (int t = 0; t < tiles; t++) fr.bin_start[t + 1] += fr.bin_start[t];
-        fr.bin_index = malloc((fr.bin_start[tiles] + 1) * sizeof *fr.bin_index);
-        size_t *fill = malloc((size_t)tiles * sizeof *fill);
-        ok = fr.bin_index && fill;
-        if (ok) {
-            memcpy(fill, fr.bin_start, (size_t)tiles * sizeof *fill);
-            for (size_t i = 0; i < L.count; i++) {
-                const fast_tri *r = &L.tri[i];
-                for (int ty = r->y0 / TILE; ty <= r->y1 / TILE; ty++)
-                    for (int tx = r->x0 / TILE; tx <= r->x1 / TILE; tx++)
-                        fr.bin_index[fill[ty * fr.tiles_x + tx]++] = (uint32_t)i;
-            }
-        }
-        free(fill);
+    size_t vertices = 0, vchunks = 0;
+    for (int o = 0; o < objects; o++) {
+        const ras_mesh *mesh = scene->objects[o].mesh;
+        vertices += mesh->vertex_count;
+        vchunks += (mesh->vertex_count + VERTEX_CHUNK - 1) / VERTEX_CHUNK;
+        k->stages_run |= RAS_STAGE_VERTEX;
+        k->vertices_transformed += mesh->vertex_count;
+        if (mesh->triangle_count) k->stages_run |= RAS_STAGE_CLIP | RAS_STAGE_SETUP;
     }
+    fr.clip_base = malloc(((size_t)objects + 1) * sizeof *fr.clip_base);
+    fr.tri_first = malloc(((size_t)objects + 1) * sizeof *fr.tri_first);
+    fr.vchunk_obj = malloc((vchunks + 1) * sizeof *fr.vchunk_obj);
+    fr.vchunk_start = malloc((vchunks + 1) * sizeof *fr.vchunk_start);
+    fr.clip = malloc((vertices + 1) * sizeof *fr.clip);
+    fr.bin_start = calloc((size_t)tiles + 1, sizeof *fr.bin_start);
+    worker *workers = calloc((size_t)threads, sizeof *workers);
+    bool ok = fr.clip_base && fr.tri_first && fr.vchunk_obj && fr.vchunk_start && fr.clip &&
+              fr.bin_start && workers;
+    if (ok) {
+        size_t v = 0, t = 0;
+        int c = 0;
+        for (int o = 0; o < objects; o++) {
+            const ras_mesh *mesh = scene->objects[o].mesh;
+            fr.clip_base[o] = v;
+            fr.tri_first[o] = t;
+            for (size_t start = 0; start < mesh->vertex_count; start += VERTEX_CHUNK) {
+                fr.vchunk_obj[c] = o;
+                fr.vchunk_start[c++] = start;
+            }
+            v += mesh->vertex_count;
+            t += mesh->triangle_count;
+        }
+        fr.tri_first[objects] = t;
+        fr.vchunks = c;
+        fr.tchunks = (int)((t + TRIANGLE_CHUNK - 1) / TRIANGLE_CHUNK);
+        fr.lists = calloc((size_t)fr.tchunks + 1, sizeof *fr.lists);
+        ok = fr.lists != NULL;
+        for (int i = 0; ok && i < fr.tchunks; i++) {
+            /* room for the chunk's triangles and a few clipped pieces */
+            fr.lists[i].capacity = TRIANGLE_CHUNK + TRIANGLE_CHUNK / 4;
+            fr.lists[i].tri = malloc(fr.lists[i].capacity * sizeof *fr.lists[i].tri);
+            ok = fr.lists[i].tri != NULL;
+        }
+    }
+    atomic_init(&fr.next_vchunk, 0);
+    atomic_init(&fr.vchunks_done, 0);
+    atomic_init(&fr.next_tchunk, 0);
+    atomic_init(&fr.tchunks_done, 0);
+    atomic_init(&fr.binned, fr.tchunks == 0); /* no triangles: the bins are empty */
+    atomic_init(&fr.failed, false);
+    atomic_init(&fr.next_tile, 0);
+    fr.t_setup = t0;
 
     /* 3. tiles on the workers */
     size_t tile_samples = (size_t)TILE * TILE * (size_t)fr.n;
@@ -996,14 +1110,24 @@ bool hw3_fast_render(const hw3_scene *scene, const hw3_render_options *opt,
         }
     }
     if (ok) {
-        atomic_init(&fr.next_tile, 0);
         int started = 1;
         for (; started < threads; started++)
             if (pthread_create(&workers[started].thread, NULL, worker_main, &workers[started]))
                 break; /* fewer workers is only slower */
         worker_main(&workers[0]);
         for (int i = 1; i < started; i++) pthread_join(workers[i].thread, NULL);
+        ok = !atomic_load(&fr.failed);
+    }
+    if (ok) {
         for (int i = 0; i < threads; i++) {
+            const ras_counters *s = &workers[i].ks;
+            k->stages_run |= s->stages_run;
+            k->triangles_in += s->triangles_in;
+            k->triangles_rejected_nonfinite += s->triangles_rejected_nonfinite;
+            k->triangles_clipped_away += s->triangles_clipped_away;
+            k->triangles_clip_split += s->triangles_clip_split;
+            k->triangles_rasterized += s->triangles_rasterized;
+            k->triangles_degenerate += s->triangles_degenerate;
             const ras_counters *c = &workers[i].k;
             k->stages_run |= c->stages_run;
             k->samples_tested += c->samples_tested;
@@ -1017,17 +1141,25 @@ bool hw3_fast_render(const hw3_scene *scene, const hw3_render_options *opt,
         if (fr.n > 1) k->stages_run |= RAS_STAGE_RESOLVE;
         k->buffer_bytes = (size_t)threads * tile_samples * (sizeof(vec3s) + sizeof(float));
     } else {
-        ras_error_set(err, "out of memory drawing %zu triangles", L.count);
+        ras_error_set(err, "out of memory drawing %zu triangles",
+                      fr.tri_first ? fr.tri_first[objects] : (size_t)0);
     }
     for (int i = 0; workers && i < threads; i++) {
         free(workers[i].color);
         free(workers[i].depth);
     }
     free(workers);
+    for (int i = 0; fr.lists && i < fr.tchunks; i++)
+        free(fr.lists[i].tri);
+    free(fr.lists);
     free(fr.bin_start);
-    free(fr.bin_index);
-    free(L.tri);
-    double t2 = ras_now_ms();
+    free(fr.bin_tri);
+    free(fr.clip);
+    free(fr.clip_base);
+    free(fr.tri_first);
+    free(fr.vchunk_obj);
+    free(fr.vchunk_start);
+    double t1 = fr.t_setup, t2 = ras_now_ms();
     k->ms_vertex += t1 - t0;
     k->ms_raster += t2 - t1;
     k->ms_total += t2 - t0;
