@@ -737,6 +737,31 @@ draw_in_tile_n(worker *w, const fast_tri *r, int tx0, int ty0, int tx1, int ty1,
                     int64_t py = (int64_t)y * SUBPIXEL_ONE + fr->off_y[k];
                     for (int i = 0; i < 3; i++) e[k][i] = r->a[i] * px + r->b[i] * py + r->c[i];
                 }
+                if (n == 1) {
+                    /* One sample: the row's coverage as a bit mask first,
+                     * without a branch per pixel (edges of small triangles
+                     * are unpredictable), then only the covered pixels, their
+                     * edge values stepped from the row start (still exact). */
+                    uint32_t mask = 0;
+                    int64_t e0 = e[0][0], e1 = e[0][1], e2 = e[0][2];
+                    for (int i = 0; i <= bx1 - bx0; i++) {
+                        mask |=
+                            (uint32_t)((e0 >= r->thr[0]) & (e1 >= r->thr[1]) & (e2 >= r->thr[2]))
+                            << i;
+                        e0 += step[0];
+                        e1 += step[1];
+                        e2 += step[2];
+                    }
+                    for (; mask; mask &= mask - 1) {
+                        int i = __builtin_ctz(mask);
+                        int64_t ep[2][3];
+                        for (int k = 0; k <= 1; k++)
+                            for (int j = 0; j < 3; j++)
+                                ep[k][j] = e[k][j] + (int64_t)i * step[j];
+                        draw_pixel_samples(w, r, bx0 + i, y, tx0, ty0, ep, 1);
+                    }
+                    continue;
+                }
                 for (int x = bx0; x <= bx1; x++) {
                     draw_pixel_samples(w, r, x, y, tx0, ty0, e, n);
                     for (int k = 0; k <= n; k++)
