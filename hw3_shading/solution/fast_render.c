@@ -123,11 +123,19 @@ static bool clip_vertex_finite(const ras_clip_vertex *v) {
 
 /* ras_pipeline_draw_clip_triangle + the reference rasterizer's prologue, with
  * the same counters; records what would be rasterized. */
+/* Per vertex, computed once when the vertex is transformed (a vertex is shared
+ * by about six triangles): */
+enum {
+    VERTEX_FINITE = 1, /* clip_vertex_finite */
+    SCREEN_FINITE = 2
+}; /* ras_viewport's result is finite */
+
 static bool setup_triangle(tri_list *L, const ras_clip_vertex *a, const ras_clip_vertex *b,
-                           const ras_clip_vertex *c, int object, int width, int height,
+                           const ras_clip_vertex *c, const unsigned char flags[3],
+                           const vec4s *screen[3], int object, int width, int height,
                            ras_counters *k) {
     k->triangles_in++;
-    if (!clip_vertex_finite(a) || !clip_vertex_finite(b) || !clip_vertex_finite(c)) {
+    if (!(flags[0] & flags[1] & flags[2] & VERTEX_FINITE)) {
         k->triangles_rejected_nonfinite++;
         return true;
     }
@@ -149,7 +157,23 @@ static bool setup_triangle(tri_list *L, const ras_clip_vertex *a, const ras_clip
             L->capacity = cap;
         }
         fast_tri *r = &L->tri[L->count];
-        if (!ras_setup_triangle(&poly[0], &poly[i], &poly[i + 1], width, height, &r->t)) {
+        bool set;
+        if (cr == RAS_CLIP_INSIDE) {
+            /* poly is a, b, c: ras_setup_triangle's viewport per corner, and
+             * its finiteness test (the varyings passed VERTEX_FINITE) */
+            const ras_clip_vertex *in[3] = {a, b, c};
+            for (int v = 0; v < 3; v++) {
+                r->t.v[v] = *screen[v];
+                r->t.color[v] = in[v]->color;
+                r->t.normal[v] = in[v]->normal;
+                r->t.uv[v] = in[v]->uv;
+                r->t.view_pos[v] = in[v]->view_pos;
+            }
+            set = flags[0] & flags[1] & flags[2] & SCREEN_FINITE;
+        } else {
+            set = ras_setup_triangle(&poly[0], &poly[i], &poly[i + 1], width, height, &r->t);
+        }
+        if (!set) {
             k->triangles_rejected_nonfinite++;
             continue;
         }
@@ -196,6 +220,8 @@ typedef struct frame {
     const mat4s *models;
     mat4s view, projection;
     ras_clip_vertex *clip; /* every object's vertices, object o from clip_base[o] */
+    vec4s *screen;         /* their ras_viewport */
+    unsigned char *vflags; /* VERTEX_FINITE | SCREEN_FINITE */
     size_t *clip_base;     /* [object_count] */
     size_t *tri_first;     /* [object_count + 1]: object o's first triangle, counted over all */
     int vchunks, tchunks;  /* vertex chunks: (vchunk_obj, vchunk_start) */
@@ -913,8 +939,14 @@ static void transform_chunk(frame *fr, int c) {
     if (part.normals) part.normals += start;
     if (part.uvs) part.uvs += start;
     if (part.colors) part.colors += start;
+    size_t first = fr->clip_base[o] + start;
     ras_vertex_transform(&part, fr->models[o], fr->view, fr->projection, fr->stage->varyings,
-                         fr->clip + fr->clip_base[o] + start);
+                         fr->clip + first);
+    for (size_t v = first; v < first + part.vertex_count; v++) {
+        fr->screen[v] = ras_viewport(fr->clip[v].p_clip, fr->width, fr->height);
+        fr->vflags[v] = (unsigned char)((clip_vertex_finite(&fr->clip[v]) ? VERTEX_FINITE : 0) |
+                                        (ras_vec4_finite(fr->screen[v]) ? SCREEN_FINITE : 0));
+    }
 }
 
 static void setup_chunk(worker *w, int c) {
@@ -930,9 +962,14 @@ static void setup_chunk(worker *w, int c) {
             o++;
         const ras_mesh *mesh = fr->scene->objects[o].mesh;
         const unsigned *idx = &mesh->indices[3 * (g - fr->tri_first[o])];
-        const ras_clip_vertex *clip = fr->clip + fr->clip_base[o];
-        if (!setup_triangle(L, &clip[idx[0]], &clip[idx[1]], &clip[idx[2]], o, fr->width,
-                            fr->height, &w->ks)) {
+        size_t base = fr->clip_base[o];
+        const ras_clip_vertex *clip = fr->clip + base;
+        const unsigned char flags[3] = {fr->vflags[base + idx[0]], fr->vflags[base + idx[1]],
+                                        fr->vflags[base + idx[2]]};
+        const vec4s *screen[3] = {&fr->screen[base + idx[0]], &fr->screen[base + idx[1]],
+                                  &fr->screen[base + idx[2]]};
+        if (!setup_triangle(L, &clip[idx[0]], &clip[idx[1]], &clip[idx[2]], flags, screen, o,
+                            fr->width, fr->height, &w->ks)) {
             atomic_store(&fr->failed, true);
             return;
         }
@@ -1072,10 +1109,12 @@ bool hw3_fast_render(const hw3_scene *scene, const hw3_render_options *opt,
     fr.vchunk_obj = malloc((vchunks + 1) * sizeof *fr.vchunk_obj);
     fr.vchunk_start = malloc((vchunks + 1) * sizeof *fr.vchunk_start);
     fr.clip = malloc((vertices + 1) * sizeof *fr.clip);
+    fr.screen = malloc((vertices + 1) * sizeof *fr.screen);
+    fr.vflags = malloc(vertices + 1);
     fr.bin_start = calloc((size_t)tiles + 1, sizeof *fr.bin_start);
     worker *workers = calloc((size_t)threads, sizeof *workers);
     bool ok = fr.clip_base && fr.tri_first && fr.vchunk_obj && fr.vchunk_start && fr.clip &&
-              fr.bin_start && workers;
+              fr.screen && fr.vflags && fr.bin_start && workers;
     if (ok) {
         size_t v = 0, t = 0;
         int c = 0;
@@ -1180,6 +1219,8 @@ bool hw3_fast_render(const hw3_scene *scene, const hw3_render_options *opt,
     free(fr.bin_start);
     free(fr.bin_tri);
     free(fr.clip);
+    free(fr.screen);
+    free(fr.vflags);
     free(fr.clip_base);
     free(fr.tri_first);
     free(fr.vchunk_obj);
