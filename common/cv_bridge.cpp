@@ -53,6 +53,14 @@ extern "C" bool cv_bridge_write_rgb8(const char *path, int width, int height,
     }
 }
 
+extern "C" bool cv_bridge_can_write(const char *path) {
+    try {
+        return cv::haveImageWriter(path);
+    } catch (const cv::Exception &) {
+        return false;
+    }
+}
+
 extern "C" uint8_t *cv_bridge_read_rgb8(const char *path, int *width, int *height, char *err,
                                         int err_size) {
     // Check first: imread itself would print a warning of its own to stderr.

@@ -21,6 +21,9 @@ extern "C" {
 bool cv_bridge_write_rgb8(const char *path, int width, int height, const uint8_t *rgb,
                           char *err, int err_size);
 
+/* True when this OpenCV build has an encoder for the file's extension. */
+bool cv_bridge_can_write(const char *path);
+
 /* Reads and decodes into a malloc'ed RGB buffer the caller frees with free(). */
 uint8_t *cv_bridge_read_rgb8(const char *path, int *width, int *height, char *err,
                              int err_size);

@@ -76,6 +76,51 @@ static bool parse_int(const char *s, long lo, long hi, int *out) {
     return true;
 }
 
+/* What an option's value looks like, for "needs a value" messages. */
+static const char *metavar_of(int opt) {
+    switch (opt) {
+    case 'o': return "an output FILE such as out.png";
+    case OPT_SIZE: return "WIDTHxHEIGHT such as 700x700";
+    case 'r': return "an angle in degrees such as 20";
+    case OPT_AXIS: return "an axis X,Y,Z such as 0,1,0";
+    case OPT_AA: return "none, msaa or ssaa";
+    case OPT_SAMPLES: return "a sample count such as 4";
+    case OPT_PATTERN: return "ordered or standard";
+    case OPT_EDGES: return "fixed or float";
+    case OPT_SHADER: return "normal, phong, texture, bump or displacement";
+    case OPT_FILTER: return "nearest, bilinear or trilinear";
+    case OPT_REFERENCE: return "an image FILE";
+    case OPT_MODEL: return "a model FILE (OBJ, PLY, STL, glTF, ...)";
+    case OPT_TEXTURE:
+    case OPT_HEIGHT: return "an image FILE";
+    case OPT_SCENE: return "a scene FILE (JSON)";
+    default: return "a value";
+    }
+}
+
+/* The options whose value is a file name. */
+static bool takes_file(int opt) {
+    return opt == 'o' || opt == OPT_REFERENCE || opt == OPT_MODEL || opt == OPT_TEXTURE ||
+           opt == OPT_HEIGHT || opt == OPT_SCENE;
+}
+
+/* The long options `word` (after "--", up to any '=') abbreviates; *match is
+ * one of them. */
+static int prefix_matches(const char *word, const struct option **match) {
+    size_t len = strcspn(word, "=");
+    int n = 0;
+    for (const struct option *o = long_options; o->name; o++)
+        if (!strncmp(o->name, word, len)) {
+            if (strlen(o->name) == len) { /* exact: not ambiguous */
+                *match = o;
+                return 1;
+            }
+            *match = o;
+            n++;
+        }
+    return n;
+}
+
 ras_cli_status ras_cli_parse(int argc, char **argv, unsigned accepted, ras_cli *out,
                              ras_error *err) {
     *out = (ras_cli){.axis = {{0, 0, 1}}};
@@ -89,19 +134,67 @@ ras_cli_status ras_cli_parse(int argc, char **argv, unsigned accepted, ras_cli *
         const char *arg = optarg;
         /* Name the option as the user typed it: argv[optind - 1] would be its
          * value when the value came as a separate word. */
+        /* The word that went wrong, as typed: "--name[=value]" or "-x". An
+         * unknown letter inside a cluster ("-xr") leaves optind on its word,
+         * so only optopt tells a long option (0 or a value >= 256, or --help=)
+         * from a short one there. */
+        const char *word = optind > 0 && optind <= argc ? argv[optind - 1] : "";
+        bool long_word = !strncmp(word, "--", 2);
+        if (opt == '?')
+            long_word =
+                optopt == 0 || optopt >= 256 || (optopt == 'h' && long_word && strchr(word, '='));
         char name[64];
         if (index >= 0) snprintf(name, sizeof name, "--%s", long_options[index].name);
         else if (opt != '?' && opt != ':') snprintf(name, sizeof name, "-%c", opt);
-        else snprintf(name, sizeof name, "%s", argv[optind - 1]);
+        else
+            snprintf(name, sizeof name, "%s", word);
+        if (opt == '?' && long_word) {
+            const struct option *match = NULL;
+            int n = prefix_matches(word + 2, &match);
+            if (n == 1 && match->has_arg == no_argument && strchr(word, '='))
+                ras_error_set(err,
+                              "option '--%s' takes no value; got '%s'; write it as just "
+                              "'--%s'",
+                              match->name, word, match->name);
+            else if (n > 1)
+                ras_error_set(err,
+                              "option '%.*s' is ambiguous: it starts more than one option "
+                              "name; write the option out in full (run '%s --help' for "
+                              "the list)",
+                              (int)strcspn(word, "="), word, program);
+            else
+                ras_error_set(err,
+                              "unknown option '%.*s'; run '%s --help' for the options it "
+                              "takes",
+                              (int)strcspn(word, "="), word, program);
+            return RAS_CLI_ERROR;
+        }
         if (opt == '?') {
-            if (optopt) snprintf(name, sizeof name, "-%c", optopt);
-            ras_error_set(err, "unknown option '%s'; run '%s --help' for the options it takes",
-                          name, program);
+            ras_error_set(err, "unknown option '-%c'; run '%s --help' for the options it takes",
+                          optopt > 32 && optopt < 127 ? optopt : '?', program);
             return RAS_CLI_ERROR;
         }
         if (opt == ':') {
-            if (optopt && optopt < 256) snprintf(name, sizeof name, "-%c", optopt);
-            ras_error_set(err, "option '%s' needs a value; run '%s --help'", name, program);
+            /* optopt is the short letter or the long option's value. */
+            int which = optopt;
+            if (long_word) {
+                const struct option *match = NULL;
+                if (prefix_matches(word + 2, &match) == 1) which = match->val;
+                snprintf(name, sizeof name, "--%s", match ? match->name : word + 2);
+            } else {
+                snprintf(name, sizeof name, "-%c", optopt > 32 && optopt < 127 ? optopt : '?');
+            }
+            unsigned g = group_of(which);
+            if (g && !(g & accepted))
+                ras_error_set(err,
+                              "option '%s' does not apply to this program; run '%s --help' "
+                              "for the options it takes",
+                              name, program);
+            else
+                ras_error_set(err,
+                              "option '%s' needs a value: expected %s after it, got the "
+                              "end of the command line",
+                              name, metavar_of(which));
             return RAS_CLI_ERROR;
         }
         unsigned group = group_of(opt);
@@ -112,18 +205,41 @@ ras_cli_status ras_cli_parse(int argc, char **argv, unsigned accepted, ras_cli *
                           name, program);
             return RAS_CLI_ERROR;
         }
+        /* A file option followed by another option (`-o --size 9x9`): getopt
+         * takes the option as the file name. Names starting with '-' need ./ */
+        if (takes_file(opt) && (!arg[0] || (arg[0] == '-' && arg[1]))) {
+            if (!arg[0])
+                ras_error_set(err, "option '%s' expects %s, got an empty name", name,
+                              metavar_of(opt));
+            else
+                ras_error_set(err,
+                              "option '%s' expects %s, got '%s', which looks like an option; "
+                              "give the file name after %s (a file whose name starts with "
+                              "'-' is written ./%s)",
+                              name, metavar_of(opt), arg, name, arg);
+            return RAS_CLI_ERROR;
+        }
         switch (opt) {
         case 'h': return RAS_CLI_HELP;
         case OPT_VERSION: return RAS_CLI_VERSION;
         case 'o': out->output = arg; break;
-        case OPT_SIZE:
-            if (sscanf(arg, "%dx%d", &out->width, &out->height) != 2 || out->width < 1 ||
+        case OPT_SIZE: {
+            /* Digits 'x' digits, nothing else: sscanf alone would take
+             * "10x10junk", " 10x10" or "+10x10". */
+            size_t w_len = strspn(arg, "0123456789");
+            bool shape = w_len > 0 && w_len < 6 && arg[w_len] == 'x';
+            if (shape) {
+                size_t h_len = strspn(arg + w_len + 1, "0123456789");
+                shape = h_len > 0 && h_len < 6 && arg[w_len + 1 + h_len] == '\0';
+            }
+            if (!shape || sscanf(arg, "%dx%d", &out->width, &out->height) != 2 || out->width < 1 ||
                 out->height < 1 || out->width > 8192 || out->height > 8192) {
                 ras_error_set(err, "--size expects WIDTHxHEIGHT between 1x1 and 8192x8192, "
                                    "e.g. --size 700x700; got '%s'", arg);
                 return RAS_CLI_ERROR;
             }
             break;
+        }
         case 'r':
             if (!parse_float(arg, &out->angle)) {
                 ras_error_set(err, "--angle expects a finite number of degrees, e.g. -r 20; "
@@ -192,6 +308,11 @@ ras_cli_status ras_cli_parse(int argc, char **argv, unsigned accepted, ras_cli *
         case OPT_STATS: out->stats = true; break;
         default: break;
         }
+    }
+    if (out->reference && !out->compare) {
+        ras_error_set(err, "--reference FILE goes with --compare (it names the image to compare "
+                           "with); add --compare, or drop --reference");
+        return RAS_CLI_ERROR;
     }
     for (int i = optind; i < argc; i++) {
         if (out->positional_count == RAS_CLI_MAX_POSITIONAL) {

@@ -7,17 +7,29 @@
 #include <math.h>   /* INFINITY */
 #include <stdlib.h> /* calloc, malloc, free */
 
+bool ras_framebuffer_check_size(int width, int height, int samples, ras_error *err) {
+    if (width < 1 || height < 1 || width > RAS_IMAGE_MAX_SIDE || height > RAS_IMAGE_MAX_SIDE)
+        return ras_error_set(err, "frame size %dx%d is out of range: expected 1..%d on each side",
+                             width, height, RAS_IMAGE_MAX_SIDE);
+    if (samples < 1 || samples > RAS_MAX_SAMPLES)
+        return ras_error_set(err, "%d samples per pixel is out of range: expected 1..%d", samples,
+                             RAS_MAX_SAMPLES);
+    long long n = (long long)width * height * samples;
+    if (n > RAS_FRAME_MAX_SAMPLES)
+        return ras_error_set(
+            err,
+            "a %dx%d frame with %d samples per pixel needs %lld million "
+            "samples (%.1f GiB); expected at most %ld million (%ld GiB): "
+            "use a smaller --size or fewer --samples",
+            width, height, samples, n / 1000000,
+            (double)n * (sizeof(vec3s) + sizeof(float)) / (1 << 30),
+            RAS_FRAME_MAX_SAMPLES / 1000000,
+            (long)(RAS_FRAME_MAX_SAMPLES * (long)(sizeof(vec3s) + sizeof(float)) >> 30));
+    return true;
+}
+
 ras_framebuffer *ras_framebuffer_create(int width, int height, int samples, ras_error *err) {
-    if (width < 1 || height < 1 || width > RAS_IMAGE_MAX_SIDE || height > RAS_IMAGE_MAX_SIDE) {
-        ras_error_set(err, "frame size %dx%d is out of range: expected 1..%d on each side",
-                      width, height, RAS_IMAGE_MAX_SIDE);
-        return NULL;
-    }
-    if (samples < 1 || samples > RAS_MAX_SAMPLES) {
-        ras_error_set(err, "%d samples per pixel is out of range: expected 1..%d", samples,
-                      RAS_MAX_SAMPLES);
-        return NULL;
-    }
+    if (!ras_framebuffer_check_size(width, height, samples, err)) return NULL;
     size_t n = (size_t)width * (size_t)height * (size_t)samples;
     ras_framebuffer *fb = calloc(1, sizeof *fb);
     if (fb) {

@@ -28,6 +28,19 @@ typedef struct ras_framebuffer {
     size_t bytes; /* memory held by color + depth, reported by --stats */
 } ras_framebuffer;
 
+/* Most samples (width * height * samples per pixel) one frame may hold:
+ * 2^27, i.e. 2 GiB of colour and depth (e.g. 8192x8192 with 2 samples, or
+ * 2048x2048 with 16). Beyond it --size or --samples asks for more memory than
+ * a homework machine has; the programs say so up front instead of failing
+ * (or being killed) in the middle of a render. */
+#define RAS_FRAME_MAX_SAMPLES (1L << 27)
+
+/* True when a width x height frame with `samples` per pixel is in range (each
+ * side 1..RAS_IMAGE_MAX_SIDE, samples 1..RAS_MAX_SAMPLES, at most
+ * RAS_FRAME_MAX_SAMPLES in all); otherwise false and err says which limit,
+ * and what to change. */
+bool ras_framebuffer_check_size(int width, int height, int samples, ras_error *err);
+
 ras_framebuffer *ras_framebuffer_create(int width, int height, int samples, ras_error *err);
 void ras_framebuffer_destroy(ras_framebuffer *fb);
 

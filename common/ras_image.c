@@ -3,10 +3,13 @@
 
 #include "cv_bridge.h"
 
-#include <stdio.h>  /* rename, remove, snprintf */
-#include <stdlib.h> /* calloc, free */
-#include <string.h> /* strrchr, strlen */
-#include <unistd.h> /* getpid */
+#include <errno.h>    /* errno */
+#include <stdio.h>    /* rename, remove, snprintf */
+#include <stdlib.h>   /* calloc, free */
+#include <string.h>   /* strrchr, strlen, strerror */
+#include <strings.h>  /* strcasecmp */
+#include <sys/stat.h> /* stat */
+#include <unistd.h>   /* getpid, access */
 
 ras_image *ras_image_create(int width, int height, ras_error *err) {
     if (width < 1 || height < 1 || width > RAS_IMAGE_MAX_SIDE || height > RAS_IMAGE_MAX_SIDE) {
@@ -64,14 +67,61 @@ void ras_image_to_rgb8(const ras_image *img, uint8_t *rgb) {
     }
 }
 
-bool ras_image_save(const ras_image *img, const char *path, ras_error *err) {
-    const char *ext = strrchr(path, '.');
-    if (!ext || strchr(ext, '/')) {
+bool ras_image_check_output(const char *path, ras_error *err) {
+    static const char *const formats[] = {".png", ".jpg", ".jpeg", ".bmp", ".ppm", ".tif", ".tiff"};
+    if (!path || !*path)
+        return ras_error_set(err, "expected an output file name such as out.png, got an "
+                                  "empty name");
+    const char *slash = strrchr(path, '/');
+    const char *base = slash ? slash + 1 : path;
+    const char *ext = strrchr(base, '.');
+    if (!*base || !ext || ext == base) {
         return ras_error_set(err,
-                             "cannot write '%s': the name has no extension; expected e.g. "
-                             "'%s.png'",
-                             path, path);
+                             "cannot write '%s': expected a file name with an image extension "
+                             "(e.g. '%s%s'), got %s",
+                             path, path, *base ? ".png" : "out.png",
+                             *base ? "a name without one" : "a folder name");
     }
+    bool known = false;
+    for (size_t i = 0; i < sizeof formats / sizeof *formats; i++)
+        known |= strcasecmp(ext, formats[i]) == 0;
+    if (!known || !cv_bridge_can_write(path))
+        return ras_error_set(err,
+                             "cannot write '%s': expected an image extension (.png, .jpg, "
+                             ".bmp, .ppm or .tif), got '%s'; name the file e.g. '%.*s.png'",
+                             path, ext, (int)(ext - path), path);
+    struct stat st;
+    if (stat(path, &st) == 0 && S_ISDIR(st.st_mode))
+        return ras_error_set(err,
+                             "cannot write '%s': it is a folder; expected a file name "
+                             "such as '%s/out.png'",
+                             path, path);
+    /* The folder the file goes into. */
+    char dir[4096];
+    if (!slash)
+        snprintf(dir, sizeof dir, ".");
+    else if (slash == path)
+        snprintf(dir, sizeof dir, "/");
+    else
+        snprintf(dir, sizeof dir, "%.*s", (int)(slash - path), path);
+    if (stat(dir, &st) != 0)
+        return ras_error_set(err,
+                             "cannot write '%s': the folder '%s' does not exist; create it "
+                             "first (mkdir -p '%s') or write elsewhere",
+                             path, dir, dir);
+    if (!S_ISDIR(st.st_mode))
+        return ras_error_set(err, "cannot write '%s': '%s' is a file, not a folder", path, dir);
+    if (access(dir, W_OK) != 0)
+        return ras_error_set(err,
+                             "cannot write '%s': the folder '%s' is not writable (%s); write "
+                             "the image somewhere else",
+                             path, dir, strerror(errno));
+    return true;
+}
+
+bool ras_image_save(const ras_image *img, const char *path, ras_error *err) {
+    if (!ras_image_check_output(path, err)) return false;
+    const char *ext = strrchr(path, '.');
     size_t bytes = (size_t)img->width * (size_t)img->height * 3;
     uint8_t *rgb = malloc(bytes);
     if (!rgb) return ras_error_set(err, "out of memory writing '%s'", path);
@@ -92,13 +142,18 @@ bool ras_image_save(const ras_image *img, const char *path, ras_error *err) {
     if (!ok) {
         remove(tmp);
         free(tmp);
-        return ras_error_set(err, "%s", msg);
+        /* The bridge's message names the temporary file: name the user's. */
+        return ras_error_set(err,
+                             "could not write '%s': the image encoder failed (disk full or "
+                             "the folder not writable?); check the folder and try again",
+                             path);
     }
     if (rename(tmp, path) != 0) {
+        int e = errno;
         remove(tmp);
         free(tmp);
-        return ras_error_set(err, "could not write '%s': renaming the finished file failed",
-                             path);
+        return ras_error_set(err, "could not write '%s': renaming the finished file failed (%s)",
+                             path, strerror(e));
     }
     free(tmp);
     return true;

@@ -48,7 +48,16 @@ void ras_image_to_rgb8(const ras_image *img, uint8_t *rgb);
 /* One channel value in [0,1] to a byte, rounding to nearest, clamping. */
 uint8_t ras_unit_to_byte(float v);
 
-/* Writes a PNG (any OpenCV-known extension works; .png is what we use). */
+/* Whether ras_image_save could write `path`, checked before any work: the
+ * name has an image extension (.png, .jpg/.jpeg, .bmp, .ppm, .tif/.tiff)
+ * that this OpenCV can encode, its folder exists, and it is not a folder
+ * itself. Otherwise false, and err names the path, what was expected and what
+ * to do. Programs call it right after parsing -o, so a bad name costs no
+ * render and leaves nothing behind. */
+bool ras_image_check_output(const char *path, ras_error *err);
+
+/* Writes a PNG (or another extension ras_image_check_output accepts), under a
+ * temporary name then renamed: a failure leaves no file behind. */
 bool ras_image_save(const ras_image *img, const char *path, ras_error *err);
 
 /* Reads any image OpenCV can read; returns NULL and sets err when it cannot. */

@@ -68,6 +68,7 @@ static bool render(app *a, float angle, ras_error *err) {
 /* The reference image for these settings: hw1_r<angle>, or hw1_axis_y<angle>
  * for the y axis (tests/reference/, scripts/reference-images). */
 static const char *reference_name(const app *a, float angle, char *buf, size_t size) {
+    if (!(angle > -1e6f && angle < 1e6f)) return NULL; /* (int) of a huge angle is UB */
     int deg = (int)angle;
     if ((float)deg != angle) return NULL;
     if (a->cli.scene) return NULL; /* the references show the classic scene */
@@ -141,6 +142,11 @@ int main(int argc, char **argv) {
                 "hw1_transform: unexpected argument '%s'; expected at most one output file "
                 "(e.g. hw1_transform -r 20 out.png)\n",
                 a.cli.positional[a.cli.positional_count - 1]);
+        return 2;
+    }
+    /* A file that cannot be written is a usage error: say so before any work. */
+    if (a.cli.output && !ras_image_check_output(a.cli.output, &err)) {
+        fprintf(stderr, PROGRAM ": %s\n", err.msg);
         return 2;
     }
     if (!a.cli.output && !ras_window_available()) {

@@ -125,28 +125,52 @@ static void sibling_path(const char *output, const char *variant, const char *su
     snprintf(buf, size, "%.*s_%s.png", stem, output, suffix);
 }
 
-/* Returns the exit status: 0 match, 1 mismatch, 2 cannot compare. */
-static int compare_with_reference(const app *a, const char *reference, const char *output) {
-    char variant[64], path[1024], diff_path[1024];
+/* The reference image for --compare, loaded before anything is drawn so a
+ * missing or mismatched one is a usage error (exit 2) that leaves no output
+ * behind. NULL (message printed) when there is none. */
+static ras_image *load_reference(const app *a, const char *reference, char *path, size_t size) {
+    char variant[64];
     variant_name(&a->set, variant, sizeof variant);
     if (reference)
-        snprintf(path, sizeof path, "%s", reference);
+        snprintf(path, size, "%s", reference);
     else if (a->own_scene) {
         fprintf(stderr, PROGRAM ": --compare with --scene needs --reference FILE (the "
                                 "reference images show the built-in scene)\n");
-        return 2;
+        return NULL;
     } else
-        snprintf(path, sizeof path, "%s/tests/reference/hw2_%s.png", RAS_SOURCE_DIR, variant);
+        snprintf(path, size, "%s/tests/reference/hw2_%s.png", RAS_SOURCE_DIR, variant);
     ras_error err = {{0}};
     ras_image *expected = ras_image_load(path, &err);
     if (!expected) {
-        fprintf(stderr,
-                PROGRAM ": no reference image for this variant (%s): %s\n"
-                "  the references are 1x, msaa4, ssaa4 and msaa4_standard at 700x700; "
-                "pass --reference FILE for another\n",
-                variant, err.msg);
-        return 2;
+        if (reference)
+            fprintf(stderr, PROGRAM ": --reference: %s\n", err.msg);
+        else
+            fprintf(stderr,
+                    PROGRAM ": no reference image for this variant (%s): %s\n"
+                            "  the references are 1x, msaa4, ssaa4 and msaa4_standard at 700x700; "
+                            "pass --reference FILE for another\n",
+                    variant, err.msg);
+        return NULL;
     }
+    if (expected->width != a->width || expected->height != a->height) {
+        fprintf(stderr,
+                PROGRAM ": cannot compare: the reference %s is %dx%d, the render would be "
+                        "%dx%d; render at the reference's size (--size %dx%d) or pass "
+                        "another --reference\n",
+                path, expected->width, expected->height, a->width, a->height, expected->width,
+                expected->height);
+        ras_image_destroy(expected);
+        return NULL;
+    }
+    return expected;
+}
+
+/* Returns the exit status: 0 match, 1 mismatch, 2 cannot compare. */
+static int compare_with_reference(const app *a, const ras_image *expected, const char *path,
+                                  const char *output) {
+    char variant[64], diff_path[1024];
+    variant_name(&a->set, variant, sizeof variant);
+    ras_error err = {{0}};
     /* Edge-tolerant: a one-pixel shift along an edge (e.g. another fill rule)
      * is not a bug; a missing or swapped triangle is. With AA, one sample's
      * worth more: a vertex 1/256 px elsewhere (your hw1's rounding, float edge
@@ -166,6 +190,8 @@ static int compare_with_reference(const app *a, const char *reference, const cha
         if (heat && ras_image_save(heat, diff_path, &err))
             printf("  difference image: %s (black = same, blue..red = more different)\n",
                    diff_path);
+        else
+            fprintf(stderr, PROGRAM ": no difference image: %s\n", err.msg);
         ras_image_destroy(heat);
         if (!res.pass) {
             ras_image *crop =
@@ -173,11 +199,12 @@ static int compare_with_reference(const app *a, const char *reference, const cha
             sibling_path(output, variant, "worst", diff_path, sizeof diff_path);
             if (crop && ras_image_save(crop, diff_path, &err))
                 printf("  worst region (expected | got | difference): %s\n", diff_path);
+            else
+                fprintf(stderr, PROGRAM ": no worst-region image: %s\n", err.msg);
             ras_image_destroy(crop);
         }
         status = res.pass ? 0 : 1;
     }
-    ras_image_destroy(expected);
     return status;
 }
 
@@ -357,6 +384,18 @@ int main(int argc, char **argv) {
                 cli.positional[cli.positional_count - 1]);
         return 2;
     }
+    /* A file that cannot be written is a usage error: say so before any work. */
+    if (cli.output && !ras_image_check_output(cli.output, &err)) {
+        fprintf(stderr, PROGRAM ": %s\n", err.msg);
+        return 2;
+    }
+    if (cli.aa_set && cli.aa == RAS_AA_NONE && cli.samples > 1) {
+        fprintf(stderr,
+                PROGRAM ": --aa none draws one sample per pixel, but --samples %d asks for "
+                        "%d; drop --samples or use --aa msaa / --aa ssaa\n",
+                cli.samples, cli.samples);
+        return 2;
+    }
     /* The scene first: a scene that does not load draws nothing (exit 2). */
     app a = {.own_scene = cli.scene != NULL};
     a.scene = ras_scene_load_or_builtin(cli.scene, "hw2_classic", &err);
@@ -399,6 +438,18 @@ int main(int argc, char **argv) {
                 ras_pattern_kind_name(a.set.pattern), a.set.samples);
         status = 2;
     }
+    /* Too big a frame, or a reference that cannot be compared with, are
+     * usage errors too: found before anything is drawn or written. */
+    if (!status && !ras_framebuffer_check_size(a.width, a.height,
+                                               a.set.aa != RAS_AA_NONE ? a.set.samples : 1, &err)) {
+        fprintf(stderr, PROGRAM ": %s\n", err.msg);
+        status = 2;
+    }
+    char reference_path[1024] = "";
+    ras_image *expected = NULL;
+    if (!status && cli.compare &&
+        !(expected = load_reference(&a, cli.reference, reference_path, sizeof reference_path)))
+        status = 2;
     bool headless = cli.output || cli.compare;
     /* Only ask about a display when a window is wanted: headless runs never
      * touch highgui. */
@@ -424,11 +475,13 @@ int main(int argc, char **argv) {
                 ras_counters_format_json(&a.pipeline->counters, json, sizeof json);
                 puts(json);
             }
-            if (cli.compare) status = compare_with_reference(&a, cli.reference, cli.output);
+            if (cli.compare)
+                status = compare_with_reference(&a, expected, reference_path, cli.output);
         }
     } else {
         status = run_window(&a, argv[0]);
     }
+    ras_image_destroy(expected);
     ras_image_destroy(a.image);
     ras_pipeline_destroy(a.pipeline);
     ras_scene_assets_destroy(a.assets);

@@ -53,6 +53,7 @@ typedef struct app {
     hw3_scene *scene;
     hw3_render_options opt;
     ras_image *image;
+    ras_image *expected; /* --compare: the reference, loaded before rendering */
     ras_counters stats;
     const char *argv0;
 } app;
@@ -77,27 +78,43 @@ static bool parse_aa(const ras_cli *cli, const ras_scene *rs, hw3_render_options
     return ras_sample_pattern_make(kind, samples, &opt->pattern, err);
 }
 
-static int compare_with_reference(app *a) {
-    char path[1024];
-    const char *ref = a->cli.reference;
-    if (!ref) {
-        if (a->cli.model || a->cli.scene) {
-            fprintf(stderr,
-                    PROGRAM ": --compare with --%s needs --reference FILE (the "
-                            "reference images show the built-in scene)\n",
-                    a->cli.model ? "model" : "scene");
-            return 2;
-        }
-        snprintf(path, sizeof path, "%s/tests/reference/hw3_%s.png", RAS_SOURCE_DIR,
+/* The reference image for --compare, loaded before anything is drawn so a
+ * missing or mismatched one is a usage error (exit 2) that leaves no output
+ * behind. NULL (message printed) when there is none; `path` names it. */
+static ras_image *load_reference(const app *a, char *path, size_t size) {
+    if (a->cli.reference) {
+        snprintf(path, size, "%s", a->cli.reference);
+    } else if (a->cli.model || a->cli.scene) {
+        fprintf(stderr,
+                PROGRAM ": --compare with --%s needs --reference FILE (the "
+                        "reference images show the built-in scene)\n",
+                a->cli.model ? "model" : "scene");
+        return NULL;
+    } else {
+        snprintf(path, size, "%s/tests/reference/hw3_%s.png", RAS_SOURCE_DIR,
                  hw3_shader_name(a->opt.shader));
-        ref = path;
     }
     ras_error err = {{0}};
-    ras_image *expected = ras_image_load(ref, &err);
+    ras_image *expected = ras_image_load(path, &err);
     if (!expected) {
-        fprintf(stderr, PROGRAM ": %s\n", err.msg);
-        return 1;
+        fprintf(stderr, PROGRAM ": %s%s\n", a->cli.reference ? "--reference: " : "", err.msg);
+        return NULL;
     }
+    if (expected->width != a->scene->width || expected->height != a->scene->height) {
+        fprintf(stderr,
+                PROGRAM ": cannot compare: the reference %s is %dx%d, the render would be "
+                        "%dx%d; render at the reference's size (--size %dx%d) or pass "
+                        "another --reference\n",
+                path, expected->width, expected->height, a->scene->width, a->scene->height,
+                expected->width, expected->height);
+        ras_image_destroy(expected);
+        return NULL;
+    }
+    return expected;
+}
+
+static int compare_with_reference(app *a, const ras_image *expected, const char *ref) {
+    ras_error err = {{0}};
     ras_compare_options copt = ras_compare_defaults(RAS_COMPARE_PSNR);
     ras_compare_result res;
     int status = 1;
@@ -114,10 +131,11 @@ static int compare_with_reference(app *a) {
             snprintf(diff, sizeof diff, "%.*s_diff.png", stem, a->cli.output);
             ras_image *heat = ras_compare_heatmap(expected, a->image, RAS_COMPARE_PSNR, &err);
             if (heat && ras_image_save(heat, diff, &err)) printf("difference image: %s\n", diff);
+            else
+                fprintf(stderr, PROGRAM ": no difference image: %s\n", err.msg);
             ras_image_destroy(heat);
         }
     }
-    ras_image_destroy(expected);
     return status;
 }
 
@@ -131,6 +149,7 @@ static void window_status(const app *a, char *buf, size_t size) {
 static const char *reference_name(const app *a, char *buf, size_t size) {
     hw3_render_options d = hw3_render_defaults();
     float turns = a->opt.angle_deg / 360.0f;
+    if (!(turns > -1e6f && turns < 1e6f)) return NULL; /* (int) of a huge angle is UB */
     if (a->cli.model || a->cli.scene || a->cli.width || a->opt.filter != d.filter ||
         a->opt.aa != d.aa || a->opt.affine || turns != (float)(int)turns)
         return NULL;
@@ -243,6 +262,17 @@ static int run(app *a) {
         fprintf(stderr, PROGRAM ": --texture, --height and --fit go with --model FILE\n");
         return 2;
     }
+    /* A file that cannot be written is a usage error: say so before any work. */
+    if (a->cli.output && !ras_image_check_output(a->cli.output, &err)) {
+        fprintf(stderr, PROGRAM ": %s\n", err.msg);
+        return 2;
+    }
+    if (a->cli.compare && !a->cli.output) {
+        fprintf(stderr, PROGRAM ": --compare needs -o FILE: it renders once, writes FILE and "
+                                "its difference image beside it (e.g. hw3_shading --shader "
+                                "phong --compare -o phong.png)\n");
+        return 2;
+    }
     if (!a->cli.output && !ras_window_available()) {
         fprintf(stderr, PROGRAM ": no display to open a window on (DISPLAY is not set); "
                         "render to a file instead, e.g. hw3_shading --shader phong -o out.png\n");
@@ -253,7 +283,7 @@ static int run(app *a) {
                             : hw3_scene_from_ras(a->file_scene, &err);
     if (!a->scene) {
         fprintf(stderr, PROGRAM ": %s\n", err.msg);
-        return a->cli.model ? 1 : 2; /* a scene file's models and maps are part of the scene */
+        return 2; /* a model, texture or scene file that does not load is bad input */
     }
     if (a->cli.model && !a->scene->objects[0].mesh->has_uv &&
         (a->opt.shader == HW3_SHADER_TEXTURE || a->opt.shader == HW3_SHADER_BUMP ||
@@ -261,6 +291,16 @@ static int run(app *a) {
         fprintf(stderr, PROGRAM ": note: %s has no texture coordinates; the %s shader reads "
                         "one texel everywhere\n", a->cli.model, hw3_shader_name(a->opt.shader));
     if (a->cli.width) a->scene->width = a->cli.width, a->scene->height = a->cli.height;
+    /* Too big a frame, or a reference that cannot be compared with, are
+     * usage errors too: found before anything is drawn or written. */
+    if (!ras_framebuffer_check_size(a->scene->width, a->scene->height,
+                                    a->opt.aa != RAS_AA_NONE ? a->opt.pattern.count : 1, &err)) {
+        fprintf(stderr, PROGRAM ": %s\n", err.msg);
+        return 2;
+    }
+    char reference_path[1024] = "";
+    if (a->cli.compare && !(a->expected = load_reference(a, reference_path, sizeof reference_path)))
+        return 2;
     a->image = ras_image_create(a->scene->width, a->scene->height, &err);
     if (!a->image) {
         fprintf(stderr, PROGRAM ": %s\n", err.msg);
@@ -279,7 +319,7 @@ static int run(app *a) {
         ras_counters_format_json(&a->stats, json, sizeof json);
         puts(json);
     }
-    return a->cli.compare ? compare_with_reference(a) : 0;
+    return a->cli.compare ? compare_with_reference(a, a->expected, reference_path) : 0;
 }
 
 int main(int argc, char **argv) {
@@ -298,6 +338,7 @@ int main(int argc, char **argv) {
     }
     a.argv0 = argv[0];
     int status = run(&a);
+    ras_image_destroy(a.expected);
     ras_image_destroy(a.image);
     hw3_scene_destroy(a.scene);
     ras_scene_destroy(a.file_scene);
