@@ -32,7 +32,24 @@ static void usage(FILE *out) {
 static bool parse_double(const char *s, double *v) {
     char *end;
     *v = strtod(s, &end);
-    return end != s && *end == '\0';
+    return end != s && *end == '\0' && !isnan(*v);
+}
+
+/* Each number option's range, checked before any image is read: out of range
+ * the comparison would assert (tolerance) or never fail (a negative --max-bad). */
+static bool number_in_range(const char *option, const char *text, double v, double lo, double hi,
+                            bool whole, const char *what) {
+    if (v >= lo && v <= hi && (!whole || v == (double)(long)v)) return true;
+    fprintf(stderr, "raster101-compare: %s expects %s; got '%s'\n", option, what, text);
+    return false;
+}
+
+/* --diff and --crop are written after the comparison: check their names first. */
+static bool output_ok(const char *option, const char *path) {
+    ras_error err = {{0}};
+    if (!path || ras_image_check_output(path, &err)) return true;
+    fprintf(stderr, "raster101-compare: %s: %s\n", option, err.msg);
+    return false;
 }
 
 int main(int argc, char **argv) {
@@ -51,27 +68,47 @@ int main(int argc, char **argv) {
     int c;
     while ((c = getopt_long(argc, argv, "m:d:c:h", longopts, NULL)) != -1) {
         double *target = NULL;
+        const char *option = "";
         switch (c) {
         case 'm': metric = optarg; break;
         case 'd': diff_path = optarg; break;
         case 'c': crop_path = optarg; break;
-        case OPT_TOL: target = &tol; break;
-        case OPT_MAXBAD: target = &max_bad; break;
-        case OPT_PSNR: target = &min_psnr; break;
-        case OPT_SSIM: target = &min_ssim; break;
+        case OPT_TOL: target = &tol, option = "--tolerance"; break;
+        case OPT_MAXBAD: target = &max_bad, option = "--max-bad"; break;
+        case OPT_PSNR: target = &min_psnr, option = "--min-psnr"; break;
+        case OPT_SSIM: target = &min_ssim, option = "--min-ssim"; break;
         case OPT_MASK: mask = true; break;
         case 'h': usage(stdout); return 0;
-        default: usage(stderr); return 2;
+        default: usage(stderr); return 2; /* getopt named the option */
         }
         if (target && !parse_double(optarg, target)) {
-            fprintf(stderr, "raster101-compare: '%s' is not a number\n", optarg);
+            fprintf(stderr, "raster101-compare: %s expects a number; got '%s'\n", option, optarg);
             return 2;
         }
+        if ((target == &tol &&
+             !number_in_range("--tolerance", optarg, tol, 0, 255, true, "a whole number 0..255")) ||
+            (target == &max_bad && !number_in_range("--max-bad", optarg, max_bad, 0, 1, false,
+                                                    "a fraction of the pixels, 0..1")) ||
+            (target == &min_psnr &&
+             !number_in_range("--min-psnr", optarg, min_psnr, 0, INFINITY, false,
+                              "decibels, 0 or more (inf: identical)")) ||
+            (target == &min_ssim &&
+             !number_in_range("--min-ssim", optarg, min_ssim, -1, 1, false, "a value -1..1")))
+            return 2;
     }
-    if (!metric || argc - optind != 2) {
+    if (!metric) {
+        fprintf(stderr, "raster101-compare: expected --metric exact|edge|psnr|ssim; got none\n");
         usage(stderr);
         return 2;
     }
+    if (argc - optind != 2) {
+        fprintf(stderr,
+                "raster101-compare: expected two images, EXPECTED and GOT; got %d argument%s\n",
+                argc - optind, argc - optind == 1 ? "" : "s");
+        usage(stderr);
+        return 2;
+    }
+    if (!output_ok("--diff", diff_path) || !output_ok("--crop", crop_path)) return 2;
     ras_error err = {{0}};
     ras_compare_kind kind;
     if (!ras_compare_kind_parse(metric, &kind, &err)) {

@@ -1203,19 +1203,44 @@ static void usage(FILE *f) {
           f);
 }
 
+/* Prints one argument error (what was expected, what came) and the usage. */
+__attribute__((format(printf, 1, 2))) static int arg_error(const char *fmt_, ...) {
+    va_list ap;
+    va_start(ap, fmt_);
+    fputs("raster101-grade: ", stderr);
+    vfprintf(stderr, fmt_, ap);
+    va_end(ap);
+    fputc('\n', stderr);
+    usage(stderr);
+    return 2;
+}
+
+static bool is_dir(const char *path) {
+    struct stat st;
+    return stat(path, &st) == 0 && S_ISDIR(st.st_mode);
+}
+
 int main(int argc, char **argv) {
     grader g = {.variant = "student"};
     const char *rubric_path = NULL, *expect = NULL, *list = NULL;
+    static const char *const with_value[] = {"--source", "--build",   "--out",
+                                             "--rubric", "--variant", "--expect",
+                                             "--hw",     "--list",    "--build-failed"};
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
             usage(stdout);
             return 0;
         }
-        if (!v) {
-            usage(stderr);
-            return 2;
-        }
+        bool known = false;
+        for (size_t k = 0; k < sizeof with_value / sizeof *with_value; k++)
+            known |= !strcmp(a, with_value[k]);
+        if (!known)
+            return arg_error("unknown argument '%s'%s; expected one of the options below", a,
+                             a[0] == '-' ? "" : " (every value follows its option)");
+        if (!v || (v[0] == '-' && v[1] == '-'))
+            return arg_error("option '%s' needs a value; got %s", a,
+                             v ? "another option" : "the end of the command line");
         i++;
         if (!strcmp(a, "--source"))
             g.source = v;
@@ -1225,23 +1250,31 @@ int main(int argc, char **argv) {
             g.out = v;
         else if (!strcmp(a, "--rubric"))
             rubric_path = v;
-        else if (!strcmp(a, "--variant"))
+        else if (!strcmp(a, "--variant")) {
+            if (strcmp(v, "student") && strcmp(v, "ref"))
+                return arg_error("--variant expects student or ref; got '%s'", v);
             g.variant = v;
-        else if (!strcmp(a, "--expect"))
+        } else if (!strcmp(a, "--expect")) {
+            char *end = NULL;
+            double points = strtod(v, &end);
+            if (strcmp(v, "full") && (end == v || *end || !isfinite(points) || points < 0))
+                return arg_error("--expect expects full or a number of points (0 or more); "
+                                 "got '%s'",
+                                 v);
             expect = v;
-        else if (!strcmp(a, "--hw") && g.n_only < 8)
+        } else if (!strcmp(a, "--hw")) {
+            if (g.n_only == 8) return arg_error("at most 8 --hw options; got more (%s)", v);
             g.only[g.n_only++] = v;
-        else if (!strcmp(a, "--list"))
+        } else if (!strcmp(a, "--list"))
             list = v;
-        else if (!strcmp(a, "--build-failed") && g.n_failed < 8 && strchr(v, '=')) {
+        else { /* --build-failed */
+            if (g.n_failed == 8 || !strchr(v, '=') || v[0] == '=')
+                return arg_error("--build-failed expects hwN=LOG (at most 8 of them); got '%s'", v);
             char *hw = xstrdup(v);
             char *eq = strchr(hw, '=');
             *eq = '\0';
             g.failed_hw[g.n_failed] = hw;
             g.failed_log[g.n_failed++] = eq + 1;
-        } else {
-            usage(stderr);
-            return 2;
         }
     }
     if (list) { /* --list RUBRIC: "hwN program..." per assignment, for tests/grade */
@@ -1268,11 +1301,17 @@ int main(int argc, char **argv) {
         cJSON_Delete(r);
         return 0;
     }
-    if (!g.source || !g.build || !g.out ||
-        (strcmp(g.variant, "student") && strcmp(g.variant, "ref"))) {
-        usage(stderr);
-        return 2;
-    }
+    if (!g.source || !g.build || !g.out)
+        return arg_error("expected --source, --build and --out; %s is missing",
+                         !g.source  ? "--source"
+                         : !g.build ? "--build"
+                                    : "--out");
+    if (!is_dir(g.source))
+        return arg_error("--source expects the project folder; '%s' is not a folder", g.source);
+    if (!is_dir(g.build))
+        return arg_error("--build expects a build folder (cmake -B BUILD); '%s' is not a "
+                         "folder",
+                         g.build);
     char default_rubric[4096];
     if (!rubric_path) {
         fmt(default_rubric, sizeof default_rubric, "%s/tests/rubric.json", g.source);
@@ -1292,7 +1331,34 @@ int main(int argc, char **argv) {
     g.render_limit = num_or(g.rubric, "render_time_limit_s", 60);
     g.mem_mb = (long)num_or(g.rubric, "memory_limit_mb", 4096);
     if (getenv("RAS_GRADE_NO_MEMORY_LIMIT")) g.mem_mb = 0; /* sanitizer builds */
+    /* Every --hw must be an assignment of the rubric: a typo would grade
+     * nothing and report 0 / 0 as a success. */
+    for (int i = 0; i < g.n_only; i++) {
+        bool found = false;
+        sbuf ids = {0};
+        for (const cJSON *asg = asgs->child; asg; asg = asg->next) {
+            found |= !strcmp(g.only[i], str_or(asg, "id", ""));
+            sb_printf(&ids, "%s%s", ids.len ? ", " : "", str_or(asg, "id", "?"));
+        }
+        if (!found) {
+            fprintf(stderr, "raster101-grade: --hw expects an assignment of %s (%s); got '%s'\n",
+                    rubric_path, ids.s ? ids.s : "none", g.only[i]);
+            free(ids.s);
+            cJSON_Delete(g.rubric);
+            return 2;
+        }
+        free(ids.s);
+    }
     mkdirs(g.out);
+    if (!is_dir(g.out) || access(g.out, W_OK) != 0) {
+        int e = errno;
+        fprintf(stderr,
+                "raster101-grade: --out expects a folder it can create and write; '%s' is "
+                "not (%s): choose another --out\n",
+                g.out, file_exists(g.out) && !is_dir(g.out) ? "it is a file" : strerror(e));
+        cJSON_Delete(g.rubric);
+        return 2;
+    }
 
     int n = cJSON_GetArraySize(asgs);
     assignment_result *as = calloc((size_t)n, sizeof *as);
