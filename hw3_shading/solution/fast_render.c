@@ -763,28 +763,33 @@ draw_in_tile_n(worker *w, const fast_tri *r, int tx0, int ty0, int tx1, int ty1,
                     int64_t py = (int64_t)y * SUBPIXEL_ONE + fr->off_y[k];
                     for (int i = 0; i < 3; i++) e[k][i] = r->a[i] * px + r->b[i] * py + r->c[i];
                 }
-                if (n == 1) {
-                    /* One sample: the row's coverage as a bit mask first,
-                     * without a branch per pixel (edges of small triangles
-                     * are unpredictable), then only the covered pixels, their
-                     * edge values stepped from the row start (still exact). */
+                if (n * BLOCK <= 32) {
+                    /* Up to 4 samples: the row's coverage as a bit mask
+                     * first (n bits per pixel), without a branch per sample
+                     * (edges of small triangles are unpredictable), then only
+                     * the pixels with a covered sample, their edge values
+                     * stepped from the row start (still exact). */
                     uint32_t mask = 0;
-                    int64_t e0 = e[0][0], e1 = e[0][1], e2 = e[0][2];
-                    for (int i = 0; i <= bx1 - bx0; i++) {
-                        mask |=
-                            (uint32_t)((e0 >= r->thr[0]) & (e1 >= r->thr[1]) & (e2 >= r->thr[2]))
-                            << i;
-                        e0 += step[0];
-                        e1 += step[1];
-                        e2 += step[2];
-                    }
-                    for (; mask; mask &= mask - 1) {
-                        int i = __builtin_ctz(mask);
-                        int64_t ep[2][3];
-                        for (int k = 0; k <= 1; k++)
+                    int64_t ev[RAS_MAX_SAMPLES][3];
+                    for (int k = 0; k < n; k++)
+                        for (int j = 0; j < 3; j++)
+                            ev[k][j] = e[k][j];
+                    for (int i = 0; i <= bx1 - bx0; i++)
+                        for (int k = 0; k < n; k++) {
+                            mask |= (uint32_t)((ev[k][0] >= r->thr[0]) & (ev[k][1] >= r->thr[1]) &
+                                               (ev[k][2] >= r->thr[2]))
+                                    << (i * n + k);
+                            for (int j = 0; j < 3; j++)
+                                ev[k][j] += step[j];
+                        }
+                    while (mask) {
+                        int i = __builtin_ctz(mask) / n;
+                        mask &= ~((((uint32_t)1 << n) - 1) << (i * n));
+                        int64_t ep[RAS_MAX_SAMPLES + 1][3];
+                        for (int k = 0; k <= n; k++)
                             for (int j = 0; j < 3; j++)
                                 ep[k][j] = e[k][j] + (int64_t)i * step[j];
-                        draw_pixel_samples(w, r, bx0 + i, y, tx0, ty0, ep, 1);
+                        draw_pixel_samples(w, r, bx0 + i, y, tx0, ty0, ep, n);
                     }
                     continue;
                 }
