@@ -6,6 +6,7 @@
 #include "stage3_setup.h"
 #include "stage6_resolve.h"
 
+#include <math.h>   /* isfinite */
 #include <stdlib.h> /* calloc, realloc, free */
 
 ras_pipeline *ras_pipeline_create(const ras_pipeline_config *config, ras_error *err) {
@@ -22,6 +23,19 @@ ras_pipeline *ras_pipeline_create(const ras_pipeline_config *config, ras_error *
     if (cfg.pattern.count > 1 && !cfg.resolve) {
         ras_error_set(err, "%d samples per pixel but no resolve hook: set config.resolve",
                       cfg.pattern.count);
+        return NULL;
+    }
+    if ((unsigned)cfg.depth >= RAS_DEPTH_FORMAT_COUNT) {
+        ras_error_set(err, "unknown depth format %d", (int)cfg.depth);
+        return NULL;
+    }
+    /* Not !(z_near > 0) alone: an infinite z_near would make every depth -1
+     * (after the clamp), i.e. no depth test at all. */
+    if (cfg.depth == RAS_DEPTH_INV_W && !(cfg.z_near > 0 && isfinite(cfg.z_near))) {
+        ras_error_set(err,
+                      "depth format inverse_w needs config.z_near, the projection's near "
+                      "distance (> 0, finite), got %g",
+                      (double)cfg.z_near);
         return NULL;
     }
     ras_pipeline *p = calloc(1, sizeof *p);
@@ -70,7 +84,8 @@ static void draw_wire_polygon(ras_pipeline *p, const ras_clip_vertex *poly, int 
 static void raster_one(ras_pipeline *p, const ras_clip_vertex *a, const ras_clip_vertex *b,
                        const ras_clip_vertex *c) {
     ras_triangle t;
-    if (!ras_setup_triangle(a, b, c, p->fb->width, p->fb->height, &t)) {
+    if (!ras_setup_triangle_depth(a, b, c, p->fb->width, p->fb->height, p->config.depth,
+                                  p->config.z_near, &t)) {
         p->counters.triangles_rejected_nonfinite++;
         return;
     }

@@ -16,6 +16,7 @@
 #include "ras_image.h"
 #include "ras_mesh.h"
 #include "stage1_vertex.h"
+#include "stage3_setup.h" /* ras_depth_format */
 #include "stage4_raster.h"
 
 typedef enum ras_cull_mode { RAS_CULL_NONE, RAS_CULL_BACK, RAS_CULL_FRONT } ras_cull_mode;
@@ -29,6 +30,11 @@ typedef struct ras_pipeline_config {
     ras_sample_pattern pattern; /* ignored for RAS_AA_NONE (one centre sample) */
     ras_edge_mode edges;
     ras_cull_mode cull; /* front faces are counter-clockwise on screen */
+    /* What the depth buffer holds (stage3_setup.h): the rasterizer compares
+     * "smaller is closer" either way. RAS_DEPTH_INV_W needs z_near, the
+     * projection's near distance (> 0); RAS_DEPTH_Z01 ignores it. */
+    ras_depth_format depth;
+    float z_near;
     unsigned varyings;  /* RAS_VARYING_* the shader reads */
     ras_rasterize_fn rasterize; /* required unless wireframe */
     ras_resolve_fn resolve;     /* required when the pattern has > 1 sample */

@@ -46,6 +46,8 @@ static const char *const cull_names[] = {"none", "back", "front"};
 static const char *const aa_names[] = {"none", "msaa", "ssaa"};
 static const char *const pattern_names[] = {"ordered", "standard"};
 static const char *const edge_names[] = {"fixed", "float"};
+/* The same spellings as ras_depth_format_name, in enum order. */
+static const char *const depth_names[RAS_DEPTH_FORMAT_COUNT] = {"z01", "inverse_w"};
 static const char *const wrap_names[] = {"repeat", "clamp"};
 static const char *const space_names[] = {"view", "world"};
 static const char *const builtin_map_names[] = {"checker", "brick", "bumps"};
@@ -1029,9 +1031,10 @@ static bool parse_aa(ctx *c, const cJSON *v, ras_scene *s) {
 }
 
 static bool parse_root(ctx *c, const cJSON *root, ras_scene *s) {
-    static const char *const keys[] = {
-        "description", "image",  "camera", "model_rotation", "objects", "lights",      "ambient",
-        "aa",          "shader", "filter", "cull",           "edges",   "clear_color", "wireframe"};
+    static const char *const keys[] = {"description", "image",       "camera",   "model_rotation",
+                                       "objects",     "lights",      "ambient",  "aa",
+                                       "shader",      "filter",      "cull",     "edges",
+                                       "depth",       "clear_color", "wireframe"};
     if (!cJSON_IsObject(root)) return fail_type(c, "the top level", "an object {...}", root);
     if (!check_keys(c, root, "", keys, COUNT(keys), NULL, NULL)) return false;
     const cJSON *v;
@@ -1046,17 +1049,19 @@ static bool parse_root(ctx *c, const cJSON *root, ras_scene *s) {
     if ((v = member(root, "lights")) && !parse_lights(c, v, s)) return false;
     if (!opt_vec3_or_scalar(c, root, "", "ambient", R_NONNEG, &s->ambient)) return false;
     if ((v = member(root, "aa")) && !parse_aa(c, v, s)) return false;
-    int shader = 0, filter = RAS_FILTER_BILINEAR, cull = 0, edges = 0;
+    int shader = 0, filter = RAS_FILTER_BILINEAR, cull = 0, edges = 0, depth = 0;
     if (!opt_enum(c, root, "", "shader", shader_names, RAS_SHADER_COUNT, &shader) ||
         !opt_enum(c, root, "", "filter", filter_names, COUNT(filter_names), &filter) ||
         !opt_enum(c, root, "", "cull", cull_names, COUNT(cull_names), &cull) ||
         !opt_enum(c, root, "", "edges", edge_names, COUNT(edge_names), &edges) ||
+        !opt_enum(c, root, "", "depth", depth_names, RAS_DEPTH_FORMAT_COUNT, &depth) ||
         !opt_color(c, root, "", "clear_color", &s->clear_color))
         return false;
     s->shader = (ras_scene_shader)shader;
     s->filter = (ras_scene_filter)filter;
     s->cull = (ras_cull_mode)cull;
     s->edges = (ras_edge_mode)edges;
+    s->depth = (ras_depth_format)depth;
     if ((v = member(root, "wireframe"))) {
         if (!cJSON_IsBool(v)) return fail_type(c, "wireframe", "true or false", v);
         s->wireframe = cJSON_IsTrue(v);
@@ -1083,6 +1088,7 @@ static void scene_defaults(ras_scene *s) {
     s->filter = RAS_FILTER_BILINEAR;
     s->cull = RAS_CULL_NONE;
     s->edges = RAS_EDGES_FIXED;
+    s->depth = RAS_DEPTH_Z01;
 }
 
 /* ------------------------------------------------------------------------ */

@@ -3,7 +3,7 @@
  * A scene file says what to draw (objects: a built-in shape or a model file,
  * a transform, a material), from where (camera), under which lights, and
  * which effects the pipeline runs (anti-aliasing, shader, texture filter,
- * culling, edge functions). docs/scenes.md documents every key; in short:
+ * culling, edge functions, depth format). docs/scenes.md documents every key; in short:
  *
  *   {
  *     "image":  {"width": 700, "height": 700},
@@ -36,7 +36,7 @@
  *   ka 0.005, kd = the colour (or texel), ks 0.7937, p 150, kh 0.2, kn 0.1,
  *   uv_scale 1; lights: none; ambient 10; aa none (samples 4, pattern ordered
  *   when a mode is set); shader flat; filter bilinear; cull none; edges fixed;
- *   clear_color black; wireframe false.
+ *   depth z01; clear_color black; wireframe false.
  *
  * Units and spaces: world units; angles in degrees; colours in [0,1];
  * light positions in VIEW space (the GAMES101 convention) unless the light
@@ -55,7 +55,7 @@
 #include "ras_error.h"
 #include "ras_math.h"
 #include "ras_mesh.h"
-#include "ras_pipeline.h" /* ras_cull_mode, ras_aa_mode, ras_edge_mode */
+#include "ras_pipeline.h" /* ras_cull_mode, ras_aa_mode, ras_edge_mode, ras_depth_format */
 #include "ras_sample_pattern.h"
 #include "ras_texture.h"
 
@@ -201,6 +201,7 @@ typedef struct ras_scene {
     ras_scene_filter filter;
     ras_cull_mode cull;
     ras_edge_mode edges;
+    ras_depth_format depth; /* "depth": "z01" | "inverse_w" (uses camera.z_near) */
     vec3s clear_color;
     bool wireframe;
 } ras_scene;

@@ -1,7 +1,9 @@
 /* ras_triangle.h — one triangle as the rasterizer sees it (after stage 3).
  *
  * v[i] is in SCREEN space: x, y in pixels (y up, pixel centres at +0.5),
- * z = depth in [0, 1] (0 = near plane, smaller is closer), and w = the vertex's
+ * z = depth, smaller is closer: in [0, 1] (0 = near plane) with the default
+ * depth format, in [−1, 0) with RAS_DEPTH_INV_W (stage3_setup.h; either is
+ * affine in screen space, so interpolate it linearly), and w = the vertex's
  * clip-space w (> 0; the view-space distance along -z for a perspective
  * camera). Keep w: perspective-correct interpolation needs 1/w (hw3).
  * The other arrays are the per-vertex varyings, still un-divided.

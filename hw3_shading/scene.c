@@ -389,7 +389,8 @@ hw3_render_options hw3_render_defaults(void) {
                                 .aa = RAS_AA_NONE,
                                 .pattern = ras_sample_pattern_center(),
                                 .cull = RAS_CULL_NONE,
-                                .edges = RAS_EDGES_FIXED};
+                                .edges = RAS_EDGES_FIXED,
+                                .depth = RAS_DEPTH_Z01};
 }
 
 hw3_render_options hw3_render_options_from_ras(const ras_scene *rs) {
@@ -408,6 +409,7 @@ hw3_render_options hw3_render_options_from_ras(const ras_scene *rs) {
     opt.aa = rs->aa;
     opt.pattern = rs->aa == RAS_AA_NONE ? ras_sample_pattern_center() : rs->pattern;
     opt.cull = rs->cull;
+    opt.depth = rs->depth;
     opt.edges = rs->edges;
     return opt;
 }
@@ -464,7 +466,8 @@ bool hw3_render(hw3_scene *scene, const hw3_render_options *opt, ras_image *out,
 #ifdef HW3_FAST_PATH
     /* Reference build only: the same frame through screen tiles and threads,
      * bit-identical to the loop below (solution/fast_render.c, docs/performance.md). */
-    if (hw3_fast_wanted(opt) && opt->cull == RAS_CULL_NONE && opt->edges == RAS_EDGES_FIXED) {
+    if (hw3_fast_wanted(opt) && opt->cull == RAS_CULL_NONE && opt->edges == RAS_EDGES_FIXED &&
+        opt->depth == RAS_DEPTH_Z01) {
         mat4s models[HW3_MAX_OBJECTS];
         for (int i = 0; i < scene->object_count; i++)
             models[i] = object_model(&scene->objects[i], opt->angle_deg);
@@ -482,6 +485,8 @@ bool hw3_render(hw3_scene *scene, const hw3_render_options *opt, ras_image *out,
                                .pattern = opt->pattern,
                                .edges = opt->edges,
                                .cull = opt->cull,
+                               .depth = opt->depth,
+                               .z_near = scene->z_near,
                                .varyings = stage.varyings,
                                .rasterize = rasterize_triangle,
                                .resolve = resolve_pixel,

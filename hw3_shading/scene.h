@@ -144,13 +144,16 @@ typedef struct hw3_render_options {
     int threads;
     ras_cull_mode cull;  /* default none */
     ras_edge_mode edges; /* default fixed; the fast path draws fixed edges without culling */
+    /* default z01 (the only one the fast path draws; inverse_w renders plain,
+     * with the scene's z_near: stage3_setup.h) */
+    ras_depth_format depth;
 } hw3_render_options;
 
 /* Defaults: normal shader, bilinear, angle 0, no AA, perspective-correct. */
 hw3_render_options hw3_render_defaults(void);
 
 /* A scene file's effects as options: its shader, filter, anti-aliasing,
- * culling and edge functions; the rest from hw3_render_defaults(). "flat"
+ * culling, edge functions and depth format; the rest from hw3_render_defaults(). "flat"
  * (hw2's unlit colour) has no hw3 shader: it gives the default, normal. */
 hw3_render_options hw3_render_options_from_ras(const ras_scene *rs);
 

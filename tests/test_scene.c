@@ -258,6 +258,7 @@ static void test_scene_defaults(void **state) {
     assert_int_equal(s->filter, RAS_FILTER_BILINEAR);
     assert_int_equal(s->cull, RAS_CULL_NONE);
     assert_int_equal(s->edges, RAS_EDGES_FIXED);
+    assert_int_equal(s->depth, RAS_DEPTH_Z01);
     assert_vec3_near(s->clear_color, 0, 0, 0, 0);
     assert_false(s->wireframe);
     assert_null(s->description);
@@ -387,6 +388,29 @@ static void test_scene_values_read(void **state) {
     assert_string_equal(ras_scene_cull_name(s->cull), "back");
     assert_string_equal(ras_scene_shape_name(s->objects[0].shape), "sphere");
     ras_scene_destroy(s);
+}
+
+/* "depth" picks the depth format (stage3_setup.h) by the names the pipeline
+ * reports; like every enum key it is strict: a near miss gets a did-you-mean,
+ * a wrong type names the choices. */
+static void test_scene_depth_format(void **state) {
+    (void)state;
+    ras_scene *s = parse_ok("{\"depth\": \"inverse_w\"," ONE_CUBE "}");
+    assert_int_equal(s->depth, RAS_DEPTH_INV_W);
+    assert_string_equal(ras_depth_format_name(s->depth), "inverse_w");
+    ras_scene_destroy(s);
+    s = parse_ok("{\"depth\": \"z01\"," ONE_CUBE "}");
+    assert_int_equal(s->depth, RAS_DEPTH_Z01);
+    assert_string_equal(ras_depth_format_name(s->depth), "z01");
+    ras_scene_destroy(s);
+    expect_error("{\"depth\": \"inverse-w\"," ONE_CUBE "}",
+                 "scene.json: depth: expected one of z01 or inverse_w, got \"inverse-w\"; did "
+                 "you mean \"inverse_w\"?",
+                 NULL);
+    expect_error("{\"depth\": 1," ONE_CUBE "}",
+                 "scene.json: depth: expected one of z01 or inverse_w, got a number", NULL);
+    expect_error("{\"dept\": \"z01\"," ONE_CUBE "}", "scene.json: dept: unknown key",
+                 "did you mean \"depth\"?", NULL);
 }
 
 /* MSAA with the default pattern (ordered) and default samples (4) is a 2×2 grid. */
@@ -828,6 +852,7 @@ int main(void) {
         cmocka_unit_test(test_scene_camera_views),
         cmocka_unit_test(test_scene_values_read),
         cmocka_unit_test(test_scene_aa_defaults),
+        cmocka_unit_test(test_scene_depth_format),
         cmocka_unit_test(test_scene_syntax_trailing_comma),
         cmocka_unit_test(test_scene_syntax_missing_comma),
         cmocka_unit_test(test_scene_syntax_hints),
