@@ -17,7 +17,8 @@
  *               coverage against a ray-cast expectation
  *   nonfinite   NaN/Inf in positions, normals, UVs, colours, view positions
  *   winding     CW = CCW without culling; culling removes the right one
- *   depth       float depth precision with near/far = 1e-4 (measured limit)
+ *   depth       float depth precision with near/far = 1e-4 (measured limit),
+ *               with the default depth format and with inverse_w
  *   attributes  barycentric sums, perspective-correct UVs inside the UV hull,
  *               the bump TBN at n = (0, ±1, 0)
  *
@@ -1095,9 +1096,16 @@ static void test_winding_and_culling(void **state) {
  * with near/far = n/f, and returns how many of the 16×16 pixels show the far
  * plane (0 = order kept everywhere). Through the pipeline: projection, setup
  * and the rasterizer's interpolated float depth, as a scene would. */
+/* The depth format the precision ladder runs with (stage3_setup.h). */
+static ras_depth_format depth_format_under_test = RAS_DEPTH_Z01;
+
 static int depth_fights(double n, double f, double d, double rel, bool reversed_far_first) {
     camera cam = {n, f, tan(PI / 6)};
-    ras_pipeline_config cfg = {.width = 16, .height = 16, .rasterize = rasterize_triangle};
+    ras_pipeline_config cfg = {.width = 16,
+                               .height = 16,
+                               .rasterize = rasterize_triangle,
+                               .depth = depth_format_under_test,
+                               .z_near = (float)n};
     ras_pipeline *p = ras_pipeline_create(&cfg, NULL);
     assert_non_null(p);
     double dist[2] = {d, d * (1 - rel)};
@@ -1171,6 +1179,32 @@ static void test_depth_precision_near_far_1e4(void **state) {
     /* The documented failure: 1e-4 apart at 990 (0.1 units) fight. */
     CHECK(depth_fights_near(n, f, 990.0, 1e-4),
           "surfaces 1e-4 apart near the far plane no longer fight: update docs/robustness.md");
+}
+
+/* The same ladder with RAS_DEPTH_INV_W (−near/w): float's relative spacing
+ * is the same at every magnitude, so the limit is a few 1e-7 of the distance
+ * everywhere — about 2^-24 for w's rounding in the projection plus 2^-24 for
+ * the division, plus the interpolation — instead of growing with d as above.
+ * Pinned at 2e-6 at every distance, and the case z01 documents as a fight
+ * (1e-4 apart at 990) must resolve. */
+static void test_depth_precision_inverse_w(void **state) {
+    (void)state;
+    const double n = 0.1, f = 1000.0;
+    const double at[] = {1.0, 10.0, 100.0, 500.0, 900.0, 990.0};
+    depth_format_under_test = RAS_DEPTH_INV_W;
+    for (size_t i = 0; i < 6; i++) {
+        double lim = depth_limit(n, f, at[i]);
+        printf("inverse_w, near/far = 1e-4: surfaces at %6.1f keep their order from a relative "
+               "separation of %.2e\n",
+               at[i], lim);
+        CHECK(lim <= 2e-6,
+              "inverse_w: surfaces at %.0f need a relative separation of %.2e to keep their "
+              "order; expected <= 2e-6",
+              at[i], lim);
+    }
+    CHECK(!depth_fights_near(n, f, 990.0, 1e-4),
+          "inverse_w: surfaces 1e-4 apart at 990 fight; they should not");
+    depth_format_under_test = RAS_DEPTH_Z01;
 }
 
 /* ---- attributes ---------------------------------------------------------------- */
@@ -1304,6 +1338,7 @@ int main(void) {
         cmocka_unit_test(test_nonfinite_rejected),
         cmocka_unit_test(test_winding_and_culling),
         cmocka_unit_test(test_depth_precision_near_far_1e4),
+        cmocka_unit_test(test_depth_precision_inverse_w),
         cmocka_unit_test(test_attributes_bary_and_uv_hull),
         cmocka_unit_test(test_attributes_tbn_at_poles),
     };
