@@ -415,17 +415,29 @@ int main(int argc, char **argv) {
         }
         const row *ph = g[HW3_SHADER_PHONG][0][2], *tx = g[HW3_SHADER_TEXTURE][0][2];
         fprintf(f, "\n### Goals\n\n| goal | measured | met |\n|---|---|---|\n");
-        fprintf(f, "| Blinn-Phong ≤ 2 ms at 1x, 2 threads | %.2f ms (1 thread %.2f ms; plain %.2f ms) | %s |\n",
-                ph->median, g[HW3_SHADER_PHONG][0][1]->median, g[HW3_SHADER_PHONG][0][0]->median,
+        fprintf(f,
+                "| Blinn-Phong ≤ 2 ms at 1x, 2 threads | %.2f ms (1 thread %.2f ms, CPU %.2f ms; "
+                "plain %.2f ms) | %s |\n",
+                ph->median, g[HW3_SHADER_PHONG][0][1]->median,
+                g[HW3_SHADER_PHONG][0][1]->cpu_median, g[HW3_SHADER_PHONG][0][0]->median,
                 ph->median <= 2.0 ? "yes" : "no");
-        fprintf(f, "| texture ≤ 2.5 ms at 1x, 2 threads | %.2f ms (1 thread %.2f ms; plain %.2f ms) | %s |\n",
-                tx->median, g[HW3_SHADER_TEXTURE][0][1]->median, g[HW3_SHADER_TEXTURE][0][0]->median,
+        fprintf(f,
+                "| texture ≤ 2.5 ms at 1x, 2 threads | %.2f ms (1 thread %.2f ms, CPU %.2f ms; "
+                "plain %.2f ms) | %s |\n",
+                tx->median, g[HW3_SHADER_TEXTURE][0][1]->median,
+                g[HW3_SHADER_TEXTURE][0][1]->cpu_median, g[HW3_SHADER_TEXTURE][0][0]->median,
                 tx->median <= 2.5 ? "yes" : "no");
+        /* The AA ratios are judged on the 1-thread rows' CPU time: on a busy
+         * machine the wall-clock ratios of noisy medians say little. */
         for (int s = 0; s < HW3_SHADER_COUNT; s++) {
-            double m = g[s][1][2]->median / g[s][0][2]->median;
-            double q = g[s][2][2]->median / g[s][0][2]->median;
-            fprintf(f, "| %s: MSAA 4x ≤ 1.5× 1x; SSAA 4x ≈ 4× (2 threads) | MSAA %.2f×, SSAA %.2f× | %s |\n",
-                    hw3_shader_name((hw3_shader)s), m, q, m <= 1.5 ? "yes" : "no");
+            double m = g[s][1][1]->cpu_median / g[s][0][1]->cpu_median;
+            double q = g[s][2][1]->cpu_median / g[s][0][1]->cpu_median;
+            double mw = g[s][1][2]->median / g[s][0][2]->median;
+            double qw = g[s][2][2]->median / g[s][0][2]->median;
+            fprintf(f,
+                    "| %s: MSAA 4x ≤ 1.5× 1x; SSAA 4x ≈ 4× (1-thread CPU time) | MSAA %.2f×, "
+                    "SSAA %.2f× (2-thread wall clock: %.2f×, %.2f×) | %s |\n",
+                    hw3_shader_name((hw3_shader)s), m, q, mw, qw, m <= 1.5 ? "yes" : "no");
         }
         if (have_proc) {
             double frame = g[HW3_SHADER_PHONG][0][2]->median;
