@@ -12,6 +12,8 @@
 #include <map>
 #include <string>
 
+#include <unistd.h> // dup, dup2, close
+
 namespace {
 
 void set_err(char *err, int err_size, const std::string &msg) {
@@ -73,7 +75,33 @@ extern "C" uint8_t *cv_bridge_read_rgb8(const char *path, int *width, int *heigh
         return nullptr;
     }
     try {
-        cv::Mat bgr = cv::imread(path, cv::IMREAD_COLOR);
+        // A corrupt file makes libpng / libjpeg print their own "libpng error:
+        // ..." to stderr before imread returns empty: catch that text and
+        // drop it when the read fails (our message says it all), pass it on
+        // when the read succeeds (a warning about a good file).
+        std::fflush(stderr);
+        std::FILE *capture = std::tmpfile();
+        int saved = capture ? dup(2) : -1;
+        if (saved >= 0) dup2(fileno(capture), 2);
+        cv::Mat bgr;
+        try {
+            bgr = cv::imread(path, cv::IMREAD_COLOR);
+        } catch (...) {
+            bgr.release();
+        }
+        if (saved >= 0) {
+            std::fflush(stderr);
+            dup2(saved, 2);
+            close(saved);
+            if (!bgr.empty()) {
+                std::rewind(capture);
+                char buf[512];
+                size_t n;
+                while ((n = std::fread(buf, 1, sizeof buf, capture)) > 0)
+                    std::fwrite(buf, 1, n, stderr);
+            }
+        }
+        if (capture) std::fclose(capture);
         if (bgr.empty()) {
             set_err(err, err_size,
                     std::string("could not read image '") + path +

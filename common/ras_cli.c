@@ -332,8 +332,9 @@ void ras_cli_help(unsigned accepted, const char *program, const char *usage, cha
     do {                                                                                      \
         if (n < size) n += snprintf(buf + n, (size_t)(size - n), __VA_ARGS__);                \
     } while (0)
-    ADD("  -o, --output FILE     render once without a window and write FILE (.png)\n");
-    ADD("      --size WxH        image size in pixels (default: the scene's)\n");
+    ADD("  -o, --output FILE     render once without a window and write FILE (.png; .jpg, .bmp,\n"
+        "                        .ppm and .tif work too)\n");
+    ADD("      --size WxH        image size in pixels, 1x1 to 8192x8192 (default: the scene's)\n");
     if (accepted & RAS_OPT_ANGLE) {
         ADD("  -r, --angle DEG       rotation angle in degrees\n");
         ADD("      --axis X,Y,Z      rotate about this axis (bonus: get_rotation)\n");
@@ -362,11 +363,14 @@ void ras_cli_help(unsigned accepted, const char *program, const char *usage, cha
     if (accepted & RAS_OPT_COMPARE) {
         ADD("      --compare         compare the render with its reference image and write a "
             "difference image\n");
-        ADD("      --reference FILE  the reference image to compare with\n");
+        ADD("      --reference FILE  with --compare: the reference image to compare with\n");
     }
     if (accepted & RAS_OPT_STATS)
         ADD("      --stats           print what each pipeline stage did, as JSON on stdout\n");
     ADD("  -h, --help            this help\n");
     ADD("      --version         the version\n");
+    ADD("Exit status: 0 done, 1 the render or writing failed, 2 bad options or input\n"
+        "(nothing is written then).%s\n",
+        accepted & RAS_OPT_COMPARE ? " With --compare: 0 the images match, 1 they differ." : "");
 #undef ADD
 }

@@ -123,10 +123,9 @@ int main(int argc, char **argv) {
         ras_cli_help(
             ACCEPTED, "hw1_transform",
             "Draws the hw1 scene (default: the classic triangle) as a wireframe. With -o it\n"
-            "renders once and "
-            "writes a PNG;\nwithout it, a window opens (a/d rotate by 10 degrees, "
-            "v: yours/reference/difference, Esc quits).\nClassic form: hw1_transform -r ANGLE "
-            "FILE.png\n",
+            "renders once and writes a PNG; without it, a window opens (a/d rotate by 10\n"
+            "degrees, v: yours/reference/difference, Esc quits).\n"
+            "Classic form: hw1_transform -r ANGLE FILE.png\n",
             help, sizeof help);
         fputs(help, stdout);
         return 0;

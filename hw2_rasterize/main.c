@@ -367,7 +367,10 @@ int main(int argc, char **argv) {
                      "pattern, e edge functions,\n  v your picture / the reference / "
                      "the difference, Esc quits;\n  the pixel under the mouse "
                      "is magnified with its samples and their depths.\n"
-                     "--compare uses tests/reference/hw2_<1x|msaa4|ssaa4|msaa4_standard>.png\n",
+                     "--compare uses tests/reference/hw2_<1x|msaa4|ssaa4|msaa4_standard>.png\n"
+                     "  and writes the difference beside -o FILE (FILE_diff.png), or without\n"
+                     "  -o as hw2_<variant>_diff.png in the current folder. --samples N alone\n"
+                     "  means --aa msaa.\n",
                      help, sizeof help);
         fputs(help, stdout);
         return 0;

@@ -45,7 +45,9 @@ static const char usage[] =
     "Classic form: hw3_shading OUTPUT.png [normal|phong|texture|bump|displacement]\n"
     "Classic model scene (GAMES101 numbers): --model spot_triangulated_good.obj\n"
     "  --texture spot_texture.png --shader texture  (bump/displacement read --height,\n"
-    "  or the --texture image as the course does with hmap.jpg)\n";
+    "  or the --texture image as the course does with hmap.jpg)\n"
+    "--compare (with -o FILE) compares with tests/reference/hw3_<shader>.png and\n"
+    "  writes FILE_diff.png beside FILE.\n";
 
 typedef struct app {
     ras_cli cli;
@@ -253,11 +255,6 @@ static int run(app *a) {
         return 2;
     }
     if (a->cli.edges_set) a->opt.edges = a->cli.edges;
-    if (!shader && a->file_scene && a->file_scene->shader == RAS_SHADER_FLAT)
-        fprintf(stderr,
-                PROGRAM ": note: the scene's shader \"flat\" is hw2's unlit colour; "
-                        "drawing with %s (choose with --shader)\n",
-                hw3_shader_name(a->opt.shader));
     if (!a->cli.model && (a->cli.texture || a->cli.height_map || a->cli.fit)) {
         fprintf(stderr, PROGRAM ": --texture, --height and --fit go with --model FILE\n");
         return 2;
@@ -285,6 +282,12 @@ static int run(app *a) {
         fprintf(stderr, PROGRAM ": %s\n", err.msg);
         return 2; /* a model, texture or scene file that does not load is bad input */
     }
+    /* Notes only once the scene has loaded: a failing run prints its error alone. */
+    if (!shader && a->file_scene && a->file_scene->shader == RAS_SHADER_FLAT)
+        fprintf(stderr,
+                PROGRAM ": note: the scene's shader \"flat\" is hw2's unlit colour; "
+                        "drawing with %s (choose with --shader)\n",
+                hw3_shader_name(a->opt.shader));
     if (a->cli.model && !a->scene->objects[0].mesh->has_uv &&
         (a->opt.shader == HW3_SHADER_TEXTURE || a->opt.shader == HW3_SHADER_BUMP ||
          a->opt.shader == HW3_SHADER_DISPLACEMENT))

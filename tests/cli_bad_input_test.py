@@ -1,0 +1,223 @@
+#!/usr/bin/env python3
+"""cli_bad_input_test.py — the programs and tools given bad input, from outside.
+
+    cli_bad_input_test.py BIN_DIR WORK_DIR
+
+The project standard: bad input (files, scenes, numbers, flags) gets a clear
+error and a non-zero exit (2 for usage and input errors), nothing half
+written is left behind, no crash, no sanitizer finding. For each case below
+this runs one of build/bin/{hw1_transform,hw2_rasterize,hw3_shading}_ref,
+raster101-compare or raster101-grade and checks
+  - the exit status,
+  - a piece of the message on stderr (what was expected / what came),
+  - that the output file named on the command line does not exist afterwards,
+  - that stderr carries no AddressSanitizer / UBSan report.
+A few good runs are checked as well, so the checks cannot pass by accident.
+Every bad case fails before rendering; the cases run in parallel, each with
+its own output name, so the whole run takes seconds (most of it is process
+start-up, slow under ASan).
+Exit status 0 when every check passes; each failure is printed.
+"""
+import concurrent.futures
+import os
+import shutil
+import subprocess
+import sys
+
+BIN, WORK = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
+shutil.rmtree(WORK, ignore_errors=True)
+os.makedirs(WORK)
+failures = []
+
+def path(name):
+    return os.path.join(WORK, name)
+
+def write(name, data):
+    with open(path(name), "wb") as f:
+        f.write(data.encode() if isinstance(data, str) else data)
+    return path(name)
+
+EMPTY = write("empty.json", "")
+BINARY = write("binary.json", bytes(range(256)) * 4)
+CORRUPT_PNG = write("corrupt.png", b"\x89PNG\r\n\x1a\n" + bytes(range(200)))
+OK_OBJ = write("ok.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+MISSING_MODEL_SCENE = write("missing_model.json", '{"objects": [{"model": "no-such-model.obj"}]}')
+CORRUPT_TEXTURE_SCENE = write("corrupt_texture.json",
+                              '{"shader": "texture", "objects": [{"shape": "cube", "material": '
+                              '{"texture": {"file": "%s"}}}]}' % CORRUPT_PNG)
+HUGE_NUMBER_SCENE = write("huge_number.json",
+                          '{"image": {"width": 1e999, "height": 10}, "objects": [{"shape": "cube"}]}')
+CUBE_SCENE = write("cube.json", '{"objects": [{"shape": "cube"}]}')
+A_FOLDER = path("folder.png")  # a folder whose name looks like an image
+os.makedirs(A_FOLDER)
+OUT = "<OUT>"  # in a case's arguments: that case's own output file, WORK/out<N>.png
+cases = []
+
+def run(program, args):
+    env = dict(os.environ)
+    env.pop("DISPLAY", None)  # no window: every case is headless or a "no display" error
+    env.pop("WAYLAND_DISPLAY", None)
+    env.pop("RAS_PLAIN", None)
+    p = subprocess.run([os.path.join(BIN, program)] + args, capture_output=True, text=True,
+                       env=env, timeout=120, cwd=WORK)
+    return p.returncode, p.stdout, p.stderr
+
+def case(program, args, status, message, absent=(OUT,), stdout_has=None, present=()):
+    """One case: `message` must appear in stderr (stdout_has in stdout), the
+    files `absent` must not exist afterwards and those `present` must."""
+    cases.append((len(cases), program, args, status, message, absent, stdout_has, present))
+
+def check(c):
+    n, program, args, status, message, absent, stdout_has, present = c
+    out_path = path(f"out{n}.png")
+    args = [out_path if a == OUT else a for a in args]
+    absent = [out_path if a == OUT else a for a in absent]
+    present = [out_path if a == OUT else a for a in present]
+    code, out, err = run(program, args)
+    what = f"{program} {' '.join(args)}"
+    problems = []
+    if code != status:
+        problems.append(f"exit {code}, expected {status}")
+    if message and message not in err:
+        problems.append(f"stderr lacks {message!r}")
+    if stdout_has and stdout_has not in out:
+        problems.append(f"stdout lacks {stdout_has!r}")
+    problems += [f"{f} was left behind" for f in absent if os.path.exists(f)]
+    problems += [f"{f} was not written" for f in present if not os.path.isfile(f)]
+    if "Sanitizer" in err or "runtime error:" in err:
+        problems.append("sanitizer report")
+    if status == 2 and not err.startswith(program.replace("_ref", "") + ":"):
+        problems.append("stderr does not start with the program's name")
+    if problems:
+        return f"FAIL: {what}: {'; '.join(problems)}\n  stderr: {err.strip()[:600]}"
+    return None
+
+PROGRAMS = ["hw1_transform_ref", "hw2_rasterize_ref", "hw3_shading_ref"]
+
+# ---- what every program shares (common/ras_cli.c, ras_image_check_output) ----
+# Each main checks -o, the display and the scene itself: those cases run on all
+# three programs. The parser is one for all: its cases take turns (each process
+# start costs ~0.3 s under ASan).
+for p in PROGRAMS:
+    case(p, ["--help"], 0, "", stdout_has="Exit status")
+case(PROGRAMS[0], ["--version"], 0, "", stdout_has="Raster101")
+for p in PROGRAMS:
+    case(p, [], 2, "no display to open a window on")
+    case(p, ["-o", path("out.txt")], 2, "expected an image extension", absent=(path("out.txt"),))
+    case(p, ["--scene", MISSING_MODEL_SCENE, "-o", OUT], 2, "no-such-model.obj")
+    case(p, ["--size", "16x16", "-o", OUT], 0, "wrote", absent=(), present=(OUT,))
+shared = [
+    (["--bogus", "-o", OUT], 2, "unknown option '--bogus'"),
+    (["-q", "-o", OUT], 2, "unknown option '-q'"),
+    (["--stats=1", "-o", OUT], 2, "'--stats' takes no value"),
+    (["--s", "9", "-o", OUT], 2, "ambiguous"),
+    (["-o"], 2, "needs a value: expected an output FILE"),
+    (["-o", "--size", "9x9"], 2, "got '--size', which looks like an option"),
+    (["-o", ""], 2, "got an empty name"),
+    (["-o", path("out")], 2, "expected a file name with an image extension"),
+    (["-o", path("no-such-folder/out.png")], 2, "no-such-folder' does not exist; create it"),
+    (["-o", A_FOLDER], 2, "it is a folder"),
+    (["-o", EMPTY + "/out.png"], 2, "is a file, not a folder"),
+    (["--scene", path("no-such-scene.json"), "-o", OUT], 2, "cannot open the scene file"),
+    (["--scene", WORK, "-o", OUT], 2, "expected a scene file, got a folder"),
+    (["--scene", EMPTY, "-o", OUT], 2, "expected a JSON object"),
+    (["--scene", BINARY, "-o", OUT], 2, "binary.json"),
+    (["--scene", HUGE_NUMBER_SCENE, "-o", OUT], 2, "image.width"),
+    (["--scene", CORRUPT_TEXTURE_SCENE, "-o", OUT], 2, "corrupt.png"),
+] + [(["--size", size, "-o", OUT], 2, f"--size expects WIDTHxHEIGHT between 1x1 and "
+      f"8192x8192, e.g. --size 700x700; got '{size}'")
+     for size in ["0", "99999", "10x10junk"]]
+for k, (args, status, message) in enumerate(shared):
+    case(PROGRAMS[k % 3], args, status, message)
+
+# ---- hw1 ----
+H1 = "hw1_transform_ref"
+for angle in ["abc", "1e999"]:
+    case(H1, ["-r", angle, "-o", OUT], 2, f"--angle expects a finite number of degrees, e.g. -r "
+         f"20; got '{angle}'")
+for axis in ["0,0,0", "nan,1,1"]:
+    case(H1, ["--axis", axis, "-o", OUT], 2, f"--axis expects three numbers X,Y,Z, not all "
+         f"zero, e.g. --axis 0,1,0; got '{axis}'")
+case(H1, ["--samples", "4", "-o", OUT], 2, "'--samples' does not apply to this program")
+case(H1, ["-o", OUT, path("b.png")], 2, "unexpected argument", absent=(OUT, path("b.png")))
+case(H1, ["-r", "20", OUT], 0, "wrote", absent=(), present=(OUT,))  # the classic positional form
+
+# ---- hw2 ----
+H2 = "hw2_rasterize_ref"
+case(H2, ["--samples", "3", "-o", OUT], 2, "has no 3-sample version")
+case(H2, ["--samples", "1000", "-o", OUT], 2, "--samples expects a whole number")
+case(H2, ["--aa", "bogus", "-o", OUT], 2, "--aa expects none, msaa or ssaa; got 'bogus'")
+case(H2, ["--pattern"], 2, "'--pattern' needs a value: expected ordered or standard")
+case(H2, ["--aa", "none", "--samples", "4", "-o", OUT], 2, "--aa none draws one sample")
+case(H2, ["--reference", CORRUPT_PNG, "-o", OUT], 2, "--reference FILE goes with --compare")
+case(H2, ["--compare", "--aa", "msaa", "--samples", "16", "-o", OUT], 2,
+     "no reference image for this variant (msaa16)")
+case(H2, ["--compare", "--reference", CORRUPT_PNG, "-o", OUT], 2, "--reference: could not read")
+case(H2, ["--compare", "--size", "64x64", "-o", path("cmp2.png")], 2,
+     "render at the reference's size", absent=(path("cmp2.png"), path("cmp2_diff.png")))
+case(H2, ["--compare", "--scene", CUBE_SCENE, "-o", OUT], 2, "needs --reference FILE")
+case(H2, ["--size", "8192x8192", "--aa", "ssaa", "--samples", "64", "-o", OUT], 2,
+     "use a smaller --size or fewer --samples")
+case(H2, ["--shader", "phong", "-o", OUT], 2, "'--shader' does not apply to this program")
+
+# ---- hw3 ----
+H3 = "hw3_shading_ref"
+case(H3, ["--shader", "bogus", "-o", OUT], 2, "--shader expects normal, phong")
+case(H3, ["phong", OUT], 2, "--shader expects")  # positional arguments in the wrong order
+case(H3, ["-o", OUT, path("b.png")], 2, "unexpected argument", absent=(OUT, path("b.png")))
+case(H3, ["--samples", "4", "-o", OUT], 2, "--samples 4 needs --aa msaa or --aa ssaa")
+case(H3, ["--compare"], 2, "--compare needs -o FILE")
+case(H3, ["--compare", "--size", "64x64", "-o", path("cmp3.png")], 2,
+     "render at the reference's size", absent=(path("cmp3.png"), path("cmp3_diff.png")))
+case(H3, ["--compare", "--scene", CUBE_SCENE, "-o", OUT], 2, "needs --reference FILE")
+case(H3, ["--compare", "--reference", path("no-such.png"), "-o", OUT], 2,
+     "--reference: could not read image")
+case(H3, ["--model", path("no-such.obj"), "-o", OUT], 2, "cannot open model file")
+case(H3, ["--model", OK_OBJ, "--texture", CORRUPT_PNG, "-o", OUT], 2, "corrupt.png")
+case(H3, ["--size", "8192x8192", "--aa", "ssaa", "--samples", "64", "-o", OUT], 2,
+     "use a smaller --size or fewer --samples")
+case(H3, ["--model", OK_OBJ, "--size", "16x16", "-o", OUT], 0, "wrote", absent=(),
+     present=(OUT,))
+
+# ---- raster101-compare ----
+C = "raster101-compare"
+REF = path("ref.png")
+code, _, err = run("hw2_rasterize_ref", ["--size", "16x16", "-o", REF])
+if code != 0:
+    failures.append(f"could not make {REF}: {err}")
+case(C, ["--metric", "exact", REF, REF], 0, "", absent=())
+case(C, ["--metric", "exact", REF], 2, "expected two images, EXPECTED and GOT; got 1 argument",
+     absent=())
+case(C, [REF, REF], 2, "expected --metric", absent=())
+for tol in ["1e999", "nan"]:
+    case(C, ["--metric", "exact", "--tolerance", tol, REF, REF], 2, f"got '{tol}'", absent=())
+case(C, ["--metric", "edge", "--max-bad", "-3", REF, REF], 2, "--max-bad expects", absent=())
+case(C, ["--metric", "exact", REF, CORRUPT_PNG], 2, "got image: could not read", absent=())
+case(C, ["--metric", "exact", "--diff", path("no-such-folder/d.png"), REF, REF], 2,
+     "does not exist", absent=())
+case(C, ["--metric", "exact", "--crop", path("crop.txt"), REF, REF], 2,
+     "expected an image extension", absent=(path("crop.txt"),))
+
+# ---- raster101-grade (argument checks only: no grading is run) ----
+G = "raster101-grade"
+SRC = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+BUILD = os.path.dirname(os.path.abspath(BIN))
+GOUT = path("grade-out")
+case(G, ["--bogus", "x"], 2, "unknown argument '--bogus'", absent=(GOUT,))
+case(G, ["--source", SRC, "--build", BUILD], 2, "--out is missing", absent=(GOUT,))
+case(G, ["--source", SRC, "--build", BUILD, "--out", GOUT, "--expect", "abc"], 2,
+     "--expect expects full or a number", absent=(GOUT,))
+case(G, ["--source", path("no-such-src"), "--build", BUILD, "--out", GOUT], 2,
+     "is not a folder", absent=(GOUT,))
+case(G, ["--source", SRC, "--build", BUILD, "--out", GOUT, "--hw", "hw9"], 2,
+     "--hw expects an assignment", absent=(GOUT,))
+case(G, ["--source", SRC, "--build", BUILD, "--out", EMPTY, "--hw", "hw1"], 2,
+     "it is a file", absent=())
+
+with concurrent.futures.ThreadPoolExecutor(max_workers=max(2, os.cpu_count() or 2)) as pool:
+    for result in pool.map(check, cases):
+        if result:
+            failures.append(result)
+            print(result)
+print(f"{len(cases)} cases, {len(failures)} failed")
+sys.exit(1 if failures else 0)
