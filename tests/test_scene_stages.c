@@ -402,6 +402,59 @@ static void test_default_scene_file_matches_builtin_scene(void **state) {
     ras_scene_destroy(rs);
 }
 
+/* "depth": "inverse_w" reaches hw3's pipeline: two parallel triangles at view
+ * depth 45 and 45 − 0.0001, the farther (blue) listed first. With the
+ * default z01 their depths differ by n·δ/d² ≈ 5e-9, a twelfth of a float
+ * step, so rounding decides each pixel and some go to the farther one (12%
+ * here, docs/accuracy.md §5 has the full picture), while inverse_w shows the
+ * nearer (red) everywhere. inverse_w also takes the
+ * plain pipeline (the fast path draws z01 only): its buffers are one frame. */
+static void test_depth_key_reaches_the_pipeline(void **state) {
+    (void)state;
+    for (int inv = 0; inv < 2; inv++) {
+        char text[1024];
+        snprintf(text, sizeof text,
+                 "{\"image\": {\"width\": %d, \"height\": %d}, \"depth\": \"%s\",\n"
+                 " \"objects\": [\n"
+                 "  {\"shape\": \"triangle\", \"vertices\": [[-99, -99, -40], [99, -99, -40], "
+                 "[0, 99, -40]], \"material\": {\"color\": [0, 0, 1]}},\n"
+                 "  {\"shape\": \"triangle\", \"vertices\": [[-99, -99, -39.9999], [99, -99, "
+                 "-39.9999], [0, 99, -39.9999]], \"material\": {\"color\": [1, 0, 0]}}],\n"
+                 " \"lights\": [{\"position\": [0, 0, 0], \"intensity\": 500}], "
+                 "\"shader\": \"phong\"}",
+                 W, W, inv ? "inverse_w" : "z01");
+        ras_error err = {{0}};
+        ras_scene *rs = ras_scene_parse(text, "depth.json", NULL, &err);
+        if (!rs) fail_msg("the test scene does not parse: %s\n%s", err.msg, text);
+        hw3_scene *scene = hw3_scene_from_ras(rs, &err);
+        assert_non_null(scene);
+        hw3_render_options opt = hw3_render_options_from_ras(rs);
+        assert_int_equal(opt.depth, inv ? RAS_DEPTH_INV_W : RAS_DEPTH_Z01);
+        opt.threads = 2;
+        ras_image *img = ras_image_create(W, W, &err);
+        assert_non_null(img);
+        ras_counters k;
+        assert_true(hw3_render(scene, &opt, img, &k, &err));
+        int red = 0, blue = 0;
+        for (int i = 0; i < PIXELS; i++) {
+            red += img->pixels[i].x > img->pixels[i].z;
+            blue += img->pixels[i].z > img->pixels[i].x;
+        }
+        printf("depth %s: %d red (nearer) and %d blue (farther) pixels\n",
+               inv ? "inverse_w" : "z01", red, blue);
+        assert_int_equal(red + blue, PIXELS); /* the triangles cover the view */
+        if (inv) {
+            assert_int_equal(blue, 0);
+            assert_int_equal(k.buffer_bytes, (uint64_t)PIXELS * (sizeof(vec3s) + sizeof(float)));
+        } else {
+            assert_true(blue > 0);
+        }
+        ras_image_destroy(img);
+        hw3_scene_destroy(scene);
+        ras_scene_destroy(rs);
+    }
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_aa_none_has_no_sample_buffers),
@@ -417,6 +470,7 @@ int main(void) {
         cmocka_unit_test(test_world_lights_move_to_view_space),
         cmocka_unit_test(test_builtin_scenes_are_the_files),
         cmocka_unit_test(test_default_scene_file_matches_builtin_scene),
+        cmocka_unit_test(test_depth_key_reaches_the_pipeline),
     };
     return RAS_RUN_TESTS("scene_stages", tests, NULL, NULL);
 }
