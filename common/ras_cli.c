@@ -4,7 +4,7 @@
 #include <getopt.h> /* getopt_long */
 #include <math.h>   /* isfinite */
 #include <stdio.h>  /* snprintf, sscanf */
-#include <stdlib.h> /* strtof, strtol */
+#include <stdlib.h> /* strtof, strtol, realpath */
 #include <string.h> /* strcmp */
 
 enum {
@@ -307,6 +307,20 @@ ras_cli_status ras_cli_parse(int argc, char **argv, unsigned accepted, ras_cli *
         case OPT_SCENE: out->scene = arg; break;
         case OPT_STATS: out->stats = true; break;
         default: break;
+        }
+    }
+    if (out->reference && out->output) {
+        /* --compare reads the reference before the render overwrites -o. */
+        char *ref = realpath(out->reference, NULL), *dst = realpath(out->output, NULL);
+        bool same = !strcmp(out->reference, out->output) || (ref && dst && !strcmp(ref, dst));
+        free(ref);
+        free(dst);
+        if (same) {
+            ras_error_set(err,
+                          "-o %s would overwrite the --reference image it is compared with; "
+                          "write the render to another file",
+                          out->output);
+            return RAS_CLI_ERROR;
         }
     }
     if (out->reference && !out->compare) {

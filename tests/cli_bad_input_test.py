@@ -92,6 +92,10 @@ def check(c):
         return f"FAIL: {what}: {'; '.join(problems)}\n  stderr: {err.strip()[:600]}"
     return None
 
+REF = path("ref.png")  # a small good image, for raster101-compare and --reference
+code, _, err = run("hw2_rasterize_ref", ["--size", "16x16", "-o", REF])
+if code != 0:
+    failures.append(f"could not make {REF}: {err}")
 PROGRAMS = ["hw1_transform_ref", "hw2_rasterize_ref", "hw3_shading_ref"]
 
 # ---- what every program shares (common/ras_cli.c, ras_image_check_output) ----
@@ -156,6 +160,8 @@ case(H2, ["--compare", "--reference", CORRUPT_PNG, "-o", OUT], 2, "--reference: 
 case(H2, ["--compare", "--size", "64x64", "-o", path("cmp2.png")], 2,
      "render at the reference's size", absent=(path("cmp2.png"), path("cmp2_diff.png")))
 case(H2, ["--compare", "--scene", CUBE_SCENE, "-o", OUT], 2, "needs --reference FILE")
+case(H2, ["--compare", "--reference", REF, "-o", REF], 2, "would overwrite the --reference",
+     absent=(), present=(REF,))
 case(H2, ["--size", "8192x8192", "--aa", "ssaa", "--samples", "64", "-o", OUT], 2,
      "use a smaller --size or fewer --samples")
 case(H2, ["--shader", "phong", "-o", OUT], 2, "'--shader' does not apply to this program")
@@ -181,10 +187,6 @@ case(H3, ["--model", OK_OBJ, "--size", "16x16", "-o", OUT], 0, "wrote", absent=(
 
 # ---- raster101-compare ----
 C = "raster101-compare"
-REF = path("ref.png")
-code, _, err = run("hw2_rasterize_ref", ["--size", "16x16", "-o", REF])
-if code != 0:
-    failures.append(f"could not make {REF}: {err}")
 case(C, ["--metric", "exact", REF, REF], 0, "", absent=())
 case(C, ["--metric", "exact", REF], 2, "expected two images, EXPECTED and GOT; got 1 argument",
      absent=())
