@@ -13,6 +13,7 @@ enum {
     OPT_SAMPLES,
     OPT_PATTERN,
     OPT_EDGES,
+    OPT_DEPTH,
     OPT_COMPARE,
     OPT_REFERENCE,
     OPT_SHADER,
@@ -34,6 +35,7 @@ static const struct option long_options[] = {
     {"aa", required_argument, NULL, OPT_AA},  {"samples", required_argument, NULL, OPT_SAMPLES},
     {"pattern", required_argument, NULL, OPT_PATTERN},
     {"edges", required_argument, NULL, OPT_EDGES},
+    {"depth", required_argument, NULL, OPT_DEPTH},
     {"compare", no_argument, NULL, OPT_COMPARE},
     {"reference", required_argument, NULL, OPT_REFERENCE},
     {"shader", required_argument, NULL, OPT_SHADER},
@@ -50,7 +52,7 @@ static const struct option long_options[] = {
 static unsigned group_of(int opt) {
     switch (opt) {
     case 'r': case OPT_AXIS: return RAS_OPT_ANGLE;
-    case OPT_AA: case OPT_SAMPLES: case OPT_PATTERN: case OPT_EDGES: return RAS_OPT_AA;
+    case OPT_AA: case OPT_SAMPLES: case OPT_PATTERN: case OPT_EDGES: case OPT_DEPTH: return RAS_OPT_AA;
     case OPT_COMPARE: case OPT_REFERENCE: return RAS_OPT_COMPARE;
     case OPT_SHADER: case OPT_FILTER: return RAS_OPT_SHADING;
     case OPT_MODEL: case OPT_TEXTURE: case OPT_HEIGHT: case OPT_FIT: return RAS_OPT_MODEL;
@@ -87,6 +89,7 @@ static const char *metavar_of(int opt) {
     case OPT_SAMPLES: return "a sample count such as 4";
     case OPT_PATTERN: return "ordered or standard";
     case OPT_EDGES: return "fixed or float";
+    case OPT_DEPTH: return "z01 or inverse_w";
     case OPT_SHADER: return "normal, phong, texture, bump or displacement";
     case OPT_FILTER: return "nearest, bilinear or trilinear";
     case OPT_REFERENCE: return "an image FILE";
@@ -296,6 +299,19 @@ ras_cli_status ras_cli_parse(int argc, char **argv, unsigned accepted, ras_cli *
             }
             out->edges_set = true;
             break;
+        case OPT_DEPTH: {
+            int f = 0;
+            while (f < RAS_DEPTH_FORMAT_COUNT &&
+                   strcmp(arg, ras_depth_format_name((ras_depth_format)f)))
+                f++;
+            if (f == RAS_DEPTH_FORMAT_COUNT) {
+                ras_error_set(err, "--depth expects z01 or inverse_w; got '%s'", arg);
+                return RAS_CLI_ERROR;
+            }
+            out->depth = (ras_depth_format)f;
+            out->depth_set = true;
+            break;
+        }
         case OPT_COMPARE: out->compare = true; break;
         case OPT_REFERENCE: out->reference = arg; break;
         case OPT_SHADER: out->shader = arg; break;
@@ -359,6 +375,8 @@ void ras_cli_help(unsigned accepted, const char *program, const char *usage, cha
             "8, 16)\n");
         ADD("      --pattern P       sample positions: ordered (grid) or standard (D3D/Vulkan)\n");
         ADD("      --edges E         reference edge functions: fixed (watertight) or float\n");
+        ADD("      --depth F         depth format: z01 ((1-z)/2, default) or inverse_w\n"
+            "                        (-near/w: reversed-z, precise far away; docs/accuracy.md)\n");
     }
     if (accepted & RAS_OPT_SHADING) {
         ADD("      --shader NAME     normal, phong, texture, bump or displacement\n");

@@ -12,11 +12,12 @@
 #include "ras_error.h"
 #include "ras_math.h"
 #include "ras_sample_pattern.h"
+#include "stage3_setup.h" /* ras_depth_format */
 #include "stage4_raster.h"
 
 enum {
     RAS_OPT_ANGLE = 1u << 0,   /* -r/--angle DEG, --axis X,Y,Z */
-    RAS_OPT_AA = 1u << 1,      /* --aa, --samples, --pattern, --edges */
+    RAS_OPT_AA = 1u << 1,      /* --aa, --samples, --pattern, --edges, --depth */
     RAS_OPT_COMPARE = 1u << 2, /* --compare [--reference FILE] */
     RAS_OPT_SHADING = 1u << 3, /* --shader, --filter */
     RAS_OPT_MODEL = 1u << 4,   /* --model, --texture, --height, --fit */
@@ -40,6 +41,8 @@ typedef struct ras_cli {
     bool pattern_set;
     ras_edge_mode edges;
     bool edges_set;
+    ras_depth_format depth; /* --depth z01|inverse_w */
+    bool depth_set;
     bool compare;
     const char *reference; /* --reference FILE for --compare */
     const char *shader, *filter;

@@ -9,8 +9,9 @@
  *     entry i * samples + s), in both the colour and the depth buffer. With no
  *     anti-aliasing samples == 1 and these are plain per-pixel buffers: no
  *     per-sample memory is allocated unless the scene asks for AA;
- *   - depth: smaller is closer; 0 is the near plane, 1 the far plane; cleared
- *     to +INFINITY so the first fragment always wins.
+ *   - depth: smaller is closer, in the pipeline's depth format (stage3_setup.h:
+ *     z01 runs 0 at near to 1 at far, inverse_w −1 at near towards 0 far away);
+ *     cleared to +INFINITY so the first fragment always wins in either.
  */
 #ifndef RAS_FRAMEBUFFER_H
 #define RAS_FRAMEBUFFER_H

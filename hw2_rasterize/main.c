@@ -47,6 +47,7 @@ typedef struct settings {
     int samples; /* used when aa != NONE */
     ras_pattern_kind pattern;
     ras_edge_mode edges;
+    ras_depth_format depth;
 } settings;
 
 typedef struct app {
@@ -66,6 +67,8 @@ static bool make_pipeline(app *a, ras_error *err) {
                                .cull = a->scene->cull,
                                .aa = a->set.aa,
                                .edges = a->set.edges,
+                               .depth = a->set.depth,
+                               .z_near = a->scene->camera.z_near,
                                .varyings = RAS_VARYING_COLOR,
                                .rasterize = rasterize_triangle,
                                .resolve = resolve_pixel};
@@ -418,11 +421,13 @@ int main(int argc, char **argv) {
     a.set = (settings){.aa = sc->aa,
                        .samples = sc->aa != RAS_AA_NONE ? sc->samples : 4,
                        .pattern = sc->pattern_kind,
-                       .edges = sc->edges};
+                       .edges = sc->edges,
+                       .depth = sc->depth};
     if (cli.aa_set) a.set.aa = cli.aa;
     if (cli.samples) a.set.samples = cli.samples;
     if (cli.pattern_set) a.set.pattern = cli.pattern;
     if (cli.edges_set) a.set.edges = cli.edges;
+    if (cli.depth_set) a.set.depth = cli.depth;
     a.width = cli.width ? cli.width : sc->width;
     a.height = cli.height ? cli.height : sc->height;
     if (cli.samples > 1 && !cli.aa_set && a.set.aa == RAS_AA_NONE)

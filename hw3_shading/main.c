@@ -255,6 +255,7 @@ static int run(app *a) {
         return 2;
     }
     if (a->cli.edges_set) a->opt.edges = a->cli.edges;
+    if (a->cli.depth_set) a->opt.depth = a->cli.depth;
     if (!a->cli.model && (a->cli.texture || a->cli.height_map || a->cli.fit)) {
         fprintf(stderr, PROGRAM ": --texture, --height and --fit go with --model FILE\n");
         return 2;

@@ -152,6 +152,9 @@ case(H2, ["--samples", "3", "-o", OUT], 2, "has no 3-sample version")
 case(H2, ["--samples", "1000", "-o", OUT], 2, "--samples expects a whole number")
 case(H2, ["--aa", "bogus", "-o", OUT], 2, "--aa expects none, msaa or ssaa; got 'bogus'")
 case(H2, ["--pattern"], 2, "'--pattern' needs a value: expected ordered or standard")
+case(H2, ["--depth", "reversed", "-o", OUT], 2, "--depth expects z01 or inverse_w; got 'reversed'")
+case(H2, ["--depth", "inverse_w", "--size", "16x16", "-o", OUT], 0, "wrote", absent=(),
+     present=(OUT,))
 case(H2, ["--aa", "none", "--samples", "4", "-o", OUT], 2, "--aa none draws one sample")
 case(H2, ["--reference", CORRUPT_PNG, "-o", OUT], 2, "--reference FILE goes with --compare")
 case(H2, ["--compare", "--aa", "msaa", "--samples", "16", "-o", OUT], 2,
