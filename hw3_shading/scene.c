@@ -453,10 +453,7 @@ bool hw3_render(hw3_scene *scene, const hw3_render_options *opt, ras_image *out,
                                 .varyings = hw3_frame_varyings(scene, opt->shader),
                                 .perspective = !opt->affine};
     fragment_shader_payload *b = &stage.base;
-    b->filter = opt->filter;
-    b->ka = scene->ka;
-    b->ks = scene->ks;
-    b->p = scene->p;
+    b->filter = opt->filter; /* the material (ka, ks, p, ...) is set per object below */
     b->light_count = scene->light_count;
     for (int i = 0; i < scene->light_count; i++) b->lights[i] = scene->lights[i];
     b->ambient_intensity = scene->ambient_intensity;
@@ -466,8 +463,7 @@ bool hw3_render(hw3_scene *scene, const hw3_render_options *opt, ras_image *out,
 #ifdef HW3_FAST_PATH
     /* Reference build only: the same frame through screen tiles and threads,
      * bit-identical to the loop below (solution/fast_render.c, docs/performance.md). */
-    if (hw3_fast_wanted(opt) && opt->cull == RAS_CULL_NONE && opt->edges == RAS_EDGES_FIXED &&
-        opt->depth == RAS_DEPTH_Z01) {
+    if (hw3_fast_wanted(opt)) {
         mat4s models[HW3_MAX_OBJECTS];
         for (int i = 0; i < scene->object_count; i++)
             models[i] = object_model(&scene->objects[i], opt->angle_deg);

@@ -1044,6 +1044,9 @@ static void *worker_main(void *arg) {
 /* ---- the frame ------------------------------------------------------------- */
 
 bool hw3_fast_wanted(const hw3_render_options *opt) {
+    /* What the fast path draws: fixed edges, no culling, z01 depth. */
+    if (opt->cull != RAS_CULL_NONE || opt->edges != RAS_EDGES_FIXED || opt->depth != RAS_DEPTH_Z01)
+        return false;
     const char *env = getenv("RAS_PLAIN");
     return !opt->plain && !(env && *env && strcmp(env, "0") != 0);
 }

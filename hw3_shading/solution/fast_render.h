@@ -12,7 +12,8 @@
 #include "scene.h"
 
 /* False when the plain pipeline is wanted: opt->plain, or RAS_PLAIN set to
- * anything but "" or "0". */
+ * anything but "" or "0"; or needed: culling, float edges or a depth format
+ * other than z01 (the fast path draws none of them). */
 bool hw3_fast_wanted(const hw3_render_options *opt);
 
 /* One frame of `scene`: models[i] is object i's model matrix; `stage` holds the
