@@ -301,8 +301,7 @@ ras_cli_status ras_cli_parse(int argc, char **argv, unsigned accepted, ras_cli *
             break;
         case OPT_DEPTH: {
             int f = 0;
-            while (f < RAS_DEPTH_FORMAT_COUNT &&
-                   strcmp(arg, ras_depth_format_name((ras_depth_format)f)))
+            while (f < RAS_DEPTH_FORMAT_COUNT && strcmp(arg, ras_depth_format_names[f]))
                 f++;
             if (f == RAS_DEPTH_FORMAT_COUNT) {
                 ras_error_set(err, "--depth expects z01 or inverse_w; got '%s'", arg);

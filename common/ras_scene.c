@@ -46,8 +46,6 @@ static const char *const cull_names[] = {"none", "back", "front"};
 static const char *const aa_names[] = {"none", "msaa", "ssaa"};
 static const char *const pattern_names[] = {"ordered", "standard"};
 static const char *const edge_names[] = {"fixed", "float"};
-/* The same spellings as ras_depth_format_name, in enum order. */
-static const char *const depth_names[RAS_DEPTH_FORMAT_COUNT] = {"z01", "inverse_w"};
 static const char *const wrap_names[] = {"repeat", "clamp"};
 static const char *const space_names[] = {"view", "world"};
 static const char *const builtin_map_names[] = {"checker", "brick", "bumps"};
@@ -1054,7 +1052,7 @@ static bool parse_root(ctx *c, const cJSON *root, ras_scene *s) {
         !opt_enum(c, root, "", "filter", filter_names, COUNT(filter_names), &filter) ||
         !opt_enum(c, root, "", "cull", cull_names, COUNT(cull_names), &cull) ||
         !opt_enum(c, root, "", "edges", edge_names, COUNT(edge_names), &edges) ||
-        !opt_enum(c, root, "", "depth", depth_names, RAS_DEPTH_FORMAT_COUNT, &depth) ||
+        !opt_enum(c, root, "", "depth", ras_depth_format_names, RAS_DEPTH_FORMAT_COUNT, &depth) ||
         !opt_color(c, root, "", "clear_color", &s->clear_color))
         return false;
     s->shader = (ras_scene_shader)shader;
