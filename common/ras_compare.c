@@ -287,6 +287,17 @@ static void summarise(ras_compare_result *r, const ras_compare_options *o, long 
 #undef APPEND
 }
 
+bool ras_compare_reference_fits(const ras_image *expected, const char *path, int width, int height,
+                                ras_error *err) {
+    if (expected->width == width && expected->height == height) return true;
+    ras_error_set(err,
+                  "cannot compare: the reference %s is %dx%d, the render would be %dx%d; render "
+                  "at the reference's size (--size %dx%d) or pass another --reference",
+                  path, expected->width, expected->height, width, height, expected->width,
+                  expected->height);
+    return false;
+}
+
 bool ras_compare_images(const ras_image *expected, const ras_image *got,
                         const ras_compare_options *opt, ras_compare_result *out,
                         ras_error *err) {

@@ -113,6 +113,13 @@ typedef struct ras_compare_result {
     char summary[RAS_COMPARE_SUMMARY_SIZE];
 } ras_compare_result;
 
+/* Before rendering for a comparison: is the reference `path` (loaded as
+ * `expected`) the size of the render (width x height)? false with err
+ * "cannot compare: the reference ... is AxB, the render would be CxD; ..."
+ * naming the --size that would fit, so the programs refuse up front. */
+bool ras_compare_reference_fits(const ras_image *expected, const char *path, int width, int height,
+                                ras_error *err);
+
 /* Compares `got` against `expected` under `opt` and fills `out`. Returns
  * false (err: "expected 700x700 (the reference), got 512x512 ...") when the
  * sizes differ or memory runs out; `out` then has pass false and no

@@ -155,13 +155,8 @@ static ras_image *load_reference(const app *a, const char *reference, char *path
                     variant, err.msg);
         return NULL;
     }
-    if (expected->width != a->width || expected->height != a->height) {
-        fprintf(stderr,
-                PROGRAM ": cannot compare: the reference %s is %dx%d, the render would be "
-                        "%dx%d; render at the reference's size (--size %dx%d) or pass "
-                        "another --reference\n",
-                path, expected->width, expected->height, a->width, a->height, expected->width,
-                expected->height);
+    if (!ras_compare_reference_fits(expected, path, a->width, a->height, &err)) {
+        fprintf(stderr, PROGRAM ": %s\n", err.msg);
         ras_image_destroy(expected);
         return NULL;
     }

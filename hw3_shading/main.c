@@ -102,13 +102,8 @@ static ras_image *load_reference(const app *a, char *path, size_t size) {
         fprintf(stderr, PROGRAM ": %s%s\n", a->cli.reference ? "--reference: " : "", err.msg);
         return NULL;
     }
-    if (expected->width != a->scene->width || expected->height != a->scene->height) {
-        fprintf(stderr,
-                PROGRAM ": cannot compare: the reference %s is %dx%d, the render would be "
-                        "%dx%d; render at the reference's size (--size %dx%d) or pass "
-                        "another --reference\n",
-                path, expected->width, expected->height, a->scene->width, a->scene->height,
-                expected->width, expected->height);
+    if (!ras_compare_reference_fits(expected, path, a->scene->width, a->scene->height, &err)) {
+        fprintf(stderr, PROGRAM ": %s\n", err.msg);
         ras_image_destroy(expected);
         return NULL;
     }
