@@ -60,6 +60,12 @@ typedef struct fast_tri {
     int order[3]; /* original vertex index of corner k */
     int x0, x1, y0, y1; /* pixel bounding box, clamped, inclusive */
     int object;
+    /* The batched shaders' inputs, packed so that four fragments are
+     * gathered with a few vector loads and transposes (shade_prepare):
+     * the corners' clip w (and a 0), and per corner normal xyz, view
+     * position xyz and uv — copies of t's floats, in t's vertex order. */
+    _Alignas(16) float w3[4];
+    _Alignas(16) float attr[3][8];
 } fast_tri;
 
 static int64_t floor_div(int64_t a, int64_t b) { /* b > 0 */
@@ -191,6 +197,14 @@ static bool setup_triangle(tri_list *L, const ras_clip_vertex *a, const ras_clip
         }
         if (r->x1 < r->x0) continue; /* off screen: nothing tested */
         r->object = object;
+        for (int v = 0; v < 3; v++) {
+            r->w3[v] = r->t.v[v].w;
+            float *a = r->attr[v];
+            a[0] = r->t.normal[v].x, a[1] = r->t.normal[v].y, a[2] = r->t.normal[v].z;
+            a[3] = r->t.view_pos[v].x, a[4] = r->t.view_pos[v].y, a[5] = r->t.view_pos[v].z;
+            a[6] = r->t.uv[v].x, a[7] = r->t.uv[v].y;
+        }
+        r->w3[3] = 0.0f;
         L->count++;
     }
     return true;
@@ -240,6 +254,7 @@ typedef struct frame {
 typedef struct queued {
     const fast_tri *r;
     vec3s bary;
+    float pad; /* 0: bary is loaded as four floats (shade_prepare) */
     int base;
     uint64_t mask; /* RAS_MAX_SAMPLES is 64 */
 } queued;
@@ -374,18 +389,6 @@ static vec3s shade_silent(worker *w, const fast_tri *r, vec3s bary) {
     return c;
 }
 
-/* glms_vec3_scale(a0, b.x), then glms_vec3_muladds with a1, b.y and a2, b.z */
-static inline vf4 interp_lane(vf4 a0, vf4 a1, vf4 a2, v3x4 b) {
-    vf4 r = a0 * b.x;
-    r = r + a1 * b.y;
-    return r + a2 * b.z;
-}
-
-static inline v3x4 interp3_x4(const v3x4 a[3], v3x4 b) {
-    return (v3x4){interp_lane(a[0].x, a[1].x, a[2].x, b), interp_lane(a[0].y, a[1].y, a[2].y, b),
-                  interp_lane(a[0].z, a[1].z, a[2].z, b)};
-}
-
 /* powf(x, p) is +0 for 0 <= x <= spec_zero (see fast_blinn_phong); cached per
  * worker for the last exponent seen. */
 static float spec_zero_for(worker *w, float p) {
@@ -423,36 +426,20 @@ static void shade_prepare(worker *w, const queued *q, int lanes, lanes4 *S) {
     const fragment_shader_payload *pay = &w->pay[q[0].r->object];
     S->q = q;
     S->lanes = lanes;
-    /* gather: screen barycentrics, the corners' w and the varyings, lane by
-     * lane (unused lanes repeat lane 0) */
-    v3x4 bs = {0}, wv = {0}, nrm[3] = {0}, pos[3] = {0};
-    vf4 uvx[3] = {0}, uvy[3] = {0};
-    for (int i = 0; i < 4; i++) {
-        const queued *e = &q[i < lanes ? i : 0];
-        const ras_triangle *t = &e->r->t;
-        bs.x[i] = e->bary.x;
-        bs.y[i] = e->bary.y;
-        bs.z[i] = e->bary.z;
-        wv.x[i] = t->v[0].w;
-        wv.y[i] = t->v[1].w;
-        wv.z[i] = t->v[2].w;
-        for (int c = 0; c < 3; c++) {
-            nrm[c].x[i] = t->normal[c].x;
-            nrm[c].y[i] = t->normal[c].y;
-            nrm[c].z[i] = t->normal[c].z;
-        }
-        if (fr->batch != BATCH_NORMAL)
-            for (int c = 0; c < 3; c++) {
-                pos[c].x[i] = t->view_pos[c].x;
-                pos[c].y[i] = t->view_pos[c].y;
-                pos[c].z[i] = t->view_pos[c].z;
-            }
-        if (fr->batch == BATCH_TEXTURE)
-            for (int c = 0; c < 3; c++) {
-                uvx[c][i] = t->uv[c].x;
-                uvy[c][i] = t->uv[c].y;
-            }
-    }
+    /* gather: four fragments' screen barycentrics and corner w, one record
+     * per vector, transposed into one vector per field (unused lanes repeat
+     * lane 0) */
+    const queued *e[4];
+    for (int i = 0; i < 4; i++)
+        e[i] = &q[i < lanes ? i : 0];
+    v3x4 bs, wv;
+    vf4 pad;
+    bs.x = vf4_load(&e[0]->bary.x), bs.y = vf4_load(&e[1]->bary.x);
+    bs.z = vf4_load(&e[2]->bary.x), pad = vf4_load(&e[3]->bary.x);
+    vf4_transpose(&bs.x, &bs.y, &bs.z, &pad);
+    wv.x = vf4_load(e[0]->r->w3), wv.y = vf4_load(e[1]->r->w3);
+    wv.z = vf4_load(e[2]->r->w3), pad = vf4_load(e[3]->r->w3);
+    vf4_transpose(&wv.x, &wv.y, &wv.z, &pad);
     vi4 odd = {0, 0, 0, 0};
     /* persp_bary */
     v3x4 b = bs;
@@ -463,8 +450,28 @@ static void shade_prepare(worker *w, const queued *q, int lanes, lanes4 *S) {
         v3x4 s = v3_scale(p, vf4_splat(1.0f) / sum);
         b = (v3x4){vf4_select(ok, s.x, bs.x), vf4_select(ok, s.y, bs.y), vf4_select(ok, s.z, bs.z)};
     }
+    /* The varyings, one fragment per vector: lane j of lo/hi is varying j
+     * (normal xyz, view position x | view position yz, uv), interpolated as
+     * a0·b.x + a1·b.y + a2·b.z — interp3's and interp2's operations in
+     * their order — then transposed to one vector per varying. */
+    vf4 lo[4], hi[4];
+    bool want_hi = fr->batch != BATCH_NORMAL;
+    for (int i = 0; i < 4; i++) {
+        const float(*a)[8] = e[i]->r->attr;
+        vf4 bx = vf4_splat(b.x[i]), by = vf4_splat(b.y[i]), bz = vf4_splat(b.z[i]);
+        lo[i] = vf4_load(a[0]) * bx;
+        lo[i] = lo[i] + vf4_load(a[1]) * by;
+        lo[i] = lo[i] + vf4_load(a[2]) * bz;
+        if (want_hi) {
+            hi[i] = vf4_load(a[0] + 4) * bx;
+            hi[i] = hi[i] + vf4_load(a[1] + 4) * by;
+            hi[i] = hi[i] + vf4_load(a[2] + 4) * bz;
+        }
+    }
+    vf4_transpose(&lo[0], &lo[1], &lo[2], &lo[3]);
+    if (want_hi) vf4_transpose(&hi[0], &hi[1], &hi[2], &hi[3]);
     S->b = b;
-    v3x4 normal = v3_normalize(interp3_x4(nrm, b), &odd); /* payload->normal */
+    v3x4 normal = v3_normalize((v3x4){lo[0], lo[1], lo[2]}, &odd); /* payload->normal */
     for (int i = 0; i < lanes; i++) {
         w->k.varyings_interpolated += fr->varyings_per_fragment;
         w->k.fragments_shaded++;
@@ -476,11 +483,9 @@ static void shade_prepare(worker *w, const queued *q, int lanes, lanes4 *S) {
         S->odd = odd;
         return;
     }
-    v3x4 point = interp3_x4(pos, b); /* payload->view_pos */
-    if (fr->batch == BATCH_TEXTURE) {
-        S->u = interp_lane(uvx[0], uvx[1], uvx[2], b);
-        S->v = interp_lane(uvy[0], uvy[1], uvy[2], b);
-    }
+    v3x4 point = {lo[3], hi[0], hi[1]}; /* payload->view_pos */
+    S->u = hi[2];
+    S->v = hi[3];
     /* fast_blinn_phong, up to kd */
     if (pay->counters) {
         pay->counters->stages_run |= RAS_STAGE_LIGHTING;
@@ -598,7 +603,7 @@ static inline void prefetch_texels(const worker *w, const fast_tri *r, vec3s b) 
 static inline void enqueue(worker *w, const fast_tri *r, vec3s bary, int base, uint64_t mask) {
     if (w->fr->batch == BATCH_TEXTURE) prefetch_texels(w, r, bary);
     if (w->qn == QUEUE || (w->qn && w->q[0].r->object != r->object)) flush_queue(w);
-    w->q[w->qn++] = (queued){r, bary, base, mask};
+    w->q[w->qn++] = (queued){r, bary, 0.0f, base, mask};
 }
 
 static int batch_kind(const hw3_scene *scene, const hw3_render_options *opt,

@@ -16,6 +16,7 @@
 
 #include <float.h> /* FLT_EPSILON, FLT_MAX */
 #include <math.h>  /* sqrtf */
+#include <string.h> /* memcpy */
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -47,6 +48,27 @@ static inline vf4 vf4_sqrt(vf4 x) {
 static inline vf4 vf4_select(vi4 m, vf4 a, vf4 b) { return (vf4)(((vi4)a & m) | ((vi4)b & ~m)); }
 
 static inline int vi4_any(vi4 m) { return (m[0] | m[1] | m[2] | m[3]) != 0; }
+
+/* Four floats from memory (any alignment). */
+static inline vf4 vf4_load(const float *p) {
+    vf4 v;
+    memcpy(&v, p, sizeof v);
+    return v;
+}
+
+/* Rows a, b, c, d become columns: afterwards a = (a0, b0, c0, d0) and so on.
+ * Four fragments' records, loaded one per vector, become one vector per
+ * field: moving bits, no arithmetic. */
+static inline void vf4_transpose(vf4 *a, vf4 *b, vf4 *c, vf4 *d) {
+    vf4 t0 = __builtin_shufflevector(*a, *b, 0, 4, 1, 5); /* a0 b0 a1 b1 */
+    vf4 t1 = __builtin_shufflevector(*c, *d, 0, 4, 1, 5); /* c0 d0 c1 d1 */
+    vf4 t2 = __builtin_shufflevector(*a, *b, 2, 6, 3, 7); /* a2 b2 a3 b3 */
+    vf4 t3 = __builtin_shufflevector(*c, *d, 2, 6, 3, 7); /* c2 d2 c3 d3 */
+    *a = __builtin_shufflevector(t0, t1, 0, 1, 4, 5);
+    *b = __builtin_shufflevector(t0, t1, 2, 3, 6, 7);
+    *c = __builtin_shufflevector(t2, t3, 0, 1, 4, 5);
+    *d = __builtin_shufflevector(t2, t3, 2, 3, 6, 7);
+}
 
 static inline v3x4 v3_splat(vec3s v) {
     return (v3x4){vf4_splat(v.x), vf4_splat(v.y), vf4_splat(v.z)};
