@@ -8,7 +8,6 @@
 
 #include <cstdio>   // snprintf
 #include <cstdlib>  // getenv, malloc
-#include <cstring>  // memcpy
 #include <map>
 #include <string>
 
@@ -108,18 +107,25 @@ extern "C" uint8_t *cv_bridge_read_rgb8(const char *path, int *width, int *heigh
                         "': the file is missing or not an image OpenCV can decode (PNG, JPEG, ...)");
             return nullptr;
         }
-        cv::Mat rgb;
-        cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
-        size_t bytes = (size_t)rgb.rows * (size_t)rgb.cols * 3;
+        // BGR → RGB straight into the caller's buffer: one pass over the
+        // pixels instead of cvtColor into a third buffer and a copy.
+        size_t bytes = (size_t)bgr.rows * (size_t)bgr.cols * 3;
         auto *out = static_cast<uint8_t *>(std::malloc(bytes));
         if (!out) {
             set_err(err, err_size, "out of memory decoding image");
             return nullptr;
         }
-        for (int r = 0; r < rgb.rows; r++)
-            std::memcpy(out + (size_t)r * rgb.cols * 3, rgb.ptr(r), (size_t)rgb.cols * 3);
-        *width = rgb.cols;
-        *height = rgb.rows;
+        for (int r = 0; r < bgr.rows; r++) {
+            const uint8_t *src = bgr.ptr<uint8_t>(r);
+            uint8_t *dst = out + (size_t)r * (size_t)bgr.cols * 3;
+            for (int c = 0; c < bgr.cols; c++, src += 3, dst += 3) {
+                dst[0] = src[2];
+                dst[1] = src[1];
+                dst[2] = src[0];
+            }
+        }
+        *width = bgr.cols;
+        *height = bgr.rows;
         return out;
     } catch (const cv::Exception &e) {
         set_err(err, err_size, std::string("could not read image '") + path + "': " + e.what());

@@ -11,12 +11,15 @@
 #include <sys/stat.h> /* stat */
 #include <unistd.h>   /* getpid, access */
 
+static bool ras_image_size_ok(int width, int height, ras_error *err) {
+    if (width >= 1 && height >= 1 && width <= RAS_IMAGE_MAX_SIDE && height <= RAS_IMAGE_MAX_SIDE)
+        return true;
+    return ras_error_set(err, "image size %dx%d is out of range: expected 1..%d on each side",
+                         width, height, RAS_IMAGE_MAX_SIDE);
+}
+
 ras_image *ras_image_create(int width, int height, ras_error *err) {
-    if (width < 1 || height < 1 || width > RAS_IMAGE_MAX_SIDE || height > RAS_IMAGE_MAX_SIDE) {
-        ras_error_set(err, "image size %dx%d is out of range: expected 1..%d on each side",
-                      width, height, RAS_IMAGE_MAX_SIDE);
-        return NULL;
-    }
+    if (!ras_image_size_ok(width, height, err)) return NULL;
     ras_image *img = calloc(1, sizeof *img);
     if (!img) {
         ras_error_set(err, "out of memory for a %dx%d image", width, height);
@@ -159,7 +162,7 @@ bool ras_image_save(const ras_image *img, const char *path, ras_error *err) {
     return true;
 }
 
-ras_image *ras_image_load(const char *path, ras_error *err) {
+uint8_t *ras_image_load_rgb8(const char *path, int *width, int *height, ras_error *err) {
     char msg[512] = "";
     int w = 0, h = 0;
     uint8_t *rgb = cv_bridge_read_rgb8(path, &w, &h, msg, sizeof msg);
@@ -167,12 +170,25 @@ ras_image *ras_image_load(const char *path, ras_error *err) {
         ras_error_set(err, "%s", msg);
         return NULL;
     }
+    if (!ras_image_size_ok(w, h, err)) {
+        free(rgb);
+        return NULL;
+    }
+    *width = w;
+    *height = h;
+    return rgb;
+}
+
+ras_image *ras_image_load(const char *path, ras_error *err) {
+    int w = 0, h = 0;
+    uint8_t *rgb = ras_image_load_rgb8(path, &w, &h, err);
+    if (!rgb) return NULL;
     ras_image *img = ras_image_create(w, h, err);
     if (img) {
         size_t n = (size_t)w * (size_t)h;
         for (size_t i = 0; i < n; i++)
-            img->pixels[i] = (vec3s){{rgb[3 * i] / 255.0f, rgb[3 * i + 1] / 255.0f,
-                                      rgb[3 * i + 2] / 255.0f}};
+            img->pixels[i] = (vec3s){{ras_byte_to_unit(rgb[3 * i]), ras_byte_to_unit(rgb[3 * i + 1]),
+                                      ras_byte_to_unit(rgb[3 * i + 2])}};
     }
     free(rgb);
     return img;

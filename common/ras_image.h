@@ -63,4 +63,16 @@ bool ras_image_save(const ras_image *img, const char *path, ras_error *err);
 /* Reads any image OpenCV can read; returns NULL and sets err when it cannot. */
 ras_image *ras_image_load(const char *path, ras_error *err);
 
+/* The same file as 8-bit RGB, top row first (see ras_image_to_rgb8), in a
+ * malloc'ed buffer the caller frees, for readers that store pixels their own
+ * way (ras_texture_load): no float image in between. *width and *height are
+ * in 1..RAS_IMAGE_MAX_SIDE; NULL and err as ras_image_load. */
+uint8_t *ras_image_load_rgb8(const char *path, int *width, int *height, ras_error *err);
+
+/* One byte of a file to a channel value in [0, 1]: the one conversion every
+ * reader uses, so a texture and an image of the same file hold the same floats. */
+static inline float ras_byte_to_unit(uint8_t b) {
+    return b / 255.0f;
+}
+
 #endif

@@ -22,12 +22,13 @@
 /* ------------------------------------------------------------------------ */
 /* Creation and destruction                                                  */
 
-/* A texture with room for w x h texels at level 0 (zeroed), or NULL. */
+/* A texture with room for w x h texels at level 0, or NULL. The texels are
+ * not initialised: every caller below writes all of them. */
 static ras_texture *ras_texture_alloc(int w, int h, ras_wrap wrap) {
     if (w < 1 || h < 1 || w > RAS_IMAGE_MAX_SIDE || h > RAS_IMAGE_MAX_SIDE) return NULL;
     ras_texture *tex = calloc(1, sizeof *tex);
     if (!tex) return NULL;
-    tex->texels = calloc((size_t)w * (size_t)h, sizeof *tex->texels);
+    tex->texels = malloc((size_t)w * (size_t)h * sizeof *tex->texels);
     if (!tex->texels) {
         free(tex);
         return NULL;
@@ -42,16 +43,21 @@ static ras_texture *ras_texture_alloc(int w, int h, ras_wrap wrap) {
     return tex;
 }
 
-ras_texture *ras_texture_from_image(const ras_image *img, ras_wrap wrap, ras_error *err) {
-    assert(img);
-    ras_texture *tex = ras_texture_alloc(img->width, img->height, wrap);
-    if (!tex) {
+/* ras_texture_alloc, or NULL and err saying why. */
+static ras_texture *ras_texture_alloc_for_image(int w, int h, ras_wrap wrap, ras_error *err) {
+    ras_texture *tex = ras_texture_alloc(w, h, wrap);
+    if (!tex)
         ras_error_set(err,
                       "cannot make a texture from a %dx%d image: expected 1..%d texels per side "
                       "and enough memory — use a smaller image",
-                      img->width, img->height, RAS_IMAGE_MAX_SIDE);
-        return NULL;
-    }
+                      w, h, RAS_IMAGE_MAX_SIDE);
+    return tex;
+}
+
+ras_texture *ras_texture_from_image(const ras_image *img, ras_wrap wrap, ras_error *err) {
+    assert(img);
+    ras_texture *tex = ras_texture_alloc_for_image(img->width, img->height, wrap, err);
+    if (!tex) return NULL;
     for (int j = 0; j < tex->height; j++) {
         int row = tex->height - 1 - j; /* image row 0 is the top, texel row 0 the bottom */
         for (int i = 0; i < tex->width; i++)
@@ -60,12 +66,24 @@ ras_texture *ras_texture_from_image(const ras_image *img, ras_wrap wrap, ras_err
     return tex;
 }
 
+/* Straight from the file's bytes to texels (flipped, as ras_texture_from_image
+ * does): the same floats as ras_texture_from_image(ras_image_load(path)),
+ * without a float image of the whole file in between. */
 ras_texture *ras_texture_load(const char *path, ras_wrap wrap, ras_error *err) {
     assert(path);
-    ras_image *img = ras_image_load(path, err);
-    if (!img) return NULL;
-    ras_texture *tex = ras_texture_from_image(img, wrap, err);
-    ras_image_destroy(img);
+    int w = 0, h = 0;
+    uint8_t *rgb = ras_image_load_rgb8(path, &w, &h, err);
+    if (!rgb) return NULL;
+    ras_texture *tex = ras_texture_alloc_for_image(w, h, wrap, err);
+    if (tex)
+        for (int j = 0; j < h; j++) {
+            const uint8_t *src = rgb + (size_t)(h - 1 - j) * (size_t)w * 3; /* top row first */
+            vec3s *dst = tex->texels + (size_t)j * (size_t)w;
+            for (int i = 0; i < w; i++, src += 3)
+                dst[i] = (vec3s){{ras_byte_to_unit(src[0]), ras_byte_to_unit(src[1]),
+                                  ras_byte_to_unit(src[2])}};
+        }
+    free(rgb);
     return tex;
 }
 

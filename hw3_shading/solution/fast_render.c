@@ -750,6 +750,10 @@ draw_in_tile_n(worker *w, const fast_tri *r, int tx0, int ty0, int tx1, int ty1,
     }
     const int64_t step[3] = {r->a[0] * SUBPIXEL_ONE, r->a[1] * SUBPIXEL_ONE,
                              r->a[2] * SUBPIXEL_ONE};
+    /* Edge values are kept for the n samples and the pixel centre, except at
+     * one sample that is the centre (no AA): draw_pixel_samples reads the
+     * centre's values only when no visible sample lies there. */
+    const int ne = n == 1 && fr->centre_sample == 0 ? 1 : n + 1;
     bool small = (x1 - x0) < BLOCK && (y1 - y0) < BLOCK;
     for (int by0 = y0; by0 <= y1; by0 += BLOCK) {
         int by1 = by0 + BLOCK - 1 < y1 ? by0 + BLOCK - 1 : y1;
@@ -763,7 +767,7 @@ draw_in_tile_n(worker *w, const fast_tri *r, int tx0, int ty0, int tx1, int ty1,
                  * then one addition per pixel: exact integers, the same
                  * values the reference computes from scratch. */
                 int64_t e[RAS_MAX_SAMPLES + 1][3];
-                for (int k = 0; k <= n; k++) {
+                for (int k = 0; k < ne; k++) {
                     int64_t px = (int64_t)bx0 * SUBPIXEL_ONE + fr->off_x[k];
                     int64_t py = (int64_t)y * SUBPIXEL_ONE + fr->off_y[k];
                     for (int i = 0; i < 3; i++) e[k][i] = r->a[i] * px + r->b[i] * py + r->c[i];
@@ -774,16 +778,17 @@ draw_in_tile_n(worker *w, const fast_tri *r, int tx0, int ty0, int tx1, int ty1,
                      * (edges of small triangles are unpredictable), then only
                      * the pixels with a covered sample, their edge values
                      * stepped from the row start (still exact). */
+                    /* E >= thr on all three edges <=> every E - thr has
+                     * its sign bit clear <=> so has their bitwise or. */
                     uint32_t mask = 0;
                     int64_t ev[RAS_MAX_SAMPLES][3];
                     for (int k = 0; k < n; k++)
                         for (int j = 0; j < 3; j++)
-                            ev[k][j] = e[k][j];
+                            ev[k][j] = e[k][j] - r->thr[j];
                     for (int i = 0; i <= bx1 - bx0; i++)
                         for (int k = 0; k < n; k++) {
-                            mask |= (uint32_t)((ev[k][0] >= r->thr[0]) & (ev[k][1] >= r->thr[1]) &
-                                               (ev[k][2] >= r->thr[2]))
-                                    << (i * n + k);
+                            uint64_t any_negative = (uint64_t)(ev[k][0] | ev[k][1] | ev[k][2]);
+                            mask |= (uint32_t)(~any_negative >> 63) << (i * n + k);
                             for (int j = 0; j < 3; j++)
                                 ev[k][j] += step[j];
                         }
@@ -791,7 +796,7 @@ draw_in_tile_n(worker *w, const fast_tri *r, int tx0, int ty0, int tx1, int ty1,
                         int i = __builtin_ctz(mask) / n;
                         mask &= ~((((uint32_t)1 << n) - 1) << (i * n));
                         int64_t ep[RAS_MAX_SAMPLES + 1][3];
-                        for (int k = 0; k <= n; k++)
+                        for (int k = 0; k < ne; k++)
                             for (int j = 0; j < 3; j++)
                                 ep[k][j] = e[k][j] + (int64_t)i * step[j];
                         draw_pixel_samples(w, r, bx0 + i, y, tx0, ty0, ep, n);
@@ -800,7 +805,7 @@ draw_in_tile_n(worker *w, const fast_tri *r, int tx0, int ty0, int tx1, int ty1,
                 }
                 for (int x = bx0; x <= bx1; x++) {
                     draw_pixel_samples(w, r, x, y, tx0, ty0, e, n);
-                    for (int k = 0; k <= n; k++)
+                    for (int k = 0; k < ne; k++)
                         for (int i = 0; i < 3; i++) e[k][i] += step[i];
                 }
             }
