@@ -532,6 +532,68 @@ static void shade_prepare(worker *w, const queued *q, int lanes, lanes4 *S) {
     }
 }
 
+/* texture_sample_bilinear (solution/shading.c's bilinear_level at level 0)
+ * for four lookups: the coordinates, floors, weights and texel indices in
+ * vector lanes, the texel blends one lookup per vector (lane = colour
+ * channel) with lerp3's operations in its order, so every lane is the
+ * reference's float. A lane whose texel index falls outside [-1, size - 1]
+ * (the reference's range, asserted here rather than assumed) is left to the
+ * reference function: bit 1 << i of the result. */
+static unsigned bilinear_x4(const ras_texture *tex, vf4 u, vf4 v, int lanes, v3x4 *kd) {
+    const int w = tex->width, h = tex->height;
+    const vec3s *px = tex->levels[0] ? tex->levels[0] : tex->texels;
+    vf4 zero = vf4_splat(0.0f), one = vf4_splat(1.0f);
+    vf4 coord[2] = {u, v};
+    for (int c = 0; c < 2; c++) { /* safe_coord */
+        vf4 t = coord[c];
+        vi4 finite = (t == t) & ((vf4)((vi4)t & 0x7fffffff) <= vf4_splat(FLT_MAX));
+        t = vf4_select(finite, t, zero);
+        if (tex->wrap == RAS_WRAP_REPEAT)
+            t = t - vf4_floor(t);
+        else
+            t = vf4_select(t < zero, zero, vf4_select(t > one, one, t));
+        coord[c] = t;
+    }
+    vf4 x = coord[0] * vf4_splat((float)w) - vf4_splat(0.5f);
+    vf4 y = coord[1] * vf4_splat((float)h) - vf4_splat(0.5f);
+    vf4 x0f = vf4_floor(x), y0f = vf4_floor(y);
+    vf4 sx = x - x0f, sy = y - y0f;
+    /* x0f, y0f are integers in [-1, size - 1] when the range test passes */
+    vi4 i0 = __builtin_convertvector(vf4_select(x0f == x0f, x0f, zero), vi4);
+    vi4 j0 = __builtin_convertvector(vf4_select(y0f == y0f, y0f, zero), vi4);
+    vi4 bad = (x0f < vf4_splat(-1.0f)) | (x0f > vf4_splat((float)(w - 1))) |
+              (y0f < vf4_splat(-1.0f)) | (y0f > vf4_splat((float)(h - 1)));
+    unsigned fallback = 0;
+    vf4 out[4];
+    for (int i = 0; i < 4; i++) {
+        if (i >= lanes || bad[i]) {
+            fallback |= (i < lanes) << i;
+            out[i] = zero;
+            continue;
+        }
+        int ia, ib, ja, jb; /* ras_texture_wrap_index of i0, i0 + 1, j0, j0 + 1 */
+        if (tex->wrap == RAS_WRAP_REPEAT) {
+            ia = i0[i] < 0 ? i0[i] + w : i0[i];
+            ib = i0[i] + 1 >= w ? i0[i] + 1 - w : i0[i] + 1;
+            ja = j0[i] < 0 ? j0[i] + h : j0[i];
+            jb = j0[i] + 1 >= h ? j0[i] + 1 - h : j0[i] + 1;
+        } else {
+            ia = i0[i] < 0 ? 0 : i0[i];
+            ib = i0[i] + 1 > w - 1 ? w - 1 : i0[i] + 1;
+            ja = j0[i] < 0 ? 0 : j0[i];
+            jb = j0[i] + 1 > h - 1 ? h - 1 : j0[i] + 1;
+        }
+        vf4 a = vf4_load3(&px[ja * w + ia].x), b = vf4_load3(&px[ja * w + ib].x);
+        vf4 c = vf4_load3(&px[jb * w + ia].x), d = vf4_load3(&px[jb * w + ib].x);
+        vf4 s = vf4_splat(sx[i]), t = vf4_splat(sy[i]);
+        vf4 bottom = a + (b - a) * s, top = c + (d - c) * s;
+        out[i] = bottom + (top - bottom) * t;
+    }
+    vf4_transpose(&out[0], &out[1], &out[2], &out[3]);
+    *kd = (v3x4){out[0], out[1], out[2]};
+    return fallback;
+}
+
 /* kd (the texture lookups), the sums in fast_blinn_phong's order, and the
  * colours into the tile. */
 static void shade_finish(worker *w, lanes4 *S) {
@@ -542,7 +604,20 @@ static void shade_finish(worker *w, lanes4 *S) {
     v3x4 color = S->color;
     if (fr->batch != BATCH_NORMAL) {
         v3x4 kd = v3_splat(pay->color);
-        if (fr->batch == BATCH_TEXTURE && pay->texture) {
+        if (fr->batch == BATCH_TEXTURE && pay->texture && pay->filter == FILTER_BILINEAR) {
+            unsigned fallback = bilinear_x4(pay->texture, S->u, S->v, lanes, &kd);
+            if (pay->counters) { /* texture_sample's counts for the lanes done here */
+                pay->counters->stages_run |= RAS_STAGE_TEXTURE;
+                pay->counters->texels_fetched += 4u * (unsigned)(lanes - __builtin_popcount(fallback));
+            }
+            for (int i = 0; i < lanes; i++) {
+                if (!(fallback >> i & 1)) continue;
+                vec3s c = texture_sample(pay, pay->texture, (vec2s){{S->u[i], S->v[i]}});
+                kd.x[i] = c.x;
+                kd.y[i] = c.y;
+                kd.z[i] = c.z;
+            }
+        } else if (fr->batch == BATCH_TEXTURE && pay->texture) {
             for (int i = 0; i < 4; i++) {
                 /* lanes past `lanes` copy lane 0: no lookup, no count */
                 vec3s c = i < lanes ? texture_sample(pay, pay->texture, (vec2s){{S->u[i], S->v[i]}})

@@ -16,6 +16,7 @@
 
 #include <float.h> /* FLT_EPSILON, FLT_MAX */
 #include <math.h>  /* sqrtf */
+#include <stdint.h> /* INT32_MIN */
 #include <string.h> /* memcpy */
 
 #if defined(__SSE2__)
@@ -68,6 +69,28 @@ static inline void vf4_transpose(vf4 *a, vf4 *b, vf4 *c, vf4 *d) {
     *b = __builtin_shufflevector(t0, t1, 2, 3, 6, 7);
     *c = __builtin_shufflevector(t2, t3, 0, 1, 4, 5);
     *d = __builtin_shufflevector(t2, t3, 2, 3, 6, 7);
+}
+
+/* floorf, lane by lane, for every float (NaN excepted): below 2^23 in
+ * magnitude the truncated integer, minus one where truncation went up; from
+ * 2^23 on every float is an integer already. A zero result keeps x's sign,
+ * as floorf(-0.0f) is -0.0f. */
+static inline vf4 vf4_floor(vf4 x) {
+    vi4 sign = {INT32_MIN, INT32_MIN, INT32_MIN, INT32_MIN};
+    vf4 mag = (vf4)((vi4)x & ~sign);
+    vi4 small = mag < vf4_splat(8388608.0f); /* 2^23 */
+    vf4 xs = vf4_select(small, x, vf4_splat(0.0f)); /* no out-of-range conversion */
+    vf4 t = __builtin_convertvector(__builtin_convertvector(xs, vi4), vf4);
+    t = vf4_select(t > xs, t - vf4_splat(1.0f), t);
+    t = vf4_select(small, t, x);
+    return (vf4)((vi4)t | ((vi4)x & sign & (t == vf4_splat(0.0f))));
+}
+
+/* Three floats from memory into lanes 0-2 (lane 3 is 0): a texel. */
+static inline vf4 vf4_load3(const float *p) {
+    vf4 v = {0.0f, 0.0f, 0.0f, 0.0f};
+    memcpy(&v, p, 3 * sizeof(float));
+    return v;
 }
 
 static inline v3x4 v3_splat(vec3s v) {
