@@ -6,6 +6,9 @@
 #include <stdio.h>  /* snprintf, sscanf */
 #include <stdlib.h> /* strtof, strtol, realpath */
 #include <string.h> /* strcmp */
+#ifdef __GLIBC__
+#include <malloc.h> /* mallopt */
+#endif
 
 enum {
     OPT_AXIS = 256,
@@ -404,4 +407,13 @@ void ras_cli_help(unsigned accepted, const char *program, const char *usage, cha
         "(nothing is written then).%s\n",
         accepted & RAS_OPT_COMPARE ? " With --compare: 0 the images match, 1 they differ." : "");
 #undef ADD
+}
+
+void ras_cli_reuse_freed_memory(void) {
+#ifdef __GLIBC__
+    /* Below 32 MiB (glibc's largest mmap threshold) from the heap, and at
+     * most 256 MiB of freed heap kept instead of trimmed. */
+    mallopt(M_MMAP_THRESHOLD, 32 * 1024 * 1024);
+    mallopt(M_TRIM_THRESHOLD, 256 * 1024 * 1024);
+#endif
 }

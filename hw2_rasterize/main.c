@@ -352,6 +352,7 @@ static int run_window(app *a, const char *argv0) {
 /* ---- main ----------------------------------------------------------------- */
 
 int main(int argc, char **argv) {
+    ras_cli_reuse_freed_memory(); /* fewer page faults: docs/startup.md */
     ras_cli cli = {0};
     ras_error err = {{0}};
     switch (ras_cli_parse(argc, argv, ACCEPTED, &cli, &err)) {

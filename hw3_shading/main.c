@@ -322,6 +322,7 @@ static int run(app *a) {
 }
 
 int main(int argc, char **argv) {
+    ras_cli_reuse_freed_memory(); /* fewer page faults: docs/startup.md */
     app a = {0};
     ras_error err = {{0}};
     switch (ras_cli_parse(argc, argv, ACCEPTED, &a.cli, &err)) {
