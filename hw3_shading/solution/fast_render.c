@@ -888,9 +888,86 @@ draw_in_tile_n(worker *w, const fast_tri *r, int tx0, int ty0, int tx1, int ty1,
     }
 }
 
+/* Without AA (one sample, at the pixel centre), for a triangle whose edge
+ * values over the part of its box in this tile fit in 31 bits (every cow
+ * triangle; not a screen-filling one): the coverage of eight pixels of a
+ * block row is two 4-lane int32 additions and ors per edge and a sign mask,
+ * instead of eight pixels of int64 arithmetic. The values are the same
+ * integers (exact arithmetic well inside the range), and a covered pixel's
+ * barycentrics, depth test and fragment are draw_pixel_samples' for n = 1.
+ * False: the values may not fit; draw with draw_in_tile_n. */
+static bool draw_in_tile_1x32(worker *w, const fast_tri *r, int tx0, int ty0, int tx1, int ty1) {
+    const frame *fr = w->fr;
+    int x0 = r->x0 > tx0 ? r->x0 : tx0, x1 = r->x1 < tx1 ? r->x1 : tx1;
+    int y0 = r->y0 > ty0 ? r->y0 : ty0, y1 = r->y1 < ty1 ? r->y1 : ty1;
+    if (x0 > x1 || y0 > y1) return true;
+    const int64_t cx = fr->off_x[0], cy = fr->off_y[0];
+    /* E − thr is affine: over x in [x0, x1 + 7] (a block row's eight lanes may
+     * run past x1) and y in [y0, y1] its extremes are at the corners. */
+    int64_t lim = (int64_t)1 << 30;
+    for (int k = 0; k < 3; k++)
+        for (int c = 0; c < 4; c++) {
+            int64_t px = (int64_t)(c & 1 ? x1 + BLOCK - 1 : x0) * SUBPIXEL_ONE + cx;
+            int64_t py = (int64_t)(c & 2 ? y1 : y0) * SUBPIXEL_ONE + cy;
+            int64_t v = r->a[k] * px + r->b[k] * py + r->c[k] - r->thr[k];
+            if (v >= lim || v <= -lim) return false;
+        }
+    w->k.samples_tested += (uint64_t)(x1 - x0 + 1) * (uint64_t)(y1 - y0 + 1);
+    const int64_t step[3] = {r->a[0] * SUBPIXEL_ONE, r->a[1] * SUBPIXEL_ONE,
+                             r->a[2] * SUBPIXEL_ONE};
+    vi4 ramp_lo[3], ramp_hi[3]; /* i · step for lanes i = 0..3 and 4..7 */
+    for (int k = 0; k < 3; k++)
+        for (int i = 0; i < 4; i++) {
+            ramp_lo[k][i] = (int)(i * step[k]);
+            ramp_hi[k][i] = (int)((i + 4) * step[k]);
+        }
+    bool small = (x1 - x0) < BLOCK && (y1 - y0) < BLOCK;
+    for (int by0 = y0; by0 <= y1; by0 += BLOCK) {
+        int by1 = by0 + BLOCK - 1 < y1 ? by0 + BLOCK - 1 : y1;
+        for (int bx0 = x0; bx0 <= x1; bx0 += BLOCK) {
+            int bx1 = bx0 + BLOCK - 1 < x1 ? bx0 + BLOCK - 1 : x1;
+            if (!small && block_outside(fr, r, bx0, by0, bx1, by1, cx, cx, cy, cy)) continue;
+            unsigned row_lanes = (1u << (bx1 - bx0 + 1)) - 1;
+            int64_t px = (int64_t)bx0 * SUBPIXEL_ONE + cx;
+            for (int y = by0; y <= by1; y++) {
+                int64_t py = (int64_t)y * SUBPIXEL_ONE + cy, e[3];
+                vi4 lo = {0, 0, 0, 0}, hi = {0, 0, 0, 0};
+                for (int k = 0; k < 3; k++) {
+                    e[k] = r->a[k] * px + r->b[k] * py + r->c[k];
+                    int start = (int)(e[k] - r->thr[k]);
+                    lo |= (vi4){start, start, start, start} + ramp_lo[k];
+                    hi |= (vi4){start, start, start, start} + ramp_hi[k];
+                }
+                /* covered: E − thr >= 0 on every edge, so the or is >= 0 */
+                unsigned covered = ~(vi4_sign_bits(lo) | vi4_sign_bits(hi) << 4) & row_lanes;
+                int base_row = (y - ty0) * TILE + (bx0 - tx0);
+                for (; covered; covered &= covered - 1) {
+                    int i = __builtin_ctz(covered);
+                    int64_t ep[3] = {e[0] + i * step[0], e[1] + i * step[1], e[2] + i * step[2]};
+                    int base = base_row + i;
+                    w->k.samples_covered++;
+                    vec3s bary = bary_of(r, ep);
+                    float z = depth_of(&r->t, bary);
+                    if (!(z < w->depth[base])) continue;
+                    w->k.depth_tests_passed++;
+                    w->depth[base] = z;
+                    if (fr->batch)
+                        enqueue(w, r, bary, base, 1);
+                    else
+                        w->color[base] = shade(w, r, bary);
+                }
+            }
+        }
+    }
+    return true;
+}
+
 static void draw_in_tile(worker *w, const fast_tri *r, int tx0, int ty0, int tx1, int ty1) {
     switch (w->fr->n) {
-    case 1: draw_in_tile_n(w, r, tx0, ty0, tx1, ty1, 1); break;
+    case 1:
+        if (w->fr->centre_sample == 0 && draw_in_tile_1x32(w, r, tx0, ty0, tx1, ty1)) break;
+        draw_in_tile_n(w, r, tx0, ty0, tx1, ty1, 1);
+        break;
     case 4: draw_in_tile_n(w, r, tx0, ty0, tx1, ty1, 4); break;
     default: draw_in_tile_n(w, r, tx0, ty0, tx1, ty1, w->fr->n); break;
     }

@@ -93,6 +93,16 @@ static inline vf4 vf4_load3(const float *p) {
     return v;
 }
 
+/* Bit i set where lane i of m is negative (its sign bit). */
+static inline unsigned vi4_sign_bits(vi4 m) {
+#if defined(__SSE2__)
+    return (unsigned)_mm_movemask_ps((__m128)m);
+#else
+    return (unsigned)(m[0] < 0) | (unsigned)(m[1] < 0) << 1 | (unsigned)(m[2] < 0) << 2 |
+           (unsigned)(m[3] < 0) << 3;
+#endif
+}
+
 static inline v3x4 v3_splat(vec3s v) {
     return (v3x4){vf4_splat(v.x), vf4_splat(v.y), vf4_splat(v.z)};
 }
