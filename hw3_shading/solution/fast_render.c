@@ -677,7 +677,9 @@ static inline void prefetch_texels(const worker *w, const fast_tri *r, vec3s b) 
  * sample index `base`. */
 static inline void enqueue(worker *w, const fast_tri *r, vec3s bary, int base, uint64_t mask) {
     if (w->fr->batch == BATCH_TEXTURE) prefetch_texels(w, r, bary);
-    if (w->qn == QUEUE || (w->qn && w->q[0].r->object != r->object)) flush_queue(w);
+    /* the queue holds one object's fragments: draw_in_tile flushed it when
+     * this triangle's object differs */
+    if (w->qn == QUEUE) flush_queue(w);
     w->q[w->qn++] = (queued){r, bary, 0.0f, base, mask};
 }
 
@@ -750,14 +752,17 @@ static bool block_outside(const frame *fr, const fast_tri *r, int bx0, int by0, 
 
 static inline __attribute__((always_inline)) void
 draw_pixel_samples(worker *w, const fast_tri *r, int x, int y, int tx0, int ty0,
-                   int64_t e[][3], const int n) {
+                   int64_t e[][3], const int n, uint64_t covered) {
     const frame *fr = w->fr;
     int base = ((y - ty0) * TILE + (x - tx0)) * n;
     vec3s bary[RAS_MAX_SAMPLES];
     float z[RAS_MAX_SAMPLES];
     uint64_t visible = 0;
     for (int k = 0; k < n; k++) {
-        if (e[k][0] < r->thr[0] || e[k][1] < r->thr[1] || e[k][2] < r->thr[2]) continue;
+        /* covered: the caller's coverage bits, or 0 to test here */
+        if (covered ? !(covered >> k & 1)
+                    : e[k][0] < r->thr[0] || e[k][1] < r->thr[1] || e[k][2] < r->thr[2])
+            continue;
         w->k.samples_covered++;
         bary[k] = bary_of(r, e[k]);
         z[k] = depth_of(&r->t, bary[k]);
@@ -874,12 +879,12 @@ draw_in_tile_n(worker *w, const fast_tri *r, int tx0, int ty0, int tx1, int ty1,
                         for (int k = 0; k < ne; k++)
                             for (int j = 0; j < 3; j++)
                                 ep[k][j] = e[k][j] + (int64_t)i * step[j];
-                        draw_pixel_samples(w, r, bx0 + i, y, tx0, ty0, ep, n);
+                        draw_pixel_samples(w, r, bx0 + i, y, tx0, ty0, ep, n, 0);
                     }
                     continue;
                 }
                 for (int x = bx0; x <= bx1; x++) {
-                    draw_pixel_samples(w, r, x, y, tx0, ty0, e, n);
+                    draw_pixel_samples(w, r, x, y, tx0, ty0, e, n, 0);
                     for (int k = 0; k < ne; k++)
                         for (int i = 0; i < 3; i++) e[k][i] += step[i];
                 }
@@ -962,13 +967,92 @@ static bool draw_in_tile_1x32(worker *w, const fast_tri *r, int tx0, int ty0, in
     return true;
 }
 
+/* Four samples per pixel (MSAA or SSAA 4x), for a triangle whose edge
+ * values over the part of its box in this tile, at every sample position
+ * and the pixel centre, fit in 31 bits: one 4-lane int32 vector per edge
+ * holds the pixel's four samples, stepped by one addition per pixel, and the
+ * coverage is the sign mask of the three or-ed. Covered samples get their
+ * exact int64 edge values back (lane + thr) and go through
+ * draw_pixel_samples as before. False: the values may not fit. */
+static bool draw_in_tile_4x32(worker *w, const fast_tri *r, int tx0, int ty0, int tx1, int ty1) {
+    const frame *fr = w->fr;
+    const int n = 4;
+    int x0 = r->x0 > tx0 ? r->x0 : tx0, x1 = r->x1 < tx1 ? r->x1 : tx1;
+    int y0 = r->y0 > ty0 ? r->y0 : ty0, y1 = r->y1 < ty1 ? r->y1 : ty1;
+    if (x0 > x1 || y0 > y1) return true;
+    int64_t omin_x = fr->off_x[0], omax_x = omin_x, omin_y = fr->off_y[0], omax_y = omin_y;
+    for (int k = 1; k <= n; k++) {
+        omin_x = fr->off_x[k] < omin_x ? fr->off_x[k] : omin_x;
+        omax_x = fr->off_x[k] > omax_x ? fr->off_x[k] : omax_x;
+        omin_y = fr->off_y[k] < omin_y ? fr->off_y[k] : omin_y;
+        omax_y = fr->off_y[k] > omax_y ? fr->off_y[k] : omax_y;
+    }
+    int64_t lim = (int64_t)1 << 30;
+    for (int i = 0; i < 3; i++)
+        for (int c = 0; c < 4; c++) {
+            int64_t px = c & 1 ? (int64_t)x1 * SUBPIXEL_ONE + omax_x : (int64_t)x0 * SUBPIXEL_ONE + omin_x;
+            int64_t py = c & 2 ? (int64_t)y1 * SUBPIXEL_ONE + omax_y : (int64_t)y0 * SUBPIXEL_ONE + omin_y;
+            int64_t v = r->a[i] * px + r->b[i] * py + r->c[i] - r->thr[i];
+            if (v >= lim || v <= -lim) return false;
+        }
+    w->k.samples_tested += (uint64_t)(x1 - x0 + 1) * (uint64_t)(y1 - y0 + 1) * (uint64_t)n;
+    const int64_t step[3] = {r->a[0] * SUBPIXEL_ONE, r->a[1] * SUBPIXEL_ONE,
+                             r->a[2] * SUBPIXEL_ONE};
+    /* offset of sample k (k = n: the centre) from the pixel's corner */
+    int64_t off[RAS_MAX_SAMPLES + 1][3];
+    for (int k = 0; k <= n; k++)
+        for (int i = 0; i < 3; i++) off[k][i] = r->a[i] * fr->off_x[k] + r->b[i] * fr->off_y[k];
+    vi4 vstep[3];
+    for (int i = 0; i < 3; i++) {
+        int st = (int)step[i];
+        vstep[i] = (vi4){st, st, st, st};
+    }
+    bool small = (x1 - x0) < BLOCK && (y1 - y0) < BLOCK;
+    for (int by0 = y0; by0 <= y1; by0 += BLOCK) {
+        int by1 = by0 + BLOCK - 1 < y1 ? by0 + BLOCK - 1 : y1;
+        for (int bx0 = x0; bx0 <= x1; bx0 += BLOCK) {
+            int bx1 = bx0 + BLOCK - 1 < x1 ? bx0 + BLOCK - 1 : x1;
+            if (!small &&
+                block_outside(fr, r, bx0, by0, bx1, by1, omin_x, omax_x, omin_y, omax_y))
+                continue;
+            for (int y = by0; y <= by1; y++) {
+                int64_t corner[3]; /* E at the corner of pixel (bx0, y) */
+                vi4 ev[3];         /* E - thr at the four samples */
+                for (int i = 0; i < 3; i++) {
+                    corner[i] = r->a[i] * ((int64_t)bx0 * SUBPIXEL_ONE) +
+                                r->b[i] * ((int64_t)y * SUBPIXEL_ONE) + r->c[i];
+                    for (int k = 0; k < n; k++) ev[i][k] = (int)(corner[i] + off[k][i] - r->thr[i]);
+                }
+                for (int x = bx0; x <= bx1; x++) {
+                    unsigned covered = ~vi4_sign_bits(ev[0] | ev[1] | ev[2]) & 0xFu;
+                    if (covered) {
+                        int64_t e[RAS_MAX_SAMPLES + 1][3];
+                        for (int k = 0; k < n; k++)
+                            for (int i = 0; i < 3; i++) e[k][i] = (int64_t)ev[i][k] + r->thr[i];
+                        /* the centre (read when no visible sample is there) */
+                        int64_t dx = (int64_t)(x - bx0);
+                        for (int i = 0; i < 3; i++) e[n][i] = corner[i] + dx * step[i] + off[n][i];
+                        draw_pixel_samples(w, r, x, y, tx0, ty0, e, n, covered);
+                    }
+                    for (int i = 0; i < 3; i++) ev[i] += vstep[i];
+                }
+            }
+        }
+    }
+    return true;
+}
+
 static void draw_in_tile(worker *w, const fast_tri *r, int tx0, int ty0, int tx1, int ty1) {
+    if (w->qn && w->q[0].r->object != r->object) flush_queue(w); /* one material per queue */
     switch (w->fr->n) {
     case 1:
         if (w->fr->centre_sample == 0 && draw_in_tile_1x32(w, r, tx0, ty0, tx1, ty1)) break;
         draw_in_tile_n(w, r, tx0, ty0, tx1, ty1, 1);
         break;
-    case 4: draw_in_tile_n(w, r, tx0, ty0, tx1, ty1, 4); break;
+    case 4:
+        if (draw_in_tile_4x32(w, r, tx0, ty0, tx1, ty1)) break;
+        draw_in_tile_n(w, r, tx0, ty0, tx1, ty1, 4);
+        break;
     default: draw_in_tile_n(w, r, tx0, ty0, tx1, ty1, w->fr->n); break;
     }
 }
