@@ -77,13 +77,24 @@ static int clamp_int(int64_t v, int lo, int hi) { return v < lo ? lo : v > hi ? 
 
 static bool is_top_left(int64_t dx, int64_t dy) { return dy < 0 || (dy == 0 && dx < 0); }
 
+/* llround(x) for |x| <= 2^28 (a screen coordinate in sub-pixels within the
+ * fixed-point limit), inline: the conversion truncates exactly, x − t is
+ * exact (both lie within one binade's spacing of each other), and halves go
+ * away from zero as llround's do. The library call costs more than the rest
+ * of a triangle's snap. */
+static inline int64_t round_half_away(double x) {
+    int64_t t = (int64_t)x;
+    double frac = x - (double)t;
+    return frac >= 0.5 ? t + 1 : frac <= -0.5 ? t - 1 : t;
+}
+
 /* The reference rasterizer's setup_fixed, into a record. False: degenerate.
  * An empty (off-screen) box is kept with x1 < x0, as the reference does. */
 static bool setup_fixed(fast_tri *r, int width, int height) {
     int64_t X[3], Y[3];
     for (int i = 0; i < 3; i++) {
-        X[i] = llround((double)r->t.v[i].x * SUBPIXEL_ONE);
-        Y[i] = llround((double)r->t.v[i].y * SUBPIXEL_ONE);
+        X[i] = round_half_away((double)r->t.v[i].x * SUBPIXEL_ONE);
+        Y[i] = round_half_away((double)r->t.v[i].y * SUBPIXEL_ONE);
     }
     int64_t area2 = (X[1] - X[0]) * (Y[2] - Y[0]) - (X[2] - X[0]) * (Y[1] - Y[0]);
     if (area2 == 0) return false;
@@ -1124,10 +1135,14 @@ static void do_tile(worker *w, int tile) {
                      tx1 - tx0 + 1);
         return;
     }
-    for (int i = 0; i < TILE * TILE * n; i++) {
-        w->color[i] = clear;
+    /* With one sample a colour is written exactly where a depth test passed,
+     * and a passed depth is below +inf: the colour buffer need not be cleared,
+     * the resolve below puts the clear colour where the depth is still +inf. */
+    if (n > 1)
+        for (int i = 0; i < TILE * TILE * n; i++)
+            w->color[i] = clear;
+    for (int i = 0; i < TILE * TILE * n; i++)
         w->depth[i] = INFINITY;
-    }
     for (size_t j = first; j < end; j++) {
         /* The records are visited in bin order, scattered in memory: fetch
          * the next ones while this one is drawn. */
@@ -1150,6 +1165,10 @@ static void do_tile(worker *w, int tile) {
         vec3s *dst = &fr->out->pixels[(size_t)(fr->height - 1 - y) * (size_t)fr->width];
         const vec3s *src = &w->color[(size_t)(y - ty0) * TILE * (size_t)n];
         if (n == 1) {
+            vec3s *row = &w->color[(size_t)(y - ty0) * TILE];
+            const float *depth = &w->depth[(size_t)(y - ty0) * TILE];
+            for (int x = 0; x <= tx1 - tx0; x++)
+                if (depth[x] == INFINITY) row[x] = clear;
             put_row(&dst[tx0], src, tx1 - tx0 + 1);
         } else {
             /* resolve_pixel reads screen pixel (x, y) of the view at row
