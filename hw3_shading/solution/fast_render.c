@@ -512,7 +512,15 @@ static void shade_prepare(worker *w, const queued *q, int lanes, lanes4 *S) {
         vf4 r2 = v3_dot(to_light, to_light);
         v3x4 l = v3_normalize(to_light, &odd);
         v3x4 h = v3_normalize(v3_add(l, v), &odd);
-        S->irradiance[li] = v3_divs(v3_splat(L->intensity), r2);
+        if (!memcmp(&L->intensity.x, &L->intensity.y, sizeof(float)) &&
+            !memcmp(&L->intensity.x, &L->intensity.z, sizeof(float))) {
+            /* a white light (the classic scene's): the three quotients have
+             * the same operands, so one division gives all three */
+            vf4 q = vf4_splat(L->intensity.x) / r2;
+            S->irradiance[li] = (v3x4){q, q, q};
+        } else {
+            S->irradiance[li] = v3_divs(v3_splat(L->intensity), r2);
+        }
         vf4 nl = v3_dot(n, l), nh = v3_dot(n, h);
         S->diffuse[li] = vf4_select(nl > zero, nl, zero);
         vf4 x = vf4_select(nh > zero, nh, zero);
