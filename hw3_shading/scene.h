@@ -147,6 +147,12 @@ typedef struct hw3_render_options {
     /* default z01 (the only one the fast path draws; inverse_w renders plain,
      * with the scene's z_near: stage3_setup.h) */
     ras_depth_format depth;
+    /* Not NULL: the fast path stores how many fragments it really shaded. It
+     * shades only those still visible when their screen tile is drawn (the
+     * others' colours would be overwritten), while the counters report the
+     * teaching pipeline's work, which shades every fragment that passes a
+     * depth test (docs/performance.md). */
+    uint64_t *fast_shaded;
 } hw3_render_options;
 
 /* Defaults: normal shader, bilinear, angle 0, no AA, perspective-correct. */

@@ -282,6 +282,13 @@ typedef struct worker {
     pthread_t thread;
     queued q[QUEUE];
     int qn;
+    /* Deferred shading (batched shaders): the tile's fragments in drawing
+     * order, and for every sample the fragment that last passed its depth
+     * test (read only where the depth is below +inf). */
+    queued *frags;
+    size_t nfrag, frag_cap;
+    int32_t *owner;
+    uint64_t shaded; /* fragments this worker really shaded */
     bool sz_valid; /* spec_zero_for's cache */
     float sz_p, sz;
 } worker;
@@ -692,14 +699,80 @@ static inline void prefetch_texels(const worker *w, const fast_tri *r, vec3s b) 
     if (y + 1 < tex->height) __builtin_prefetch(row + tex->width);
 }
 
-/* Queue a visible fragment: its colour goes to the samples `mask` of tile
- * sample index `base`. */
-static inline void enqueue(worker *w, const fast_tri *r, vec3s bary, int base, uint64_t mask) {
+/* Queue a fragment for shading: its colour goes to the samples `mask` of
+ * tile sample index `base`. */
+static inline void queue_fragment(worker *w, const fast_tri *r, vec3s bary, int base,
+                                  uint64_t mask) {
     if (w->fr->batch == BATCH_TEXTURE) prefetch_texels(w, r, bary);
-    /* the queue holds one object's fragments: draw_in_tile flushed it when
-     * this triangle's object differs */
-    if (w->qn == QUEUE) flush_queue(w);
+    /* one object's fragments (one material) per queue */
+    if (w->qn == QUEUE || (w->qn && w->q[0].r->object != r->object)) flush_queue(w);
     w->q[w->qn++] = (queued){r, bary, 0.0f, base, mask};
+    w->shaded++;
+}
+
+/* A fragment that passed the depth test at the samples `mask` (of tile
+ * sample index `base`), kept until the tile is drawn: only the samples it
+ * still owns then take its colour (shade_deferred). */
+static inline void defer_fragment(worker *w, const fast_tri *r, vec3s bary, int base,
+                                  uint64_t mask) {
+    if (w->nfrag == w->frag_cap) {
+        size_t cap = 2 * w->frag_cap;
+        queued *grown = realloc(w->frags, cap * sizeof *grown);
+        if (!grown) { /* the frame fails with "out of memory" */
+            atomic_store(&w->fr->failed, true);
+            return;
+        }
+        w->frags = grown;
+        w->frag_cap = cap;
+    }
+    int32_t i = (int32_t)w->nfrag++;
+    w->frags[i] = (queued){r, bary, 0.0f, base, mask};
+    for (uint64_t m = mask; m; m &= m - 1)
+        w->owner[base + __builtin_ctzll(m)] = i;
+}
+
+/* What shading a fragment adds to the counters (shade_prepare, shade_finish,
+ * texture_sample), for a fragment shade_deferred need not shade: the
+ * counters stay the teaching pipeline's, which shades every fragment that
+ * passes a depth test. */
+static void count_unshaded(worker *w, const queued *f) {
+    const frame *fr = w->fr;
+    const fragment_shader_payload *pay = &w->pay[f->r->object];
+    w->k.fragments_shaded++;
+    w->k.varyings_interpolated += fr->varyings_per_fragment;
+    if (fr->batch == BATCH_NORMAL || !pay->counters) return;
+    pay->counters->stages_run |= RAS_STAGE_LIGHTING;
+    pay->counters->lighting_evaluations += (uint64_t)pay->light_count;
+    if (fr->batch == BATCH_TEXTURE && pay->texture) {
+        pay->counters->stages_run |= RAS_STAGE_TEXTURE;
+        pay->counters->texels_fetched += pay->filter == FILTER_BILINEAR ? 4 : 1;
+    }
+}
+
+/* The end of a tile: a sample's colour is that of the last fragment to pass
+ * its depth test (strict <, in drawing order), so each sample's owner gives
+ * it. Fragments that own no sample any more (hidden by later ones: about 40 %
+ * of the cow's) are counted but not shaded; the others are shaded in
+ * drawing order, for exactly the samples they own. Every colour is what the
+ * immediate order would have left there, bit for bit. */
+static void shade_deferred(worker *w) {
+    const int n = w->fr->n;
+    for (size_t i = 0; i < w->nfrag; i++)
+        w->frags[i].mask = 0;
+    for (int s = 0; s < TILE * TILE * n; s++) {
+        if (w->depth[s] == INFINITY) continue; /* no fragment passed here */
+        queued *f = &w->frags[w->owner[s]];
+        f->mask |= (uint64_t)1 << (s - f->base);
+    }
+    for (size_t i = 0; i < w->nfrag; i++) {
+        const queued *f = &w->frags[i];
+        if (f->mask)
+            queue_fragment(w, f->r, f->bary, f->base, f->mask);
+        else
+            count_unshaded(w, f);
+    }
+    w->nfrag = 0;
+    flush_queue(w);
 }
 
 static int batch_kind(const hw3_scene *scene, const hw3_render_options *opt,
@@ -795,7 +868,7 @@ draw_pixel_samples(worker *w, const fast_tri *r, int x, int y, int tx0, int ty0,
         for (int k = 0; k < n; k++) {
             if (!(visible >> k & 1)) continue;
             if (fr->batch)
-                enqueue(w, r, bary[k], base + k, 1);
+                defer_fragment(w, r, bary[k], base + k, 1);
             else
                 w->color[base + k] = shade(w, r, bary[k]);
         }
@@ -822,7 +895,7 @@ draw_pixel_samples(worker *w, const fast_tri *r, int x, int y, int tx0, int ty0,
         bc = bary[best];
     }
     if (fr->batch) {
-        enqueue(w, r, bc, base, visible);
+        defer_fragment(w, r, bc, base, visible);
         return;
     }
     vec3s color = shade(w, r, bc);
@@ -976,7 +1049,7 @@ static bool draw_in_tile_1x32(worker *w, const fast_tri *r, int tx0, int ty0, in
                     w->k.depth_tests_passed++;
                     w->depth[base] = z;
                     if (fr->batch)
-                        enqueue(w, r, bary, base, 1);
+                        defer_fragment(w, r, bary, base, 1);
                     else
                         w->color[base] = shade(w, r, bary);
                 }
@@ -1062,7 +1135,6 @@ static bool draw_in_tile_4x32(worker *w, const fast_tri *r, int tx0, int ty0, in
 }
 
 static void draw_in_tile(worker *w, const fast_tri *r, int tx0, int ty0, int tx1, int ty1) {
-    if (w->qn && w->q[0].r->object != r->object) flush_queue(w); /* one material per queue */
     switch (w->fr->n) {
     case 1:
         if (w->fr->centre_sample == 0 && draw_in_tile_1x32(w, r, tx0, ty0, tx1, ty1)) break;
@@ -1164,7 +1236,8 @@ static void do_tile(worker *w, int tile) {
         }
         draw_in_tile(w, fr->bin_tri[j], tx0, ty0, tx1, ty1);
     }
-    flush_queue(w);
+    if (fr->batch && !atomic_load(&fr->failed)) shade_deferred(w);
+    w->nfrag = 0;
     /* Resolve: sample 0 with one sample (ras_resolve_frame), else the hw2
      * reference resolve_pixel on a framebuffer view of this tile. */
     ras_framebuffer view = {.width = TILE, .height = TILE, .samples = n,
@@ -1439,6 +1512,13 @@ bool hw3_fast_render(const hw3_scene *scene, const hw3_render_options *opt,
         w->color = malloc(tile_samples * sizeof *w->color);
         w->depth = malloc(tile_samples * sizeof *w->depth);
         ok = w->color && w->depth;
+        if (fr.batch) {
+            /* room for a tile's worth of fragments; defer_fragment grows it */
+            w->frag_cap = (size_t)TILE * TILE;
+            w->frags = malloc(w->frag_cap * sizeof *w->frags);
+            w->owner = malloc(tile_samples * sizeof *w->owner);
+            ok = ok && w->frags && w->owner;
+        }
         for (int o = 0; o < scene->object_count; o++) {
             const hw3_object *ob = &scene->objects[o];
             fragment_shader_payload *p = &w->pay[o];
@@ -1485,6 +1565,14 @@ bool hw3_fast_render(const hw3_scene *scene, const hw3_render_options *opt,
         }
         if (fr.n > 1) k->stages_run |= RAS_STAGE_RESOLVE;
         k->buffer_bytes = (size_t)threads * tile_samples * (sizeof(vec3s) + sizeof(float));
+        uint64_t shaded = 0;
+        for (int i = 0; i < threads; i++) {
+            /* unbatched shaders shade every fragment at once (shade) */
+            shaded += fr.batch ? workers[i].shaded : workers[i].k.fragments_shaded;
+            if (fr.batch)
+                k->buffer_bytes += tile_samples * sizeof(int32_t) + workers[i].frag_cap * sizeof(queued);
+        }
+        if (opt->fast_shaded) *opt->fast_shaded = shaded;
     } else {
         ras_error_set(err, "out of memory drawing %zu triangles",
                       fr.tri_first ? fr.tri_first[objects] : (size_t)0);
@@ -1492,6 +1580,8 @@ bool hw3_fast_render(const hw3_scene *scene, const hw3_render_options *opt,
     for (int i = 0; workers && i < threads; i++) {
         free(workers[i].color);
         free(workers[i].depth);
+        free(workers[i].frags);
+        free(workers[i].owner);
     }
     free(workers);
     for (int i = 0; fr.lists && i < fr.tchunks; i++)
