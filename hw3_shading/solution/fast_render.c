@@ -289,6 +289,11 @@ typedef struct worker {
     size_t nfrag, frag_cap;
     int32_t *owner;
     uint64_t shaded; /* fragments this worker really shaded */
+    /* What one fragment of object o adds to the counters when shaded by the
+     * scalar shaders (learnt from the first one shaded: a shader's counts
+     * depend on the object's material and textures, not on the fragment). */
+    ras_counters per_fragment[HW3_MAX_OBJECTS];
+    bool per_fragment_known[HW3_MAX_OBJECTS];
     bool sz_valid; /* spec_zero_for's cache */
     float sz_p, sz;
 } worker;
@@ -755,8 +760,46 @@ static void count_unshaded(worker *w, const queued *f) {
  * of the cow's) are counted but not shaded; the others are shaded in
  * drawing order, for exactly the samples they own. Every colour is what the
  * immediate order would have left there, bit for bit. */
+/* shade() for a deferred fragment of an unbatched shader, its colour into
+ * the samples it owns; the first one of each object teaches what a fragment
+ * adds to the counters. */
+static void shade_scalar(worker *w, const queued *f) {
+    int o = f->r->object;
+    ras_counters before = w->k;
+    vec3s c = shade(w, f->r, f->bary);
+    w->shaded++;
+    if (!w->per_fragment_known[o]) {
+        ras_counters *d = &w->per_fragment[o];
+        d->stages_run = w->k.stages_run;
+        d->fragments_shaded = w->k.fragments_shaded - before.fragments_shaded;
+        d->varyings_interpolated = w->k.varyings_interpolated - before.varyings_interpolated;
+        d->texels_fetched = w->k.texels_fetched - before.texels_fetched;
+        d->lighting_evaluations = w->k.lighting_evaluations - before.lighting_evaluations;
+        w->per_fragment_known[o] = true;
+    }
+    for (uint64_t m = f->mask; m; m &= m - 1)
+        w->color[f->base + __builtin_ctzll(m)] = c;
+}
+
+/* An unbatched fragment that owns no sample: its counts, learnt from one
+ * shaded fragment of its object (shading this one if none was yet). */
+static void count_unshaded_scalar(worker *w, const queued *f) {
+    int o = f->r->object;
+    if (!w->per_fragment_known[o]) {
+        shade_scalar(w, f); /* mask is 0: no colour is written */
+        return;
+    }
+    const ras_counters *d = &w->per_fragment[o];
+    w->k.stages_run |= d->stages_run;
+    w->k.fragments_shaded += d->fragments_shaded;
+    w->k.varyings_interpolated += d->varyings_interpolated;
+    w->k.texels_fetched += d->texels_fetched;
+    w->k.lighting_evaluations += d->lighting_evaluations;
+}
+
 static void shade_deferred(worker *w) {
     const int n = w->fr->n;
+    const bool batch = w->fr->batch != BATCH_NONE;
     for (size_t i = 0; i < w->nfrag; i++)
         w->frags[i].mask = 0;
     for (int s = 0; s < TILE * TILE * n; s++) {
@@ -766,10 +809,14 @@ static void shade_deferred(worker *w) {
     }
     for (size_t i = 0; i < w->nfrag; i++) {
         const queued *f = &w->frags[i];
-        if (f->mask)
+        if (batch && f->mask)
             queue_fragment(w, f->r, f->bary, f->base, f->mask);
-        else
+        else if (batch)
             count_unshaded(w, f);
+        else if (f->mask)
+            shade_scalar(w, f);
+        else
+            count_unshaded_scalar(w, f);
     }
     w->nfrag = 0;
     flush_queue(w);
@@ -867,10 +914,7 @@ draw_pixel_samples(worker *w, const fast_tri *r, int x, int y, int tx0, int ty0,
     if (fr->ssaa) {
         for (int k = 0; k < n; k++) {
             if (!(visible >> k & 1)) continue;
-            if (fr->batch)
-                defer_fragment(w, r, bary[k], base + k, 1);
-            else
-                w->color[base + k] = shade(w, r, bary[k]);
+            defer_fragment(w, r, bary[k], base + k, 1);
         }
         return;
     }
@@ -894,13 +938,7 @@ draw_pixel_samples(worker *w, const fast_tri *r, int x, int y, int tx0, int ty0,
         }
         bc = bary[best];
     }
-    if (fr->batch) {
-        defer_fragment(w, r, bc, base, visible);
-        return;
-    }
-    vec3s color = shade(w, r, bc);
-    for (int k = 0; k < n; k++)
-        if (visible >> k & 1) w->color[base + k] = color;
+    defer_fragment(w, r, bc, base, visible);
 }
 
 /* `n` (samples per pixel) is a constant in each inlined copy: the loops over
@@ -1048,10 +1086,7 @@ static bool draw_in_tile_1x32(worker *w, const fast_tri *r, int tx0, int ty0, in
                     if (!(z < w->depth[base])) continue;
                     w->k.depth_tests_passed++;
                     w->depth[base] = z;
-                    if (fr->batch)
-                        defer_fragment(w, r, bary, base, 1);
-                    else
-                        w->color[base] = shade(w, r, bary);
+                    defer_fragment(w, r, bary, base, 1);
                 }
             }
         }
@@ -1236,7 +1271,7 @@ static void do_tile(worker *w, int tile) {
         }
         draw_in_tile(w, fr->bin_tri[j], tx0, ty0, tx1, ty1);
     }
-    if (fr->batch && !atomic_load(&fr->failed)) shade_deferred(w);
+    if (!atomic_load(&fr->failed)) shade_deferred(w);
     w->nfrag = 0;
     /* Resolve: sample 0 with one sample (ras_resolve_frame), else the hw2
      * reference resolve_pixel on a framebuffer view of this tile. */
@@ -1512,7 +1547,7 @@ bool hw3_fast_render(const hw3_scene *scene, const hw3_render_options *opt,
         w->color = malloc(tile_samples * sizeof *w->color);
         w->depth = malloc(tile_samples * sizeof *w->depth);
         ok = w->color && w->depth;
-        if (fr.batch) {
+        {
             /* room for a tile's worth of fragments; defer_fragment grows it */
             w->frag_cap = (size_t)TILE * TILE;
             w->frags = malloc(w->frag_cap * sizeof *w->frags);
@@ -1567,10 +1602,8 @@ bool hw3_fast_render(const hw3_scene *scene, const hw3_render_options *opt,
         k->buffer_bytes = (size_t)threads * tile_samples * (sizeof(vec3s) + sizeof(float));
         uint64_t shaded = 0;
         for (int i = 0; i < threads; i++) {
-            /* unbatched shaders shade every fragment at once (shade) */
-            shaded += fr.batch ? workers[i].shaded : workers[i].k.fragments_shaded;
-            if (fr.batch)
-                k->buffer_bytes += tile_samples * sizeof(int32_t) + workers[i].frag_cap * sizeof(queued);
+            shaded += workers[i].shaded;
+            k->buffer_bytes += tile_samples * sizeof(int32_t) + workers[i].frag_cap * sizeof(queued);
         }
         if (opt->fast_shaded) *opt->fast_shaded = shaded;
     } else {
