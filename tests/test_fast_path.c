@@ -67,10 +67,11 @@ static void check_same_counters(const ras_counters *a, const ras_counters *b, co
 }
 
 static void render(hw3_render_options opt, bool plain, int threads, ras_image *img,
-                   ras_counters *k) {
+                   ras_counters *k, uint64_t *shaded) {
     ras_error err = {{0}};
     opt.plain = plain;
     opt.threads = threads;
+    opt.fast_shaded = shaded;
     img->width = scene->width; /* the images are allocated at the largest size */
     img->height = scene->height;
     if (!hw3_render(scene, &opt, img, k, &err)) fail_msg("hw3_render: %s", err.msg);
@@ -86,9 +87,10 @@ static void check_all(const char *label, hw3_render_options base) {
             opt.aa = aas[a];
             if (opt.aa == RAS_AA_NONE) opt.pattern = ras_sample_pattern_center();
             ras_counters kp, kf;
-            render(opt, true, 1, plain_img, &kp);
+            uint64_t shaded = 0, shaded_1 = 0;
+            render(opt, true, 1, plain_img, &kp, NULL);
             for (int threads = 1; threads <= 3; threads++) {
-                render(opt, false, threads, fast_img, &kf);
+                render(opt, false, threads, fast_img, &kf, &shaded);
                 char what[160];
                 snprintf(what, sizeof what, "%s, %s shader, %s, %d thread(s)", label,
                          hw3_shader_name(opt.shader), ras_aa_mode_name(opt.aa), threads);
@@ -102,6 +104,21 @@ static void check_all(const char *label, hw3_render_options base) {
                              "(col %d, row %d)", what, first % scene->width, first / scene->width);
                 }
                 check_same_counters(&kp, &kf, what);
+                /* Deferred shading shades each fragment still owning a sample
+                 * once: never more than the counter (every fragment that
+                 * passed a depth test), none when nothing passed, the same
+                 * for any thread count, and at 1x (a fragment is one pixel,
+                 * a pixel has one owner) at most one per pixel. */
+                if (shaded > kf.fragments_shaded || (kf.fragments_shaded > 0) != (shaded > 0))
+                    fail_msg("%s: %llu fragments really shaded for %llu counted", what,
+                             (unsigned long long)shaded, (unsigned long long)kf.fragments_shaded);
+                if (opt.aa == RAS_AA_NONE && shaded > (uint64_t)scene->width * (uint64_t)scene->height)
+                    fail_msg("%s: %llu fragments shaded for %d pixels", what,
+                             (unsigned long long)shaded, scene->width * scene->height);
+                if (threads == 1) shaded_1 = shaded;
+                if (shaded != shaded_1)
+                    fail_msg("%s: %llu fragments really shaded, %llu with one thread", what,
+                             (unsigned long long)shaded, (unsigned long long)shaded_1);
             }
         }
 }
@@ -142,7 +159,7 @@ static void test_fast_path_odd_size_trilinear(void **state) {
     ras_counters k;
     hw3_render_options first = opt;
     first.shader = HW3_SHADER_TEXTURE;
-    render(first, true, 1, plain_img, &k);
+    render(first, true, 1, plain_img, &k, NULL);
     check_all("301x157 trilinear", opt);
     scene->width = scene->height = 700;
 }
@@ -160,7 +177,7 @@ static void test_fast_path_clipping_affine(void **state) {
     opt.filter = FILTER_NEAREST;
     opt.angle_deg = -20;
     ras_counters k;
-    render(opt, true, 1, plain_img, &k);
+    render(opt, true, 1, plain_img, &k, NULL);
     assert_true(k.triangles_clip_split > 0);
     check_all("near-plane clipping, affine", opt);
     scene->eye = eye;

@@ -15,10 +15,12 @@
  *   3. tiles, on N threads (pthreads; a shared counter hands out tiles): each
  *      worker clears a tile-sized colour/depth buffer that stays in cache,
  *      draws the tile's triangles in order — integer edge functions stepped by
- *      one addition per pixel, 8×8 blocks wholly outside an edge skipped —
- *      shades the visible fragments (the perspective-correct weights once per
- *      fragment, not once per varying; one payload per worker, not a copy per
- *      fragment), and resolves the tile straight into the image.
+ *      one addition per pixel (32-bit vector lanes where the values fit), 8×8
+ *      blocks wholly outside an edge skipped — records the fragments that pass
+ *      the depth test and, per sample, the last one to pass; then shades only
+ *      the fragments that still own a sample (four at a time in vector lanes
+ *      for the Normal, Blinn-Phong and texture shaders), and resolves the tile
+ *      straight into the image.
  * A tile's pixels depend only on the tile's triangles in submission order, so
  * the image is the same for any thread count and any tile schedule.
  * No full-screen framebuffer exists: memory is the image plus one tile buffer
