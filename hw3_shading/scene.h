@@ -147,11 +147,13 @@ typedef struct hw3_render_options {
     /* default z01 (the only one the fast path draws; inverse_w renders plain,
      * with the scene's z_near: stage3_setup.h) */
     ras_depth_format depth;
-    /* Not NULL: the fast path stores how many fragments it really shaded. It
-     * shades only those still visible when their screen tile is drawn (the
-     * others' colours would be overwritten), while the counters report the
-     * teaching pipeline's work, which shades every fragment that passes a
-     * depth test (docs/performance.md). */
+    /* Not NULL: the fast path stores how many fragments it shaded for their
+     * colour. It shades only those still visible when their screen tile is
+     * drawn (the others' colours would be overwritten; bump, displacement and
+     * trilinear shading may also shade one hidden fragment per object and
+     * worker to learn its counts), while the counters report the teaching
+     * pipeline's work, which shades every fragment that passes a depth test
+     * (docs/performance.md). */
     uint64_t *fast_shaded;
 } hw3_render_options;
 

@@ -762,34 +762,41 @@ static void count_unshaded(worker *w, const queued *f) {
  * of the cow's) are counted but not shaded; the others are shaded in
  * drawing order, for exactly the samples they own. Every colour is what the
  * immediate order would have left there, bit for bit. */
+/* What shading one fragment of f's object added to w->k since `before`. */
+static void learn_counts(worker *w, const queued *f, const ras_counters *before) {
+    ras_counters *d = &w->per_fragment[f->r->object];
+    d->stages_run = w->k.stages_run;
+    d->fragments_shaded = w->k.fragments_shaded - before->fragments_shaded;
+    d->varyings_interpolated = w->k.varyings_interpolated - before->varyings_interpolated;
+    d->texels_fetched = w->k.texels_fetched - before->texels_fetched;
+    d->lighting_evaluations = w->k.lighting_evaluations - before->lighting_evaluations;
+    w->per_fragment_known[f->r->object] = true;
+}
+
 /* shade() for a deferred fragment of an unbatched shader, its colour into
  * the samples it owns; the first one of each object teaches what a fragment
  * adds to the counters. */
 static void shade_scalar(worker *w, const queued *f) {
-    int o = f->r->object;
     ras_counters before = w->k;
     vec3s c = shade(w, f->r, f->bary);
     w->shaded++;
-    if (!w->per_fragment_known[o]) {
-        ras_counters *d = &w->per_fragment[o];
-        d->stages_run = w->k.stages_run;
-        d->fragments_shaded = w->k.fragments_shaded - before.fragments_shaded;
-        d->varyings_interpolated = w->k.varyings_interpolated - before.varyings_interpolated;
-        d->texels_fetched = w->k.texels_fetched - before.texels_fetched;
-        d->lighting_evaluations = w->k.lighting_evaluations - before.lighting_evaluations;
-        w->per_fragment_known[o] = true;
-    }
+    if (!w->per_fragment_known[f->r->object]) learn_counts(w, f, &before);
     for (uint64_t m = f->mask; m; m &= m - 1)
         w->color[f->base + __builtin_ctzll(m)] = c;
 }
 
-/* An unbatched fragment that owns no sample: its counts, learnt from one
- * shaded fragment of its object (shading this one if none was yet). */
+/* An unbatched fragment that owns no sample: what one shaded fragment of its
+ * object added to the counters. When none has been shaded yet, this one is
+ * shaded as a probe — its colour unused, its counts learnt and then taken
+ * back, so that the counters, and the count of fragments really shaded for
+ * their colour, do not depend on which worker met which fragment first. */
 static void count_unshaded_scalar(worker *w, const queued *f) {
     int o = f->r->object;
     if (!w->per_fragment_known[o]) {
-        shade_scalar(w, f); /* mask is 0: no colour is written */
-        return;
+        ras_counters saved = w->k;
+        (void)shade(w, f->r, f->bary);
+        learn_counts(w, f, &saved);
+        w->k = saved;
     }
     const ras_counters *d = &w->per_fragment[o];
     w->k.stages_run |= d->stages_run;
