@@ -28,15 +28,20 @@ static ras_clip_vertex lerp_vertex(const ras_clip_vertex *a, const ras_clip_vert
     return o;
 }
 
+unsigned ras_clip_outcode(vec4s p_clip) {
+    unsigned mask = 0;
+    for (int k = 0; k < PLANE_COUNT; k++)
+        if (!(plane_distance(k, p_clip) >= 0)) mask |= 1u << k;
+    return mask;
+}
+
 ras_clip_result ras_clip_triangle(const ras_clip_vertex *a, const ras_clip_vertex *b,
                                   const ras_clip_vertex *c,
                                   ras_clip_vertex out[RAS_CLIP_MAX_VERTICES], int *count) {
     const ras_clip_vertex *tri[3] = {a, b, c};
     unsigned outside_all = (1u << PLANE_COUNT) - 1, outside_any = 0;
     for (int i = 0; i < 3; i++) {
-        unsigned mask = 0;
-        for (int k = 0; k < PLANE_COUNT; k++)
-            if (!(plane_distance(k, tri[i]->p_clip) >= 0)) mask |= 1u << k;
+        unsigned mask = ras_clip_outcode(tri[i]->p_clip);
         outside_all &= mask;
         outside_any |= mask;
     }

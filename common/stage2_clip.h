@@ -27,6 +27,13 @@ typedef enum ras_clip_result {
     RAS_CLIP_OUTSIDE, /* nothing left */
 } ras_clip_result;
 
+/* The planes a clip-space point is outside of: bit k for plane k (0 = w
+ * epsilon, 1-2 = far and near, 3-6 = the guard band's sides); 0 = inside all.
+ * A triangle is RAS_CLIP_INSIDE exactly when its corners' codes or to 0 and
+ * RAS_CLIP_OUTSIDE at once when they and to non-zero, so a caller that draws
+ * many triangles over shared vertices can code each vertex once. */
+unsigned ras_clip_outcode(vec4s p_clip);
+
 /* Clips one triangle; writes the convex polygon to out and its size to *count. */
 ras_clip_result ras_clip_triangle(const ras_clip_vertex *a, const ras_clip_vertex *b,
                                   const ras_clip_vertex *c,

@@ -163,7 +163,8 @@ static const char *aa_label(ras_aa_mode aa) {
 static void print_row(FILE *f, const row *r, bool md) {
     double ns = r->fragments ? r->median * 1e6 / (double)r->fragments : 0;
     if (md)
-        fprintf(f, "| %s | %s | %s | %d | %.2f | %.2f | %.2f | %.2f | %llu | %llu | %.1f | %.1f | %s |\n",
+        fprintf(f,
+                "| %s | %s | %s | %d | %.2f | %.2f | %.2f | %.2f | %llu | %llu | %.1f | %.1f | %s |\n",
                 hw3_shader_name(r->shader), aa_label(r->aa), r->mode, r->threads, r->median, r->min,
                 r->max, r->cpu_median, (unsigned long long)r->fragments,
                 (unsigned long long)r->shaded, ns,

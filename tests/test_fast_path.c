@@ -112,7 +112,8 @@ static void check_all(const char *label, hw3_render_options base) {
                 if (shaded > kf.fragments_shaded || (kf.fragments_shaded > 0) != (shaded > 0))
                     fail_msg("%s: %llu fragments really shaded for %llu counted", what,
                              (unsigned long long)shaded, (unsigned long long)kf.fragments_shaded);
-                if (opt.aa == RAS_AA_NONE && shaded > (uint64_t)scene->width * (uint64_t)scene->height)
+                uint64_t pixels = (uint64_t)scene->width * (uint64_t)scene->height;
+                if (opt.aa == RAS_AA_NONE && shaded > pixels)
                     fail_msg("%s: %llu fragments shaded for %d pixels", what,
                              (unsigned long long)shaded, scene->width * scene->height);
                 if (threads == 1) shaded_1 = shaded;

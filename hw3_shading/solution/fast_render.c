@@ -151,16 +151,23 @@ enum {
 
 static bool setup_triangle(tri_list *L, const ras_clip_vertex *a, const ras_clip_vertex *b,
                            const ras_clip_vertex *c, const unsigned char flags[3],
-                           const vec4s *screen[3], int object, int width, int height,
-                           ras_counters *k) {
+                           const unsigned char outcode[3], const vec4s *screen[3], int object,
+                           int width, int height, ras_counters *k) {
     k->triangles_in++;
     if (!(flags[0] & flags[1] & flags[2] & VERTEX_FINITE)) {
         k->triangles_rejected_nonfinite++;
         return true;
     }
     ras_clip_vertex poly[RAS_CLIP_MAX_VERTICES];
-    int n = 0;
-    ras_clip_result cr = ras_clip_triangle(a, b, c, poly, &n);
+    int n = 3;
+    /* ras_clip_triangle's own classification, from the corners' outcodes
+     * (computed once per vertex): only a triangle that straddles a plane is
+     * handed to it. */
+    ras_clip_result cr = RAS_CLIP_INSIDE;
+    if (outcode[0] & outcode[1] & outcode[2])
+        cr = RAS_CLIP_OUTSIDE;
+    else if (outcode[0] | outcode[1] | outcode[2])
+        cr = ras_clip_triangle(a, b, c, poly, &n);
     if (cr == RAS_CLIP_OUTSIDE) {
         k->triangles_clipped_away++;
         return true;
@@ -249,6 +256,7 @@ typedef struct frame {
     ras_clip_vertex *clip; /* every object's vertices, object o from clip_base[o] */
     vec4s *screen;         /* their ras_viewport */
     unsigned char *vflags; /* VERTEX_FINITE | SCREEN_FINITE */
+    unsigned char *voutcode; /* ras_clip_outcode */
     size_t *clip_base;     /* [object_count] */
     size_t *tri_first;     /* [object_count + 1]: object o's first triangle, counted over all */
     int vchunks, tchunks;  /* vertex chunks: (vchunk_obj, vchunk_start) */
@@ -641,7 +649,8 @@ static void shade_finish(worker *w, lanes4 *S) {
             unsigned fallback = bilinear_x4(pay->texture, S->u, S->v, lanes, &kd);
             if (pay->counters) { /* texture_sample's counts for the lanes done here */
                 pay->counters->stages_run |= RAS_STAGE_TEXTURE;
-                pay->counters->texels_fetched += 4u * (unsigned)(lanes - __builtin_popcount(fallback));
+                unsigned looked_up = (unsigned)(lanes - __builtin_popcount(fallback));
+                pay->counters->texels_fetched += 4u * looked_up;
             }
             for (int i = 0; i < lanes; i++) {
                 if (!(fallback >> i & 1)) continue;
@@ -1126,8 +1135,10 @@ static bool draw_in_tile_4x32(worker *w, const fast_tri *r, int tx0, int ty0, in
     int64_t lim = (int64_t)1 << 30;
     for (int i = 0; i < 3; i++)
         for (int c = 0; c < 4; c++) {
-            int64_t px = c & 1 ? (int64_t)x1 * SUBPIXEL_ONE + omax_x : (int64_t)x0 * SUBPIXEL_ONE + omin_x;
-            int64_t py = c & 2 ? (int64_t)y1 * SUBPIXEL_ONE + omax_y : (int64_t)y0 * SUBPIXEL_ONE + omin_y;
+            int64_t px = c & 1 ? (int64_t)x1 * SUBPIXEL_ONE + omax_x
+                               : (int64_t)x0 * SUBPIXEL_ONE + omin_x;
+            int64_t py = c & 2 ? (int64_t)y1 * SUBPIXEL_ONE + omax_y
+                               : (int64_t)y0 * SUBPIXEL_ONE + omin_y;
             int64_t v = r->a[i] * px + r->b[i] * py + r->c[i] - r->thr[i];
             if (v >= lim || v <= -lim) return false;
         }
@@ -1339,6 +1350,7 @@ static void transform_chunk(frame *fr, int c) {
                          fr->clip + first);
     for (size_t v = first; v < first + part.vertex_count; v++) {
         fr->screen[v] = ras_viewport(fr->clip[v].p_clip, fr->width, fr->height);
+        fr->voutcode[v] = (unsigned char)ras_clip_outcode(fr->clip[v].p_clip);
         fr->vflags[v] = (unsigned char)((clip_vertex_finite(&fr->clip[v]) ? VERTEX_FINITE : 0) |
                                         (ras_vec4_finite(fr->screen[v]) ? SCREEN_FINITE : 0));
     }
@@ -1361,10 +1373,13 @@ static void setup_chunk(worker *w, int c) {
         const ras_clip_vertex *clip = fr->clip + base;
         const unsigned char flags[3] = {fr->vflags[base + idx[0]], fr->vflags[base + idx[1]],
                                         fr->vflags[base + idx[2]]};
+        const unsigned char outcode[3] = {fr->voutcode[base + idx[0]],
+                                          fr->voutcode[base + idx[1]],
+                                          fr->voutcode[base + idx[2]]};
         const vec4s *screen[3] = {&fr->screen[base + idx[0]], &fr->screen[base + idx[1]],
                                   &fr->screen[base + idx[2]]};
-        if (!setup_triangle(L, &clip[idx[0]], &clip[idx[1]], &clip[idx[2]], flags, screen, o,
-                            fr->width, fr->height, &w->ks)) {
+        if (!setup_triangle(L, &clip[idx[0]], &clip[idx[1]], &clip[idx[2]], flags, outcode,
+                            screen, o, fr->width, fr->height, &w->ks)) {
             atomic_store(&fr->failed, true);
             return;
         }
@@ -1509,10 +1524,11 @@ bool hw3_fast_render(const hw3_scene *scene, const hw3_render_options *opt,
     fr.clip = malloc((vertices + 1) * sizeof *fr.clip);
     fr.screen = malloc((vertices + 1) * sizeof *fr.screen);
     fr.vflags = malloc(vertices + 1);
+    fr.voutcode = malloc(vertices + 1);
     fr.bin_start = calloc((size_t)tiles + 1, sizeof *fr.bin_start);
     worker *workers = calloc((size_t)threads, sizeof *workers);
     bool ok = fr.clip_base && fr.tri_first && fr.vchunk_obj && fr.vchunk_start && fr.clip &&
-              fr.screen && fr.vflags && fr.bin_start && workers;
+              fr.screen && fr.vflags && fr.voutcode && fr.bin_start && workers;
     if (ok) {
         size_t v = 0, t = 0;
         int c = 0;
@@ -1612,7 +1628,8 @@ bool hw3_fast_render(const hw3_scene *scene, const hw3_render_options *opt,
         uint64_t shaded = 0;
         for (int i = 0; i < threads; i++) {
             shaded += workers[i].shaded;
-            k->buffer_bytes += tile_samples * sizeof(int32_t) + workers[i].frag_cap * sizeof(queued);
+            k->buffer_bytes +=
+                tile_samples * sizeof(int32_t) + workers[i].frag_cap * sizeof(queued);
         }
         if (opt->fast_shaded) *opt->fast_shaded = shaded;
     } else {
@@ -1634,6 +1651,7 @@ bool hw3_fast_render(const hw3_scene *scene, const hw3_render_options *opt,
     free(fr.clip);
     free(fr.screen);
     free(fr.vflags);
+    free(fr.voutcode);
     free(fr.clip_base);
     free(fr.tri_first);
     free(fr.vchunk_obj);
