@@ -149,9 +149,10 @@ typedef struct hw3_render_options {
     ras_depth_format depth;
     /* Not NULL: the fast path stores how many fragments it shaded for their
      * colour. It shades only those still visible when their screen tile is
-     * drawn (the others' colours would be overwritten; bump, displacement and
-     * trilinear shading may also shade one hidden fragment per object and
-     * worker to learn its counts), while the counters report the teaching
+     * drawn (the others' colours would be overwritten; the shaders it cannot
+     * batch — bump, displacement, trilinear, or no lights — may also shade
+     * one hidden fragment per object and worker to learn its counts, not
+     * included here), while the counters report the teaching
      * pipeline's work, which shades every fragment that passes a depth test
      * (docs/performance.md). */
     uint64_t *fast_shaded;

@@ -119,7 +119,7 @@ static bool render(hw3_scene *scene, hw3_shader shader, ras_aa_mode aa, bool pla
     *ms = ras_now_ms() - t0;
     *cpu = cpu_ms() - c0;
     if (!ok) fprintf(stderr, "bench_perf: %s\n", err.msg);
-    if (*shaded == UINT64_MAX) *shaded = k->fragments_shaded;
+    if (ok && *shaded == UINT64_MAX) *shaded = k->fragments_shaded;
     return ok;
 }
 

@@ -18,6 +18,7 @@
 #include "scene.h"
 
 #include <stdio.h>  /* snprintf */
+#include <stdlib.h> /* unsetenv */
 #include <string.h> /* memcmp */
 
 static hw3_scene *scene;
@@ -26,6 +27,7 @@ static ras_image *plain_img, *fast_img;
 static int group_setup(void **state) {
     (void)state;
     ras_error err = {{0}};
+    unsetenv("RAS_PLAIN"); /* it would turn the fast renders plain too */
     scene = hw3_scene_create_default(&err);
     plain_img = ras_image_create(700, 700, &err);
     fast_img = ras_image_create(700, 700, &err);
@@ -90,6 +92,7 @@ static void check_all(const char *label, hw3_render_options base) {
             uint64_t shaded = 0, shaded_1 = 0;
             render(opt, true, 1, plain_img, &kp, NULL);
             for (int threads = 1; threads <= 3; threads++) {
+                shaded = UINT64_MAX; /* the fast path overwrites it */
                 render(opt, false, threads, fast_img, &kf, &shaded);
                 char what[160];
                 snprintf(what, sizeof what, "%s, %s shader, %s, %d thread(s)", label,
@@ -104,6 +107,8 @@ static void check_all(const char *label, hw3_render_options base) {
                              "(col %d, row %d)", what, first % scene->width, first / scene->width);
                 }
                 check_same_counters(&kp, &kf, what);
+                if (shaded == UINT64_MAX)
+                    fail_msg("%s: the fast path did not run (hw3_fast_wanted)", what);
                 /* Deferred shading shades each fragment still owning a sample
                  * once: never more than the counter (every fragment that
                  * passed a depth test), none when nothing passed, the same
@@ -185,11 +190,48 @@ static void test_fast_path_clipping_affine(void **state) {
     scene->width = scene->height = 700;
 }
 
+/* Materials the default scene lacks: clamped textures (bilinear_x4's other
+ * wrap), a 1×1 colour map, a coloured light (three divisions for its
+ * irradiance, not one), then no light at all (the unbatched shaders' path for
+ * Blinn-Phong and texture). */
+static void test_fast_path_clamp_coloured_light_no_light(void **state) {
+    (void)state;
+    scene->width = 200;
+    scene->height = 160;
+    ras_wrap wraps[HW3_MAX_OBJECTS];
+    for (int i = 0; i < scene->texture_count; i++) {
+        wraps[i] = scene->textures[i]->wrap;
+        scene->textures[i]->wrap = RAS_WRAP_CLAMP;
+    }
+    ras_texture *tiny = ras_texture_create_checker(1, 1, (vec3s){{0.9f, 0.4f, 0.1f}},
+                                                   (vec3s){{0.0f, 0.0f, 0.0f}});
+    assert_non_null(tiny);
+    int textured = -1;
+    for (int o = 0; o < scene->object_count && textured < 0; o++)
+        if (scene->objects[o].texture) textured = o;
+    assert_true(textured >= 0);
+    const ras_texture *kept = scene->objects[textured].texture;
+    scene->objects[textured].texture = tiny;
+    light first = scene->lights[0];
+    int lights = scene->light_count;
+    scene->lights[0].intensity = (vec3s){{500.0f, 300.0f, 100.0f}};
+    check_all("clamp, 1x1 texture, coloured light", options(RAS_PATTERN_ORDERED, 4));
+    scene->light_count = 0;
+    check_all("no light", options(RAS_PATTERN_ORDERED, 4));
+    scene->light_count = lights;
+    scene->lights[0] = first;
+    scene->objects[textured].texture = kept;
+    ras_texture_destroy(tiny);
+    for (int i = 0; i < scene->texture_count; i++) scene->textures[i]->wrap = wraps[i];
+    scene->width = scene->height = 700;
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_fast_path_default_scene),
         cmocka_unit_test(test_fast_path_odd_size_trilinear),
         cmocka_unit_test(test_fast_path_clipping_affine),
+        cmocka_unit_test(test_fast_path_clamp_coloured_light_no_light),
     };
     return RAS_RUN_TESTS("fast_path", tests, group_setup, group_teardown);
 }

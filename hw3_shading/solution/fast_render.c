@@ -13,7 +13,8 @@
  *   2. binning: each record goes into the list of every 64×64 screen tile its
  *      bounding box touches, still in submission order;
  *   3. tiles, on N threads (pthreads; a shared counter hands out tiles): each
- *      worker clears a tile-sized colour/depth buffer that stays in cache,
+ *      worker clears a tile-sized depth buffer (and, with AA, colour
+ *      buffer) that stays in cache,
  *      draws the tile's triangles in order — integer edge functions stepped by
  *      one addition per pixel (32-bit vector lanes where the values fit), 8×8
  *      blocks wholly outside an edge skipped — records the fragments that pass
@@ -23,8 +24,9 @@
  *      straight into the image.
  * A tile's pixels depend only on the tile's triangles in submission order, so
  * the image is the same for any thread count and any tile schedule.
- * No full-screen framebuffer exists: memory is the image plus one tile buffer
- * per worker.
+ * No full-screen framebuffer exists: memory is the image plus, per worker,
+ * one tile buffer, its sample-owner array and a fragment list that grows to
+ * the busiest tile's fragments.
  */
 #include "fast_render.h"
 
@@ -38,6 +40,7 @@
 #include <pthread.h>   /* pthread_create, pthread_join */
 #include <sched.h>     /* sched_yield */
 #include <stdatomic.h> /* atomic_int */
+#include <stddef.h>    /* offsetof */
 #include <stdint.h>    /* int64_t, uint64_t */
 #include <stdlib.h>    /* malloc, free, getenv, atoi */
 #include <string.h>    /* memset */
@@ -279,6 +282,9 @@ typedef struct queued {
     int base;
     uint64_t mask; /* RAS_MAX_SAMPLES is 64 */
 } queued;
+/* shade_prepare loads bary and pad as one four-float vector */
+_Static_assert(offsetof(queued, pad) == offsetof(queued, bary) + 3 * sizeof(float),
+               "queued.pad must follow bary");
 
 #define QUEUE 8
 
@@ -292,7 +298,7 @@ typedef struct worker {
     pthread_t thread;
     queued q[QUEUE];
     int qn;
-    /* Deferred shading (batched shaders): the tile's fragments in drawing
+    /* Deferred shading (every shader): the tile's fragments in drawing
      * order, and for every sample the fragment that last passed its depth
      * test (read only where the depth is below +inf). */
     queued *frags;
@@ -404,9 +410,10 @@ static vec3s shade(worker *w, const fast_tri *r, vec3s bary) {
 /* The Normal, Blinn-Phong and texture shaders are straight-line float
  * arithmetic, so visible fragments are queued (in drawing order) and shaded
  * four at a time by the same operations in vector lanes (fast_simd.h says why
- * that is bit-exact). Colours are written when the queue is flushed, in queue
- * order, so a pixel drawn twice still ends with the later triangle's colour;
- * depth was already tested and written when the fragment was queued. A queue
+ * that is bit-exact). Colours are written when the queue is flushed; the
+ * fragments shade_deferred queues own disjoint samples, so the order of the
+ * writes does not matter (depth was tested and written when each fragment
+ * was drawn). A queue
  * holds one object's fragments (one material). powf, the texture lookup and the
  * rare lanes with a near-zero vector to normalise (see v3_normalize) are done
  * per lane with the scalar functions. */
@@ -581,7 +588,7 @@ static void shade_prepare(worker *w, const queued *q, int lanes, lanes4 *S) {
  * (the reference's range, asserted here rather than assumed) is left to the
  * reference function: bit 1 << i of the result. */
 static unsigned bilinear_x4(const ras_texture *tex, vf4 u, vf4 v, int lanes, v3x4 *kd) {
-    const int w = tex->width, h = tex->height;
+    const int w = tex->level_width[0], h = tex->level_height[0]; /* as bilinear_level */
     const vec3s *px = tex->levels[0] ? tex->levels[0] : tex->texels;
     vf4 zero = vf4_splat(0.0f), one = vf4_splat(1.0f);
     vf4 coord[2] = {u, v};
@@ -733,7 +740,9 @@ static inline void defer_fragment(worker *w, const fast_tri *r, vec3s bary, int 
                                   uint64_t mask) {
     if (w->nfrag == w->frag_cap) {
         size_t cap = 2 * w->frag_cap;
-        queued *grown = realloc(w->frags, cap * sizeof *grown);
+        /* owner indices are int32: past that (80 GB of fragments) the frame
+         * fails like any other allocation */
+        queued *grown = cap <= INT32_MAX ? realloc(w->frags, cap * sizeof *grown) : NULL;
         if (!grown) { /* the frame fails with "out of memory" */
             atomic_store(&w->fr->failed, true);
             return;
@@ -765,12 +774,6 @@ static void count_unshaded(worker *w, const queued *f) {
     }
 }
 
-/* The end of a tile: a sample's colour is that of the last fragment to pass
- * its depth test (strict <, in drawing order), so each sample's owner gives
- * it. Fragments that own no sample any more (hidden by later ones: about 40 %
- * of the cow's) are counted but not shaded; the others are shaded in
- * drawing order, for exactly the samples they own. Every colour is what the
- * immediate order would have left there, bit for bit. */
 /* What shading one fragment of f's object added to w->k since `before`. */
 static void learn_counts(worker *w, const queued *f, const ras_counters *before) {
     ras_counters *d = &w->per_fragment[f->r->object];
@@ -815,6 +818,12 @@ static void count_unshaded_scalar(worker *w, const queued *f) {
     w->k.lighting_evaluations += d->lighting_evaluations;
 }
 
+/* The end of a tile: a sample's colour is that of the last fragment to pass
+ * its depth test (strict <, in drawing order), so each sample's owner gives
+ * it. Fragments that own no sample any more (hidden by later ones: about 40 %
+ * of the cow's) are counted but not shaded; the others are shaded in
+ * drawing order, for exactly the samples they own. Every colour is what the
+ * immediate order would have left there, bit for bit. */
 static void shade_deferred(worker *w) {
     const int n = w->fr->n;
     const bool batch = w->fr->batch != BATCH_NONE;
@@ -1135,7 +1144,8 @@ static bool draw_in_tile_4x32(worker *w, const fast_tri *r, int tx0, int ty0, in
     int64_t lim = (int64_t)1 << 30;
     for (int i = 0; i < 3; i++)
         for (int c = 0; c < 4; c++) {
-            int64_t px = c & 1 ? (int64_t)x1 * SUBPIXEL_ONE + omax_x
+            /* x1 + 1: the lanes are stepped once past the last pixel */
+            int64_t px = c & 1 ? (int64_t)(x1 + 1) * SUBPIXEL_ONE + omax_x
                                : (int64_t)x0 * SUBPIXEL_ONE + omin_x;
             int64_t py = c & 2 ? (int64_t)y1 * SUBPIXEL_ONE + omax_y
                                : (int64_t)y0 * SUBPIXEL_ONE + omin_y;
@@ -1291,8 +1301,11 @@ static void do_tile(worker *w, int tile) {
         }
         draw_in_tile(w, fr->bin_tri[j], tx0, ty0, tx1, ty1);
     }
-    if (!atomic_load(&fr->failed)) shade_deferred(w);
-    w->nfrag = 0;
+    if (atomic_load(&fr->failed)) { /* out of memory: the frame is abandoned */
+        w->nfrag = 0;
+        return;
+    }
+    shade_deferred(w);
     /* Resolve: sample 0 with one sample (ras_resolve_frame), else the hw2
      * reference resolve_pixel on a framebuffer view of this tile. */
     ras_framebuffer view = {.width = TILE, .height = TILE, .samples = n,

@@ -20,7 +20,7 @@
 #include <string.h> /* memcpy */
 
 #if defined(__SSE2__)
-#include <emmintrin.h>
+#include <emmintrin.h> /* SSE2; includes xmmintrin.h (_MM_TRANSPOSE4_PS) */
 #elif defined(__aarch64__) && defined(__ARM_NEON)
 #include <arm_neon.h>
 #endif
@@ -61,14 +61,16 @@ static inline vf4 vf4_load(const float *p) {
  * Four fragments' records, loaded one per vector, become one vector per
  * field: moving bits, no arithmetic. */
 static inline void vf4_transpose(vf4 *a, vf4 *b, vf4 *c, vf4 *d) {
-    vf4 t0 = __builtin_shufflevector(*a, *b, 0, 4, 1, 5); /* a0 b0 a1 b1 */
-    vf4 t1 = __builtin_shufflevector(*c, *d, 0, 4, 1, 5); /* c0 d0 c1 d1 */
-    vf4 t2 = __builtin_shufflevector(*a, *b, 2, 6, 3, 7); /* a2 b2 a3 b3 */
-    vf4 t3 = __builtin_shufflevector(*c, *d, 2, 6, 3, 7); /* c2 d2 c3 d3 */
-    *a = __builtin_shufflevector(t0, t1, 0, 1, 4, 5);
-    *b = __builtin_shufflevector(t0, t1, 2, 3, 6, 7);
-    *c = __builtin_shufflevector(t2, t3, 0, 1, 4, 5);
-    *d = __builtin_shufflevector(t2, t3, 2, 3, 6, 7);
+#if defined(__SSE2__)
+    __m128 ra = (__m128)*a, rb = (__m128)*b, rc = (__m128)*c, rd = (__m128)*d;
+    _MM_TRANSPOSE4_PS(ra, rb, rc, rd); /* unpacks and moves: any SSE compiler */
+    *a = (vf4)ra, *b = (vf4)rb, *c = (vf4)rc, *d = (vf4)rd;
+#else
+    vf4 r[4] = {*a, *b, *c, *d}, t[4];
+    for (int i = 0; i < 4; i++)
+        for (int j = 0; j < 4; j++) t[i][j] = r[j][i];
+    *a = t[0], *b = t[1], *c = t[2], *d = t[3];
+#endif
 }
 
 /* floorf, lane by lane, for every float (NaN excepted): below 2^23 in
