@@ -242,6 +242,8 @@ typedef struct frame {
     bool ssaa;
     ras_sample_pattern pattern;
     int64_t off_x[RAS_MAX_SAMPLES + 1], off_y[RAS_MAX_SAMPLES + 1]; /* [n] = centre */
+    /* the box of those offsets (samples and centre): block rejection's corners */
+    int64_t omin_x, omax_x, omin_y, omax_y;
     unsigned varyings;
     uint64_t varyings_per_fragment;
     int centre_sample; /* a sample whose position is the pixel centre, or -1 */
@@ -978,13 +980,8 @@ draw_in_tile_n(worker *w, const fast_tri *r, int tx0, int ty0, int tx1, int ty1,
     if (x0 > x1 || y0 > y1) return;
     /* The reference tests every sample of the bounding box. */
     w->k.samples_tested += (uint64_t)(x1 - x0 + 1) * (uint64_t)(y1 - y0 + 1) * (uint64_t)n;
-    int64_t omin_x = fr->off_x[0], omax_x = omin_x, omin_y = fr->off_y[0], omax_y = omin_y;
-    for (int k = 1; k <= n; k++) {
-        omin_x = fr->off_x[k] < omin_x ? fr->off_x[k] : omin_x;
-        omax_x = fr->off_x[k] > omax_x ? fr->off_x[k] : omax_x;
-        omin_y = fr->off_y[k] < omin_y ? fr->off_y[k] : omin_y;
-        omax_y = fr->off_y[k] > omax_y ? fr->off_y[k] : omax_y;
-    }
+    const int64_t omin_x = fr->omin_x, omax_x = fr->omax_x, omin_y = fr->omin_y,
+                  omax_y = fr->omax_y;
     const int64_t step[3] = {r->a[0] * SUBPIXEL_ONE, r->a[1] * SUBPIXEL_ONE,
                              r->a[2] * SUBPIXEL_ONE};
     /* Edge values are kept for the n samples and the pixel centre, except at
@@ -1134,13 +1131,8 @@ static bool draw_in_tile_4x32(worker *w, const fast_tri *r, int tx0, int ty0, in
     int x0 = r->x0 > tx0 ? r->x0 : tx0, x1 = r->x1 < tx1 ? r->x1 : tx1;
     int y0 = r->y0 > ty0 ? r->y0 : ty0, y1 = r->y1 < ty1 ? r->y1 : ty1;
     if (x0 > x1 || y0 > y1) return true;
-    int64_t omin_x = fr->off_x[0], omax_x = omin_x, omin_y = fr->off_y[0], omax_y = omin_y;
-    for (int k = 1; k <= n; k++) {
-        omin_x = fr->off_x[k] < omin_x ? fr->off_x[k] : omin_x;
-        omax_x = fr->off_x[k] > omax_x ? fr->off_x[k] : omax_x;
-        omin_y = fr->off_y[k] < omin_y ? fr->off_y[k] : omin_y;
-        omax_y = fr->off_y[k] > omax_y ? fr->off_y[k] : omax_y;
-    }
+    const int64_t omin_x = fr->omin_x, omax_x = fr->omax_x, omin_y = fr->omin_y,
+                  omax_y = fr->omax_y;
     int64_t lim = (int64_t)1 << 30;
     for (int i = 0; i < 3; i++)
         for (int c = 0; c < 4; c++) {
@@ -1502,6 +1494,14 @@ bool hw3_fast_render(const hw3_scene *scene, const hw3_render_options *opt,
         fr.spec_zero[o] = -1.0f; /* never */
         if (p >= 1.0f && isfinite(p))
             fr.spec_zero[o] = nextafterf((float)pow(2.0, -200.0 / p), 0.0f);
+    }
+    fr.omin_x = fr.omax_x = fr.off_x[0];
+    fr.omin_y = fr.omax_y = fr.off_y[0];
+    for (int k = 1; k <= fr.n; k++) {
+        fr.omin_x = fr.off_x[k] < fr.omin_x ? fr.off_x[k] : fr.omin_x;
+        fr.omax_x = fr.off_x[k] > fr.omax_x ? fr.off_x[k] : fr.omax_x;
+        fr.omin_y = fr.off_y[k] < fr.omin_y ? fr.off_y[k] : fr.omin_y;
+        fr.omax_y = fr.off_y[k] > fr.omax_y ? fr.off_y[k] : fr.omax_y;
     }
     fr.centre_sample = -1;
     for (int s = 0; s < fr.n && fr.centre_sample < 0; s++)
