@@ -973,13 +973,9 @@ draw_pixel_samples(worker *w, const fast_tri *r, int x, int y, int tx0, int ty0,
 /* `n` (samples per pixel) is a constant in each inlined copy: the loops over
  * samples unroll and the edge values stay in registers. */
 static inline __attribute__((always_inline)) void
-draw_in_tile_n(worker *w, const fast_tri *r, int tx0, int ty0, int tx1, int ty1, const int n) {
+draw_in_tile_n(worker *w, const fast_tri *r, int tx0, int ty0, int x0, int y0, int x1, int y1,
+               const int n) {
     const frame *fr = w->fr;
-    int x0 = r->x0 > tx0 ? r->x0 : tx0, x1 = r->x1 < tx1 ? r->x1 : tx1;
-    int y0 = r->y0 > ty0 ? r->y0 : ty0, y1 = r->y1 < ty1 ? r->y1 : ty1;
-    if (x0 > x1 || y0 > y1) return;
-    /* The reference tests every sample of the bounding box. */
-    w->k.samples_tested += (uint64_t)(x1 - x0 + 1) * (uint64_t)(y1 - y0 + 1) * (uint64_t)n;
     const int64_t omin_x = fr->omin_x, omax_x = fr->omax_x, omin_y = fr->omin_y,
                   omax_y = fr->omax_y;
     const int64_t step[3] = {r->a[0] * SUBPIXEL_ONE, r->a[1] * SUBPIXEL_ONE,
@@ -1047,6 +1043,21 @@ draw_in_tile_n(worker *w, const fast_tri *r, int tx0, int ty0, int tx1, int ty1,
     }
 }
 
+/* Do all three E − thr stay within ±2^30 over the sub-pixel box [px0, px1] ×
+ * [py0, py1]? They are affine, so their extremes are at the box's corners;
+ * inside that range 32-bit lanes hold them, and a step between two points of
+ * the box, exactly. */
+static bool edges_fit_31(const fast_tri *r, int64_t px0, int64_t px1, int64_t py0, int64_t py1) {
+    const int64_t lim = (int64_t)1 << 30;
+    for (int k = 0; k < 3; k++)
+        for (int c = 0; c < 4; c++) {
+            int64_t px = c & 1 ? px1 : px0, py = c & 2 ? py1 : py0;
+            int64_t v = r->a[k] * px + r->b[k] * py + r->c[k] - r->thr[k];
+            if (v >= lim || v <= -lim) return false;
+        }
+    return true;
+}
+
 /* Without AA (one sample, at the pixel centre), for a triangle whose edge
  * values over the part of its box in this tile fit in 31 bits (every cow
  * triangle; not a screen-filling one): the coverage of eight pixels of a
@@ -1055,23 +1066,15 @@ draw_in_tile_n(worker *w, const fast_tri *r, int tx0, int ty0, int tx1, int ty1,
  * integers (exact arithmetic well inside the range), and a covered pixel's
  * barycentrics, depth test and fragment are draw_pixel_samples' for n = 1.
  * False: the values may not fit; draw with draw_in_tile_n. */
-static bool draw_in_tile_1x32(worker *w, const fast_tri *r, int tx0, int ty0, int tx1, int ty1) {
+static bool draw_in_tile_1x32(worker *w, const fast_tri *r, int tx0, int ty0, int x0, int y0,
+                              int x1, int y1) {
     const frame *fr = w->fr;
-    int x0 = r->x0 > tx0 ? r->x0 : tx0, x1 = r->x1 < tx1 ? r->x1 : tx1;
-    int y0 = r->y0 > ty0 ? r->y0 : ty0, y1 = r->y1 < ty1 ? r->y1 : ty1;
-    if (x0 > x1 || y0 > y1) return true;
     const int64_t cx = fr->off_x[0], cy = fr->off_y[0];
-    /* E − thr is affine: over x in [x0, x1 + 7] (a block row's eight lanes may
-     * run past x1) and y in [y0, y1] its extremes are at the corners. */
-    int64_t lim = (int64_t)1 << 30;
-    for (int k = 0; k < 3; k++)
-        for (int c = 0; c < 4; c++) {
-            int64_t px = (int64_t)(c & 1 ? x1 + BLOCK - 1 : x0) * SUBPIXEL_ONE + cx;
-            int64_t py = (int64_t)(c & 2 ? y1 : y0) * SUBPIXEL_ONE + cy;
-            int64_t v = r->a[k] * px + r->b[k] * py + r->c[k] - r->thr[k];
-            if (v >= lim || v <= -lim) return false;
-        }
-    w->k.samples_tested += (uint64_t)(x1 - x0 + 1) * (uint64_t)(y1 - y0 + 1);
+    /* x1 + 7: a block row's eight lanes may run past x1 */
+    if (!edges_fit_31(r, (int64_t)x0 * SUBPIXEL_ONE + cx,
+                      (int64_t)(x1 + BLOCK - 1) * SUBPIXEL_ONE + cx,
+                      (int64_t)y0 * SUBPIXEL_ONE + cy, (int64_t)y1 * SUBPIXEL_ONE + cy))
+        return false;
     const int64_t step[3] = {r->a[0] * SUBPIXEL_ONE, r->a[1] * SUBPIXEL_ONE,
                              r->a[2] * SUBPIXEL_ONE};
     vi4 ramp_lo[3], ramp_hi[3]; /* i · step for lanes i = 0..3 and 4..7 */
@@ -1125,26 +1128,17 @@ static bool draw_in_tile_1x32(worker *w, const fast_tri *r, int tx0, int ty0, in
  * coverage is the sign mask of the three or-ed. Covered samples get their
  * exact int64 edge values back (lane + thr) and go through
  * draw_pixel_samples as before. False: the values may not fit. */
-static bool draw_in_tile_4x32(worker *w, const fast_tri *r, int tx0, int ty0, int tx1, int ty1) {
+static bool draw_in_tile_4x32(worker *w, const fast_tri *r, int tx0, int ty0, int x0, int y0,
+                              int x1, int y1) {
     const frame *fr = w->fr;
     const int n = 4;
-    int x0 = r->x0 > tx0 ? r->x0 : tx0, x1 = r->x1 < tx1 ? r->x1 : tx1;
-    int y0 = r->y0 > ty0 ? r->y0 : ty0, y1 = r->y1 < ty1 ? r->y1 : ty1;
-    if (x0 > x1 || y0 > y1) return true;
     const int64_t omin_x = fr->omin_x, omax_x = fr->omax_x, omin_y = fr->omin_y,
                   omax_y = fr->omax_y;
-    int64_t lim = (int64_t)1 << 30;
-    for (int i = 0; i < 3; i++)
-        for (int c = 0; c < 4; c++) {
-            /* x1 + 1: the lanes are stepped once past the last pixel */
-            int64_t px = c & 1 ? (int64_t)(x1 + 1) * SUBPIXEL_ONE + omax_x
-                               : (int64_t)x0 * SUBPIXEL_ONE + omin_x;
-            int64_t py = c & 2 ? (int64_t)y1 * SUBPIXEL_ONE + omax_y
-                               : (int64_t)y0 * SUBPIXEL_ONE + omin_y;
-            int64_t v = r->a[i] * px + r->b[i] * py + r->c[i] - r->thr[i];
-            if (v >= lim || v <= -lim) return false;
-        }
-    w->k.samples_tested += (uint64_t)(x1 - x0 + 1) * (uint64_t)(y1 - y0 + 1) * (uint64_t)n;
+    /* x1 + 1: the lanes are stepped once past the last pixel */
+    if (!edges_fit_31(r, (int64_t)x0 * SUBPIXEL_ONE + omin_x,
+                      (int64_t)(x1 + 1) * SUBPIXEL_ONE + omax_x,
+                      (int64_t)y0 * SUBPIXEL_ONE + omin_y, (int64_t)y1 * SUBPIXEL_ONE + omax_y))
+        return false;
     const int64_t step[3] = {r->a[0] * SUBPIXEL_ONE, r->a[1] * SUBPIXEL_ONE,
                              r->a[2] * SUBPIXEL_ONE};
     /* offset of sample k (k = n: the centre) from the pixel's corner */
@@ -1191,17 +1185,25 @@ static bool draw_in_tile_4x32(worker *w, const fast_tri *r, int tx0, int ty0, in
     return true;
 }
 
+/* The part of r's box inside the tile, drawn by the variant that fits. */
 static void draw_in_tile(worker *w, const fast_tri *r, int tx0, int ty0, int tx1, int ty1) {
-    switch (w->fr->n) {
+    int x0 = r->x0 > tx0 ? r->x0 : tx0, x1 = r->x1 < tx1 ? r->x1 : tx1;
+    int y0 = r->y0 > ty0 ? r->y0 : ty0, y1 = r->y1 < ty1 ? r->y1 : ty1;
+    if (x0 > x1 || y0 > y1) return;
+    const int n = w->fr->n;
+    /* The reference tests every sample of the bounding box. */
+    w->k.samples_tested += (uint64_t)(x1 - x0 + 1) * (uint64_t)(y1 - y0 + 1) * (uint64_t)n;
+    switch (n) {
     case 1:
-        if (w->fr->centre_sample == 0 && draw_in_tile_1x32(w, r, tx0, ty0, tx1, ty1)) break;
-        draw_in_tile_n(w, r, tx0, ty0, tx1, ty1, 1);
+        if (w->fr->centre_sample == 0 && draw_in_tile_1x32(w, r, tx0, ty0, x0, y0, x1, y1))
+            break;
+        draw_in_tile_n(w, r, tx0, ty0, x0, y0, x1, y1, 1);
         break;
     case 4:
-        if (draw_in_tile_4x32(w, r, tx0, ty0, tx1, ty1)) break;
-        draw_in_tile_n(w, r, tx0, ty0, tx1, ty1, 4);
+        if (draw_in_tile_4x32(w, r, tx0, ty0, x0, y0, x1, y1)) break;
+        draw_in_tile_n(w, r, tx0, ty0, x0, y0, x1, y1, 4);
         break;
-    default: draw_in_tile_n(w, r, tx0, ty0, tx1, ty1, w->fr->n); break;
+    default: draw_in_tile_n(w, r, tx0, ty0, x0, y0, x1, y1, n); break;
     }
 }
 
