@@ -447,6 +447,92 @@ static float spec_zero_for(worker *w, float p) {
     return sz;
 }
 
+/* texture_sample_bilinear (solution/shading.c's bilinear_level at level 0)
+ * for four lookups, in two halves. bilinear_x4_footprint: the coordinates,
+ * floors, weights and wrapped texel indices in vector lanes, giving the four
+ * texels each lookup reads (shade_prepare prefetches them). A lane whose
+ * texel index falls outside [-1, size - 1] (the reference's range, asserted
+ * here rather than assumed) is left to the reference function: bit 1 << i of
+ * fallback. bilinear_x4_blend: the texel blends, one lookup per vector (lane =
+ * colour channel) with lerp3's operations in its order, so every lane is the
+ * reference's float. */
+typedef struct footprint {
+    const vec3s *texel[4][4]; /* lookup i: (i0, j0), (i0+1, j0), (i0, j0+1), (i0+1, j0+1) */
+    vf4 sx, sy;
+    unsigned looked_up, fallback; /* lanes done here / by the reference */
+} footprint;
+
+static void bilinear_x4_footprint(const ras_texture *tex, vf4 u, vf4 v, int lanes,
+                                  footprint *F) {
+    const int w = tex->level_width[0], h = tex->level_height[0]; /* as bilinear_level */
+    const vec3s *px = tex->levels[0] ? tex->levels[0] : tex->texels;
+    vf4 zero = vf4_splat(0.0f), one = vf4_splat(1.0f);
+    vf4 coord[2] = {u, v};
+    for (int c = 0; c < 2; c++) { /* safe_coord */
+        vf4 t = coord[c];
+        vi4 finite = (t == t) & ((vf4)((vi4)t & 0x7fffffff) <= vf4_splat(FLT_MAX));
+        t = vf4_select(finite, t, zero);
+        if (tex->wrap == RAS_WRAP_REPEAT)
+            t = t - vf4_floor(t);
+        else
+            t = vf4_select(t < zero, zero, vf4_select(t > one, one, t));
+        coord[c] = t;
+    }
+    vf4 x = coord[0] * vf4_splat((float)w) - vf4_splat(0.5f);
+    vf4 y = coord[1] * vf4_splat((float)h) - vf4_splat(0.5f);
+    vf4 x0f = vf4_floor(x), y0f = vf4_floor(y);
+    F->sx = x - x0f;
+    F->sy = y - y0f;
+    /* x0f, y0f are integers in [-1, size - 1] when the range test passes */
+    vi4 i0 = __builtin_convertvector(vf4_select(x0f == x0f, x0f, zero), vi4);
+    vi4 j0 = __builtin_convertvector(vf4_select(y0f == y0f, y0f, zero), vi4);
+    vi4 bad = (x0f < vf4_splat(-1.0f)) | (x0f > vf4_splat((float)(w - 1))) |
+              (y0f < vf4_splat(-1.0f)) | (y0f > vf4_splat((float)(h - 1)));
+    F->looked_up = F->fallback = 0;
+    for (int i = 0; i < lanes; i++) {
+        if (bad[i]) {
+            F->fallback |= 1u << i;
+            continue;
+        }
+        F->looked_up |= 1u << i;
+        int ia, ib, ja, jb; /* ras_texture_wrap_index of i0, i0 + 1, j0, j0 + 1 */
+        if (tex->wrap == RAS_WRAP_REPEAT) {
+            ia = i0[i] < 0 ? i0[i] + w : i0[i];
+            ib = i0[i] + 1 >= w ? i0[i] + 1 - w : i0[i] + 1;
+            ja = j0[i] < 0 ? j0[i] + h : j0[i];
+            jb = j0[i] + 1 >= h ? j0[i] + 1 - h : j0[i] + 1;
+        } else {
+            ia = i0[i] < 0 ? 0 : i0[i];
+            ib = i0[i] + 1 > w - 1 ? w - 1 : i0[i] + 1;
+            ja = j0[i] < 0 ? 0 : j0[i];
+            jb = j0[i] + 1 > h - 1 ? h - 1 : j0[i] + 1;
+        }
+        F->texel[i][0] = &px[ja * w + ia];
+        F->texel[i][1] = &px[ja * w + ib];
+        F->texel[i][2] = &px[jb * w + ia];
+        F->texel[i][3] = &px[jb * w + ib];
+    }
+}
+
+/* The looked-up lanes' colours (the others are 0). */
+static v3x4 bilinear_x4_blend(const footprint *F) {
+    vf4 out[4];
+    for (int i = 0; i < 4; i++) {
+        if (!(F->looked_up >> i & 1)) {
+            out[i] = vf4_splat(0.0f);
+            continue;
+        }
+        const vec3s *const *t = F->texel[i];
+        vf4 a = vf4_load3(&t[0]->x), b = vf4_load3(&t[1]->x);
+        vf4 c = vf4_load3(&t[2]->x), d = vf4_load3(&t[3]->x);
+        vf4 s = vf4_splat(F->sx[i]), tt = vf4_splat(F->sy[i]);
+        vf4 bottom = a + (b - a) * s, top = c + (d - c) * s;
+        out[i] = bottom + (top - bottom) * tt;
+    }
+    vf4_transpose(&out[0], &out[1], &out[2], &out[3]);
+    return (v3x4){out[0], out[1], out[2]};
+}
+
 /* Four fragments between the two halves of their shading. */
 typedef struct lanes4 {
     const queued *q;
@@ -454,6 +540,7 @@ typedef struct lanes4 {
     vi4 odd;
     v3x4 b, color;
     vf4 u, v; /* texture coordinates (BATCH_TEXTURE) */
+    footprint texels; /* their bilinear footprints (BATCH_TEXTURE, a texture) */
     /* per light: I/r², max(0, n·l), the specular power */
     v3x4 irradiance[HW3_MAX_LIGHTS];
     vf4 diffuse[HW3_MAX_LIGHTS], specular[HW3_MAX_LIGHTS];
@@ -564,85 +651,15 @@ static void shade_prepare(worker *w, const queued *q, int lanes, lanes4 *S) {
     }
     S->odd = odd;
     if (fr->batch == BATCH_TEXTURE && pay->texture) {
-        /* the bilinear footprint's two rows (a hint only: see prefetch_texels) */
-        const ras_texture *tex = pay->texture;
-        for (int i = 0; i < lanes; i++) {
-            float u = S->u[i], vv = S->v[i];
-            if (!(u >= 0.0f && u <= 1.0f && vv >= 0.0f && vv <= 1.0f)) continue;
-            int x = (int)(u * (float)tex->width - 0.5f), y = (int)(vv * (float)tex->height - 0.5f);
-            x = x < 0 ? 0 : x >= tex->width - 1 ? tex->width - 2 : x;
-            y = y < 0 ? 0 : y >= tex->height - 1 ? tex->height - 2 : y;
-            if (x < 0 || y < 0) continue; /* a texture one texel wide or high */
-            const vec3s *p = tex->texels + (size_t)y * (size_t)tex->width + x;
-            __builtin_prefetch(p);
-            __builtin_prefetch(p + 1);
-            __builtin_prefetch(p + tex->width);
-            __builtin_prefetch(p + tex->width + 1);
-        }
+        /* the texels the lookups will read (nearest filtering reads one of
+         * the four), fetched while the other half-queue is prepared */
+        bilinear_x4_footprint(pay->texture, S->u, S->v, lanes, &S->texels);
+        for (int i = 0; i < lanes; i++)
+            if (S->texels.looked_up >> i & 1)
+                for (int k = 0; k < 4; k++) __builtin_prefetch(S->texels.texel[i][k]);
     }
 }
 
-/* texture_sample_bilinear (solution/shading.c's bilinear_level at level 0)
- * for four lookups: the coordinates, floors, weights and texel indices in
- * vector lanes, the texel blends one lookup per vector (lane = colour
- * channel) with lerp3's operations in its order, so every lane is the
- * reference's float. A lane whose texel index falls outside [-1, size - 1]
- * (the reference's range, asserted here rather than assumed) is left to the
- * reference function: bit 1 << i of the result. */
-static unsigned bilinear_x4(const ras_texture *tex, vf4 u, vf4 v, int lanes, v3x4 *kd) {
-    const int w = tex->level_width[0], h = tex->level_height[0]; /* as bilinear_level */
-    const vec3s *px = tex->levels[0] ? tex->levels[0] : tex->texels;
-    vf4 zero = vf4_splat(0.0f), one = vf4_splat(1.0f);
-    vf4 coord[2] = {u, v};
-    for (int c = 0; c < 2; c++) { /* safe_coord */
-        vf4 t = coord[c];
-        vi4 finite = (t == t) & ((vf4)((vi4)t & 0x7fffffff) <= vf4_splat(FLT_MAX));
-        t = vf4_select(finite, t, zero);
-        if (tex->wrap == RAS_WRAP_REPEAT)
-            t = t - vf4_floor(t);
-        else
-            t = vf4_select(t < zero, zero, vf4_select(t > one, one, t));
-        coord[c] = t;
-    }
-    vf4 x = coord[0] * vf4_splat((float)w) - vf4_splat(0.5f);
-    vf4 y = coord[1] * vf4_splat((float)h) - vf4_splat(0.5f);
-    vf4 x0f = vf4_floor(x), y0f = vf4_floor(y);
-    vf4 sx = x - x0f, sy = y - y0f;
-    /* x0f, y0f are integers in [-1, size - 1] when the range test passes */
-    vi4 i0 = __builtin_convertvector(vf4_select(x0f == x0f, x0f, zero), vi4);
-    vi4 j0 = __builtin_convertvector(vf4_select(y0f == y0f, y0f, zero), vi4);
-    vi4 bad = (x0f < vf4_splat(-1.0f)) | (x0f > vf4_splat((float)(w - 1))) |
-              (y0f < vf4_splat(-1.0f)) | (y0f > vf4_splat((float)(h - 1)));
-    unsigned fallback = 0;
-    vf4 out[4];
-    for (int i = 0; i < 4; i++) {
-        if (i >= lanes || bad[i]) {
-            fallback |= (i < lanes) << i;
-            out[i] = zero;
-            continue;
-        }
-        int ia, ib, ja, jb; /* ras_texture_wrap_index of i0, i0 + 1, j0, j0 + 1 */
-        if (tex->wrap == RAS_WRAP_REPEAT) {
-            ia = i0[i] < 0 ? i0[i] + w : i0[i];
-            ib = i0[i] + 1 >= w ? i0[i] + 1 - w : i0[i] + 1;
-            ja = j0[i] < 0 ? j0[i] + h : j0[i];
-            jb = j0[i] + 1 >= h ? j0[i] + 1 - h : j0[i] + 1;
-        } else {
-            ia = i0[i] < 0 ? 0 : i0[i];
-            ib = i0[i] + 1 > w - 1 ? w - 1 : i0[i] + 1;
-            ja = j0[i] < 0 ? 0 : j0[i];
-            jb = j0[i] + 1 > h - 1 ? h - 1 : j0[i] + 1;
-        }
-        vf4 a = vf4_load3(&px[ja * w + ia].x), b = vf4_load3(&px[ja * w + ib].x);
-        vf4 c = vf4_load3(&px[jb * w + ia].x), d = vf4_load3(&px[jb * w + ib].x);
-        vf4 s = vf4_splat(sx[i]), t = vf4_splat(sy[i]);
-        vf4 bottom = a + (b - a) * s, top = c + (d - c) * s;
-        out[i] = bottom + (top - bottom) * t;
-    }
-    vf4_transpose(&out[0], &out[1], &out[2], &out[3]);
-    *kd = (v3x4){out[0], out[1], out[2]};
-    return fallback;
-}
 
 /* kd (the texture lookups), the sums in fast_blinn_phong's order, and the
  * colours into the tile. */
@@ -655,14 +672,14 @@ static void shade_finish(worker *w, lanes4 *S) {
     if (fr->batch != BATCH_NORMAL) {
         v3x4 kd = v3_splat(pay->color);
         if (fr->batch == BATCH_TEXTURE && pay->texture && pay->filter == FILTER_BILINEAR) {
-            unsigned fallback = bilinear_x4(pay->texture, S->u, S->v, lanes, &kd);
+            kd = bilinear_x4_blend(&S->texels);
             if (pay->counters) { /* texture_sample's counts for the lanes done here */
                 pay->counters->stages_run |= RAS_STAGE_TEXTURE;
-                unsigned looked_up = (unsigned)(lanes - __builtin_popcount(fallback));
+                unsigned looked_up = (unsigned)__builtin_popcount(S->texels.looked_up);
                 pay->counters->texels_fetched += 4u * looked_up;
             }
             for (int i = 0; i < lanes; i++) {
-                if (!(fallback >> i & 1)) continue;
+                if (!(S->texels.fallback >> i & 1)) continue;
                 vec3s c = texture_sample(pay, pay->texture, (vec2s){{S->u[i], S->v[i]}});
                 kd.x[i] = c.x;
                 kd.y[i] = c.y;
