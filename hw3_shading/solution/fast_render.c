@@ -723,29 +723,10 @@ static void flush_queue(worker *w) {
         shade_finish(w, &S[c]);
 }
 
-/* The colour map is far larger than the caches and bilinear lookups wait on
- * memory: when a fragment is queued, name the cache lines its lookup will read
- * (two texel rows, from the screen-space uv, which is close to the
- * perspective-correct one), so they arrive while the queue fills. Only a
- * hint: the lookup itself is the reference's. */
-static inline void prefetch_texels(const worker *w, const fast_tri *r, vec3s b) {
-    const ras_texture *tex = w->pay[r->object].texture;
-    if (!tex) return;
-    const ras_triangle *t = &r->t;
-    float u = t->uv[0].x * b.x + t->uv[1].x * b.y + t->uv[2].x * b.z;
-    float v = t->uv[0].y * b.x + t->uv[1].y * b.y + t->uv[2].y * b.z;
-    if (!(u >= 0.0f && u <= 1.0f && v >= 0.0f && v <= 1.0f)) return;
-    int x = (int)(u * (float)(tex->width - 1)), y = (int)(v * (float)(tex->height - 1));
-    const vec3s *row = tex->texels + (size_t)y * (size_t)tex->width + x;
-    __builtin_prefetch(row);
-    if (y + 1 < tex->height) __builtin_prefetch(row + tex->width);
-}
-
 /* Queue a fragment for shading: its colour goes to the samples `mask` of
  * tile sample index `base`. */
 static inline void queue_fragment(worker *w, const fast_tri *r, vec3s bary, int base,
                                   uint64_t mask) {
-    if (w->fr->batch == BATCH_TEXTURE) prefetch_texels(w, r, bary);
     /* one object's fragments (one material) per queue */
     if (w->qn == QUEUE || (w->qn && w->q[0].r->object != r->object)) flush_queue(w);
     w->q[w->qn++] = (queued){r, bary, 0.0f, base, mask};
