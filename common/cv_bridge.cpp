@@ -8,8 +8,11 @@
 
 #include <cstdio>   // snprintf
 #include <cstdlib>  // getenv, malloc
+#include <cstring>  // memcpy
+#include <exception>
 #include <map>
 #include <string>
+#include <vector>
 
 #include <unistd.h> // dup, dup2, close
 
@@ -35,21 +38,41 @@ void on_mouse(int event, int x, int y, int, void *user) {
 
 }  // namespace
 
-extern "C" bool cv_bridge_write_rgb8(const char *path, int width, int height,
-                                     const uint8_t *rgb, char *err, int err_size) {
+extern "C" uint8_t *cv_bridge_encode_rgb8(const char *ext, int width, int height,
+                                          const uint8_t *rgb, size_t *len, char *err,
+                                          int err_size) {
     try {
         cv::Mat in(height, width, CV_8UC3, const_cast<uint8_t *>(rgb));
         cv::Mat bgr;
         cv::cvtColor(in, bgr, cv::COLOR_RGB2BGR);
-        if (!cv::imwrite(path, bgr)) {
-            set_err(err, err_size,
-                    std::string("could not write '") + path +
-                        "': OpenCV refused (check the folder exists and the extension is .png)");
-            return false;
+        std::vector<uchar> buf;
+        if (!cv::imencode(ext, bgr, buf) || buf.empty()) {
+            set_err(err, err_size, std::string("OpenCV has no encoder for '") + ext + "'");
+            return nullptr;
         }
+        auto *out = static_cast<uint8_t *>(std::malloc(buf.size()));
+        if (!out) {
+            set_err(err, err_size, "out of memory for the encoded image");
+            return nullptr;
+        }
+        std::memcpy(out, buf.data(), buf.size());
+        *len = buf.size();
+        return out;
+    } catch (const std::exception &e) {
+        set_err(err, err_size, std::string("the encoder failed: ") + e.what());
+        return nullptr;
+    }
+}
+
+extern "C" bool cv_bridge_decode_size(const uint8_t *data, size_t len, int *width, int *height) {
+    try {
+        std::vector<uchar> buf(data, data + len);
+        cv::Mat m = cv::imdecode(buf, cv::IMREAD_UNCHANGED);
+        if (m.empty()) return false;
+        *width = m.cols;
+        *height = m.rows;
         return true;
-    } catch (const cv::Exception &e) {
-        set_err(err, err_size, std::string("could not write '") + path + "': " + e.what());
+    } catch (const std::exception &) {
         return false;
     }
 }
@@ -62,29 +85,21 @@ extern "C" bool cv_bridge_can_write(const char *path) {
     }
 }
 
-extern "C" uint8_t *cv_bridge_read_rgb8(const char *path, int *width, int *height, char *err,
-                                        int err_size) {
-    // Check first: imread itself would print a warning of its own to stderr.
-    if (std::FILE *f = std::fopen(path, "rb")) {
-        std::fclose(f);
-    } else {
-        set_err(err, err_size,
-                std::string("could not read image '") + path +
-                    "': the file does not exist or is not readable; check the path");
-        return nullptr;
-    }
+extern "C" uint8_t *cv_bridge_decode_rgb8(const uint8_t *data, size_t len, int *width,
+                                          int *height, char *err, int err_size) {
     try {
         // A corrupt file makes libpng / libjpeg print their own "libpng error:
-        // ..." to stderr before imread returns empty: catch that text and
-        // drop it when the read fails (our message says it all), pass it on
-        // when the read succeeds (a warning about a good file).
+        // ..." to stderr before imdecode returns empty: catch that text and
+        // drop it when the decode fails (our message says it all), pass it on
+        // when it succeeds (a warning about a good file).
         std::fflush(stderr);
         std::FILE *capture = std::tmpfile();
         int saved = capture ? dup(2) : -1;
         if (saved >= 0) dup2(fileno(capture), 2);
         cv::Mat bgr;
         try {
-            bgr = cv::imread(path, cv::IMREAD_COLOR);
+            const cv::Mat bytes(1, (int)len, CV_8UC1, const_cast<uint8_t *>(data));
+            bgr = cv::imdecode(bytes, cv::IMREAD_COLOR);
         } catch (...) {
             bgr.release();
         }
@@ -103,8 +118,7 @@ extern "C" uint8_t *cv_bridge_read_rgb8(const char *path, int *width, int *heigh
         if (capture) std::fclose(capture);
         if (bgr.empty()) {
             set_err(err, err_size,
-                    std::string("could not read image '") + path +
-                        "': the file is missing or not an image OpenCV can decode (PNG, JPEG, ...)");
+                    "not an image OpenCV can decode (PNG, JPEG, BMP, ...), or a damaged one");
             return nullptr;
         }
         // BGR → RGB straight into the caller's buffer: one pass over the
@@ -127,8 +141,8 @@ extern "C" uint8_t *cv_bridge_read_rgb8(const char *path, int *width, int *heigh
         *width = bgr.cols;
         *height = bgr.rows;
         return out;
-    } catch (const cv::Exception &e) {
-        set_err(err, err_size, std::string("could not read image '") + path + "': " + e.what());
+    } catch (const std::exception &e) {
+        set_err(err, err_size, std::string("the decoder failed: ") + e.what());
         return nullptr;
     }
 }

@@ -11,22 +11,31 @@
 #define CV_BRIDGE_H
 
 #include <stdbool.h>
+#include <stddef.h>
 #include <stdint.h>
 
 #ifdef __cplusplus
 extern "C" {
 #endif
 
-/* Encodes and writes; the format follows the file's extension. */
-bool cv_bridge_write_rgb8(const char *path, int width, int height, const uint8_t *rgb,
-                          char *err, int err_size);
+/* Encodes in memory, the format following `ext` (".png", ".bmp", ...):
+ * a malloc'ed buffer the caller frees, *len its size; NULL and err on failure.
+ * Writing the bytes is ras_io_write_atomic's job. */
+uint8_t *cv_bridge_encode_rgb8(const char *ext, int width, int height, const uint8_t *rgb,
+                               size_t *len, char *err, int err_size);
+
+/* Decodes an encoded image in memory, only to check it: true and its size
+ * when it decodes. */
+bool cv_bridge_decode_size(const uint8_t *data, size_t len, int *width, int *height);
 
 /* True when this OpenCV build has an encoder for the file's extension. */
 bool cv_bridge_can_write(const char *path);
 
-/* Reads and decodes into a malloc'ed RGB buffer the caller frees with free(). */
-uint8_t *cv_bridge_read_rgb8(const char *path, int *width, int *height, char *err,
-                             int err_size);
+/* Decodes an encoded image (a whole file's bytes) into a malloc'ed RGB buffer
+ * the caller frees with free(). Reading the file is the caller's job
+ * (ras_io_read_file: regular files only); the message does not name it. */
+uint8_t *cv_bridge_decode_rgb8(const uint8_t *data, size_t len, int *width, int *height,
+                               char *err, int err_size);
 
 /* Windows (highgui). cv_bridge_display_available() is false when there is no
  * X display: callers must check it first, because highgui aborts the process

@@ -1,6 +1,8 @@
 /* ras_cli.c — see ras_cli.h. */
 #include "ras_cli.h"
 
+#include "ras_io.h" /* ras_io_path_fits */
+
 #include <getopt.h> /* getopt_long */
 #include <math.h>   /* isfinite */
 #include <stdio.h>  /* snprintf, sscanf */
@@ -225,6 +227,8 @@ ras_cli_status ras_cli_parse(int argc, char **argv, unsigned accepted, ras_cli *
                               name, metavar_of(opt), arg, name, arg);
             return RAS_CLI_ERROR;
         }
+        /* A file name longer than the programs' buffers is refused, never cut. */
+        if (takes_file(opt) && !ras_io_path_fits(name, arg, err)) return RAS_CLI_ERROR;
         switch (opt) {
         case 'h': return RAS_CLI_HELP;
         case OPT_VERSION: return RAS_CLI_VERSION;
@@ -352,6 +356,7 @@ ras_cli_status ras_cli_parse(int argc, char **argv, unsigned accepted, ras_cli *
                           argv[i], RAS_CLI_MAX_POSITIONAL, program);
             return RAS_CLI_ERROR;
         }
+        if (!ras_io_path_fits("a file argument", argv[i], err)) return RAS_CLI_ERROR;
         out->positional[out->positional_count++] = argv[i];
     }
     return RAS_CLI_RUN;

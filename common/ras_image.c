@@ -2,14 +2,15 @@
 #include "ras_image.h"
 
 #include "cv_bridge.h"
+#include "ras_io.h"
 
 #include <errno.h>    /* errno */
-#include <stdio.h>    /* rename, remove, snprintf */
+#include <stdio.h>    /* snprintf */
 #include <stdlib.h>   /* calloc, free */
 #include <string.h>   /* strrchr, strlen, strerror */
 #include <strings.h>  /* strcasecmp */
 #include <sys/stat.h> /* stat */
-#include <unistd.h>   /* getpid, access */
+#include <unistd.h>   /* access */
 
 static bool ras_image_size_ok(int width, int height, ras_error *err) {
     if (width >= 1 && height >= 1 && width <= RAS_IMAGE_MAX_SIDE && height <= RAS_IMAGE_MAX_SIDE)
@@ -122,52 +123,58 @@ bool ras_image_check_output(const char *path, ras_error *err) {
     return true;
 }
 
+/* ras_io_write_atomic's check of the file read back: it decodes, at the size
+ * that was encoded. */
+static bool verify_decodes(const void *data, size_t len, void *ctx, ras_error *err) {
+    const int *size = ctx;
+    int w = 0, h = 0;
+    if (!cv_bridge_decode_size(data, len, &w, &h))
+        return ras_error_set(err, "OpenCV cannot decode it");
+    if (w != size[0] || h != size[1])
+        return ras_error_set(err, "it decodes as %dx%d, expected %dx%d", w, h, size[0], size[1]);
+    return true;
+}
+
+bool ras_image_save_rgb8(const uint8_t *rgb, int width, int height, const char *path,
+                         ras_error *err) {
+    if (!ras_image_check_output(path, err)) return false;
+    /* Encoded in memory, the codec following the extension, then written
+     * through ras_io_write_atomic: a temporary file beside the target, every
+     * write checked, fsync, read back and decoded, renamed over the target. */
+    const char *ext = strrchr(path, '.');
+    char msg[512] = "";
+    size_t len = 0;
+    uint8_t *encoded = cv_bridge_encode_rgb8(ext, width, height, rgb, &len, msg, sizeof msg);
+    if (!encoded) return ras_error_set(err, "could not write '%s': %s", path, msg);
+    int size[2] = {width, height};
+    bool ok = ras_io_write_atomic(path, "image", encoded, len, verify_decodes, size, err);
+    free(encoded);
+    return ok;
+}
+
 bool ras_image_save(const ras_image *img, const char *path, ras_error *err) {
     if (!ras_image_check_output(path, err)) return false;
-    const char *ext = strrchr(path, '.');
     size_t bytes = (size_t)img->width * (size_t)img->height * 3;
     uint8_t *rgb = malloc(bytes);
     if (!rgb) return ras_error_set(err, "out of memory writing '%s'", path);
     ras_image_to_rgb8(img, rgb);
-    /* Write beside the target under a temporary name with the same extension
-     * (OpenCV picks the codec from it), then rename: readers never see a
-     * half-written file, and a failure leaves nothing behind. */
-    size_t tmp_size = strlen(path) + 64;
-    char *tmp = malloc(tmp_size);
-    if (!tmp) {
-        free(rgb);
-        return ras_error_set(err, "out of memory writing '%s'", path);
-    }
-    snprintf(tmp, tmp_size, "%.*s.tmp%ld%s", (int)(ext - path), path, (long)getpid(), ext);
-    char msg[512] = "";
-    bool ok = cv_bridge_write_rgb8(tmp, img->width, img->height, rgb, msg, sizeof msg);
+    bool ok = ras_image_save_rgb8(rgb, img->width, img->height, path, err);
     free(rgb);
-    if (!ok) {
-        remove(tmp);
-        free(tmp);
-        /* The bridge's message names the temporary file: name the user's. */
-        return ras_error_set(err,
-                             "could not write '%s': the image encoder failed (disk full or "
-                             "the folder not writable?); check the folder and try again",
-                             path);
-    }
-    if (rename(tmp, path) != 0) {
-        int e = errno;
-        remove(tmp);
-        free(tmp);
-        return ras_error_set(err, "could not write '%s': renaming the finished file failed (%s)",
-                             path, strerror(e));
-    }
-    free(tmp);
-    return true;
+    return ok;
 }
 
 uint8_t *ras_image_load_rgb8(const char *path, int *width, int *height, ras_error *err) {
+    /* The file's bytes first (regular files only: a FIFO fails at once, an
+     * unreadable file says "Permission denied"), then the decode from memory. */
+    size_t len = 0;
+    uint8_t *data = ras_io_read_file(path, "image", RAS_IMAGE_MAX_FILE_BYTES, &len, err);
+    if (!data) return NULL;
     char msg[512] = "";
     int w = 0, h = 0;
-    uint8_t *rgb = cv_bridge_read_rgb8(path, &w, &h, msg, sizeof msg);
+    uint8_t *rgb = cv_bridge_decode_rgb8(data, len, &w, &h, msg, sizeof msg);
+    free(data);
     if (!rgb) {
-        ras_error_set(err, "%s", msg);
+        ras_error_set(err, "could not read image '%s': %s; check the file", path, msg);
         return NULL;
     }
     if (!ras_image_size_ok(w, h, err)) {

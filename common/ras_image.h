@@ -6,8 +6,10 @@
  *     pixel (col, row) is pixels[row * width + col];
  *   - screen space has y growing upward, so screen pixel (x, y) lands in image
  *     row height-1-y (see ras_framebuffer for that mapping);
- *   - files are written to a temporary name and renamed, so a failed write
- *     never leaves a half-written PNG behind.
+ *   - files are written atomically (ras_io_write_atomic): encoded in memory,
+ *     written to a temporary name beside the target, checked, read back,
+ *     decoded, then renamed, so a failed write (disk full, a file-size limit,
+ *     a signal) never leaves a half-written file and never harms the old one.
  * Ownership: ras_image_create/ras_image_load return a heap image the caller
  * frees with ras_image_destroy (NULL is allowed and ignored).
  */
@@ -26,6 +28,8 @@ typedef struct ras_image {
 
 /* Largest side we accept: protects against absurd sizes from flags or files. */
 #define RAS_IMAGE_MAX_SIDE 16384
+/* Largest image file read (its bytes are held in memory while decoding). */
+#define RAS_IMAGE_MAX_FILE_BYTES (512u << 20)
 
 /* A black image, or NULL (and err set) for a size outside 1..RAS_IMAGE_MAX_SIDE. */
 ras_image *ras_image_create(int width, int height, ras_error *err);
@@ -56,9 +60,14 @@ uint8_t ras_unit_to_byte(float v);
  * render and leaves nothing behind. */
 bool ras_image_check_output(const char *path, ras_error *err);
 
-/* Writes a PNG (or another extension ras_image_check_output accepts), under a
- * temporary name then renamed: a failure leaves no file behind. */
+/* Writes a PNG (or another extension ras_image_check_output accepts)
+ * atomically: on any failure (err names the file and the reason) the target is
+ * left as it was and no temporary file remains. */
 bool ras_image_save(const ras_image *img, const char *path, ras_error *err);
+
+/* The same for an 8-bit RGB buffer (see ras_image_to_rgb8's layout). */
+bool ras_image_save_rgb8(const uint8_t *rgb, int width, int height, const char *path,
+                         ras_error *err);
 
 /* Reads any image OpenCV can read; returns NULL and sets err when it cannot. */
 ras_image *ras_image_load(const char *path, ras_error *err);

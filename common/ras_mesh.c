@@ -18,18 +18,22 @@
  */
 #include "ras_mesh.h"
 
-#include <assimp/cimport.h>     /* aiImportFile, aiReleaseImport, aiGetErrorString */
+#include <assimp/cfileio.h>     /* aiFileIO, aiFile */
+#include <assimp/cimport.h>     /* aiImportFileEx, aiReleaseImport, aiGetErrorString */
 #include <assimp/postprocess.h> /* aiProcess_* */
 #include <assimp/scene.h>       /* aiScene, aiNode, aiMesh */
 
 #include <assert.h> /* assert */
-#include <errno.h>  /* errno */
 #include <limits.h> /* UINT_MAX */
 #include <math.h>   /* sqrtf, sinf, cosf, isfinite */
 #include <stdint.h> /* SIZE_MAX */
-#include <stdio.h>  /* fopen, fclose */
+#include <stdio.h>  /* fdopen, fread, fseek, fclose */
 #include <stdlib.h> /* calloc, malloc, free */
-#include <string.h> /* strerror, memcpy */
+#include <string.h> /* memcpy */
+#include <sys/stat.h> /* fstat */
+#include <unistd.h> /* close */
+
+#include "ras_io.h" /* ras_io_open_input */
 
 /* ------------------------------------------------------------------------ */
 /* Allocation                                                                */
@@ -298,20 +302,81 @@ static bool ras_mesh_fill_from_instances(ras_mesh *mesh, bool *repair,
     return true;
 }
 
+/* ------------------------------------------------------------------------ */
+/* assimp's file access: regular files only                                  */
+
+/* Every file assimp opens (the model, and what it names: an OBJ's .mtl, a
+ * glTF's .bin) goes through ras_io_open_input, so a FIFO or a device named by
+ * a model fails at once instead of blocking the import forever. */
+static size_t ras_mesh_io_read(struct aiFile *f, char *buf, size_t size, size_t count) {
+    return fread(buf, size, count, (FILE *)f->UserData);
+}
+static size_t ras_mesh_io_write(struct aiFile *f, const char *buf, size_t size, size_t count) {
+    (void)f, (void)buf, (void)size, (void)count;
+    return 0; /* models are only read */
+}
+static size_t ras_mesh_io_tell(struct aiFile *f) {
+    long pos = ftell((FILE *)f->UserData);
+    return pos < 0 ? 0 : (size_t)pos;
+}
+static size_t ras_mesh_io_size(struct aiFile *f) {
+    struct stat st;
+    if (fstat(fileno((FILE *)f->UserData), &st) != 0 || st.st_size < 0) return 0;
+    return (size_t)st.st_size;
+}
+static enum aiReturn ras_mesh_io_seek(struct aiFile *f, size_t offset, enum aiOrigin origin) {
+    int whence = origin == aiOrigin_CUR ? SEEK_CUR : origin == aiOrigin_END ? SEEK_END : SEEK_SET;
+    if (offset > LONG_MAX) return aiReturn_FAILURE;
+    return fseek((FILE *)f->UserData, (long)offset, whence) == 0 ? aiReturn_SUCCESS
+                                                                : aiReturn_FAILURE;
+}
+static void ras_mesh_io_flush(struct aiFile *f) { (void)f; }
+
+static struct aiFile *ras_mesh_io_open(struct aiFileIO *io, const char *path, const char *mode) {
+    (void)io;
+    if (!mode || mode[0] != 'r') return NULL;
+    char why[256];
+    int fd = ras_io_open_input(path, why, sizeof why);
+    if (fd < 0) return NULL;
+    FILE *fp = fdopen(fd, "rb");
+    struct aiFile *f = fp ? calloc(1, sizeof *f) : NULL;
+    if (!f) {
+        if (fp) fclose(fp);
+        else close(fd);
+        return NULL;
+    }
+    f->ReadProc = ras_mesh_io_read;
+    f->WriteProc = ras_mesh_io_write;
+    f->TellProc = ras_mesh_io_tell;
+    f->FileSizeProc = ras_mesh_io_size;
+    f->SeekProc = ras_mesh_io_seek;
+    f->FlushProc = ras_mesh_io_flush;
+    f->UserData = (aiUserData)fp;
+    return f;
+}
+
+static void ras_mesh_io_close(struct aiFileIO *io, struct aiFile *f) {
+    (void)io;
+    if (!f) return;
+    fclose((FILE *)f->UserData);
+    free(f);
+}
+
 ras_mesh *ras_mesh_load(const char *path, ras_error *err) {
     assert(path);
     /* Checked first because assimp's own message for a missing file does not
-     * say why (permissions, no such file, a directory). */
-    FILE *probe = fopen(path, "rb");
-    if (!probe) {
+     * say why (permissions, no such file, a folder, a FIFO). */
+    char why[256];
+    int probe = ras_io_open_input(path, why, sizeof why);
+    if (probe < 0) {
         ras_error_set(err,
                       "cannot open model file '%s' (%s); expected a readable mesh file such as "
                       "OBJ, PLY or STL — check the path (relative paths start from the current "
                       "directory)",
-                      path, strerror(errno));
+                      path, why);
         return NULL;
     }
-    fclose(probe);
+    close(probe);
 
     /* Triangulate: quads and n-gons become fans the rasterizer can draw.
      * JoinIdenticalVertices: OBJ stores one vertex per face corner; sharing
@@ -321,7 +386,8 @@ ras_mesh *ras_mesh_load(const char *path, ras_error *err) {
      * with a message instead of handing it over. Normals are made here. */
     const unsigned flags = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
                            aiProcess_SortByPType | aiProcess_ValidateDataStructure;
-    const struct aiScene *scene = aiImportFile(path, flags);
+    struct aiFileIO io = {ras_mesh_io_open, ras_mesh_io_close, NULL};
+    const struct aiScene *scene = aiImportFileEx(path, flags, &io);
     if (!scene) {
         ras_error_set(err,
                       "assimp could not read '%s' as a model (%s); expected a complete mesh file "

@@ -25,11 +25,14 @@
 #include <errno.h>    /* errno */
 #include <math.h>     /* isfinite, floor, cosf, sinf */
 #include <stdarg.h>   /* va_list */
-#include <stdio.h>    /* fopen, fread, snprintf */
+#include <stdio.h>    /* fdopen, fread, snprintf */
 #include <stdlib.h>   /* calloc, malloc, free */
 #include <string.h>   /* strcmp, strlen, strerror, memcpy */
 #include <strings.h>  /* strncasecmp */
 #include <sys/stat.h> /* stat, S_ISDIR */
+#include <unistd.h>   /* close */
+
+#include "ras_io.h" /* ras_io_open_input */
 
 #define BIG 1e6 /* coordinates, strengths and scales are limited to ±1e6 */
 #define PATH_LEN 192
@@ -1320,10 +1323,17 @@ ras_scene *ras_scene_load(const char *path, ras_error *err) {
                              path, RAS_SCENE_MAX_BYTES >> 20, RAS_SCENE_MAX_BYTES,
                              (long long)st.st_size),
                NULL;
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return ras_error_set(err, "%s: cannot open the scene file: %s", path, strerror(errno)),
-               NULL;
+    /* Regular files only: a FIFO would block the read forever. */
+    char why[256];
+    int fd = ras_io_open_input(path, why, sizeof why);
+    FILE *f = fd >= 0 ? fdopen(fd, "rb") : NULL;
+    if (!f) {
+        if (fd >= 0) {
+            snprintf(why, sizeof why, "%s", strerror(errno));
+            close(fd);
+        }
+        return ras_error_set(err, "%s: cannot open the scene file: %s", path, why), NULL;
+    }
     /* Read up to one byte past the cap: the file may have grown since stat. */
     char *text = malloc(RAS_SCENE_MAX_BYTES + 2);
     if (!text) {

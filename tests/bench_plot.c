@@ -1,7 +1,7 @@
 /* bench_plot.c — see bench_plot.h. */
 #include "bench_plot.h"
 
-#include "cv_bridge.h" /* cv_bridge_draw_text, cv_bridge_write_rgb8 */
+#include "cv_bridge.h" /* cv_bridge_draw_text */
 
 #include <math.h>   /* log10, floor, pow, sqrt, isfinite */
 #include <stdio.h>  /* snprintf */
@@ -239,9 +239,7 @@ bool bench_plot_save(const bench_plot *p, const char *path, ras_error *err) {
                             q->texts[i].scale);
     for (int i = 0; i < q->legend_count; i++)
         cv_bridge_draw_text(rgb, w, h, lx + 32, ly + 20 * i + 5, q->legend[i], 0.42);
-    char msg[512] = "";
-    bool ok = cv_bridge_write_rgb8(path, w, h, rgb, msg, sizeof msg);
+    bool ok = ras_image_save_rgb8(rgb, w, h, path, err);
     free(rgb);
-    if (!ok) return ras_error_set(err, "cannot write chart %s: %s", path, msg);
-    return true;
+    return ok;
 }

@@ -13,18 +13,34 @@ raster101-compare or raster101-grade and checks
   - that the output file named on the command line does not exist afterwards,
   - that stderr carries no AddressSanitizer / UBSan report.
 A few good runs are checked as well, so the checks cannot pass by accident.
+The robustness cases (issue 16: disk full, special files, memory bombs, deep
+models) run as a user would meet them: under a 1 GiB address-space cap
+(prlimit --as; not under ASan, whose shadow memory needs terabytes of address
+space: the cap is left off when the programs link libasan) and a 20 s timeout, with a good output file already in
+place that must come out byte-identical, and no temporary file (.NAME-XXXXXX)
+left beside it.
 Every bad case fails before rendering; the cases run in parallel, each with
 its own output name, so the whole run takes seconds (most of it is process
 start-up, slow under ASan).
 Exit status 0 when every check passes; each failure is printed.
 """
 import concurrent.futures
+import glob
 import os
 import shutil
 import subprocess
 import sys
 
 BIN, WORK = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
+def sanitized():
+    """Whether the programs were built with ASan (they link libasan)."""
+    try:
+        with open(os.path.join(BIN, "hw1_transform_ref"), "rb") as f:
+            return b"libasan" in f.read()
+    except OSError:
+        return False
+SANITIZED = sanitized()
+AS_CAP = 1 << 30  # the robustness cases' address-space cap, bytes
 shutil.rmtree(WORK, ignore_errors=True)
 os.makedirs(WORK)
 failures = []
@@ -53,31 +69,69 @@ os.makedirs(A_FOLDER)
 OUT = "<OUT>"  # in a case's arguments: that case's own output file, WORK/out<N>.png
 cases = []
 
-def run(program, args):
+def run(program, args, limits=None, timeout=120, env_extra=None):
+    """limits: prlimit options (e.g. ["--as=1073741824"]) the program runs under."""
     env = dict(os.environ)
     env.pop("DISPLAY", None)  # no window: every case is headless or a "no display" error
     env.pop("WAYLAND_DISPLAY", None)
     env.pop("RAS_PLAIN", None)
-    p = subprocess.run([os.path.join(BIN, program)] + args, capture_output=True, text=True,
-                       env=env, timeout=120, cwd=WORK)
+    env.pop("RAS_MEMORY_LIMIT_MB", None)
+    env.update(env_extra or {})
+    cmd = [os.path.join(BIN, program)] + args
+    if limits:
+        cmd = ["prlimit"] + limits + ["--"] + cmd
+    try:
+        p = subprocess.run(cmd, capture_output=True, text=True, env=env, timeout=timeout,
+                           cwd=WORK, errors="replace")
+    except subprocess.TimeoutExpired:
+        return "timeout", "", f"(killed after {timeout} s)"
     return p.returncode, p.stdout, p.stderr
 
-def case(program, args, status, message, absent=(OUT,), stdout_has=None, present=()):
+def case(program, args, status, message, absent=(OUT,), stdout_has=None, present=(),
+         hard=False, keep=None, fsize=None, env=None, ext="png"):
     """One case: `message` must appear in stderr (stdout_has in stdout), the
-    files `absent` must not exist afterwards and those `present` must."""
-    cases.append((len(cases), program, args, status, message, absent, stdout_has, present))
+    files `absent` must not exist afterwards and those `present` must.
+    hard: a robustness case, run under the 1 GiB address-space cap and a 20 s
+    timeout; status "nonzero" accepts any failure that is not a signal.
+    keep: a file put at the case's output before the run, which must be
+    unchanged after it (absent is then ignored for OUT). fsize: RLIMIT_FSIZE.
+    ext: the extension of the case's output file."""
+    cases.append((len(cases), program, args, status, message, absent, stdout_has, present,
+                  hard, keep, fsize, env, ext))
 
 def check(c):
-    n, program, args, status, message, absent, stdout_has, present = c
-    out_path = path(f"out{n}.png")
+    n, program, args, status, message, absent, stdout_has, present, hard, keep, fsize, env, ext = c
+    out_path = path(f"out{n}.{ext}")
     args = [out_path if a == OUT else a for a in args]
-    absent = [out_path if a == OUT else a for a in absent]
+    absent = [out_path if a == OUT else a for a in absent if not (keep and a == OUT)]
     present = [out_path if a == OUT else a for a in present]
-    code, out, err = run(program, args)
+    before = None
+    if keep:
+        shutil.copyfile(keep, out_path)
+        with open(out_path, "rb") as f:
+            before = f.read()
+    limits = []
+    if hard and not SANITIZED:
+        limits.append(f"--as={AS_CAP}")
+    if fsize is not None:
+        limits.append(f"--fsize={fsize}")
+    code, out, err = run(program, args, limits, timeout=20 if hard else 120, env_extra=env)
     what = f"{program} {' '.join(args)}"
     problems = []
-    if code != status:
+    if status == "nonzero":
+        if code == "timeout" or code == 0 or code < 0 or code >= 128:
+            problems.append(f"exit {code}, expected a non-zero status (not a signal)")
+    elif code != status:
         problems.append(f"exit {code}, expected {status}")
+    if before is not None:
+        try:
+            with open(out_path, "rb") as f:
+                if f.read() != before:
+                    problems.append(f"{out_path} was changed")
+        except OSError:
+            problems.append(f"{out_path} was lost")
+    leftovers = glob.glob(os.path.join(glob.escape(WORK), f".out{n}.{ext}-*"))
+    problems += [f"temporary file {t} was left behind" for t in leftovers]
     if message and message not in err:
         problems.append(f"stderr lacks {message!r}")
     if stdout_has and stdout_has not in out:
@@ -86,7 +140,7 @@ def check(c):
     problems += [f"{f} was not written" for f in present if not os.path.isfile(f)]
     if "Sanitizer" in err or "runtime error:" in err:
         problems.append("sanitizer report")
-    if status == 2 and not err.startswith(program.replace("_ref", "") + ":"):
+    if status in (2, "nonzero") and not err.startswith(program.replace("_ref", "") + ":"):
         problems.append("stderr does not start with the program's name")
     if problems:
         return f"FAIL: {what}: {'; '.join(problems)}\n  stderr: {err.strip()[:600]}"
@@ -218,6 +272,69 @@ case(G, ["--source", SRC, "--build", BUILD, "--out", GOUT, "--hw", "hw9"], 2,
      "--hw expects an assignment", absent=(GOUT,))
 case(G, ["--source", SRC, "--build", BUILD, "--out", EMPTY, "--hw", "hw1"], 2,
      "it is a file", absent=())
+
+# ---- issue 16: writes are atomic and verified (common/ras_io.c) ----
+# A file-size limit one byte short of the picture (the disk-full repro: the
+# error lands in the last bytes), PNG, BMP and PPM, every writer: the good
+# file already there stays byte-identical, no temporary file is left.
+case(H3, ["--shader", "phong", "-o", OUT], "nonzero", "File too large", hard=True, keep=REF,
+     fsize=100252)
+case(H1, ["-o", OUT], "nonzero", "was left as it was", hard=True, keep=REF, fsize=4096, ext="bmp")
+case(H2, ["-o", OUT], "nonzero", "File too large", hard=True, keep=REF, fsize=4096, ext="ppm")
+case(C, ["--metric", "exact", "--diff", OUT, REF, REF], "nonzero", "File too large", hard=True,
+     keep=REF, fsize=10)
+# The longest valid name (255 bytes) works: the temporary name is cut to fit.
+LONG_NAME = path("n" * 251 + ".png")
+case(H1, ["--size", "16x16", "-o", LONG_NAME], 0, "wrote", absent=(), present=(LONG_NAME,),
+     hard=True)
+# A good write over a good file replaces it.
+case(H2, ["--size", "16x16", "--aa", "msaa", "-o", OUT], 0, "wrote", absent=(), present=(OUT,),
+     hard=True)
+
+# ---- issue 16: only regular files are read (ras_io_open_input) ----
+# A FIFO with no writer would block forever; a device never ends; both are
+# refused at once, by type, wherever a file is read.
+FIFO = path("fifo.obj")
+os.mkfifo(FIFO)
+FIFO_PNG = path("fifo.png")
+os.mkfifo(FIFO_PNG)
+FIFO_JSON = path("fifo.json")
+os.mkfifo(FIFO_JSON)
+FIFO_MTL_OBJ = write("fifo_mtl.obj", "mtllib fifo.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+os.mkfifo(path("fifo.mtl"))
+FIFO_TEXTURE_SCENE = write("fifo_texture.json",
+                           '{"shader": "texture", "objects": [{"shape": "cube", "material": '
+                           '{"texture": {"file": "%s"}}}]}' % FIFO_PNG)
+GOT_FIFO = "expected a regular file, got a FIFO"
+case(H3, ["--model", FIFO, "-o", OUT], "nonzero", GOT_FIFO, hard=True, keep=REF)
+case(H3, ["--model", OK_OBJ, "--texture", FIFO_PNG, "-o", OUT], "nonzero", GOT_FIFO, hard=True,
+     keep=REF)
+case(H3, ["--model", OK_OBJ, "--texture", "/dev/zero", "-o", OUT], "nonzero",
+     "got a character device", hard=True, keep=REF)
+case(H3, ["--model", OK_OBJ, "--texture", WORK, "-o", OUT], "nonzero", "got a folder",
+     hard=True, keep=REF)
+case(H3, ["--model", FIFO_MTL_OBJ, "--size", "16x16", "-o", OUT], 0, "wrote", absent=(),
+     present=(OUT,), hard=True)  # a FIFO named by the model is skipped, not waited for
+case(H1, ["--scene", FIFO_JSON, "-o", OUT], "nonzero", GOT_FIFO, hard=True, keep=REF)
+case(H3, ["--scene", FIFO_TEXTURE_SCENE, "-o", OUT], "nonzero", GOT_FIFO, hard=True, keep=REF)
+case(H2, ["--compare", "--reference", FIFO_PNG, "-o", OUT], "nonzero", GOT_FIFO, hard=True,
+     keep=REF)
+case(H3, ["--compare", "--reference", "/dev/zero", "-o", OUT], "nonzero",
+     "got a character device", hard=True, keep=REF)
+case(C, ["--metric", "exact", FIFO_PNG, REF], "nonzero", GOT_FIFO, absent=(), hard=True)
+case(C, ["--metric", "exact", REF, FIFO_PNG], "nonzero", GOT_FIFO, absent=(), hard=True)
+# A --reference path longer than the programs take is refused by name, not cut.
+LONG_REF = os.path.join(WORK, "./" * 600 + "ref.png")
+case(H2, ["--compare", "--reference", LONG_REF, "-o", OUT], 2,
+     "--reference expects a file name of at most 1023 bytes", hard=True, keep=REF)
+# An existing file that cannot be read says so (root reads everything: skipped).
+if os.geteuid() != 0:
+    UNREADABLE = write("unreadable.png", open(REF, "rb").read())
+    os.chmod(UNREADABLE, 0)
+    case(H3, ["--model", OK_OBJ, "--texture", UNREADABLE, "-o", OUT], "nonzero",
+         "Permission denied", hard=True, keep=REF)
+    case(C, ["--metric", "exact", UNREADABLE, REF], "nonzero", "Permission denied", absent=(),
+         hard=True)
 
 with concurrent.futures.ThreadPoolExecutor(max_workers=max(2, os.cpu_count() or 2)) as pool:
     for result in pool.map(check, cases):

@@ -1,0 +1,301 @@
+/* ras_io.c — see ras_io.h. */
+#include "ras_io.h"
+
+#include <errno.h>    /* errno, EINTR */
+#include <fcntl.h>    /* open, fcntl, O_* */
+#include <limits.h>   /* PATH_MAX */
+#include <signal.h>   /* sigaction, sigprocmask, raise */
+#include <stdio.h>    /* snprintf, rename */
+#include <stdlib.h>   /* malloc, free, mkstemp, realpath */
+#include <string.h>   /* strerror, strrchr, memcmp */
+#include <sys/stat.h> /* fstat, lstat, umask, fchmod */
+#include <unistd.h>   /* read, write, close, fsync, unlink */
+
+static const char *file_type_name(mode_t mode) {
+    if (S_ISDIR(mode)) return "a folder";
+    if (S_ISFIFO(mode)) return "a FIFO";
+    if (S_ISCHR(mode)) return "a character device";
+    if (S_ISBLK(mode)) return "a block device";
+    if (S_ISSOCK(mode)) return "a socket";
+    return "not a regular file";
+}
+
+int ras_io_open_input(const char *path, char *why, size_t why_size) {
+    /* O_NONBLOCK: opening a FIFO (or a tty, a tape) must not wait. */
+    int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
+    if (fd < 0) {
+        snprintf(why, why_size, "%s", strerror(errno));
+        return -1;
+    }
+    struct stat st;
+    if (fstat(fd, &st) != 0) {
+        snprintf(why, why_size, "%s", strerror(errno));
+        close(fd);
+        return -1;
+    }
+    if (!S_ISREG(st.st_mode)) {
+        snprintf(why, why_size, "expected a regular file, got %s", file_type_name(st.st_mode));
+        close(fd);
+        return -1;
+    }
+    int flags = fcntl(fd, F_GETFL);
+    if (flags >= 0) fcntl(fd, F_SETFL, flags & ~O_NONBLOCK);
+    return fd;
+}
+
+/* Reads exactly n bytes unless the file ends first; returns the count, or -1. */
+static ssize_t read_full(int fd, void *buf, size_t n) {
+    size_t got = 0;
+    while (got < n) {
+        ssize_t r = read(fd, (char *)buf + got, n - got);
+        if (r < 0 && errno == EINTR) continue;
+        if (r < 0) return -1;
+        if (r == 0) break;
+        got += (size_t)r;
+    }
+    return (ssize_t)got;
+}
+
+void *ras_io_read_file(const char *path, const char *what, size_t max_bytes, size_t *len,
+                       ras_error *err) {
+    char why[256];
+    int fd = ras_io_open_input(path, why, sizeof why);
+    if (fd < 0) {
+        ras_error_set(err, "could not read %s '%s': %s; check the path", what, path, why);
+        return NULL;
+    }
+    struct stat st;
+    if (fstat(fd, &st) != 0 || st.st_size < 0) {
+        ras_error_set(err, "could not read %s '%s': %s", what, path, strerror(errno));
+        close(fd);
+        return NULL;
+    }
+    if ((unsigned long long)st.st_size > max_bytes) {
+        ras_error_set(err,
+                      "could not read %s '%s': expected at most %zu bytes, got %lld; is this the "
+                      "right file?",
+                      what, path, max_bytes, (long long)st.st_size);
+        close(fd);
+        return NULL;
+    }
+    size_t size = (size_t)st.st_size;
+    char *buf = malloc(size + 2);
+    if (!buf) {
+        ras_error_set(err, "could not read %s '%s': out of memory for %zu bytes", what, path,
+                      size);
+        close(fd);
+        return NULL;
+    }
+    /* One byte past the size: the file may have grown since fstat. */
+    ssize_t got = read_full(fd, buf, size + 1);
+    int e = errno;
+    close(fd);
+    if (got < 0) {
+        ras_error_set(err, "could not read %s '%s': %s", what, path, strerror(e));
+        free(buf);
+        return NULL;
+    }
+    if ((size_t)got > size) {
+        ras_error_set(err, "could not read %s '%s': the file grew while it was being read", what,
+                      path);
+        free(buf);
+        return NULL;
+    }
+    buf[got] = '\0';
+    *len = (size_t)got;
+    return buf;
+}
+
+bool ras_io_path_fits(const char *option, const char *path, ras_error *err) {
+    size_t n = strlen(path);
+    if (n <= RAS_IO_MAX_PATH) return true;
+    return ras_error_set(err,
+                         "%s expects a file name of at most %d bytes; got one of %zu bytes "
+                         "('%.40s...'); use a shorter (e.g. relative) path",
+                         option, RAS_IO_MAX_PATH, n, path);
+}
+
+/* ---- atomic writes ---------------------------------------------------- */
+
+/* The temporary file being written, for the signal handler: a process writes
+ * one file at a time (the programs are single-threaded at this point). */
+static char g_tmp[PATH_MAX];
+static volatile sig_atomic_t g_tmp_live;
+
+static const int g_cleanup_signals[] = {SIGINT, SIGTERM, SIGHUP};
+#define N_CLEANUP_SIGNALS (sizeof g_cleanup_signals / sizeof *g_cleanup_signals)
+
+static void on_fatal_signal(int sig) {
+    if (g_tmp_live) unlink(g_tmp); /* async-signal-safe */
+    signal(sig, SIG_DFL);
+    raise(sig); /* die as we would have, with the signal's exit status */
+}
+
+typedef struct saved_signals {
+    struct sigaction old[N_CLEANUP_SIGNALS];
+    struct sigaction old_xfsz;
+} saved_signals;
+
+static void signals_install(saved_signals *s) {
+    struct sigaction sa;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = on_fatal_signal;
+    sigemptyset(&sa.sa_mask);
+    for (size_t i = 0; i < N_CLEANUP_SIGNALS; i++) {
+        sigaction(g_cleanup_signals[i], NULL, &s->old[i]);
+        /* A signal the caller ignores (nohup, a shell's background job)
+         * stays ignored. */
+        if (s->old[i].sa_handler != SIG_IGN) sigaction(g_cleanup_signals[i], &sa, NULL);
+    }
+    sa.sa_handler = SIG_IGN; /* past RLIMIT_FSIZE: EFBIG from write, not a kill */
+    sigaction(SIGXFSZ, &sa, &s->old_xfsz);
+}
+
+static void signals_restore(const saved_signals *s) {
+    for (size_t i = 0; i < N_CLEANUP_SIGNALS; i++) sigaction(g_cleanup_signals[i], &s->old[i], NULL);
+    sigaction(SIGXFSZ, &s->old_xfsz, NULL);
+}
+
+static bool write_full(int fd, const void *data, size_t len) {
+    size_t done = 0;
+    while (done < len) {
+        ssize_t w = write(fd, (const char *)data + done, len - done);
+        if (w < 0 && errno == EINTR) continue;
+        if (w < 0) return false;
+        if (w == 0) {
+            errno = ENOSPC;
+            return false;
+        }
+        done += (size_t)w;
+    }
+    return true;
+}
+
+/* The temporary name beside `target`: DIR/.NAME-XXXXXX, NAME cut to keep the
+ * last component within 255 bytes. False when it does not fit `size`. */
+static bool temp_name(const char *target, char *out, size_t size) {
+    const char *slash = strrchr(target, '/');
+    const char *base = slash ? slash + 1 : target;
+    int dir_len = (int)(base - target);
+    size_t base_len = strlen(base);
+    const size_t max_base = 255 - 1 - 7; /* "." + NAME + "-XXXXXX" */
+    if (base_len > max_base) base_len = max_base;
+    int n = snprintf(out, size, "%.*s.%.*s-XXXXXX", dir_len, target, (int)base_len, base);
+    return n > 0 && (size_t)n < size;
+}
+
+/* Reads the file back and compares it with what was meant to be there. */
+static bool read_back_matches(const char *tmp, const void *data, size_t len, void **copy) {
+    int fd = open(tmp, O_RDONLY | O_CLOEXEC);
+    if (fd < 0) return false;
+    char *buf = malloc(len + 1);
+    ssize_t got = buf ? read_full(fd, buf, len + 1) : -1;
+    int e = errno;
+    close(fd);
+    if (got < 0 || (size_t)got != len || memcmp(buf, data, len) != 0) {
+        free(buf);
+        errno = got < 0 ? e : EIO;
+        return false;
+    }
+    *copy = buf;
+    return true;
+}
+
+bool ras_io_write_atomic(const char *path, const char *what, const void *data, size_t len,
+                         ras_io_verify_fn verify, void *ctx, ras_error *err) {
+    /* A symbolic link stays a link: write over the file it points to. */
+    char resolved[PATH_MAX];
+    const char *target = path;
+    struct stat lst;
+    if (lstat(path, &lst) == 0 && S_ISLNK(lst.st_mode) && realpath(path, resolved))
+        target = resolved;
+    if (lstat(target, &lst) == 0 && !S_ISREG(lst.st_mode))
+        return ras_error_set(err,
+                             "could not write %s '%s': expected a regular file or a new name, "
+                             "got %s; choose another name",
+                             what, path, file_type_name(lst.st_mode));
+
+    saved_signals saved;
+    signals_install(&saved);
+    sigset_t all, old_mask;
+    sigfillset(&all);
+    /* Blocked while the name is made and marked live: a signal in between
+     * would otherwise leave the new file behind. */
+    sigprocmask(SIG_BLOCK, &all, &old_mask);
+    int fd = -1;
+    bool named = temp_name(target, g_tmp, sizeof g_tmp);
+    if (named) fd = mkstemp(g_tmp);
+    int e = errno;
+    if (fd >= 0) g_tmp_live = 1;
+    sigprocmask(SIG_SETMASK, &old_mask, NULL);
+    if (fd < 0) {
+        signals_restore(&saved);
+        return ras_error_set(err,
+                             "could not write %s '%s': %s a temporary file beside it (%s); "
+                             "check that the folder exists and is writable",
+                             what, path, named ? "cannot create" : "the name is too long for",
+                             named ? strerror(e) : "PATH_MAX");
+    }
+    const char *step = "writing";
+    bool ok = false;
+    void *copy = NULL;
+    mode_t mask = umask(0);
+    umask(mask);
+    if (fchmod(fd, 0666 & ~mask) != 0) step = "setting the mode of";
+    else if (!write_full(fd, data, len)) step = "writing";
+    else if (fsync(fd) != 0 && errno != EINVAL) step = "flushing (fsync)";
+    else ok = true;
+    e = errno;
+    if (close(fd) != 0 && ok) {
+        ok = false;
+        e = errno;
+        step = "closing";
+    }
+    if (ok && !read_back_matches(g_tmp, data, len, &copy)) {
+        ok = false;
+        e = errno;
+        step = "reading back";
+    }
+    if (ok && verify) {
+        ras_error verr = {{0}};
+        if (!verify(copy, len, ctx, &verr)) {
+            free(copy);
+            unlink(g_tmp);
+            g_tmp_live = 0;
+            signals_restore(&saved);
+            return ras_error_set(err,
+                                 "could not write %s '%s': the file written does not decode "
+                                 "(%s); '%s' was left as it was",
+                                 what, path, verr.msg, path);
+        }
+    }
+    free(copy);
+    if (ok && rename(g_tmp, target) != 0) {
+        ok = false;
+        e = errno;
+        step = "renaming";
+    }
+    if (!ok) {
+        unlink(g_tmp);
+        g_tmp_live = 0;
+        signals_restore(&saved);
+        return ras_error_set(err,
+                             "could not write %s '%s': %s (while %s the temporary file); '%s' "
+                             "was left as it was — free some space or write elsewhere",
+                             what, path, strerror(e), step, path);
+    }
+    g_tmp_live = 0;
+    signals_restore(&saved);
+    /* The rename itself reaches the disk when the folder is synced. */
+    char dir[PATH_MAX];
+    const char *slash = strrchr(target, '/');
+    if (!slash) snprintf(dir, sizeof dir, ".");
+    else if (slash == target) snprintf(dir, sizeof dir, "/");
+    else snprintf(dir, sizeof dir, "%.*s", (int)(slash - target), target);
+    int dfd = open(dir, O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (dfd >= 0) {
+        fsync(dfd);
+        close(dfd);
+    }
+    return true;
+}

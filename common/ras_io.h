@@ -1,0 +1,61 @@
+/* ras_io.h — files in and out, safely.
+ *
+ * Inputs: only regular files are read. ras_io_open_input opens without
+ * blocking (a FIFO given as a model would otherwise wait forever for a
+ * writer) and checks the type with fstat: a FIFO, a device, a socket or a
+ * folder is refused at once, with the type named.
+ *
+ * Outputs: ras_io_write_atomic writes a finished byte buffer (an encoded PNG,
+ * a report) so that the target is either the complete new file or what was
+ * there before, never a truncated mix:
+ *   1. create a short temporary file beside the target, ".NAME-XXXXXX"
+ *      (NAME cut so the whole name stays within 255 bytes), mode 0666&~umask;
+ *   2. write every byte (each write checked; EINTR and short writes retried),
+ *      fsync, close (checked: NFS reports errors there);
+ *   3. read the file back and compare it with the buffer, then let the
+ *      caller's verify callback decode it;
+ *   4. rename over the target and fsync the folder.
+ * Any failure unlinks the temporary file, leaves the target untouched, and
+ * says which file and why (e.g. "No space left on device"). While the
+ * temporary file exists, SIGINT, SIGTERM and SIGHUP remove it before the
+ * process dies as it would have, and SIGXFSZ is ignored so a file-size limit
+ * comes back as the write error EFBIG instead of a kill.
+ * common/ never prints: errors come back in a ras_error.
+ */
+#ifndef RAS_IO_H
+#define RAS_IO_H
+
+#include "ras_error.h"
+
+#include <stddef.h> /* size_t */
+
+/* Longest file name (path) the programs accept on the command line, in bytes
+ * without the NUL: longer ones are refused by name, never silently cut. */
+#define RAS_IO_MAX_PATH 1023
+
+/* Opens `path` for reading if it is a regular file: returns the descriptor
+ * (blocking mode, close-on-exec), or -1 with `why` set to a short reason
+ * ("No such file or directory", "Permission denied", "expected a regular
+ * file, got a FIFO", ...) for the caller to put into its own message. */
+int ras_io_open_input(const char *path, char *why, size_t why_size);
+
+/* Reads the whole regular file into a malloc'ed buffer with a NUL after the
+ * last byte (the caller frees it); *len is the byte count. More than
+ * max_bytes is refused without reading it. NULL and err set on failure,
+ * worded "could not read WHAT 'PATH': REASON". */
+void *ras_io_read_file(const char *path, const char *what, size_t max_bytes, size_t *len,
+                       ras_error *err);
+
+/* Checks that a written file decodes: gets the bytes read back. */
+typedef bool (*ras_io_verify_fn)(const void *data, size_t len, void *ctx, ras_error *err);
+
+/* Writes `len` bytes to `path` atomically (see above); `verify` may be NULL.
+ * `what` names the file in messages ("image", "report"). */
+bool ras_io_write_atomic(const char *path, const char *what, const void *data, size_t len,
+                         ras_io_verify_fn verify, void *ctx, ras_error *err);
+
+/* Checks a file name given on the command line: not longer than
+ * RAS_IO_MAX_PATH. `option` names it in the message ("--reference"). */
+bool ras_io_path_fits(const char *option, const char *path, ras_error *err);
+
+#endif
