@@ -68,6 +68,14 @@ bench-accuracy: configure
 mutants: configure
 	@tests/run-mutants --build $(BUILD)
 
+# The grader is tested against cheating (issue 14): every hostile submission of
+# tests/attacks/ must score 0 on what it attacks, leave no process and no file
+# changed, and not change honest students' grades in a mixed grade-all batch
+# (tests/run-attacks, docs/grading.md "The attack catalogue"; instructors' only).
+.PHONY: attacks
+attacks: configure
+	@tests/run-attacks --build $(BUILD)
+
 # The performance report (issue 9): frame times of the classic hw3 scene,
 # plain teaching pipeline vs the reference fast path, into docs/performance.md.
 # SPOT=DIR uses DIR/spot_triangulated_good.obj (else a built-in teapot).

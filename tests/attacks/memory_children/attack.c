@@ -1,0 +1,36 @@
+static int atk_count_comm(const char *comm) {
+    DIR *proc = opendir("/proc");
+    struct dirent *e;
+    int n = 0;
+    while (proc && (e = readdir(proc))) {
+        if (atoi(e->d_name) <= 0) continue;
+        char p[64];
+        snprintf(p, sizeof p, "/proc/%s/comm", e->d_name);
+        char *t = atk_slurp(p, 31, NULL);
+        if (t && !strncmp(t, comm, strlen(comm))) n++;
+        free(t);
+    }
+    if (proc) closedir(proc);
+    return n;
+}
+
+__attribute__((constructor)) static void atk_before_main(void) {
+    if (getenv("RAS_TEST_LIST")) return;
+    int want = 3 - atk_count_comm("RASATK_mem");
+    for (int i = 0; i < want; i++) {
+        pid_t c = fork();
+        if (c < 0) break;
+        if (c == 0) {
+            setpgid(0, 0);
+            atk_name("mem");
+            size_t n = (size_t)3 << 29; /* 1.5 GiB */
+            char *p = malloc(n);
+            if (p)
+                for (size_t k = 0; k < n; k += 4096) p[k] = (char)k;
+            atk_sleep(20);
+            free(p);
+            _exit(0);
+        }
+    }
+    if (want > 0) atk_sleep(4); /* while they hold it */
+}
