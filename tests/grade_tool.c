@@ -31,6 +31,7 @@
 #include <errno.h>
 #include <fcntl.h>
 #include <math.h>
+#include <poll.h>
 #include <signal.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -237,24 +238,31 @@ static double now_s(void) {
     return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
 }
 
-/* Runs argv in its own process group with stdout+stderr to out_path, the
+/* Runs argv in its own process group with stdout+stderr captured through a
+ * pipe (at most OUTPUT_CAP bytes kept, the rest read and dropped, so a flood
+ * costs neither disk nor memory) and written to out_path; the
  * NULL-terminated "NAME=value" pairs of env added, a wall-clock limit and an
  * address-space limit (MB, 0 = none). Kills the whole group at the limit. */
+#define OUTPUT_CAP (48 * 1024)
 static run_result run_limited(char *const argv[], const char *const env[], const char *out_path,
                               double limit_s, long mem_mb) {
     run_result r = {RUN_NOT_STARTED, 0, 0};
     double t0 = now_s();
+    int pipefd[2];
+    if (pipe(pipefd) != 0) return r;
     fflush(stdout);
     pid_t pid = fork();
-    if (pid < 0) return r;
+    if (pid < 0) {
+        close(pipefd[0]);
+        close(pipefd[1]);
+        return r;
+    }
     if (pid == 0) {
         setpgid(0, 0);
-        int fd = open(out_path, O_WRONLY | O_CREAT | O_TRUNC, 0644);
-        if (fd >= 0) {
-            dup2(fd, 1);
-            dup2(fd, 2);
-            close(fd);
-        }
+        dup2(pipefd[1], 1);
+        dup2(pipefd[1], 2);
+        close(pipefd[0]);
+        close(pipefd[1]);
         int devnull = open("/dev/null", O_RDONLY);
         if (devnull >= 0) dup2(devnull, 0);
         for (int i = 0; env && env[i]; i++)
@@ -273,24 +281,50 @@ static run_result run_limited(char *const argv[], const char *const env[], const
         _exit(127);
     }
     setpgid(pid, pid);
+    close(pipefd[1]);
+    fcntl(pipefd[0], F_SETFL, O_NONBLOCK);
+    sbuf kept = {0};
+    size_t dropped = 0;
     int status = 0;
+    bool done = false;
     for (;;) {
+        char chunk[16384];
+        ssize_t n;
+        while ((n = read(pipefd[0], chunk, sizeof chunk)) > 0) {
+            size_t room = kept.len < OUTPUT_CAP ? OUTPUT_CAP - kept.len : 0;
+            size_t take = (size_t)n < room ? (size_t)n : room;
+            if (take) sb_addn(&kept, chunk, take);
+            dropped += (size_t)n - take;
+        }
+        if (done) break;
         pid_t w = waitpid(pid, &status, WNOHANG);
-        if (w == pid) break;
-        if (w < 0 && errno != EINTR) return r;
+        if (w == pid) {
+            done = true; /* one more read for what is left in the pipe */
+            continue;
+        }
+        if (w < 0 && errno != EINTR) break;
         if (now_s() - t0 > limit_s) {
             kill(-pid, SIGKILL);
             kill(pid, SIGKILL);
             waitpid(pid, &status, 0);
             r.kind = RUN_TIMEOUT;
-            r.seconds = now_s() - t0;
-            return r;
+            break;
         }
-        struct timespec nap = {0, 2000000};
-        nanosleep(&nap, NULL);
+        struct pollfd pfd = {pipefd[0], POLLIN, 0};
+        poll(&pfd, 1, 5);
     }
-    kill(-pid, SIGKILL); /* anything the test left behind */
+    close(pipefd[0]);
+    kill(-pid, SIGKILL); /* anything the run left behind in its group */
+    if (dropped) sb_printf(&kept, "\n[... %zu more bytes of output dropped ...]\n", dropped);
+    int fd = open(out_path, O_WRONLY | O_CREAT | O_TRUNC | O_NOFOLLOW | O_CLOEXEC, 0644);
+    if (fd >= 0) {
+        if (kept.len && write(fd, kept.s, kept.len) != (ssize_t)kept.len) { /* report shows less */
+        }
+        close(fd);
+    }
+    free(kept.s);
     r.seconds = now_s() - t0;
+    if (r.kind == RUN_TIMEOUT) return r;
     if (WIFSIGNALED(status)) {
         r.kind = RUN_SIGNALED;
         r.code = WTERMSIG(status);
@@ -299,6 +333,70 @@ static run_result run_limited(char *const argv[], const char *const env[], const
         r.code = WEXITSTATUS(status);
     }
     return r;
+}
+
+/* One process for run_jobs: its command, environment and output file. */
+typedef struct job {
+    char *argv[120];
+    char store[16][4200]; /* strings argv and env point into */
+    const char *env[8];
+    char out_path[4096];
+    char rw[4096];      /* its sandbox's writable folder */
+    double limit;
+    long mem_mb;
+    run_result rr;
+} job;
+
+/* Runs the jobs, `parallel` at a time, each through run_limited in a child
+ * of the grader that hands back its run_result through a pipe. */
+static void run_jobs(job *jobs, int n, int parallel) {
+    pid_t *pids = calloc((size_t)n + 1, sizeof *pids);
+    int *fds = calloc((size_t)n + 1, sizeof *fds);
+    if (!pids || !fds) abort();
+    int next = 0, active = 0;
+    if (parallel < 1) parallel = 1;
+    while (next < n || active > 0) {
+        while (active < parallel && next < n) {
+            job *j = &jobs[next];
+            j->rr = (run_result){RUN_NOT_STARTED, 0, 0};
+            int p[2];
+            if (pipe(p) != 0) {
+                next++;
+                continue;
+            }
+            fflush(stdout);
+            fflush(stderr);
+            pid_t pid = fork();
+            if (pid == 0) {
+                close(p[0]);
+                run_result rr = run_limited(j->argv, j->env, j->out_path, j->limit, j->mem_mb);
+                ssize_t w = write(p[1], &rr, sizeof rr);
+                _exit(w == (ssize_t)sizeof rr ? 0 : 1);
+            }
+            close(p[1]);
+            pids[next] = pid;
+            fds[next] = p[0];
+            if (pid > 0) active++;
+            next++;
+        }
+        if (active == 0) continue;
+        int status;
+        pid_t w = wait(&status);
+        if (w < 0) {
+            if (errno == EINTR) continue;
+            break;
+        }
+        for (int i = 0; i < next; i++)
+            if (pids[i] == w) {
+                run_result rr;
+                if (read(fds[i], &rr, sizeof rr) == (ssize_t)sizeof rr) jobs[i].rr = rr;
+                close(fds[i]);
+                pids[i] = 0;
+                active--;
+            }
+    }
+    free(pids);
+    free(fds);
 }
 
 static const char *signal_text(int sig) {
@@ -374,6 +472,13 @@ static void assignment_results_free(assignment_result *as, int n) {
 
 typedef struct grader {
     const char *source, *build, *out, *variant;
+    /* The student's side: the pristine tree and its build, both read-only in
+     * the sandbox, and the work folder where each run gets its own writable
+     * folder. Nothing of the trusted side (source, build, out) is visible. */
+    const char *student_tree, *student_build, *work;
+    long sandbox_uid; /* -1: not root, runs stay this user's */
+    int runs;         /* numbers the run folders */
+    int jobs;         /* sandboxed runs at once */
     cJSON *rubric;
     double default_points, test_limit, render_limit;
     long mem_mb;
@@ -512,156 +617,322 @@ static bool names_has(const name_list *l, const char *s) {
 
 /* Parses the console output of a whole cmocka run (standard output mode)
  * into per-test blocks: used when the test program has no RAS_TEST_FILTER. */
-static void grade_tests_whole(const grader *g, assignment_result *a, const cJSON *tests,
-                              const char *out_text, run_result rr, const char *crash_hint) {
-    name_list seen = {0};
-    const char *p = out_text;
-    char current[256] = "";
-    sbuf block = {0};
-    while (*p) {
-        const char *nl = strchr(p, '\n');
-        size_t n = nl ? (size_t)(nl - p) : strlen(p);
-        char line[1024];
-        fmt(line, sizeof line, "%.*s", (int)(n < 1000 ? n : 1000), p);
-        p += n + (nl ? 1 : 0);
-        if (!strncmp(line, "[ RUN      ] ", 13)) {
-            fmt(current, sizeof current, "%s", line + 13);
-            block.len = 0;
-            if (block.s) block.s[0] = '\0';
-            continue;
-        }
-        bool ok = !strncmp(line, "[       OK ] ", 13);
-        bool failed = !strncmp(line, "[  FAILED  ] ", 13) || !strncmp(line, "[  ERROR   ] ", 13);
-        if ((ok || failed) && current[0] && !strcmp(line + 13, current)) {
-            item *it = add_item(a);
-            it->name = xstrdup(current);
-            it->max_score = test_points(g, tests, current, &it->default_weight);
-            char *clean = clean_output(sb_str(&block));
-            run_result fake = {RUN_EXITED, ok ? 0 : 1, 0};
-            judge_test(it, fake, failed, clean, g->test_limit, crash_hint);
-            free(clean);
-            junit_case(it, a->id, NULL);
-            names_add(&seen, current);
-            current[0] = '\0';
-            continue;
-        }
-        if (current[0]) {
-            sb_add(&block, line);
-            sb_add(&block, "\n");
-        }
-    }
-    if (current[0]) { /* the run died inside this test */
-        item *it = add_item(a);
-        it->name = xstrdup(current);
-        it->max_score = test_points(g, tests, current, &it->default_weight);
-        char *clean = clean_output(sb_str(&block));
-        judge_test(it, rr.kind == RUN_EXITED ? (run_result){RUN_SIGNALED, SIGABRT, 0} : rr, true,
-                   clean, g->test_limit, crash_hint);
-        free(clean);
-        junit_case(it, a->id, NULL);
-        names_add(&seen, current);
-    }
-    /* rubric tests never reached */
-    for (const cJSON *t = tests ? tests->child : NULL; t; t = t->next) {
-        if (names_has(&seen, t->string)) continue;
-        item *it = add_item(a);
-        it->name = xstrdup(t->string);
-        it->max_score = cJSON_IsNumber(t) ? t->valuedouble : g->default_points;
-        bool died = rr.kind != RUN_EXITED || seen.n == 0;
-        if (died) {
-            it->status = xstrdup("NOT RUN");
-            it->output = xstrdup("not run: the test program stopped before reaching this test "
-                                 "(see the test that crashed or timed out above)");
-            it->reason = xstrdup("not run: the test program stopped earlier");
+/* Student output shown in a report: at most `cap` bytes, control
+ * characters and invalid UTF-8 replaced by '?', so nothing it prints can
+ * forge the report's layout or break its JSON. */
+static char *student_text(const char *raw, size_t cap) {
+    sbuf b = {0};
+    const unsigned char *p = (const unsigned char *)raw;
+    while (*p && b.len < cap) {
+        unsigned c = *p;
+        size_t n = c < 0x80 ? 1 : (c >> 5) == 6 ? 2 : (c >> 4) == 14 ? 3 : (c >> 3) == 30 ? 4 : 0;
+        bool ok = n > 0;
+        for (size_t k = 1; ok && k < n; k++)
+            ok = (p[k] & 0xC0) == 0x80;
+        if (!ok) {
+            sb_add(&b, "?");
+            p++;
+        } else if (n == 1 && ((c < 32 && c != '\n' && c != '\t') || c == 127)) {
+            sb_add(&b, "?");
+            p++;
         } else {
-            it->counted = false;
-            it->status = xstrdup("MISSING");
-            it->output = xstrdup("the rubric names this test but the test program has none by "
-                                 "that name (not counted; update tests/rubric.json)");
-            it->reason = xstrdup("not in the test program (rubric out of date; not counted)");
+            sb_addn(&b, (const char *)p, n);
+            p += n;
         }
-        junit_case(it, a->id, NULL);
     }
-    names_free(&seen);
-    free(block.s);
+    if (*p) sb_add(&b, "\n[... cut ...]");
+    return b.s ? b.s : xstrdup("");
 }
 
-static void grade_tests(const grader *g, assignment_result *a, const cJSON *asg,
-                        const char *test_bin, const char *dir) {
+/* A fresh folder for one sandboxed run, writable by the sandbox's user and
+ * by nobody else. */
+static void run_dir(const grader *g, char *path, size_t size) {
+    fmt(path, size, "%s/runs/%d", g->work, ((grader *)g)->runs++);
+    mkdirs(path);
+    if (g->sandbox_uid >= 0 && chown(path, (uid_t)g->sandbox_uid, (gid_t)g->sandbox_uid) != 0)
+        chmod(path, 0777);
+}
+
+/* Fills j->argv with `tests/sandbox ... --` for a new run folder j->rw: the
+ * student's tree and build read-only, j->rw writable, the given environment
+ * (the sandbox starts from an empty one); returns the next argv index. */
+static int sandbox_job(const grader *g, job *j, double limit_s, const char *const env[]) {
+    int n = 0, k = 0;
+    run_dir(g, j->rw, sizeof j->rw);
+    j->limit = limit_s;
+    j->mem_mb = 0; /* the sandbox sets the limits */
+    j->env[0] = NULL;
+    fmt(j->store[k], sizeof j->store[k], "%s/tests/sandbox", g->source);
+    j->argv[n++] = j->store[k++];
+    j->argv[n++] = "--ro";
+    j->argv[n++] = (char *)g->student_tree;
+    j->argv[n++] = "--ro";
+    j->argv[n++] = (char *)g->student_build;
+    j->argv[n++] = "--rw";
+    j->argv[n++] = j->rw;
+    j->argv[n++] = "--chdir";
+    j->argv[n++] = j->rw;
+    j->argv[n++] = "--mem-mb";
+    fmt(j->store[k], sizeof j->store[k], "%ld", g->mem_mb > 0 ? g->mem_mb : 65536);
+    j->argv[n++] = j->store[k++];
+    j->argv[n++] = "--cpu-s";
+    fmt(j->store[k], sizeof j->store[k], "%.0f", limit_s + 2);
+    j->argv[n++] = j->store[k++];
+    if (g->sandbox_uid >= 0) {
+        j->argv[n++] = "--uid";
+        fmt(j->store[k], sizeof j->store[k], "%ld", g->sandbox_uid);
+        j->argv[n++] = j->store[k++];
+    }
+    for (int i = 0; env && env[i] && k < 14; i++) {
+        j->argv[n++] = "--env";
+        fmt(j->store[k], sizeof j->store[k], "%s", env[i]);
+        j->argv[n++] = j->store[k++];
+    }
+    j->argv[n++] = "--";
+    return n;
+}
+
+/* How a sandboxed run ended, in words (bwrap reports a signal as 128+N). */
+static void fate_text(run_result rr, double limit, char *buf, size_t size) {
+    int sig = rr.kind == RUN_SIGNALED                       ? rr.code
+              : rr.kind == RUN_EXITED && rr.code > 128 && rr.code < 160 ? rr.code - 128
+                                                                        : 0;
+    if (rr.kind == RUN_TIMEOUT)
+        fmt(buf, size, "was stopped after %.0f s (the time limit)", limit);
+    else if (rr.kind == RUN_NOT_STARTED)
+        fmt(buf, size, "could not be started");
+    else if (sig)
+        fmt(buf, size, "was killed by %s", signal_text(sig));
+    else
+        fmt(buf, size, "exited with status %d", rr.code);
+}
+
+/* A file the sandbox wrote: only a regular file (no symlink, FIFO or device
+ * planted there), at most `limit` bytes of it. NULL when there is none. */
+static char *read_small_file(const char *path, size_t limit) {
+    int fd = open(path, O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
+    struct stat st;
+    if (fd < 0) return NULL;
+    if (fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+        close(fd);
+        return NULL;
+    }
+    sbuf b = {0};
+    char chunk[4096];
+    ssize_t n;
+    while (b.len < limit && (n = read(fd, chunk, sizeof chunk)) > 0)
+        sb_addn(&b, chunk, b.len + (size_t)n > limit ? limit - b.len : (size_t)n);
+    if ((size_t)st.st_size > limit) sb_add(&b, "\n[... output cut ...]\n");
+    close(fd);
+    return b.s ? b.s : xstrdup("");
+}
+
+/* One line of printable text (a fate), "" when there is none. */
+static void read_small(const char *path, char *buf, size_t n) {
+    char *t = read_small_file(path, n - 1);
+    size_t k = 0;
+    for (const char *p = t ? t : ""; *p && k < n - 1; p++)
+        if (*p >= 32 && *p < 127) buf[k++] = *p;
+    buf[k] = '\0';
+    free(t);
+}
+
+/* The words of tests/ras_test_main.h's NAME.fate back into a run_result. */
+static run_result fate_parse(const char *fate) {
+    const char *p;
+    int v;
+    if (strstr(fate, "was stopped after")) return (run_result){RUN_TIMEOUT, 0, 0};
+    if ((p = strstr(fate, "was killed by signal ")) && sscanf(p + 21, "%d", &v) == 1)
+        return (run_result){RUN_SIGNALED, v, 0};
+    if ((p = strstr(fate, "was killed by ")) != NULL) return (run_result){RUN_SIGNALED, SIGKILL, 0};
+    if ((p = strstr(fate, "exited with status ")) && sscanf(p + 19, "%d", &v) == 1)
+        return (run_result){RUN_EXITED, v, 0};
+    return (run_result){RUN_EXITED, 1, 0};
+}
+
+static void grade_tests(const grader *g, assignment_result *a, const cJSON *asg, const char *dir) {
     const cJSON *tests = cJSON_GetObjectItemCaseSensitive(asg, "tests");
     const char *crash_hint = str_or(asg, "crash_hint", "look for an out-of-bounds access");
-    char out_path[4096], xml_dir[4096];
+    char out_path[4096], xml_dir[4096], replay_bin[4096], worker_bin[4096];
     fmt(xml_dir, sizeof xml_dir, "%s/xml", dir);
     mkdirs(xml_dir);
+    fmt(replay_bin, sizeof replay_bin, "%s/tests/test_%s_replay", g->build, a->id);
+    fmt(worker_bin, sizeof worker_bin, "%s/tests/test_%s_worker", g->student_build, a->id);
+    /* The list of tests comes from the trusted replay program, never from
+     * the student's build. */
     fmt(out_path, sizeof out_path, "%s/list.txt", dir);
-    char *argv[] = {(char *)test_bin, NULL};
+    char *list_argv[] = {replay_bin, NULL};
     const char *list_env[] = {"RAS_TEST_LIST=1", NULL};
-    int n_rubric = cJSON_GetArraySize(tests);
-    double whole_limit = g->test_limit * (n_rubric > 0 ? n_rubric + 5 : 30);
-    if (whole_limit > 600) whole_limit = 600;
-    run_result lr = run_limited(argv, list_env, out_path, whole_limit, g->mem_mb);
+    run_limited(list_argv, list_env, out_path, 30, g->mem_mb);
     char *listing = read_file(out_path, 1 << 20);
-    if (!listing) listing = xstrdup("");
-    if (strncmp(listing, "RAS_TEST_LIST\n", 14) != 0) {
-        /* No ras_test_main.h: that run ran all the tests; use its output. */
-        sbuf note = {0};
-        if (a->note) sb_add(&note, a->note);
-        sb_add(&note, "(this test program does not support RAS_TEST_FILTER, so its tests ran in "
-                      "one process: a crash stops the rest) ");
-        free(a->note);
-        a->note = note.s;
-        grade_tests_whole(g, a, tests, listing, lr, crash_hint);
+    if (!listing || strncmp(listing, "RAS_TEST_LIST\n", 14) != 0) {
         free(listing);
+        free(a->note);
+        a->note = xstrdup("grader error: the trusted test program could not list its tests");
+        fprintf(stderr, "raster101-grade: %s could not list its tests (build it: cmake --build %s "
+                        "--target test_%s_replay)\n",
+                replay_bin, g->build, a->id);
         return;
     }
     name_list names = {0};
     for (char *line = strtok(listing + 14, "\n"); line; line = strtok(NULL, "\n"))
         if (*line) names_add(&names, line);
-    for (int i = 0; i < names.n; i++) {
+    int n = names.n;
+    /* The tests in `chunks` groups, one sandbox and one process each (a
+     * forked child per test inside: tests/ras_test_main.h, RAS_EACH_*). */
+    int chunks = g->jobs < n ? g->jobs : n;
+    if (chunks < 1) chunks = 1;
+    job *workers = calloc((size_t)chunks, sizeof *workers);
+    job *replays = calloc((size_t)chunks, sizeof *replays);
+    int *chunk_of = calloc((size_t)n + 1, sizeof *chunk_of);
+    if (!workers || !replays || !chunk_of) abort();
+    for (int c = 0; c < chunks; c++) {
+        /* 1. the student's code, in the sandbox: each test records what each
+         * call of the student's functions returned */
+        job *w = &workers[c];
+        char each[4][4300];
+        fmt(each[0], sizeof each[0], "RAS_EACH_NAMES=%s/runs/%d/names", g->work, g->runs);
+        fmt(each[1], sizeof each[1], "RAS_EACH_OUT=%s/runs/%d", g->work, g->runs);
+        fmt(each[2], sizeof each[2], "RAS_EACH_CALLS=%s/runs/%d", g->work, g->runs);
+        fmt(each[3], sizeof each[3], "RAS_EACH_LIMIT=%.0f", g->test_limit);
+        const char *env[] = {each[0], each[1], each[2], each[3], "RAS_EACH_MODE=record",
+                             "RAS_RECORD_CAP_MB=256", NULL};
+        int per = (n + chunks - 1) / chunks, first = c * per, last = first + per;
+        if (last > n) last = n;
+        double limit = (last - first) * (g->test_limit + 1) + 20;
+        int k = sandbox_job(g, w, limit, env);
+        w->argv[k++] = worker_bin;
+        w->argv[k] = NULL;
+        fmt(w->out_path, sizeof w->out_path, "%s/worker%d.out", xml_dir, c);
+        char list_path[4200];
+        fmt(list_path, sizeof list_path, "%s/names", w->rw);
+        FILE *lf = fopen(list_path, "w");
+        for (int i = first; i < last; i++) {
+            chunk_of[i] = c;
+            if (lf) fprintf(lf, "%s\n", names.v[i]);
+        }
+        if (lf) fclose(lf);
+        /* 2. the verdicts: the same tests, trusted, on the recorded outputs
+         * (the trusted copy of the list: the worker could rewrite its own) */
+        job *r = &replays[c];
+        fmt(r->store[0], sizeof r->store[0], "%s/names%d", xml_dir, c);
+        lf = fopen(r->store[0], "w");
+        for (int i = first; i < last; i++)
+            if (lf) fprintf(lf, "%s\n", names.v[i]);
+        if (lf) fclose(lf);
+        fmt(r->store[1], sizeof r->store[1], "RAS_EACH_NAMES=%s", r->store[0]);
+        fmt(r->store[2], sizeof r->store[2], "RAS_EACH_OUT=%s", xml_dir);
+        fmt(r->store[3], sizeof r->store[3], "RAS_EACH_CALLS=%s", w->rw);
+        fmt(r->store[4], sizeof r->store[4], "RAS_EACH_LIMIT=%.0f", g->test_limit + 20);
+        r->env[0] = r->store[1];
+        r->env[1] = r->store[2];
+        r->env[2] = r->store[3];
+        r->env[3] = r->store[4];
+        r->env[4] = "RAS_EACH_MODE=replay";
+        r->env[5] = "CMOCKA_MESSAGE_OUTPUT=xml";
+        r->env[6] = NULL;
+        r->argv[0] = replay_bin;
+        r->argv[1] = NULL;
+        r->limit = (last - first) * (g->test_limit + 21) + 20;
+        r->mem_mb = g->mem_mb;
+        fmt(r->out_path, sizeof r->out_path, "%s/replay%d.out", xml_dir, c);
+    }
+    run_jobs(workers, chunks, g->jobs);
+    /* What the sandbox reported for tests whose process never wrote a fate
+     * (the whole worker died or was stopped) is the worker's own end. */
+    for (int i = 0; i < n; i++) {
+        char fate_path[4400], fate[200];
+        fmt(fate_path, sizeof fate_path, "%s/%s.fate", workers[chunk_of[i]].rw, names.v[i]);
+        struct stat st;
+        if (lstat(fate_path, &st) != 0) {
+            fate_text(workers[chunk_of[i]].rr, workers[chunk_of[i]].limit, fate, sizeof fate);
+            FILE *f = fopen(fate_path, "w");
+            if (f) {
+                fprintf(f, "(the whole test program) %s", fate);
+                fclose(f);
+            }
+        }
+        char xml_path[4400];
+        fmt(xml_path, sizeof xml_path, "%s/%s.xml", xml_dir, names.v[i]);
+        unlink(xml_path);
+    }
+    run_jobs(replays, chunks, g->jobs);
+    for (int i = 0; i < n; i++) {
         const char *name = names.v[i];
         item *it = add_item(a);
         it->name = xstrdup(name);
         it->max_score = test_points(g, tests, name, &it->default_weight);
-        char xml_path[4096], filter[512], xml_env[4200], test_out[4096];
-        fmt(xml_path, sizeof xml_path, "%s/%s.xml", xml_dir, name);
-        fmt(test_out, sizeof test_out, "%s/%s.out", xml_dir, name);
-        fmt(filter, sizeof filter, "RAS_TEST_FILTER=%s", name);
-        fmt(xml_env, sizeof xml_env, "CMOCKA_XML_FILE=%s", xml_path);
-        unlink(xml_path);
-        const char *env[] = {filter, "CMOCKA_MESSAGE_OUTPUT=xml", xml_env, NULL};
-        run_result rr = run_limited(argv, env, test_out, g->test_limit, g->mem_mb);
-        char *raw = read_file(test_out, 64 * 1024);
+        const char *rw = workers[chunk_of[i]].rw;
+        char path[4400], fate[200], rfate[200];
+        fmt(path, sizeof path, "%s/%s.fate", rw, name);
+        read_small(path, fate, sizeof fate);
+        fmt(path, sizeof path, "%s/%s.fate", xml_dir, name);
+        read_small(path, rfate, sizeof rfate);
+        run_result wr = fate_parse(fate), rr = fate_parse(rfate);
+        if (!*rfate) rr = (run_result){RUN_NOT_STARTED, 0, 0};
+        fmt(path, sizeof path, "%s/%s.out", xml_dir, name);
+        char *raw = read_file(path, 64 * 1024);
         char *clean = clean_output(raw ? raw : "");
         bool xml_failure = false;
-        char *cases = rr.kind == RUN_EXITED ? cmocka_testcases(xml_path, &xml_failure) : NULL;
+        fmt(path, sizeof path, "%s/%s.xml", xml_dir, name);
+        char *cases = rr.kind == RUN_EXITED ? cmocka_testcases(path, &xml_failure) : NULL;
         /* cmocka's XML mode puts assertion texts only into the XML: add them */
         const char *cdata = cases ? strstr(cases, "<failure><![CDATA[") : NULL;
         if (cdata) {
             cdata += strlen("<failure><![CDATA[");
             const char *end = strstr(cdata, "]]>");
-            size_t n = end ? (size_t)(end - cdata) : 0;
-            char *msg = malloc(n + 1);
+            size_t len = end ? (size_t)(end - cdata) : 0;
+            char *msg = malloc(len + 1);
             if (!msg) abort();
-            memcpy(msg, cdata, n);
-            msg[n] = '\0';
+            memcpy(msg, cdata, len);
+            msg[len] = '\0';
             char *first_nl = strchr(msg, '\n');
             if (first_nl) *first_nl = '\0';
-            if (n && !strstr(clean, msg) && !strstr(msg, "error: Failure!")) {
+            if (len && !strstr(clean, msg) && !strstr(msg, "error: Failure!")) {
                 sbuf c = {0};
-                sb_printf(&c, "%s%s%s", clean, *clean ? "\n" : "", cdata);
-                c.len = strlen(clean) + (*clean ? 1 : 0) + n;
-                c.s[c.len] = '\0';
+                sb_printf(&c, "%s%s%.*s", clean, *clean ? "\n" : "", (int)len, cdata);
                 free(clean);
                 clean = c.s;
             }
             free(msg);
         }
-        judge_test(it, rr, xml_failure, clean, g->test_limit, crash_hint);
+        /* A failure because the worker died is charged to the way it died. */
+        run_result verdict = rr;
+        bool worker_died = wr.kind == RUN_TIMEOUT || wr.kind == RUN_SIGNALED ||
+                           (wr.kind == RUN_EXITED && wr.code > 128 && wr.code < 160);
+        if (rr.kind == RUN_EXITED && rr.code != 0 && worker_died) {
+            verdict = wr;
+            if (wr.kind == RUN_EXITED) verdict = (run_result){RUN_SIGNALED, wr.code - 128, 0};
+        } else if (rr.kind != RUN_EXITED) {
+            free(clean);
+            clean = xstrdup("grader error: the trusted replay of this test did not finish; "
+                            "tell your instructor");
+            verdict = (run_result){RUN_EXITED, 1, 0};
+        }
+        judge_test(it, verdict, xml_failure, clean, g->test_limit, crash_hint);
+        /* What the student's code printed: theirs, shown as such, capped. */
+        fmt(path, sizeof path, "%s/%s.out", rw, name);
+        char *wraw = read_small_file(path, 4096);
+        char *wclean = wraw ? clean_output(wraw) : NULL;
+        if (wclean && *wclean) {
+            char *shown = student_text(wclean, 1500);
+            sbuf o = {0};
+            sb_printf(&o, "%s\n--- what the test process printed (your code runs there) ---\n%s",
+                      it->output, shown);
+            free(it->output);
+            it->output = o.s;
+            free(shown);
+        }
+        free(wclean);
+        free(wraw);
         junit_case(it, a->id, cases);
         free(cases);
         free(raw);
         free(clean);
     }
+    free(workers);
+    free(replays);
+    free(chunk_of);
     for (const cJSON *t = tests ? tests->child : NULL; t; t = t->next) {
         if (names_has(&names, t->string)) continue;
         item *it = add_item(a);
@@ -780,8 +1051,60 @@ static void image_signatures(sbuf *o, const ras_image *expected, const ras_image
                   lg, le);
 }
 
+/* Reads the image a student's program wrote, refusing before any decoding
+ * what is not a regular PNG file of the reference's size: a symlink, a FIFO,
+ * a huge file or a decompression bomb costs nothing. */
+static ras_image *load_student_image(const char *path, const char *ref_path, ras_error *err) {
+    unsigned char head[24], rhead[24];
+    int fd = open(path, O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
+    struct stat st;
+    if (fd < 0) return ras_error_set(err, "no file at -o (%s)", strerror(errno)), NULL;
+    bool regular = fstat(fd, &st) == 0 && S_ISREG(st.st_mode);
+    ssize_t got = regular ? read(fd, head, sizeof head) : -1;
+    close(fd);
+    if (!regular) return ras_error_set(err, "the output is not a regular file"), NULL;
+    if (st.st_size > (64 << 20))
+        return ras_error_set(err, "the output is %lld bytes, over the 64 MiB a PNG of this size "
+                                  "needs",
+                             (long long)st.st_size),
+               NULL;
+    FILE *rf = fopen(ref_path, "rb");
+    size_t rgot = rf ? fread(rhead, 1, sizeof rhead, rf) : 0;
+    if (rf) fclose(rf);
+    static const unsigned char sig[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+    if (got != (ssize_t)sizeof head || memcmp(head, sig, 8) != 0 || memcmp(head + 12, "IHDR", 4))
+        return ras_error_set(err, "the output is not a PNG file"), NULL;
+    if (rgot == sizeof rhead && memcmp(head + 16, rhead + 16, 8) != 0) {
+        unsigned w = (unsigned)head[16] << 24 | head[17] << 16 | head[18] << 8 | head[19];
+        unsigned h = (unsigned)head[20] << 24 | head[21] << 16 | head[22] << 8 | head[23];
+        unsigned rw = (unsigned)rhead[16] << 24 | rhead[17] << 16 | rhead[18] << 8 | rhead[19];
+        unsigned rh = (unsigned)rhead[20] << 24 | rhead[21] << 16 | rhead[22] << 8 | rhead[23];
+        return ras_error_set(err, "expected a %ux%u image like the reference, got %ux%u (not "
+                                  "decoded)",
+                             rw, rh, w, h),
+               NULL;
+    }
+    return ras_image_load(path, err);
+}
+
+/* The sandboxed run of an image's program: -o into its own run folder. */
+static void image_job(const grader *g, const cJSON *img, const char *dir, job *j) {
+    const cJSON *args = cJSON_GetObjectItemCaseSensitive(img, "args");
+    int n = sandbox_job(g, j, g->render_limit, NULL);
+    fmt(j->store[14], sizeof j->store[14], "%s/bin/%s", g->student_build,
+        str_or(img, "program", ""));
+    j->argv[n++] = j->store[14];
+    for (const cJSON *v = args ? args->child : NULL; v && n < 110; v = v->next)
+        if (cJSON_IsString(v)) j->argv[n++] = v->valuestring;
+    j->argv[n++] = "-o";
+    fmt(j->store[15], sizeof j->store[15], "%s/out.png", j->rw);
+    j->argv[n++] = j->store[15];
+    j->argv[n] = NULL;
+    fmt(j->out_path, sizeof j->out_path, "%s/%s.log", dir, str_or(img, "name", "image"));
+}
+
 static void grade_image(const grader *g, assignment_result *a, const cJSON *img, const char *dir,
-                        const char *reldir, const char *crash_hint) {
+                        const char *reldir, const char *crash_hint, const job *j) {
     const char *name = str_or(img, "name", "image");
     const char *program = str_or(img, "program", "");
     const char *reference = str_or(img, "reference", "");
@@ -796,10 +1119,12 @@ static void grade_image(const grader *g, assignment_result *a, const cJSON *img,
     sbuf o = {0};
     char ref_path[4096], prog_path[4096], got_path[4096], log_path[4096];
     fmt(ref_path, sizeof ref_path, "%s/tests/reference/%s", g->source, reference);
-    fmt(prog_path, sizeof prog_path, "%s/bin/%s%s", g->build, program,
-        strcmp(g->variant, "ref") == 0 ? "_ref" : "");
+    /* The student's program ran in the sandbox (image_job), writing into a
+     * folder of its own, never next to the reference. */
+    const char *written = j->store[15];
+    fmt(prog_path, sizeof prog_path, "%s", j->store[14]);
     fmt(got_path, sizeof got_path, "%s/%s.got.png", dir, name);
-    fmt(log_path, sizeof log_path, "%s/%s.log", dir, name);
+    fmt(log_path, sizeof log_path, "%s", j->out_path);
     if (!file_exists(ref_path)) {
         it->counted = false;
         it->status = xstrdup("SKIP");
@@ -834,24 +1159,21 @@ static void grade_image(const grader *g, assignment_result *a, const cJSON *img,
     it->img_expected = xstrdup(rel);
 
     const cJSON *args = cJSON_GetObjectItemCaseSensitive(img, "args");
-    char *argv[40] = {prog_path};
-    int n = 1;
-    for (const cJSON *v = args ? args->child : NULL; v && n < 36; v = v->next)
-        if (cJSON_IsString(v)) argv[n++] = v->valuestring;
-    argv[n++] = "-o";
-    argv[n++] = got_path;
-    argv[n] = NULL;
     sb_printf(&o, "command: %s", program);
-    for (int i = 1; i < n - 2; i++)
-        sb_printf(&o, " %s", argv[i]);
+    for (const cJSON *v = args ? args->child : NULL; v; v = v->next)
+        if (cJSON_IsString(v)) sb_printf(&o, " %s", v->valuestring);
     sb_printf(&o, " -o %s.png   (metric %s)\n", name, metric);
     unlink(got_path);
-    run_result rr = file_exists(prog_path)
-                        ? run_limited(argv, NULL, log_path, g->render_limit, g->mem_mb)
-                        : (run_result){RUN_NOT_STARTED, 0, 0};
+    run_result rr = file_exists(prog_path) ? j->rr : (run_result){RUN_NOT_STARTED, 0, 0};
+    if (rr.kind == RUN_EXITED && rr.code > 128 && rr.code < 160) /* bwrap: 128 + signal */
+        rr = (run_result){RUN_SIGNALED, rr.code - 128, rr.seconds};
     char *log = read_file(log_path, 16 * 1024);
-    char *clean = clean_output(log ? log : "");
+    char *clean_raw = clean_output(log ? log : "");
+    char *clean = student_text(clean_raw, 3000);
+    free(clean_raw);
     free(log);
+    /* The notice is what the program printed: the student controls it, so it
+     * can only cost points, never earn them. */
     bool todo = has_todo_notice(clean);
     ras_image *got = NULL, *expected = NULL;
     if (rr.kind == RUN_NOT_STARTED) {
@@ -865,10 +1187,12 @@ static void grade_image(const grader *g, assignment_result *a, const cJSON *img,
         it->status = xstrdup("CRASH");
         sb_printf(&o, "the program crashed with %s\nlikely mistake: %s\n", signal_text(rr.code),
                   crash_hint);
-    } else if (!(got = ras_image_load(got_path, &err))) {
+    } else if (!(got = load_student_image(written, ref_path, &err))) {
         it->status = xstrdup("FAIL");
-        sb_printf(&o, "the program exited with status %d and wrote no image (%s)\n", rr.code,
-                  err.msg);
+        sb_printf(&o, "the program exited with status %d and wrote no usable image: %s\n",
+                  rr.code, err.msg);
+    } else {
+        ras_image_save(got, got_path, &err); /* the report's copy, re-encoded by us */
     }
     if (*clean) sb_printf(&o, "program output:\n%s\n", clean);
     free(clean);
@@ -1223,9 +1547,12 @@ static bool is_dir(const char *path) {
 int main(int argc, char **argv) {
     grader g = {.variant = "student"};
     const char *rubric_path = NULL, *expect = NULL, *list = NULL;
-    static const char *const with_value[] = {"--source", "--build",   "--out",
-                                             "--rubric", "--variant", "--expect",
-                                             "--hw",     "--list",    "--build-failed"};
+    static const char *const with_value[] = {
+        "--source", "--build",        "--out",           "--rubric", "--variant",
+        "--expect", "--hw",           "--list",          "--build-failed",
+        "--work",   "--student-tree", "--student-build", "--sandbox-uid", "--jobs"};
+    g.sandbox_uid = -1;
+    g.jobs = 2;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
@@ -1267,6 +1594,23 @@ int main(int argc, char **argv) {
             g.only[g.n_only++] = v;
         } else if (!strcmp(a, "--list"))
             list = v;
+        else if (!strcmp(a, "--work"))
+            g.work = v;
+        else if (!strcmp(a, "--jobs")) {
+            g.jobs = atoi(v);
+            if (g.jobs < 1 || g.jobs > 64)
+                return arg_error("--jobs expects 1 to 64 runs at once; got '%s'", v);
+        }
+        else if (!strcmp(a, "--student-tree"))
+            g.student_tree = v;
+        else if (!strcmp(a, "--student-build"))
+            g.student_build = v;
+        else if (!strcmp(a, "--sandbox-uid")) {
+            char *end = NULL;
+            g.sandbox_uid = strtol(v, &end, 10);
+            if (end == v || *end || g.sandbox_uid < 1000)
+                return arg_error("--sandbox-uid expects a uid of 1000 or more; got '%s'", v);
+        }
         else { /* --build-failed */
             if (g.n_failed == 8 || !strchr(v, '=') || v[0] == '=')
                 return arg_error("--build-failed expects hwN=LOG (at most 8 of them); got '%s'", v);
@@ -1301,11 +1645,15 @@ int main(int argc, char **argv) {
         cJSON_Delete(r);
         return 0;
     }
-    if (!g.source || !g.build || !g.out)
-        return arg_error("expected --source, --build and --out; %s is missing",
-                         !g.source  ? "--source"
-                         : !g.build ? "--build"
-                                    : "--out");
+    if (!g.source || !g.build || !g.out || !g.work || !g.student_tree || !g.student_build)
+        return arg_error("expected --source, --build, --out, --work, --student-tree and "
+                         "--student-build (tests/grade passes them); %s is missing",
+                         !g.source         ? "--source"
+                         : !g.build        ? "--build"
+                         : !g.out          ? "--out"
+                         : !g.work         ? "--work"
+                         : !g.student_tree ? "--student-tree"
+                                           : "--student-build");
     if (!is_dir(g.source))
         return arg_error("--source expects the project folder; '%s' is not a folder", g.source);
     if (!is_dir(g.build))
@@ -1376,7 +1724,7 @@ int main(int argc, char **argv) {
         double t0 = now_s();
         char dir[4096], test_bin[4096];
         fmt(dir, sizeof dir, "%s/%s", g.out, id);
-        fmt(test_bin, sizeof test_bin, "%s/tests/test_%s_%s", g.build, id, g.variant);
+        fmt(test_bin, sizeof test_bin, "%s/tests/test_%s_worker", g.student_build, id);
         const char *failed_log = NULL;
         for (int i = 0; i < g.n_failed; i++)
             if (!strcmp(g.failed_hw[i], id)) failed_log = g.failed_log[i];
@@ -1384,8 +1732,7 @@ int main(int argc, char **argv) {
         bool any_program = false;
         for (const cJSON *img = images ? images->child : NULL; img; img = img->next) {
             char p[4096];
-            fmt(p, sizeof p, "%s/bin/%s%s", g.build, str_or(img, "program", ""),
-                strcmp(g.variant, "ref") == 0 ? "_ref" : "");
+            fmt(p, sizeof p, "%s/bin/%s", g.student_build, str_or(img, "program", ""));
             any_program |= file_exists(p);
         }
         mkdirs(dir);
@@ -1398,12 +1745,22 @@ int main(int argc, char **argv) {
         } else {
             a->graded = true;
             if (file_exists(test_bin))
-                grade_tests(&g, a, asg, test_bin, dir);
+                grade_tests(&g, a, asg, dir);
             else
                 a->note = xstrdup("no test program built; images only");
+            int n_img = cJSON_GetArraySize(images);
+            job *runs = calloc((size_t)n_img + 1, sizeof *runs);
+            if (!runs) abort();
+            int i = 0;
+            for (const cJSON *img = images ? images->child : NULL; img; img = img->next)
+                image_job(&g, img, dir, &runs[i++]);
+            run_jobs(runs, n_img, g.jobs);
+            i = 0;
             for (const cJSON *img = images ? images->child : NULL; img; img = img->next)
                 grade_image(&g, a, img, dir, id,
-                            str_or(asg, "crash_hint", "look for an out-of-bounds access"));
+                            str_or(asg, "crash_hint", "look for an out-of-bounds access"),
+                            &runs[i++]);
+            free(runs);
         }
         for (int i = 0; i < a->n_items; i++)
             if (a->items[i].counted) {

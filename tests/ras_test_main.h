@@ -17,13 +17,33 @@
  *                         '*' and '?' are wildcards); exit 3 with a message
  *                         when no test matches, so a typo is not a silent pass.
  * Group setup and teardown still run, once, around the selected test.
+ *
+ * For the grader (tests/grade_tool.c), one process runs many tests, each in a
+ * child forked for it, so the libraries load once and each test still starts
+ * from a fresh process image:
+ *   RAS_EACH_NAMES=FILE   the tests to run, one name per line;
+ *   RAS_EACH_OUT=DIR      per test NAME: NAME.out (its stdout and stderr),
+ *                         NAME.xml (cmocka's XML) and NAME.fate (how the
+ *                         child ended, in words);
+ *   RAS_EACH_CALLS=DIR    NAME.calls, the record of its calls of student
+ *                         code: written (RAS_EACH_MODE=record) or replayed
+ *                         (RAS_EACH_MODE=replay, with DIR/NAME.fate as what
+ *                         happened to the recording process); tests/ras_call.h;
+ *   RAS_EACH_LIMIT=S      seconds per test (default 10): a child still running
+ *                         then is killed with its process group.
  */
 #ifndef RAS_TEST_MAIN_H
 #define RAS_TEST_MAIN_H
 
-#include <stdio.h>  /* printf, fprintf */
-#include <stdlib.h> /* getenv */
-#include <string.h> /* strcmp */
+#include <fcntl.h>    /* open */
+#include <signal.h>   /* kill */
+#include <stdbool.h>  /* bool */
+#include <stdio.h>    /* printf, fprintf */
+#include <stdlib.h>   /* getenv, setenv */
+#include <string.h>   /* strcmp */
+#include <sys/wait.h> /* waitpid */
+#include <time.h>     /* nanosleep, clock_gettime */
+#include <unistd.h>   /* fork, dup2 */
 
 #define RAS_RUN_TESTS(group_name, tests, group_setup, group_teardown)                         \
     ras_test_run((group_name), (tests), sizeof(tests) / sizeof((tests)[0]), (group_setup),  \
@@ -37,6 +57,119 @@ static inline int ras_test_glob(const char *pat, const char *s) {
     return 0;
 }
 
+static inline const char *ras_test_signal_name(int sig) {
+    switch (sig) {
+    case SIGSEGV: return "SIGSEGV";
+    case SIGBUS: return "SIGBUS";
+    case SIGFPE: return "SIGFPE";
+    case SIGILL: return "SIGILL";
+    case SIGABRT: return "SIGABRT";
+    case SIGKILL: return "SIGKILL";
+    case SIGXCPU: return "SIGXCPU";
+    case SIGXFSZ: return "SIGXFSZ";
+    default: return "a signal";
+    }
+}
+
+/* Reads at most n-1 bytes of printable ASCII of a small file (a fate). */
+static inline void ras_test_read_text(const char *path, char *buf, size_t n) {
+    buf[0] = '\0';
+    FILE *f = fopen(path, "rb");
+    if (!f) return;
+    size_t got = fread(buf, 1, n - 1, f), k = 0;
+    fclose(f);
+    for (size_t i = 0; i < got; i++)
+        if (buf[i] >= 32 && buf[i] < 127) buf[k++] = buf[i];
+    buf[k] = '\0';
+}
+
+/* RAS_EACH_*: each listed test in a forked child (see the top of this file). */
+static inline int ras_test_each(const char *group_name, const struct CMUnitTest *tests,
+                                size_t count, CMFixtureFunction group_setup,
+                                CMFixtureFunction group_teardown) {
+    const char *names = getenv("RAS_EACH_NAMES"), *out = getenv("RAS_EACH_OUT");
+    const char *calls = getenv("RAS_EACH_CALLS"), *mode = getenv("RAS_EACH_MODE");
+    const char *limit_s = getenv("RAS_EACH_LIMIT");
+    double limit = limit_s ? atof(limit_s) : 10;
+    bool replay = mode && !strcmp(mode, "replay");
+    FILE *list = out ? fopen(names, "r") : NULL;
+    if (!list) {
+        fprintf(stderr, "%s: RAS_EACH_NAMES and RAS_EACH_OUT must name a list and a folder\n",
+                group_name);
+        return 3;
+    }
+    char name[256];
+    while (fgets(name, sizeof name, list)) {
+        name[strcspn(name, "\r\n")] = '\0';
+        size_t which = count;
+        for (size_t i = 0; i < count; i++)
+            if (!strcmp(tests[i].name, name)) which = i;
+        if (which == count) continue; /* not a test of this program */
+        char path[4096], fate[256];
+        fflush(stdout);
+        fflush(stderr);
+        pid_t pid = fork();
+        if (pid == 0) {
+            setpgid(0, 0);
+            snprintf(path, sizeof path, "%s/%s.out", out, name);
+            int fd = open(path, O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+            if (fd >= 0) {
+                dup2(fd, 1);
+                dup2(fd, 2);
+            }
+            snprintf(path, sizeof path, "%s/%s.xml", out, name);
+            setenv("CMOCKA_XML_FILE", path, 1);
+            if (calls) {
+                snprintf(path, sizeof path, "%s/%s.calls", calls, name);
+                setenv(replay ? "RAS_REPLAY" : "RAS_RECORD", path, 1);
+                if (replay) {
+                    snprintf(path, sizeof path, "%s/%s.fate", calls, name);
+                    ras_test_read_text(path, fate, 120);
+                    setenv("RAS_REPLAY_WORKER", *fate ? fate : "did not report how it ended", 1);
+                }
+            }
+            cmocka_set_test_filter(name);
+            _exit(_cmocka_run_group_tests(group_name, tests, count, group_setup, group_teardown)
+                      ? 1
+                      : 0);
+        }
+        int status = 0;
+        bool timed_out = false;
+        struct timespec t0, now, nap = {0, 2000000};
+        clock_gettime(CLOCK_MONOTONIC, &t0);
+        while (pid > 0 && waitpid(pid, &status, WNOHANG) == 0) {
+            clock_gettime(CLOCK_MONOTONIC, &now);
+            if ((double)(now.tv_sec - t0.tv_sec) + 1e-9 * (double)(now.tv_nsec - t0.tv_nsec) >
+                limit) {
+                kill(-pid, SIGKILL);
+                kill(pid, SIGKILL);
+                waitpid(pid, &status, 0);
+                timed_out = true;
+                break;
+            }
+            nanosleep(&nap, NULL);
+        }
+        if (pid > 0) kill(-pid, SIGKILL); /* what the test left running in its group */
+        if (pid < 0)
+            snprintf(fate, sizeof fate, "could not be started");
+        else if (timed_out)
+            snprintf(fate, sizeof fate, "was stopped after %.0f s (the time limit)", limit);
+        else if (WIFSIGNALED(status))
+            snprintf(fate, sizeof fate, "was killed by signal %d (%s)", WTERMSIG(status),
+                     ras_test_signal_name(WTERMSIG(status)));
+        else
+            snprintf(fate, sizeof fate, "exited with status %d", WEXITSTATUS(status));
+        snprintf(path, sizeof path, "%s/%s.fate", out, name);
+        FILE *f = fopen(path, "w");
+        if (f) {
+            fputs(fate, f);
+            fclose(f);
+        }
+    }
+    fclose(list);
+    return 0;
+}
+
 static inline int ras_test_run(const char *group_name, const struct CMUnitTest *tests,
                                size_t count, CMFixtureFunction group_setup,
                                CMFixtureFunction group_teardown) {
@@ -46,6 +179,8 @@ static inline int ras_test_run(const char *group_name, const struct CMUnitTest *
         for (size_t i = 0; i < count; i++) printf("%s\n", tests[i].name);
         return 0;
     }
+    if (getenv("RAS_EACH_NAMES"))
+        return ras_test_each(group_name, tests, count, group_setup, group_teardown);
     const char *filter = getenv("RAS_TEST_FILTER");
     if (filter && *filter) {
         size_t matches = 0;

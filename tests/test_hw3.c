@@ -940,9 +940,11 @@ static const image_case image_cases[HW3_SHADER_COUNT] = {
 
 static void check_image(hw3_shader shader) {
     const image_case *ic = &image_cases[shader];
+    /* Rendered first: in grading the student's frame is recorded in a sandbox
+     * that has no reference images (tests/ras_call.h). */
+    ras_image *got = render(shader, FILTER_BILINEAR, NULL);
     ras_image *ref = load_reference(shader);
     ic->sanity(ref);
-    ras_image *got = render(shader, FILTER_BILINEAR, NULL);
     ras_compare_options opt = ras_compare_defaults(ic->kind);
     if (ic->kind == RAS_COMPARE_PSNR) opt.min_psnr_db = ic->threshold;
     else opt.min_ssim = ic->threshold;

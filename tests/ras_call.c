@@ -1,0 +1,757 @@
+/* ras_call.c — record (in the sandboxed worker) and replay (in the trusted
+ * grader) of the calls a test makes into student code; see ras_call.h.
+ *
+ * Built with RAS_CALL_HW=N (the assignment: its functions and those of the
+ * assignments before it are wrapped) and one of RAS_CALL_RECORD or
+ * RAS_CALL_REPLAY. The link adds -Wl,--wrap=NAME for each function below, so
+ * a call to NAME from any other object lands in __wrap_NAME; the recorder
+ * forwards it to __real_NAME (the student's code).
+ *
+ * The record file ($RAS_RECORD, written through a shared mapping so that a
+ * crash keeps every finished record) is:
+ *   "RASCALL1", u64 bytes used after this header, then records
+ *   u32 tag, u32 length, payload:
+ *     BEGIN  u32 function, u64 hash of the inputs
+ *     END    u32 function, u32 regions; per region u64 size, u32 runs, then
+ *            runs of (u64 offset, u32 length, bytes): what the call changed
+ *            in each memory region the test can see (the return value, the
+ *            out-parameters, the framebuffer, the counters)
+ *     SHADE  ras_triangle, ras_fragment: rasterize_triangle called ctx->shade
+ *     TODO   u16 length, function name, u16 length, handout section
+ * The replayer trusts nothing in it: every length is checked against the
+ * file and against the regions the trusted test itself passes in, and any
+ * disagreement fails the test with a message that says what happened.
+ */
+#include <setjmp.h> /* cmocka needs these before cmocka.h */
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include <cmocka.h>
+
+#include "ras_call.h"
+#include "ras_counters.h"
+#include "ras_error.h"
+#include "ras_framebuffer.h"
+#include "ras_math.h"
+#include "ras_todo.h"
+#include "ras_triangle.h"
+#include "stage4_raster.h"
+#include "stage5_fragment.h"
+#if RAS_CALL_HW >= 3
+#include "scene.h"
+#include "shading.h"
+#endif
+
+#include <fcntl.h>    /* open */
+#include <stdio.h>    /* fprintf */
+#include <stdlib.h>   /* getenv, malloc */
+#include <string.h>   /* memcpy, memcmp */
+#include <sys/mman.h> /* mmap */
+#include <sys/stat.h> /* fstat */
+#include <unistd.h>   /* ftruncate, close */
+
+#if !defined(RAS_CALL_RECORD) && !defined(RAS_CALL_REPLAY)
+#error "build ras_call.c with RAS_CALL_RECORD or RAS_CALL_REPLAY"
+#endif
+
+enum { TAG_BEGIN = 1, TAG_END = 2, TAG_SHADE = 3, TAG_TODO = 4 };
+#define MAGIC "RASCALL1"
+#define HEADER 16
+
+/* The functions, by number; the names are for messages. */
+#define RAS_CALL_FUNCTIONS(X)                                                                       \
+    X(get_model_matrix) X(get_projection_matrix) X(get_rotation) X(inside_triangle)                \
+    X(compute_barycentric_2d) X(rasterize_triangle) X(resolve_pixel)                                \
+    X(perspective_correct_barycentric) X(interpolate_vec3) X(interpolate_vec2)                     \
+    X(normal_fragment_shader) X(blinn_phong_lighting) X(phong_fragment_shader)                     \
+    X(texture_fragment_shader) X(tangent_frame) X(bump_normal) X(bump_fragment_shader)             \
+    X(displacement_fragment_shader) X(texture_sample_bilinear) X(texture_sample_trilinear)          \
+    X(hw3_render)
+#define AS_ENUM(name) FN_##name,
+#define AS_NAME(name) #name,
+enum { RAS_CALL_FUNCTIONS(AS_ENUM) FN_COUNT };
+static const char *const fn_names[FN_COUNT] = {RAS_CALL_FUNCTIONS(AS_NAME)};
+
+__attribute__((unused)) static const char *fn_name(uint32_t fn) { return fn < FN_COUNT ? fn_names[fn] : "(unknown)"; }
+
+/* A memory region the test can see that a call may change. */
+typedef struct region {
+    void *p;
+    size_t n;
+} region;
+
+/* ---- the inputs' fingerprint (FNV-1a): catches a record made for other calls */
+
+typedef struct hash {
+    uint64_t h;
+} hash;
+
+static hash hash_start(uint32_t fn) {
+    hash h = {1469598103934665603ull ^ fn};
+    return h;
+}
+
+static void hash_bytes(hash *h, const void *p, size_t n) {
+    const unsigned char *b = p;
+    for (size_t i = 0; i < n; i++) h->h = (h->h ^ b[i]) * 1099511628211ull;
+}
+#define HASH(h, v) hash_bytes(&(h), &(v), sizeof(v))
+
+__attribute__((unused)) static void hash_triangle(hash *h, const ras_triangle *t) {
+    if (!t) return; /* field by field: the struct's tail padding holds garbage */
+    hash_bytes(h, t->v, sizeof t->v);
+    hash_bytes(h, t->color, sizeof t->color);
+    hash_bytes(h, t->normal, sizeof t->normal);
+    hash_bytes(h, t->uv, sizeof t->uv);
+    hash_bytes(h, t->view_pos, sizeof t->view_pos);
+}
+
+/* ---- the regions a test asked to watch (guarded framebuffers) ---------- */
+
+#define MAX_WATCH 8
+static region watched[MAX_WATCH];
+static int watched_count;
+
+void ras_call_watch_impl(void *p, size_t n) {
+    if (!p) {
+        watched_count = 0;
+        return;
+    }
+    if (watched_count < MAX_WATCH) watched[watched_count++] = (region){p, n};
+}
+
+#ifdef RAS_CALL_RECORD
+/* ======================================================== record (worker) */
+
+static unsigned char *rec_map;
+static size_t rec_cap, rec_used; /* rec_used includes the header */
+static int rec_state;            /* 0 not opened, 1 open, -1 off or failed or full */
+static int depth;                /* > 0: inside a recorded call, do not record */
+
+static void rec_open(void) {
+    if (rec_state) return;
+    rec_state = -1;
+    const char *path = getenv("RAS_RECORD");
+    if (!path || !*path) return;
+    const char *cap_mb = getenv("RAS_RECORD_CAP_MB");
+    rec_cap = (size_t)(cap_mb ? atol(cap_mb) : 256) << 20;
+    if (rec_cap < 4096) rec_cap = 4096;
+    int fd = open(path, O_RDWR | O_CREAT | O_TRUNC | O_CLOEXEC, 0600);
+    if (fd < 0 || ftruncate(fd, (off_t)rec_cap) != 0) {
+        fprintf(stderr, "ras_call: cannot write the record %s\n", path);
+        if (fd >= 0) close(fd);
+        return;
+    }
+    void *m = mmap(NULL, rec_cap, PROT_READ | PROT_WRITE, MAP_SHARED, fd, 0);
+    close(fd);
+    if (m == MAP_FAILED) return;
+    rec_map = m;
+    memcpy(rec_map, MAGIC, 8);
+    rec_used = HEADER;
+    rec_state = 1;
+}
+
+/* Appends one record; the header's length is updated last, so a record is
+ * either wholly there or not at all. */
+static void rec_put(uint32_t tag, const void *a, size_t na, const void *b, size_t nb) {
+    rec_open();
+    if (rec_state != 1) return;
+    size_t need = 8 + na + nb;
+    if (need > rec_cap - rec_used) {
+        rec_state = -1; /* full: the replay says the record ended early */
+        return;
+    }
+    uint32_t len = (uint32_t)(na + nb);
+    memcpy(rec_map + rec_used, &tag, 4);
+    memcpy(rec_map + rec_used + 4, &len, 4);
+    if (na) memcpy(rec_map + rec_used + 8, a, na);
+    if (nb) memcpy(rec_map + rec_used + 8 + na, b, nb);
+    rec_used += need;
+    uint64_t used = rec_used - HEADER;
+    __atomic_store_n((uint64_t *)(void *)(rec_map + 8), used, __ATOMIC_RELEASE);
+}
+
+/* Growable scratch buffer for an END record. */
+typedef struct buf {
+    unsigned char *p;
+    size_t n, cap;
+} buf;
+
+static void buf_add(buf *b, const void *p, size_t n) {
+    if (b->n + n > b->cap) {
+        size_t cap = b->cap ? b->cap : 4096;
+        while (cap < b->n + n) cap *= 2;
+        unsigned char *q = realloc(b->p, cap);
+        if (!q) abort();
+        b->p = q;
+        b->cap = cap;
+    }
+    memcpy(b->p + b->n, p, n);
+    b->n += n;
+}
+
+typedef struct call {
+    uint32_t fn;
+    region regs[4 + MAX_WATCH];
+    unsigned char *before[4 + MAX_WATCH];
+    int n;
+    bool active;
+} call;
+
+/* Starts a call: false when it is nested in another recorded call (then the
+ * caller just runs the student's function). */
+static bool call_begin(call *c, uint32_t fn, hash h) {
+    c->active = false;
+    if (depth > 0) return false;
+    rec_open();
+    c->fn = fn;
+    unsigned char payload[12];
+    memcpy(payload, &fn, 4);
+    memcpy(payload + 4, &h.h, 8);
+    rec_put(TAG_BEGIN, payload, sizeof payload, NULL, 0);
+    for (int i = 0; i < c->n; i++) {
+        c->before[i] = malloc(c->regs[i].n ? c->regs[i].n : 1);
+        if (!c->before[i]) abort();
+        if (c->regs[i].n) memcpy(c->before[i], c->regs[i].p, c->regs[i].n);
+    }
+    depth++;
+    c->active = true;
+    return true;
+}
+
+static void call_end(call *c) {
+    if (!c->active) return;
+    depth--;
+    buf b = {0};
+    buf_add(&b, &c->fn, 4);
+    uint32_t nreg = (uint32_t)c->n;
+    buf_add(&b, &nreg, 4);
+    for (int i = 0; i < c->n; i++) {
+        const unsigned char *now = c->regs[i].p, *was = c->before[i];
+        uint64_t size = c->regs[i].n;
+        buf_add(&b, &size, 8);
+        size_t count_at = b.n;
+        uint32_t runs = 0;
+        buf_add(&b, &runs, 4);
+        size_t k = 0;
+        while (k < size) {
+            if (now[k] == was[k]) {
+                size_t skip = 64 - (k & 63);
+                if (k + skip <= size && memcmp(now + k, was + k, skip) == 0) {
+                    k += skip;
+                    continue;
+                }
+                k++;
+                continue;
+            }
+            size_t start = k, same = 0;
+            while (k < size && same < 16) {
+                same = now[k] == was[k] ? same + 1 : 0;
+                k++;
+            }
+            size_t end = k - same;
+            uint64_t off = start;
+            uint32_t len = (uint32_t)(end - start);
+            buf_add(&b, &off, 8);
+            buf_add(&b, &len, 4);
+            buf_add(&b, now + start, len);
+            runs++;
+        }
+        memcpy(b.p + count_at, &runs, 4);
+        free(c->before[i]);
+    }
+    rec_put(TAG_END, b.p, b.n, NULL, 0);
+    free(b.p);
+}
+
+/* The stubs' notice, recorded so the replay can tell a placeholder pass. */
+void __real_ras_todo_notice(bool *shown, const char *function, const char *handout_section);
+void __wrap_ras_todo_notice(bool *shown, const char *function, const char *handout_section) {
+    if (!*shown && function && handout_section) {
+        uint16_t n1 = (uint16_t)strnlen(function, 120), n2 = (uint16_t)strnlen(handout_section, 200);
+        buf b = {0};
+        buf_add(&b, &n1, 2);
+        buf_add(&b, function, n1);
+        buf_add(&b, &n2, 2);
+        buf_add(&b, handout_section, n2);
+        rec_put(TAG_TODO, b.p, b.n, NULL, 0);
+        free(b.p);
+    }
+    __real_ras_todo_notice(shown, function, handout_section);
+}
+
+/* ctx->shade seen through rasterize_triangle: record each call's inputs. */
+static ras_shade_fn shade_original;
+static void *shade_user;
+__attribute__((unused)) static vec3s shade_recorded(const ras_triangle *t, const ras_fragment *f, void *user) {
+    (void)user;
+    rec_put(TAG_SHADE, t, sizeof *t, f, sizeof *f);
+    return shade_original(t, f, shade_user);
+}
+
+#define CALL(fn, h, real_call)                                                                     \
+    do {                                                                                           \
+        if (call_begin(&c, FN_##fn, h)) {                                                          \
+            real_call;                                                                             \
+            call_end(&c);                                                                          \
+        } else {                                                                                   \
+            real_call;                                                                             \
+        }                                                                                          \
+    } while (0)
+#define REAL(name) __real_##name
+
+#else
+/* ======================================================= replay (trusted) */
+
+static const unsigned char *rp_map;
+static size_t rp_len, rp_pos; /* rp_pos: offset of the next record */
+static int rp_state;          /* 0 not opened, 1 open */
+static unsigned long rp_calls;
+static int rp_todos;
+
+/* How the sandboxed worker ended, as the grader saw it. */
+static const char *worker_fate(void) {
+    const char *w = getenv("RAS_REPLAY_WORKER");
+    return w && *w ? w : "ended";
+}
+
+static void rp_open(void) {
+    if (rp_state) return;
+    const char *path = getenv("RAS_REPLAY");
+    if (!path || !*path) fail_msg("grader error: test_*_replay needs RAS_REPLAY=record file");
+    int fd = open(path, O_RDONLY | O_NOFOLLOW | O_CLOEXEC);
+    struct stat st;
+    if (fd < 0 || fstat(fd, &st) != 0 || !S_ISREG(st.st_mode) || st.st_size < HEADER) {
+        if (fd >= 0) close(fd);
+        fail_msg("the sandboxed test process %s without recording any call of your code (it "
+                 "never reached the test: code that runs before main, or the process ended "
+                 "at once)",
+                 worker_fate());
+    }
+    void *m = mmap(NULL, (size_t)st.st_size, PROT_READ, MAP_PRIVATE, fd, 0);
+    close(fd);
+    if (m == MAP_FAILED) fail_msg("grader error: cannot map the record %s", path);
+    rp_map = m;
+    uint64_t used;
+    memcpy(&used, rp_map + 8, 8);
+    if (memcmp(rp_map, MAGIC, 8) != 0 || used > (uint64_t)st.st_size - HEADER)
+        fail_msg("the record of your code's calls is malformed (it was overwritten from "
+                 "inside the sandbox?); the sandboxed test process %s",
+                 worker_fate());
+    rp_len = HEADER + (size_t)used;
+    rp_pos = HEADER;
+    rp_state = 1;
+}
+
+/* The next record; handles TODO notices on the way. Fails the test at the end. */
+static const unsigned char *rp_next(uint32_t *tag, uint32_t *len, uint32_t want_fn,
+                                    bool inside) {
+    for (;;) {
+        if (rp_len - rp_pos < 8) {
+            if (inside)
+                fail_msg("%s() did not return: the sandboxed test process %s while it ran "
+                         "(call %lu of this test). Likely mistake: a crash, an endless loop or "
+                         "exit() in your %s",
+                         fn_name(want_fn), worker_fate(), rp_calls, fn_name(want_fn));
+            fail_msg("the sandboxed test process %s before the test called %s() (call %lu); "
+                     "a function must return its result, never exit or stop the process",
+                     worker_fate(), fn_name(want_fn), rp_calls + 1);
+        }
+        memcpy(tag, rp_map + rp_pos, 4);
+        memcpy(len, rp_map + rp_pos + 4, 4);
+        if (*len > rp_len - rp_pos - 8)
+            fail_msg("the record of your code's calls is malformed at byte %zu", rp_pos);
+        const unsigned char *p = rp_map + rp_pos + 8;
+        rp_pos += 8 + (size_t)*len;
+        if (*tag != TAG_TODO) return p;
+        /* A stub's notice: printed again here, where the grader reads it. */
+        uint16_t n1, n2;
+        if (*len < 4) continue;
+        memcpy(&n1, p, 2);
+        if ((size_t)n1 + 4 > *len) continue;
+        memcpy(&n2, p + 2 + n1, 2);
+        if ((size_t)n1 + n2 + 4 > *len || rp_todos >= 32) continue;
+        char name[128], section[208];
+        size_t k = 0;
+        for (size_t i = 0; i < n1 && k < sizeof name - 1; i++)
+            if (p[2 + i] >= 32 && p[2 + i] < 127) name[k++] = (char)p[2 + i];
+        name[k] = '\0';
+        k = 0;
+        for (size_t i = 0; i < n2 && k < sizeof section - 1; i++)
+            if (p[4 + n1 + i] >= 32 && p[4 + n1 + i] < 127) section[k++] = (char)p[4 + n1 + i];
+        section[k] = '\0';
+        bool shown = false;
+        ras_todo_notice(&shown, name, section);
+        rp_todos++;
+    }
+}
+
+typedef void (*shade_replay_fn)(const ras_triangle *t, const ras_fragment *f, void *user);
+
+/* Answers one call from the record: checks that it is the call the test
+ * makes, replays ctx->shade calls through `shade`, then writes what the
+ * student's call changed into the test's regions. */
+static void replay(uint32_t fn, hash h, region *regs, int nregs, const ras_raster_ctx *ctx) {
+    rp_open();
+    uint32_t tag, len;
+    const unsigned char *p = rp_next(&tag, &len, fn, false);
+    rp_calls++;
+    uint32_t got_fn;
+    uint64_t got_h;
+    if (tag != TAG_BEGIN || len != 12)
+        fail_msg("the record of your code's calls is malformed at call %lu", rp_calls);
+    memcpy(&got_fn, p, 4);
+    memcpy(&got_h, p + 4, 8);
+    if (got_fn != fn || got_h != h.h)
+        fail_msg("call %lu of this test is %s() with its own inputs, but the sandboxed process "
+                 "recorded %s()%s: the test did not run there as written (your code changed "
+                 "memory it does not own, or the process was tampered with)",
+                 rp_calls, fn_name(fn), fn_name(got_fn),
+                 got_fn == fn ? " with other inputs" : "");
+    for (;;) {
+        p = rp_next(&tag, &len, fn, true);
+        if (tag == TAG_SHADE) {
+            if (len != sizeof(ras_triangle) + sizeof(ras_fragment))
+                fail_msg("the record of your code's calls is malformed (shade call)");
+            if (ctx && ctx->shade) {
+                ras_triangle t;
+                ras_fragment f;
+                memcpy(&t, p, sizeof t);
+                memcpy(&f, p + sizeof t, sizeof f);
+                ctx->shade(&t, &f, ctx->shade_user);
+            }
+            continue;
+        }
+        if (tag == TAG_END) break;
+        fail_msg("%s() did not return: the sandboxed test process %s while it ran (call %lu)",
+                 fn_name(fn), worker_fate(), rp_calls);
+    }
+    const unsigned char *end = p + len;
+    uint32_t nreg;
+    if (len < 8) fail_msg("the record of your code's calls is malformed (end of call)");
+    memcpy(&got_fn, p, 4);
+    memcpy(&nreg, p + 4, 4);
+    p += 8;
+    if (got_fn != fn || nreg != (uint32_t)nregs)
+        fail_msg("the record of %s() (call %lu) does not match the call", fn_name(fn), rp_calls);
+    for (int i = 0; i < nregs; i++) {
+        uint64_t size;
+        uint32_t runs;
+        if (end - p < 12) fail_msg("the record of %s() is cut short", fn_name(fn));
+        memcpy(&size, p, 8);
+        memcpy(&runs, p + 8, 4);
+        p += 12;
+        if (size != regs[i].n)
+            fail_msg("the record of %s() (call %lu) has a region of %llu bytes where the test "
+                     "has %zu",
+                     fn_name(fn), rp_calls, (unsigned long long)size, regs[i].n);
+        for (uint32_t r = 0; r < runs; r++) {
+            uint64_t off;
+            uint32_t n;
+            if (end - p < 12) fail_msg("the record of %s() is cut short", fn_name(fn));
+            memcpy(&off, p, 8);
+            memcpy(&n, p + 8, 4);
+            p += 12;
+            if (off > size || n > size - off || (size_t)(end - p) < n)
+                fail_msg("the record of %s() writes outside its region", fn_name(fn));
+            memcpy((unsigned char *)regs[i].p + off, p, n);
+            p += n;
+        }
+    }
+}
+
+#define CALL(fn, h, real_call) replay(FN_##fn, h, c.regs, c.n, NULL)
+
+typedef struct call {
+    region regs[4 + MAX_WATCH];
+    int n;
+} call;
+#endif
+
+/* ================================================ the wrapped functions */
+
+#ifdef RAS_CALL_RECORD
+#define WRAP(ret, name, ...)                                                                       \
+    ret __real_##name(__VA_ARGS__);                                                                \
+    ret __wrap_##name(__VA_ARGS__)
+#else
+#define WRAP(ret, name, ...) ret __wrap_##name(__VA_ARGS__)
+#endif
+
+/* The usual shape: a returned value r, maybe counters, maybe out-params. */
+#define RESULT(r) (c.regs[c.n++] = (region){&(r), sizeof(r)})
+#define REGION(ptr, size)                                                                          \
+    do {                                                                                           \
+        if (ptr) c.regs[c.n++] = (region){(void *)(ptr), (size)};                                  \
+    } while (0)
+
+WRAP(mat4s, get_model_matrix, float angle) {
+    hash h = hash_start(FN_get_model_matrix);
+    HASH(h, angle);
+    mat4s r = {0};
+    call c = {.n = 0};
+    RESULT(r);
+    CALL(get_model_matrix, h, r = REAL(get_model_matrix)(angle));
+    return r;
+}
+
+WRAP(mat4s, get_projection_matrix, float fov, float aspect, float n, float f) {
+    hash h = hash_start(FN_get_projection_matrix);
+    HASH(h, fov);
+    HASH(h, aspect);
+    HASH(h, n);
+    HASH(h, f);
+    mat4s r = {0};
+    call c = {.n = 0};
+    RESULT(r);
+    CALL(get_projection_matrix, h, r = REAL(get_projection_matrix)(fov, aspect, n, f));
+    return r;
+}
+
+WRAP(mat4s, get_rotation, vec3s axis, float angle) {
+    hash h = hash_start(FN_get_rotation);
+    HASH(h, axis);
+    HASH(h, angle);
+    mat4s r = {0};
+    call c = {.n = 0};
+    RESULT(r);
+    CALL(get_rotation, h, r = REAL(get_rotation)(axis, angle));
+    return r;
+}
+
+#if RAS_CALL_HW >= 2
+WRAP(bool, inside_triangle, float x, float y, const ras_triangle *t) {
+    hash h = hash_start(FN_inside_triangle);
+    HASH(h, x);
+    HASH(h, y);
+    hash_triangle(&h, t);
+    bool r = false;
+    call c = {.n = 0};
+    RESULT(r);
+    CALL(inside_triangle, h, r = REAL(inside_triangle)(x, y, t));
+    return r;
+}
+
+WRAP(bool, compute_barycentric_2d, float x, float y, const ras_triangle *t, vec3s *bary) {
+    hash h = hash_start(FN_compute_barycentric_2d);
+    HASH(h, x);
+    HASH(h, y);
+    hash_triangle(&h, t); /* not *bary: an out-parameter, often uninitialised */
+    bool r = false;
+    call c = {.n = 0};
+    RESULT(r);
+    REGION(bary, sizeof *bary);
+    CALL(compute_barycentric_2d, h, r = REAL(compute_barycentric_2d)(x, y, t, bary));
+    return r;
+}
+
+/* The framebuffer, the counters and any watched canaries; ctx->shade is seen
+ * through the record, and called again in the replay. */
+WRAP(void, rasterize_triangle, const ras_triangle *t, const ras_raster_ctx *ctx) {
+    hash h = hash_start(FN_rasterize_triangle);
+    hash_triangle(&h, t);
+    call c = {.n = 0};
+    if (ctx) {
+        HASH(h, ctx->aa);
+        HASH(h, ctx->edges);
+        HASH(h, ctx->pattern.count);
+        if (ctx->fb) {
+            const ras_framebuffer *fb = ctx->fb;
+            HASH(h, fb->width);
+            HASH(h, fb->height);
+            HASH(h, fb->samples);
+            size_t n = (size_t)fb->width * (size_t)fb->height * (size_t)fb->samples;
+            REGION(fb->color, n * sizeof *fb->color);
+            REGION(fb->depth, n * sizeof *fb->depth);
+        }
+        REGION(ctx->counters, sizeof *ctx->counters);
+    }
+    for (int i = 0; i < watched_count; i++) REGION(watched[i].p, watched[i].n);
+#ifdef RAS_CALL_RECORD
+    if (ctx && ctx->shade && depth == 0) {
+        ras_raster_ctx seen = *ctx;
+        shade_original = ctx->shade;
+        shade_user = ctx->shade_user;
+        seen.shade = shade_recorded;
+        CALL(rasterize_triangle, h, REAL(rasterize_triangle)(t, &seen));
+    } else {
+        CALL(rasterize_triangle, h, REAL(rasterize_triangle)(t, ctx));
+    }
+#else
+    replay(FN_rasterize_triangle, h, c.regs, c.n, ctx);
+#endif
+}
+
+WRAP(vec3s, resolve_pixel, const ras_framebuffer *fb, int x, int y) {
+    hash h = hash_start(FN_resolve_pixel);
+    HASH(h, x);
+    HASH(h, y);
+    if (fb) {
+        HASH(h, fb->width);
+        HASH(h, fb->height);
+        HASH(h, fb->samples);
+    }
+    vec3s r = {0};
+    call c = {.n = 0};
+    RESULT(r);
+    CALL(resolve_pixel, h, r = REAL(resolve_pixel)(fb, x, y));
+    return r;
+}
+#endif
+
+#if RAS_CALL_HW >= 3
+WRAP(vec3s, perspective_correct_barycentric, const ras_triangle *t, vec3s bary) {
+    hash h = hash_start(FN_perspective_correct_barycentric);
+    hash_triangle(&h, t);
+    HASH(h, bary);
+    vec3s r = {0};
+    call c = {.n = 0};
+    RESULT(r);
+    CALL(perspective_correct_barycentric, h, r = REAL(perspective_correct_barycentric)(t, bary));
+    return r;
+}
+
+WRAP(vec3s, interpolate_vec3, const ras_triangle *t, vec3s bary, const vec3s attr[3],
+     bool perspective) {
+    hash h = hash_start(FN_interpolate_vec3);
+    hash_triangle(&h, t);
+    HASH(h, bary);
+    if (attr) hash_bytes(&h, attr, 3 * sizeof *attr);
+    HASH(h, perspective);
+    vec3s r = {0};
+    call c = {.n = 0};
+    RESULT(r);
+    CALL(interpolate_vec3, h, r = REAL(interpolate_vec3)(t, bary, attr, perspective));
+    return r;
+}
+
+WRAP(vec2s, interpolate_vec2, const ras_triangle *t, vec3s bary, const vec2s attr[3],
+     bool perspective) {
+    hash h = hash_start(FN_interpolate_vec2);
+    hash_triangle(&h, t);
+    HASH(h, bary);
+    if (attr) hash_bytes(&h, attr, 3 * sizeof *attr);
+    HASH(h, perspective);
+    vec2s r = {0};
+    call c = {.n = 0};
+    RESULT(r);
+    CALL(interpolate_vec2, h, r = REAL(interpolate_vec2)(t, bary, attr, perspective));
+    return r;
+}
+
+/* What a shader's result depends on, without the pointers (which differ
+ * between the two processes). */
+static void hash_payload(hash *h, const fragment_shader_payload *p) {
+    if (!p) return;
+    HASH(*h, p->view_pos);
+    HASH(*h, p->normal);
+    HASH(*h, p->uv);
+    HASH(*h, p->color);
+    HASH(*h, p->filter);
+    HASH(*h, p->light_count);
+    HASH(*h, p->p);
+    HASH(*h, p->kh);
+    HASH(*h, p->kn);
+}
+
+#define SHADER(name)                                                                               \
+    WRAP(vec3s, name, const fragment_shader_payload *payload) {                                    \
+        hash h = hash_start(FN_##name);                                                            \
+        hash_payload(&h, payload);                                                                 \
+        vec3s r = {0};                                                                             \
+        call c = {.n = 0};                                                                         \
+        RESULT(r);                                                                      \
+        if (payload) REGION(payload->counters, sizeof *payload->counters);                         \
+        CALL(name, h, r = REAL(name)(payload));                                                    \
+        return r;                                                                                  \
+    }
+SHADER(normal_fragment_shader)
+SHADER(phong_fragment_shader)
+SHADER(texture_fragment_shader)
+SHADER(bump_normal)
+SHADER(bump_fragment_shader)
+SHADER(displacement_fragment_shader)
+
+WRAP(vec3s, blinn_phong_lighting, const fragment_shader_payload *payload, vec3s kd, vec3s point,
+     vec3s normal) {
+    hash h = hash_start(FN_blinn_phong_lighting);
+    hash_payload(&h, payload);
+    HASH(h, kd);
+    HASH(h, point);
+    HASH(h, normal);
+    vec3s r = {0};
+    call c = {.n = 0};
+    RESULT(r);
+    if (payload) REGION(payload->counters, sizeof *payload->counters);
+    CALL(blinn_phong_lighting, h, r = REAL(blinn_phong_lighting)(payload, kd, point, normal));
+    return r;
+}
+
+WRAP(void, tangent_frame, vec3s n, vec3s *t, vec3s *b) {
+    hash h = hash_start(FN_tangent_frame);
+    HASH(h, n);
+    call c = {.n = 0};
+    REGION(t, sizeof *t);
+    REGION(b, sizeof *b);
+    CALL(tangent_frame, h, REAL(tangent_frame)(n, t, b));
+}
+
+static void hash_texture(hash *h, const ras_texture *tex) {
+    if (!tex) return;
+    HASH(*h, tex->width);
+    HASH(*h, tex->height);
+    HASH(*h, tex->level_count);
+}
+
+WRAP(vec3s, texture_sample_bilinear, const ras_texture *tex, float u, float v) {
+    hash h = hash_start(FN_texture_sample_bilinear);
+    hash_texture(&h, tex);
+    HASH(h, u);
+    HASH(h, v);
+    vec3s r = {0};
+    call c = {.n = 0};
+    RESULT(r);
+    CALL(texture_sample_bilinear, h, r = REAL(texture_sample_bilinear)(tex, u, v));
+    return r;
+}
+
+WRAP(vec3s, texture_sample_trilinear, const ras_texture *tex, vec2s uv, vec2s dx, vec2s dy) {
+    hash h = hash_start(FN_texture_sample_trilinear);
+    hash_texture(&h, tex);
+    HASH(h, uv);
+    HASH(h, dx);
+    HASH(h, dy);
+    vec3s r = {0};
+    call c = {.n = 0};
+    RESULT(r);
+    CALL(texture_sample_trilinear, h, r = REAL(texture_sample_trilinear)(tex, uv, dx, dy));
+    return r;
+}
+
+/* A whole frame: the image, the counters and the error are what the test
+ * sees; the shaders and the rasterizer inside are not recorded one by one. */
+WRAP(bool, hw3_render, hw3_scene *scene, const hw3_render_options *opt, ras_image *out,
+     ras_counters *stats, ras_error *err) {
+    (void)scene; /* the replay answers from the record */
+    hash h = hash_start(FN_hw3_render);
+    if (opt) {
+        HASH(h, opt->shader);
+        HASH(h, opt->filter);
+        HASH(h, opt->angle_deg);
+    }
+    if (out) {
+        HASH(h, out->width);
+        HASH(h, out->height);
+    }
+    bool r = false;
+    call c = {.n = 0};
+    RESULT(r);
+    if (out) REGION(out->pixels, (size_t)out->width * (size_t)out->height * sizeof *out->pixels);
+    REGION(stats, sizeof *stats);
+    REGION(err, sizeof *err);
+    CALL(hw3_render, h, r = REAL(hw3_render)(scene, opt, out, stats, err));
+    if (err) err->msg[sizeof err->msg - 1] = '\0';
+    return r;
+}
+#endif
