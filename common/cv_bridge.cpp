@@ -8,7 +8,7 @@
 
 #include <cstdio>   // snprintf
 #include <cstdlib>  // getenv, malloc
-#include <cstring>  // memcpy
+#include <cstring>  // memcpy, strstr
 #include <exception>
 #include <map>
 #include <string>
@@ -97,9 +97,15 @@ extern "C" uint8_t *cv_bridge_decode_rgb8(const uint8_t *data, size_t len, int *
         int saved = capture ? dup(2) : -1;
         if (saved >= 0) dup2(fileno(capture), 2);
         cv::Mat bgr;
+        bool too_big = false;
         try {
             const cv::Mat bytes(1, (int)len, CV_8UC1, const_cast<uint8_t *>(data));
             bgr = cv::imdecode(bytes, cv::IMREAD_COLOR);
+        } catch (const cv::Exception &e) {
+            // validateInputImageSize: over OPENCV_IO_MAX_IMAGE_PIXELS (set
+            // from the memory budget, ras_memory.h) or the width/height limits.
+            too_big = std::strstr(e.what(), "CV_IO_MAX_IMAGE") != nullptr;
+            bgr.release();
         } catch (...) {
             bgr.release();
         }
@@ -116,6 +122,16 @@ extern "C" uint8_t *cv_bridge_decode_rgb8(const uint8_t *data, size_t len, int *
             }
         }
         if (capture) std::fclose(capture);
+        if (bgr.empty() && too_big) {
+            const char *limit = std::getenv("OPENCV_IO_MAX_IMAGE_PIXELS");
+            set_err(err, err_size,
+                    std::string("its header announces more pixels than the decoder limit "
+                                "(OPENCV_IO_MAX_IMAGE_PIXELS=") +
+                        (limit ? limit : "?") +
+                        ", set from the memory limit); use a smaller image or raise the limit "
+                        "with --memory-limit MB");
+            return nullptr;
+        }
         if (bgr.empty()) {
             set_err(err, err_size,
                     "not an image OpenCV can decode (PNG, JPEG, BMP, ...), or a damaged one");

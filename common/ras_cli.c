@@ -1,7 +1,8 @@
 /* ras_cli.c — see ras_cli.h. */
 #include "ras_cli.h"
 
-#include "ras_io.h" /* ras_io_path_fits */
+#include "ras_io.h"     /* ras_io_path_fits */
+#include "ras_memory.h" /* ras_memory_set_limit_mb */
 
 #include <getopt.h> /* getopt_long */
 #include <math.h>   /* isfinite */
@@ -31,6 +32,7 @@ enum {
     OPT_STATS,
     OPT_SIZE,
     OPT_VERSION,
+    OPT_MEMORY_LIMIT,
 };
 
 static const struct option long_options[] = {
@@ -51,6 +53,7 @@ static const struct option long_options[] = {
     {"fit", no_argument, NULL, OPT_FIT},
     {"scene", required_argument, NULL, OPT_SCENE},
     {"stats", no_argument, NULL, OPT_STATS},
+    {"memory-limit", required_argument, NULL, OPT_MEMORY_LIMIT},
     {NULL, 0, NULL, 0}};
 
 /* Which group each option belongs to (0: always accepted). */
@@ -102,6 +105,7 @@ static const char *metavar_of(int opt) {
     case OPT_TEXTURE:
     case OPT_HEIGHT: return "an image FILE";
     case OPT_SCENE: return "a scene FILE (JSON)";
+    case OPT_MEMORY_LIMIT: return "a number of MiB such as 4096";
     default: return "a value";
     }
 }
@@ -327,6 +331,9 @@ ras_cli_status ras_cli_parse(int argc, char **argv, unsigned accepted, ras_cli *
         case OPT_HEIGHT: out->height_map = arg; break;
         case OPT_FIT: out->fit = true; break;
         case OPT_SCENE: out->scene = arg; break;
+        case OPT_MEMORY_LIMIT:
+            if (!ras_memory_set_limit_mb(arg, err)) return RAS_CLI_ERROR;
+            break;
         case OPT_STATS: out->stats = true; break;
         default: break;
         }
@@ -345,6 +352,7 @@ ras_cli_status ras_cli_parse(int argc, char **argv, unsigned accepted, ras_cli *
             return RAS_CLI_ERROR;
         }
     }
+    if (!ras_memory_check_env(err)) return RAS_CLI_ERROR;
     if (out->reference && !out->compare) {
         ras_error_set(err, "--reference FILE goes with --compare (it names the image to compare "
                            "with); add --compare, or drop --reference");
@@ -406,6 +414,8 @@ void ras_cli_help(unsigned accepted, const char *program, const char *usage, cha
     }
     if (accepted & RAS_OPT_STATS)
         ADD("      --stats           print what each pipeline stage did, as JSON on stdout\n");
+    ADD("      --memory-limit MB refuse inputs estimated to need more memory (default: half\n"
+        "                        of physical memory, at most 2048; also RAS_MEMORY_LIMIT_MB)\n");
     ADD("  -h, --help            this help\n");
     ADD("      --version         the version\n");
     ADD("Exit status: 0 done, 1 the render or writing failed, 2 bad options or input\n"

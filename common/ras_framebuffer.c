@@ -2,9 +2,11 @@
 #include "ras_framebuffer.h"
 
 #include "ras_image.h"      /* RAS_IMAGE_MAX_SIDE */
+#include "ras_memory.h"     /* ras_memory_check */
 #include "ras_sample_pattern.h" /* RAS_MAX_SAMPLES */
 
 #include <math.h>   /* INFINITY */
+#include <stdio.h>  /* snprintf */
 #include <stdlib.h> /* calloc, malloc, free */
 
 bool ras_framebuffer_check_size(int width, int height, int samples, ras_error *err) {
@@ -25,7 +27,13 @@ bool ras_framebuffer_check_size(int width, int height, int samples, ras_error *e
             (double)n * (sizeof(vec3s) + sizeof(float)) / (1 << 30),
             RAS_FRAME_MAX_SAMPLES / 1000000,
             (long)(RAS_FRAME_MAX_SAMPLES * (long)(sizeof(vec3s) + sizeof(float)) >> 30));
-    return true;
+    /* Per-sample colour and depth, the resolved float image, its 8-bit copy. */
+    char what[96];
+    snprintf(what, sizeof what, "a %dx%d frame with %d sample%s per pixel", width, height,
+             samples, samples == 1 ? "" : "s");
+    return ras_memory_check((double)n * (sizeof(vec3s) + sizeof(float)) +
+                                (double)width * height * (sizeof(vec3s) + 3),
+                            what, "use a smaller --size or fewer --samples", err);
 }
 
 ras_framebuffer *ras_framebuffer_create(int width, int height, int samples, ras_error *err) {

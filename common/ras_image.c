@@ -3,6 +3,7 @@
 
 #include "cv_bridge.h"
 #include "ras_io.h"
+#include "ras_memory.h"
 
 #include <errno.h>    /* errno */
 #include <stdio.h>    /* snprintf */
@@ -10,7 +11,7 @@
 #include <string.h>   /* strrchr, strlen, strerror */
 #include <strings.h>  /* strcasecmp */
 #include <sys/stat.h> /* stat */
-#include <unistd.h>   /* access */
+#include <unistd.h>   /* access, read, close */
 
 static bool ras_image_size_ok(int width, int height, ras_error *err) {
     if (width >= 1 && height >= 1 && width <= RAS_IMAGE_MAX_SIDE && height <= RAS_IMAGE_MAX_SIDE)
@@ -163,12 +164,171 @@ bool ras_image_save(const ras_image *img, const char *path, ras_error *err) {
     return ok;
 }
 
+/* Big-endian and little-endian reads from a byte buffer. */
+static uint32_t be32(const uint8_t *p) {
+    return (uint32_t)p[0] << 24 | (uint32_t)p[1] << 16 | (uint32_t)p[2] << 8 | p[3];
+}
+static uint32_t le32(const uint8_t *p) {
+    return (uint32_t)p[3] << 24 | (uint32_t)p[2] << 16 | (uint32_t)p[1] << 8 | p[0];
+}
+
+/* PNM (P1..P6, Pf/PF): the magic, then width and height as decimal text,
+ * with '#' comments between. */
+static bool pnm_size(const uint8_t *d, size_t len, long *w, long *h) {
+    size_t i = 2;
+    long v[2];
+    for (int k = 0; k < 2; k++) {
+        for (;;) {
+            while (i < len && (d[i] == ' ' || d[i] == '\t' || d[i] == '\r' || d[i] == '\n')) i++;
+            if (i < len && d[i] == '#')
+                while (i < len && d[i] != '\n') i++;
+            else
+                break;
+        }
+        if (i >= len || d[i] < '0' || d[i] > '9') return false;
+        v[k] = 0;
+        while (i < len && d[i] >= '0' && d[i] <= '9' && v[k] < 100000000) v[k] = v[k] * 10 + (d[i++] - '0');
+    }
+    *w = v[0];
+    *h = v[1];
+    return true;
+}
+
+bool ras_image_peek_size(const uint8_t *d, size_t len, long *w, long *h) {
+    if (len >= 24 && !memcmp(d, "\x89PNG\r\n\x1a\n", 8) && !memcmp(d + 12, "IHDR", 4)) {
+        *w = (long)be32(d + 16);
+        *h = (long)be32(d + 20);
+        return true;
+    }
+    if (len >= 26 && d[0] == 'B' && d[1] == 'M') {
+        int32_t bw = (int32_t)le32(d + 18), bh = (int32_t)le32(d + 22);
+        *w = bw < 0 ? -(long)bw : bw;
+        *h = bh < 0 ? -(long)bh : bh;
+        return true;
+    }
+    if (len >= 3 && d[0] == 'P' && ((d[1] >= '1' && d[1] <= '6') || d[1] == 'f' || d[1] == 'F'))
+        return pnm_size(d, len, w, h);
+    if (len >= 30 && !memcmp(d, "RIFF", 4) && !memcmp(d + 8, "WEBP", 4)) {
+        if (!memcmp(d + 12, "VP8 ", 4)) {
+            *w = (d[26] | d[27] << 8) & 0x3fff;
+            *h = (d[28] | d[29] << 8) & 0x3fff;
+            return true;
+        }
+        if (!memcmp(d + 12, "VP8L", 4)) {
+            uint32_t b = le32(d + 21);
+            *w = (long)(b & 0x3fff) + 1;
+            *h = (long)((b >> 14) & 0x3fff) + 1;
+            return true;
+        }
+        if (!memcmp(d + 12, "VP8X", 4)) {
+            *w = (long)(d[24] | d[25] << 8 | d[26] << 16) + 1;
+            *h = (long)(d[27] | d[28] << 8 | d[29] << 16) + 1;
+            return true;
+        }
+        return false;
+    }
+    if (len >= 8 && (!memcmp(d, "II*\0", 4) || !memcmp(d, "MM\0*", 4))) { /* TIFF, first IFD */
+        bool le = d[0] == 'I';
+        uint32_t off = le ? le32(d + 4) : be32(d + 4);
+        if ((size_t)off + 2 > len) return false;
+        unsigned n = le ? (unsigned)(d[off] | d[off + 1] << 8) : (unsigned)(d[off] << 8 | d[off + 1]);
+        long got[2] = {-1, -1};
+        for (unsigned k = 0; k < n && (size_t)off + 2 + 12 * (k + 1) <= len; k++) {
+            const uint8_t *e = d + off + 2 + 12 * k;
+            unsigned tag = le ? (unsigned)(e[0] | e[1] << 8) : (unsigned)(e[0] << 8 | e[1]);
+            unsigned type = le ? (unsigned)(e[2] | e[3] << 8) : (unsigned)(e[2] << 8 | e[3]);
+            if (tag != 256 && tag != 257) continue;
+            long v = type == 3 ? (le ? (long)(e[8] | e[9] << 8) : (long)(e[8] << 8 | e[9]))
+                               : (long)(le ? le32(e + 8) : be32(e + 8));
+            got[tag - 256] = v;
+        }
+        if (got[0] < 0 || got[1] < 0) return false;
+        *w = got[0];
+        *h = got[1];
+        return true;
+    }
+    if (len >= 12 && be32(d) == 0x59a66a95u) { /* Sun raster */
+        *w = (long)be32(d + 4);
+        *h = (long)be32(d + 8);
+        return true;
+    }
+    if (len >= 48 && !memcmp(d, "\0\0\0\x0cjP  \r\n\x87\n", 12)) { /* JPEG 2000: the ihdr box */
+        for (size_t i = 12; i + 16 <= len && i < 4096; i++)
+            if (!memcmp(d + i, "ihdr", 4)) {
+                *h = (long)be32(d + i + 4);
+                *w = (long)be32(d + i + 8);
+                return true;
+            }
+        return false;
+    }
+    if (len >= 4 && d[0] == 0xFF && d[1] == 0xD8) { /* JPEG: walk the markers to a SOFn */
+        size_t i = 2;
+        while (i + 4 <= len) {
+            if (d[i] != 0xFF) return false;
+            uint8_t m = d[i + 1];
+            if (m == 0xFF) { i++; continue; }
+            if (m == 0x01 || (m >= 0xD0 && m <= 0xD7)) { i += 2; continue; }
+            size_t seg = (size_t)(d[i + 2] << 8 | d[i + 3]);
+            if (m >= 0xC0 && m <= 0xCF && m != 0xC4 && m != 0xC8 && m != 0xCC) {
+                if (i + 9 > len) return false;
+                *h = d[i + 5] << 8 | d[i + 6];
+                *w = d[i + 7] << 8 | d[i + 8];
+                return true;
+            }
+            if (seg < 2) return false;
+            i += 2 + seg;
+        }
+    }
+    return false;
+}
+
+bool ras_image_peek_file(const char *path, long *width, long *height) {
+    char why[256];
+    int fd = ras_io_open_input(path, why, sizeof why);
+    if (fd < 0) return false;
+    /* A JPEG's size may follow EXIF and ICC segments: read enough of them. */
+    size_t cap = 256 * 1024, len = 0;
+    uint8_t *buf = malloc(cap);
+    while (buf && len < cap) {
+        ssize_t r = read(fd, buf + len, cap - len);
+        if (r < 0 && errno == EINTR) continue;
+        if (r <= 0) break;
+        len += (size_t)r;
+    }
+    close(fd);
+    bool ok = buf && ras_image_peek_size(buf, len, width, height);
+    free(buf);
+    return ok;
+}
+
 uint8_t *ras_image_load_rgb8(const char *path, int *width, int *height, ras_error *err) {
     /* The file's bytes first (regular files only: a FIFO fails at once, an
-     * unreadable file says "Permission denied"), then the decode from memory. */
+     * unreadable file says "Permission denied"), then the size from its
+     * header, checked against RAS_IMAGE_MAX_SIDE and the memory budget before
+     * a single pixel is decoded, then the decode from memory. */
+    size_t max_bytes = ras_memory_limit() < RAS_IMAGE_MAX_FILE_BYTES ? ras_memory_limit()
+                                                                     : RAS_IMAGE_MAX_FILE_BYTES;
     size_t len = 0;
-    uint8_t *data = ras_io_read_file(path, "image", RAS_IMAGE_MAX_FILE_BYTES, &len, err);
+    uint8_t *data = ras_io_read_file(path, "image", max_bytes, &len, err);
     if (!data) return NULL;
+    long hw = 0, hh = 0;
+    if (ras_image_peek_size(data, len, &hw, &hh)) {
+        char what[1200];
+        snprintf(what, sizeof what, "image '%s' (%ldx%ld pixels)", path, hw, hh);
+        if (hw < 1 || hh < 1 || hw > RAS_IMAGE_MAX_SIDE || hh > RAS_IMAGE_MAX_SIDE) {
+            ras_error_set(err,
+                          "could not read image '%s': its header says %ldx%ld pixels; expected "
+                          "1..%d on each side — use a smaller image",
+                          path, hw, hh, RAS_IMAGE_MAX_SIDE);
+            free(data);
+            return NULL;
+        }
+        if (!ras_memory_check((double)hw * (double)hh * RAS_MEMORY_BYTES_PER_LOADED_PIXEL + (double)len,
+                              what, "use a smaller image", err)) {
+            free(data);
+            return NULL;
+        }
+    }
     char msg[512] = "";
     int w = 0, h = 0;
     uint8_t *rgb = cv_bridge_decode_rgb8(data, len, &w, &h, msg, sizeof msg);

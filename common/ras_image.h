@@ -19,6 +19,7 @@
 #include "ras_error.h"
 #include "ras_math.h"
 
+#include <stddef.h> /* size_t */
 #include <stdint.h> /* uint8_t */
 
 typedef struct ras_image {
@@ -77,6 +78,15 @@ ras_image *ras_image_load(const char *path, ras_error *err);
  * way (ras_texture_load): no float image in between. *width and *height are
  * in 1..RAS_IMAGE_MAX_SIDE; NULL and err as ras_image_load. */
 uint8_t *ras_image_load_rgb8(const char *path, int *width, int *height, ras_error *err);
+
+/* The width and height an encoded image's header announces (PNG, BMP, JPEG,
+ * PNM, WebP), read without decoding; false for other formats or a header too
+ * short to say. */
+bool ras_image_peek_size(const uint8_t *data, size_t len, long *width, long *height);
+
+/* The same from the start of a file (regular files only); false when it
+ * cannot be opened or its format is not one of those. */
+bool ras_image_peek_file(const char *path, long *width, long *height);
 
 /* One byte of a file to a channel value in [0, 1]: the one conversion every
  * reader uses, so a texture and an image of the same file hold the same floats. */

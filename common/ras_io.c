@@ -299,3 +299,39 @@ bool ras_io_write_atomic(const char *path, const char *what, const void *data, s
     }
     return true;
 }
+
+/* ---- nesting -------------------------------------------------------------- */
+
+size_t ras_io_text_nesting(const char *text, size_t len, size_t stop, size_t *at) {
+    size_t depth = 0, max = 0;
+    for (size_t i = 0; i < len; i++) {
+        char ch = text[i];
+        if (ch == '"') { /* a string: skip it, escapes included */
+            for (i++; i < len && text[i] != '"'; i++)
+                if (text[i] == '\\') i++;
+        } else if (ch == '{' || ch == '[') {
+            depth++;
+        } else if (ch == '}' || ch == ']') {
+            if (depth) depth--;
+        } else if (ch == '<' && i + 1 < len) {
+            char next = text[i + 1];
+            bool open = (next >= 'A' && next <= 'Z') || (next >= 'a' && next <= 'z') ||
+                        next == '_' || next == ':';
+            if (next == '/' && depth) depth--;
+            if (!open) continue;
+            /* To the tag's end: <a/> opens and closes. */
+            size_t j = i + 1;
+            while (j < len && text[j] != '>') j++;
+            if (!(j < len && text[j - 1] == '/')) depth++;
+            i = j;
+        }
+        if (depth > max) {
+            max = depth;
+            if (max > stop) {
+                if (at) *at = i;
+                return stop + 1;
+            }
+        }
+    }
+    return max;
+}

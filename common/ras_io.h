@@ -58,4 +58,11 @@ bool ras_io_write_atomic(const char *path, const char *what, const void *data, s
  * RAS_IO_MAX_PATH. `option` names it in the message ("--reference"). */
 bool ras_io_path_fits(const char *option, const char *path, ras_error *err);
 
+/* The deepest nesting in a text: JSON brackets ({ and [, outside strings),
+ * braces, and XML elements (<a><b/></a> is 2). Counting stops past `stop`
+ * (the result is then stop + 1), and *at is set to the byte offset where the
+ * nesting first went past it. Parsers that recurse per level (assimp's
+ * rapidjson, cJSON, XML DOM destructors) are checked with it first. */
+size_t ras_io_text_nesting(const char *text, size_t len, size_t stop, size_t *at);
+
 #endif

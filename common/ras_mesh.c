@@ -27,13 +27,17 @@
 #include <limits.h> /* UINT_MAX */
 #include <math.h>   /* sqrtf, sinf, cosf, isfinite */
 #include <stdint.h> /* SIZE_MAX */
-#include <stdio.h>  /* fdopen, fread, fseek, fclose */
+#include <stdio.h>  /* fdopen, fread, fseek, fclose, snprintf */
 #include <stdlib.h> /* calloc, malloc, free */
-#include <string.h> /* memcpy */
+#include <string.h> /* memcpy, memcmp, strcmp, strrchr */
 #include <sys/stat.h> /* fstat */
 #include <unistd.h> /* close */
 
-#include "ras_io.h" /* ras_io_open_input */
+#include "ras_io.h"     /* ras_io_open_input, ras_io_read_file, ras_io_text_nesting */
+#include "ras_memory.h" /* ras_memory_check, ras_memory_limit */
+
+#include <cjson/cJSON.h> /* cJSON_ParseWithLength: glTF node trees */
+#include <pthread.h>     /* pthread_create: the import's large stack */
 
 /* ------------------------------------------------------------------------ */
 /* Allocation                                                                */
@@ -362,6 +366,152 @@ static void ras_mesh_io_close(struct aiFileIO *io, struct aiFile *f) {
     free(f);
 }
 
+/* ------------------------------------------------------------------------ */
+/* Nesting: checked before assimp, whose importers recurse per level         */
+
+/* The file's extension, lower-cased, in `ext` ("" when none). */
+static void ras_mesh_extension(const char *path, char *ext, size_t size) {
+    const char *slash = strrchr(path, '/');
+    const char *dot = strrchr(slash ? slash + 1 : path, '.');
+    size_t n = 0;
+    if (dot)
+        for (dot++; *dot && n + 1 < size; dot++, n++)
+            ext[n] = (char)(*dot >= 'A' && *dot <= 'Z' ? *dot - 'A' + 'a' : *dot);
+    ext[n] = '\0';
+}
+
+static bool ras_mesh_ext_in(const char *ext, const char *const *list) {
+    for (; *list; list++)
+        if (!strcmp(ext, *list)) return true;
+    return false;
+}
+
+/* The depth of a glTF node tree (JSON text), walked without recursion: 0 and
+ * *bad set when the node graph is not a tree (a cycle, a shared child) or
+ * deeper than RAS_MESH_MAX_NESTING. False when the JSON does not parse: then
+ * assimp gives its own message. */
+static bool ras_mesh_gltf_depth(const char *json, size_t len, size_t *depth, bool *bad) {
+    *depth = 0;
+    *bad = false;
+    cJSON *root = cJSON_ParseWithLength(json, len);
+    if (!root) return false;
+    const cJSON *nodes = cJSON_GetObjectItemCaseSensitive(root, "nodes");
+    int n = cJSON_IsArray(nodes) ? cJSON_GetArraySize(nodes) : 0;
+    int *parents = n ? calloc((size_t)n, sizeof *parents) : NULL;
+    int *stack = n ? malloc((size_t)n * 2 * sizeof *stack) : NULL;
+    bool ok = n == 0 || (parents && stack);
+    /* Children lists, flattened: child[k] of node i. */
+    const cJSON *node;
+    int i = 0;
+    cJSON_ArrayForEach(node, nodes) {
+        const cJSON *kids = cJSON_GetObjectItemCaseSensitive(node, "children"), *kid;
+        cJSON_ArrayForEach(kid, kids) {
+            int c = cJSON_IsNumber(kid) ? kid->valueint : -1;
+            if (c < 0 || c >= n || c == i) *bad = true;
+            else if (++parents[c] > 1) *bad = true;
+        }
+        i++;
+    }
+    /* Depth from every root (a node without a parent); a cycle has no root
+     * and leaves nodes unvisited. */
+    int visited = 0;
+    for (int r = 0; ok && !*bad && r < n; r++) {
+        if (parents[r]) continue;
+        int sp = 0;
+        stack[sp++] = r;
+        stack[sp++] = 1;
+        while (sp > 0 && !*bad) {
+            int d = stack[--sp], v = stack[--sp];
+            visited++;
+            if ((size_t)d > *depth) *depth = (size_t)d;
+            if ((size_t)d > RAS_MESH_MAX_NESTING) *bad = true;
+            const cJSON *kids =
+                cJSON_GetObjectItemCaseSensitive(cJSON_GetArrayItem(nodes, v), "children");
+            const cJSON *kid;
+            cJSON_ArrayForEach(kid, kids) {
+                if (sp + 2 > 2 * n) break;
+                stack[sp++] = kid->valueint;
+                stack[sp++] = d + 1;
+            }
+        }
+    }
+    if (ok && !*bad && visited < n) *bad = true; /* a cycle */
+    free(parents);
+    free(stack);
+    cJSON_Delete(root);
+    return ok;
+}
+
+/* Refuses a model whose nesting would take assimp's recursive importers past
+ * any stack: text formats are scanned for bracket/element depth, glTF's node
+ * tree is walked. True when the file is fine or not one of those formats. */
+static bool ras_mesh_check_nesting(const char *path, ras_error *err) {
+    static const char *const json_ext[] = {"gltf", "glb", NULL};
+    static const char *const text_ext[] = {"dae", "xml", "x3d", "x3dv", "amf", "irr", "irrmesh",
+                                           "xgl", "zgl", "x", "ogex", "ase", "ask", "fbx",
+                                           "md5mesh", "smd", "mesh", NULL};
+    char ext[16];
+    ras_mesh_extension(path, ext, sizeof ext);
+    bool json = ras_mesh_ext_in(ext, json_ext);
+    if (!json && !ras_mesh_ext_in(ext, text_ext)) return true;
+    size_t len = 0;
+    ras_error rerr = {{0}};
+    char *data = ras_io_read_file(path, "model", RAS_MESH_MAX_SCAN_BYTES, &len, &rerr);
+    if (!data) return true; /* too big to scan, or unreadable: assimp says so */
+    const char *text = data;
+    size_t text_len = len;
+    if (!strcmp(ext, "glb")) { /* binary glTF: the JSON chunk follows the 12-byte header */
+        text_len = 0;
+        if (len >= 20 && !memcmp(data, "glTF", 4) && !memcmp(data + 16, "JSON", 4)) {
+            const unsigned char *u = (const unsigned char *)data + 12;
+            size_t chunk = (size_t)u[0] | (size_t)u[1] << 8 | (size_t)u[2] << 16 | (size_t)u[3] << 24;
+            text = data + 20;
+            text_len = chunk <= len - 20 ? chunk : len - 20;
+        }
+    } else if (!strcmp(ext, "fbx") && len >= 18 && !memcmp(data, "Kaydara FBX Binary", 18)) {
+        text_len = 0; /* binary FBX: the import thread's stack is the guard */
+    }
+    size_t at = 0;
+    bool ok = true;
+    if (ras_io_text_nesting(text, text_len, RAS_MESH_MAX_NESTING, &at) > RAS_MESH_MAX_NESTING) {
+        ok = ras_error_set(err,
+                           "model '%s' is nested deeper than %d levels (at byte %zu); expected a "
+                           "flatter file — re-export it with the hierarchy flattened",
+                           path, RAS_MESH_MAX_NESTING, at + (size_t)(text - data));
+    } else if (json) {
+        size_t depth = 0;
+        bool bad = false;
+        if (ras_mesh_gltf_depth(text, text_len, &depth, &bad) && bad)
+            ok = ras_error_set(err,
+                               "model '%s': its node tree is %s; expected a tree at most %d "
+                               "levels deep — re-export it with the hierarchy flattened",
+                               path,
+                               depth > RAS_MESH_MAX_NESTING ? "nested deeper than that"
+                                                            : "not a tree (a cycle or a node with "
+                                                              "two parents)",
+                               RAS_MESH_MAX_NESTING);
+    }
+    free(data);
+    return ok;
+}
+
+/* ------------------------------------------------------------------------ */
+/* Loading                                                                   */
+
+static ras_mesh *ras_mesh_import(const char *path, ras_error *err);
+
+typedef struct ras_mesh_import_job {
+    const char *path;
+    ras_error *err;
+    ras_mesh *mesh;
+} ras_mesh_import_job;
+
+static void *ras_mesh_import_thread(void *arg) {
+    ras_mesh_import_job *job = arg;
+    job->mesh = ras_mesh_import(job->path, job->err);
+    return NULL;
+}
+
 ras_mesh *ras_mesh_load(const char *path, ras_error *err) {
     assert(path);
     /* Checked first because assimp's own message for a missing file does not
@@ -376,7 +526,37 @@ ras_mesh *ras_mesh_load(const char *path, ras_error *err) {
                       path, why);
         return NULL;
     }
+    struct stat st;
+    double file_bytes = fstat(probe, &st) == 0 ? (double)st.st_size : 0;
     close(probe);
+    char what[1200];
+    snprintf(what, sizeof what, "importing model '%s' (%.1f MB)", path, file_bytes / 1e6);
+    if (!ras_memory_check(file_bytes * RAS_MESH_IMPORT_BYTES_PER_FILE_BYTE, what,
+                          "use a smaller model", err))
+        return NULL;
+    if (!ras_mesh_check_nesting(path, err)) return NULL;
+    /* assimp's importers, post-processing and node destructors recurse per
+     * level of the file's hierarchy: run them on a thread with a large stack
+     * (address space only: pages are touched as they are used), sized to fit
+     * the memory budget. If no such thread can be made, the import runs here. */
+    ras_mesh_import_job job = {path, err, NULL};
+    size_t stack = ras_memory_limit() / 4;
+    if (stack > RAS_MESH_IMPORT_STACK) stack = RAS_MESH_IMPORT_STACK;
+    if (stack < (16u << 20)) stack = 16u << 20;
+    pthread_attr_t attr;
+    pthread_t thread;
+    bool threaded = pthread_attr_init(&attr) == 0;
+    if (threaded) {
+        threaded = pthread_attr_setstacksize(&attr, stack) == 0 &&
+                   pthread_create(&thread, &attr, ras_mesh_import_thread, &job) == 0;
+        pthread_attr_destroy(&attr);
+    }
+    if (threaded) pthread_join(thread, NULL);
+    else ras_mesh_import_thread(&job);
+    return job.mesh;
+}
+
+static ras_mesh *ras_mesh_import(const char *path, ras_error *err) {
 
     /* Triangulate: quads and n-gons become fans the rasterizer can draw.
      * JoinIdenticalVertices: OBJ stores one vertex per face corner; sharing

@@ -30,6 +30,20 @@ typedef struct ras_mesh {
     bool has_normals_from_file;
 } ras_mesh;
 
+/* Limits of ras_mesh_load (docs/robustness.md):
+ * - nesting: a glTF node tree, or the brackets/elements of a text format
+ *   (COLLADA, X, FBX ASCII, ...), deeper than RAS_MESH_MAX_NESTING levels is
+ *   refused before assimp sees it (scanned up to RAS_MESH_MAX_SCAN_BYTES);
+ * - the import runs on a thread with a stack of up to RAS_MESH_IMPORT_STACK
+ *   (a quarter of the memory budget, at least 16 MiB), for formats whose
+ *   nesting is not scanned;
+ * - memory: the file's size times RAS_MESH_IMPORT_BYTES_PER_FILE_BYTE must
+ *   fit the memory budget (ras_memory.h) before the import starts. */
+#define RAS_MESH_MAX_NESTING 10000
+#define RAS_MESH_MAX_SCAN_BYTES (256u << 20)
+#define RAS_MESH_IMPORT_STACK (256u << 20)
+#define RAS_MESH_IMPORT_BYTES_PER_FILE_BYTE 12.0
+
 /* Loads any format assimp reads (OBJ, PLY, STL, glTF, ...), all meshes of the
  * file merged into one. Returns NULL and sets err for a missing file, a file
  * assimp cannot parse, out-of-range indices, or a file with no triangles. */

@@ -32,7 +32,8 @@
 #include <sys/stat.h> /* stat, S_ISDIR */
 #include <unistd.h>   /* close */
 
-#include "ras_io.h" /* ras_io_open_input */
+#include "ras_io.h"     /* ras_io_open_input */
+#include "ras_memory.h" /* ras_memory_check, ras_memory_commit */
 
 #define BIG 1e6 /* coordinates, strengths and scales are limited to ±1e6 */
 #define PATH_LEN 192
@@ -1280,6 +1281,18 @@ static ras_scene *parse_text(const char *text, size_t len, const char *name, con
     }
     const char *end = NULL;
     cJSON *root = cJSON_ParseWithOpts(text + start, &end, 1);
+    size_t deep_at = 0;
+    if (!root && ras_io_text_nesting(text + start, len - start, CJSON_NESTING_LIMIT, &deep_at) >
+                     CJSON_NESTING_LIMIT) {
+        /* cJSON stops at its nesting limit with a plain syntax error: say why. */
+        int line, col;
+        line_col(text, start + deep_at, &line, &col);
+        ras_error_set(err,
+                      "%s:%d:%d: expected JSON nested at most %d levels deep, got deeper (a "
+                      "scene needs about 5); is this really a scene?",
+                      name, line, col, CJSON_NESTING_LIMIT);
+        return NULL;
+    }
     if (!root) {
         const char *at = cJSON_GetErrorPtr();
         size_t off = at && at >= text && at <= text + len ? (size_t)(at - text) : len;
@@ -1440,6 +1453,61 @@ static ras_mesh *create_mesh(const ras_scene_object *o, ras_error *inner) {
     return NULL;
 }
 
+/* The vertex and triangle counts of a built-in shape, from its parameters,
+ * before it is built (an upper bound; the pole triangles a sphere drops are
+ * counted). False for a model file: its counts are known once it is loaded. */
+static bool shape_counts(const ras_scene_object *o, double *v, double *t) {
+    const ras_scene_shape_params *sp = &o->params;
+    double a = 0, b = 0;
+    switch (o->shape) {
+    case RAS_SHAPE_TRIANGLE: *v = 3, *t = 1; return true;
+    case RAS_SHAPE_CUBE: *v = 24, *t = 12; return true;
+    case RAS_SHAPE_PLANE: a = b = sp->divisions; break;
+    case RAS_SHAPE_SPHERE: a = sp->stacks, b = sp->slices; break;
+    case RAS_SHAPE_TORUS: a = sp->rings, b = sp->sides; break;
+    case RAS_SHAPE_TEAPOT: /* 32 bicubic patches, divisions x divisions quads each */
+        *v = 32.0 * (sp->divisions + 1) * (sp->divisions + 1);
+        *t = 64.0 * sp->divisions * sp->divisions;
+        return true;
+    case RAS_SHAPE_THIN_FAN: *v = sp->count + 2.0, *t = sp->count; return true;
+    case RAS_SHAPE_MODEL: return false;
+    }
+    *v = (a + 1) * (b + 1);
+    *t = 2 * a * b;
+    return true;
+}
+
+/* What a mesh of v vertices and t triangles costs: the mesh (position,
+ * normal, uv, colour; three indices a triangle) and the renderers' data. */
+static double mesh_bytes(double v, double t) {
+    return v * (3 * sizeof(vec3s) + sizeof(vec2s) + RAS_MEMORY_RENDER_BYTES_PER_VERTEX) +
+           t * (3 * sizeof(unsigned) + RAS_MEMORY_RENDER_BYTES_PER_TRIANGLE);
+}
+
+/* A texture of w x h texels with its mip chain (a third more). */
+static double texture_bytes(double w, double h) { return w * h * sizeof(vec3s) * 4.0 / 3.0; }
+
+/* Adds `bytes` to the assets' estimate and checks the total against the
+ * memory budget; false and err (naming the scene, the object, the estimate
+ * and the limit) when it is over. */
+static bool budget_add(const ras_scene *s, ras_scene_assets *a, int i, const char *what,
+                       double bytes, ras_error *err) {
+    ras_memory_release(a->memory_estimate);
+    a->memory_estimate += bytes;
+    ras_memory_commit(a->memory_estimate);
+    char label[512];
+    if (i == 0)
+        snprintf(label, sizeof label, "%s: objects[0] (%s)", s->path, what);
+    else
+        snprintf(label, sizeof label, "%s: objects[%d] (%s), with the %d object%s before it,",
+                 s->path, i, what, i, i == 1 ? "" : "s");
+    ras_error inner = {{0}};
+    if (ras_memory_check(0, label, "use fewer or coarser objects or smaller textures", &inner))
+        return true;
+    ras_error_set(err, "%s", inner.msg);
+    return false;
+}
+
 static bool same_map(const ras_scene_map *a, const ras_scene_map *b) {
     if (a->kind != b->kind || a->wrap != b->wrap) return false;
     switch (a->kind) {
@@ -1470,6 +1538,12 @@ static ras_texture *get_map(const ras_scene *s, ras_scene_assets *a, int i, int 
         }
     ras_error inner = {{0}};
     ras_texture *t = NULL;
+    const char *key = which ? "height_map" : "texture";
+    if (m->kind != RAS_MAP_NONE && m->kind != RAS_MAP_FILE) {
+        char what[96];
+        snprintf(what, sizeof what, "a %dx%d %s", m->size, m->size, key);
+        if (!budget_add(s, a, i, what, texture_bytes(m->size, m->size), err)) return NULL;
+    }
     switch (m->kind) {
     case RAS_MAP_NONE: return NULL;
     case RAS_MAP_FILE: t = ras_texture_load(m->path, m->wrap, &inner); break;
@@ -1479,7 +1553,6 @@ static ras_texture *get_map(const ras_scene *s, ras_scene_assets *a, int i, int 
     case RAS_MAP_BRICK: t = ras_texture_create_brick(m->size); break;
     case RAS_MAP_BUMPS: t = ras_texture_create_bumps(m->size, m->bumps); break;
     }
-    const char *key = which ? "height_map" : "texture";
     if (!t) {
         if (m->kind == RAS_MAP_FILE)
             ras_error_set(err, "%s: objects[%d].material.%s: cannot load \"%s\": %s", s->path, i,
@@ -1490,6 +1563,11 @@ static ras_texture *get_map(const ras_scene *s, ras_scene_assets *a, int i, int 
     }
     t->wrap = m->wrap;
     a->owned_textures[a->owned_texture_count++] = t;
+    if (m->kind == RAS_MAP_FILE) {
+        char what[96];
+        snprintf(what, sizeof what, "a %dx%d %s", t->width, t->height, key);
+        if (!budget_add(s, a, i, what, texture_bytes(t->width, t->height), err)) return NULL;
+    }
     return t;
 }
 
@@ -1508,6 +1586,17 @@ ras_scene_assets *ras_scene_load_assets(const ras_scene *s, ras_error *err) {
     for (int i = 0; i < s->object_count; i++) {
         const ras_scene_object *o = &s->objects[i];
         ras_error inner = {{0}};
+        /* Estimated before a built-in shape is built: a few bytes of JSON
+         * can ask for millions of triangles. */
+        double nv, nt;
+        char what[96];
+        if (shape_counts(o, &nv, &nt)) {
+            snprintf(what, sizeof what, "a %s of %.0f triangles", shape_names[o->shape], nt);
+            if (!budget_add(s, a, i, what, mesh_bytes(nv, nt), err)) {
+                ras_scene_assets_destroy(a);
+                return NULL;
+            }
+        }
         ras_mesh *mesh = a->meshes[i] = create_mesh(o, &inner);
         if (!mesh) {
             if (o->shape == RAS_SHAPE_MODEL)
@@ -1518,6 +1607,15 @@ ras_scene_assets *ras_scene_load_assets(const ras_scene *s, ras_error *err) {
                               shape_names[o->shape]);
             ras_scene_assets_destroy(a);
             return NULL;
+        }
+        if (o->shape == RAS_SHAPE_MODEL) {
+            snprintf(what, sizeof what, "a model of %zu triangles", mesh->triangle_count);
+            if (!budget_add(s, a, i, what,
+                            mesh_bytes((double)mesh->vertex_count, (double)mesh->triangle_count),
+                            err)) {
+                ras_scene_assets_destroy(a);
+                return NULL;
+            }
         }
         if (o->params.fit > 0) {
             /* Translation and uniform scale: normals keep their direction. */
@@ -1542,6 +1640,7 @@ ras_scene_assets *ras_scene_load_assets(const ras_scene *s, ras_error *err) {
 
 void ras_scene_assets_destroy(ras_scene_assets *a) {
     if (!a) return;
+    ras_memory_release(a->memory_estimate);
     if (a->meshes)
         for (int i = 0; i < a->object_count; i++)
             ras_mesh_destroy(a->meshes[i]);

@@ -239,6 +239,9 @@ typedef struct ras_scene_assets {
      * distinct one is owned once, here. */
     ras_texture **owned_textures;
     int owned_texture_count;
+    /* Bytes the meshes, textures and their rendering are estimated to need,
+     * committed to the memory budget (ras_memory.h) until destroyed. */
+    double memory_estimate;
 } ras_scene_assets;
 
 /* Creates every object's mesh (built-in or loaded through assimp) and every

@@ -336,6 +336,105 @@ if os.geteuid() != 0:
     case(C, ["--metric", "exact", UNREADABLE, REF], "nonzero", "Permission denied", absent=(),
          hard=True)
 
+# ---- issue 16: the memory budget (common/ras_memory.c) ----
+# Each of these asked for gigabytes before: refused from the header or the
+# scene's parameters, before the allocation, under the 1 GiB cap.
+import struct
+import zlib
+
+def png_bomb(name, side, truncated=False):
+    """A grey PNG of side x side zeros: a few hundred KB that decode to side² bytes
+    (truncated: the header only, for sides too big to compress here quickly)."""
+    def chunk(tag, data):
+        return struct.pack(">I", len(data)) + tag + data + struct.pack(">I", zlib.crc32(tag + data))
+    data = b""
+    if not truncated:
+        co = zlib.compressobj(6)
+        row = b"\0" * (side + 1)
+        data = b"".join(co.compress(row) for _ in range(side)) + co.flush()
+    ihdr = struct.pack(">IIBBBBB", side, side, 8, 0, 0, 0, 0)
+    return write(name, b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", ihdr) + chunk(b"IDAT", data) +
+                 chunk(b"IEND", b""))
+
+BOMB16K = png_bomb("bomb16k.png", 16384)     # 261 KB -> 16384² (was decoded: 3.9 GB)
+BOMB32K = png_bomb("bomb32k.png", 32768, truncated=True)  # (was 6.2 GB before refused)
+BMP_BOMB = write("bomb.bmp", b"BM" + struct.pack("<IHHI", 54, 0, 0, 54) +
+                 struct.pack("<IiiHHIIiiII", 40, 16000, 16000, 1, 24, 0, 0, 0, 0, 0, 0))
+TEAPOTS = write("teapots.json", '{"objects": [%s]}' % ", ".join(
+    ['{"shape": "teapot", "divisions": 64}'] * 64))  # 3 KB (was 8.8 GB)
+SPHERES = write("spheres.json", '{"objects": [%s]}' % ", ".join(
+    ['{"shape": "sphere", "stacks": 1024, "slices": 1024}'] * 40))  # 1 KB (was 2.9 GB, 81 s)
+BIG_MAPS = write("maps.json", '{"shader": "texture", "objects": [%s]}' % ", ".join(
+    '{"shape": "cube", "material": {"texture": {"builtin": "%s", "size": 4096}}}' % b
+    for b in ["checker", "brick", "bumps"]))  # 3 x 4096² textures with mips: 805 MiB
+OVER = "over the memory limit"
+case(H3, ["--model", OK_OBJ, "--texture", BOMB16K, "-o", OUT], "nonzero", OVER, hard=True,
+     keep=REF)
+case(H3, ["--model", OK_OBJ, "--texture", BOMB32K, "-o", OUT], "nonzero",
+     "header says 32768x32768 pixels; expected 1..16384", hard=True, keep=REF)
+case(H3, ["--model", OK_OBJ, "--texture", BMP_BOMB, "-o", OUT], "nonzero", OVER, hard=True,
+     keep=REF)
+case(H3, ["--scene", TEAPOTS, "-o", OUT], "nonzero", "a teapot of 262144 triangles", hard=True,
+     keep=REF)
+case(H1, ["--scene", SPHERES, "-o", OUT], "nonzero", OVER, hard=True, keep=REF)
+case(H3, ["--scene", BIG_MAPS, "-o", OUT], "nonzero", "a 4096x4096 texture", hard=True, keep=REF)
+case(H2, ["--size", "4096x4096", "--aa", "ssaa", "--samples", "4", "-o", OUT], "nonzero",
+     "a 4096x4096 frame with 4 samples per pixel needs about", hard=True, keep=REF)
+case(C, ["--metric", "ssim", BOMB16K, BOMB16K], "nonzero",
+     "comparing a 16384x16384 with a 16384x16384 image needs",
+     absent=(), hard=True)
+case(H2, ["--compare", "--reference", BOMB16K, "-o", OUT], "nonzero", OVER, hard=True, keep=REF)
+# The limit's two handles, and their bad values.
+case(H2, ["--memory-limit", "16", "--size", "2048x2048", "--aa", "ssaa", "--samples", "4", "-o",
+          OUT], "nonzero", "set by --memory-limit", hard=True, keep=REF)
+case(H2, ["--size", "2048x2048", "--aa", "ssaa", "--samples", "4", "-o", OUT], "nonzero",
+     "set by RAS_MEMORY_LIMIT_MB", hard=True, keep=REF, env={"RAS_MEMORY_LIMIT_MB": "16"})
+case(H1, ["--memory-limit", "lots", "-o", OUT], 2, "--memory-limit expects a whole number of MiB",
+     hard=True, keep=REF)
+case(H3, ["-o", OUT], 2, "RAS_MEMORY_LIMIT_MB expects a whole number", hard=True, keep=REF,
+     env={"RAS_MEMORY_LIMIT_MB": "-5"})
+case(C, ["--metric", "exact", "--memory-limit", "0", REF, REF], 2, "--memory-limit expects",
+     absent=(), hard=True)
+
+# ---- issue 16: deep models and deep JSON (common/ras_mesh.c, ras_scene.c) ----
+def deep_gltf(name, levels):
+    nodes = ",".join('{"children":[%d]}' % (k + 1) for k in range(levels - 1)) + ',{"mesh":0}'
+    tri = "AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA"  # 3 vec3 floats, base64
+    return write(name, '{"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],'
+                 '"nodes":[%s],"meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}],'
+                 '"accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3",'
+                 '"min":[0,0,0],"max":[1,1,0]}],"bufferViews":[{"buffer":0,"byteLength":36}],'
+                 '"buffers":[{"byteLength":36,"uri":"data:application/octet-stream;base64,%s"}]}'
+                 % (nodes, tri))
+DEEP_GLTF = deep_gltf("deep.gltf", 20000)  # 450 KB: SIGSEGV in assimp before
+DEEP_DAE = write("deep.dae", '<?xml version="1.0"?><COLLADA><library_visual_scenes>'
+                 '<visual_scene id="s">' + '<node>' * 20000 + '</node>' * 20000 +
+                 '</visual_scene></library_visual_scenes></COLLADA>')
+DEEP_JSON_GLTF = write("deep_json.gltf", '{"asset":{"version":"2.0"},"extras":' + "[" * 100000 +
+                       "]" * 100000 + "}")
+CYCLE_GLTF = write("cycle.gltf", open(deep_gltf("cycle_src.gltf", 3)).read()
+                   .replace('{"children":[1]}', '{"children":[1]}', 1)
+                   .replace('{"mesh":0}', '{"mesh":0,"children":[1]}'))
+DEEP_SCENE = write("deep_scene.json", '{"objects": ' + "[" * 5000 + "]" * 5000 + "}")
+NESTED = "is nested deeper than 10000 levels"
+case(H3, ["--model", DEEP_GLTF, "-o", OUT], "nonzero", "nested deeper than that", hard=True,
+     keep=REF)
+case(H3, ["--model", deep_gltf("deep500.gltf", 500), "--size", "16x16", "-o", OUT], 0, "wrote",
+     absent=(), present=(OUT,), hard=True)
+case(H3, ["--model", DEEP_DAE, "-o", OUT], "nonzero", NESTED, hard=True, keep=REF)
+case(H3, ["--model", DEEP_JSON_GLTF, "-o", OUT], "nonzero", NESTED, hard=True, keep=REF)
+case(H3, ["--model", CYCLE_GLTF, "-o", OUT], "nonzero", "not a tree", hard=True, keep=REF)
+case(H2, ["--scene", DEEP_SCENE, "-o", OUT], 2, "expected JSON nested at most 1000 levels deep",
+     hard=True, keep=REF)
+
+# ---- issue 16: raster101-compare never overwrites its own input ----
+IN_COPY = write("compare_input.png", open(REF, "rb").read())
+case(C, ["--metric", "exact", "--diff", IN_COPY, REF, IN_COPY], 2,
+     "would overwrite one of the images being compared", absent=(), present=(IN_COPY,),
+     hard=True)
+case(C, ["--metric", "exact", "--crop", os.path.join(WORK, ".", "ref.png"), REF, IN_COPY], 2,
+     "would overwrite one of the images", absent=(), hard=True)
+
 with concurrent.futures.ThreadPoolExecutor(max_workers=max(2, os.cpu_count() or 2)) as pool:
     for result in pool.map(check, cases):
         if result:

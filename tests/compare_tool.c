@@ -13,18 +13,22 @@
  */
 #include "ras_compare.h"
 #include "ras_image.h"
+#include "ras_memory.h"
 
 #include <getopt.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 static void usage(FILE *out) {
     fputs("usage: raster101-compare --metric exact|edge|psnr|ssim EXPECTED GOT\n"
           "         [--tolerance N] [--max-bad FRACTION] [--min-psnr DB] [--min-ssim S]\n"
-          "         [--diff OUT.png] [--crop OUT.png] [--mask]\n"
+          "         [--diff OUT.png] [--crop OUT.png] [--mask] [--memory-limit MB]\n"
           "Compares GOT (the image under test) with EXPECTED (the reference).\n"
+          "--memory-limit MB (or RAS_MEMORY_LIMIT_MB): refuse images estimated to need\n"
+          "more (default: half of physical memory, at most 2048).\n"
           "Exit status: 0 match, 1 mismatch, 2 error.\n",
           out);
 }
@@ -52,8 +56,19 @@ static bool output_ok(const char *option, const char *path) {
     return false;
 }
 
+/* Estimated bytes per pixel of each image compared: measured 43 (decode,
+ * float image, the metric's buffers) on two 6000x6000 TIFFs. */
+#define COMPARE_BYTES_PER_PIXEL 48.0
+
+/* Whether two names are the same existing file (hard links and ./a.png too). */
+static bool same_file(const char *a, const char *b) {
+    struct stat sa, sb;
+    return stat(a, &sa) == 0 && stat(b, &sb) == 0 && sa.st_dev == sb.st_dev &&
+           sa.st_ino == sb.st_ino;
+}
+
 int main(int argc, char **argv) {
-    enum { OPT_TOL = 256, OPT_MAXBAD, OPT_PSNR, OPT_SSIM, OPT_MASK };
+    enum { OPT_TOL = 256, OPT_MAXBAD, OPT_PSNR, OPT_SSIM, OPT_MASK, OPT_MEMORY };
     static const struct option longopts[] = {
         {"metric", required_argument, NULL, 'm'},  {"diff", required_argument, NULL, 'd'},
         {"crop", required_argument, NULL, 'c'},    {"tolerance", required_argument, NULL, OPT_TOL},
@@ -61,6 +76,7 @@ int main(int argc, char **argv) {
         {"min-psnr", required_argument, NULL, OPT_PSNR},
         {"min-ssim", required_argument, NULL, OPT_SSIM},
         {"mask", no_argument, NULL, OPT_MASK},     {"help", no_argument, NULL, 'h'},
+        {"memory-limit", required_argument, NULL, OPT_MEMORY},
         {NULL, 0, NULL, 0}};
     const char *metric = NULL, *diff_path = NULL, *crop_path = NULL;
     double tol = NAN, max_bad = NAN, min_psnr = NAN, min_ssim = NAN;
@@ -78,6 +94,14 @@ int main(int argc, char **argv) {
         case OPT_PSNR: target = &min_psnr, option = "--min-psnr"; break;
         case OPT_SSIM: target = &min_ssim, option = "--min-ssim"; break;
         case OPT_MASK: mask = true; break;
+        case OPT_MEMORY: {
+            ras_error merr = {{0}};
+            if (!ras_memory_set_limit_mb(optarg, &merr)) {
+                fprintf(stderr, "raster101-compare: %s\n", merr.msg);
+                return 2;
+            }
+            break;
+        }
         case 'h': usage(stdout); return 0;
         default: usage(stderr); return 2; /* getopt named the option */
         }
@@ -122,6 +146,34 @@ int main(int argc, char **argv) {
     if (!isnan(min_ssim)) opt.min_ssim = min_ssim;
 
     const char *expected_path = argv[optind], *got_path = argv[optind + 1];
+    if (!ras_memory_check_env(&err)) {
+        fprintf(stderr, "raster101-compare: %s\n", err.msg);
+        return 2;
+    }
+    /* --diff or --crop over one of the inputs would destroy it. */
+    const char *outputs[2][2] = {{"--diff", diff_path}, {"--crop", crop_path}};
+    for (int k = 0; k < 2; k++)
+        if (outputs[k][1] && (same_file(outputs[k][1], expected_path) ||
+                              same_file(outputs[k][1], got_path))) {
+            fprintf(stderr,
+                    "raster101-compare: %s '%s' would overwrite one of the images being "
+                    "compared; expected a new file name, e.g. diff.png\n",
+                    outputs[k][0], outputs[k][1]);
+            return 2;
+        }
+    /* Both images, the comparison's own buffers and the heat map, estimated
+     * from the files' headers before either is decoded. */
+    long ew = 0, eh = 0, gw = 0, gh = 0;
+    if (ras_image_peek_file(expected_path, &ew, &eh) && ras_image_peek_file(got_path, &gw, &gh)) {
+        char what[128];
+        snprintf(what, sizeof what, "comparing a %ldx%ld with a %ldx%ld image", ew, eh, gw, gh);
+        if (!ras_memory_check(((double)ew * (double)eh + (double)gw * (double)gh) *
+                                  COMPARE_BYTES_PER_PIXEL,
+                              what, "compare smaller images", &err)) {
+            fprintf(stderr, "raster101-compare: %s\n", err.msg);
+            return 2;
+        }
+    }
     ras_image *expected = ras_image_load(expected_path, &err);
     if (!expected) {
         fprintf(stderr, "raster101-compare: expected image: %s\n", err.msg);

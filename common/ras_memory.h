@@ -1,0 +1,72 @@
+/* ras_memory.h — the memory budget: large allocations are estimated and
+ * checked before they are made.
+ *
+ * A small file can ask for a lot of memory: a 1 MB PNG of 32768² grey pixels
+ * decodes to 3 GiB, a 3 KB scene of subdivided teapots to gigabytes of
+ * triangles. Every large allocation (an image decode, read from the file's
+ * header first; a texture and its mip chain; a mesh after subdivision and the
+ * renderer's per-triangle data; per-sample frame buffers; the compare tool's
+ * images) is estimated up front and refused when the estimate is over the
+ * limit, with a message naming what was asked, the estimate and the limit.
+ *
+ * The limit, in order of precedence:
+ *   - --memory-limit MB on the command line (ras_memory_set_limit_mb);
+ *   - the environment variable RAS_MEMORY_LIMIT_MB;
+ *   - the default: half of physical memory, at most 2 GiB.
+ * Never above what the process's address-space limit (RLIMIT_AS, ulimit -v)
+ * leaves after the libraries: 3/4 of (RLIMIT_AS - 320 MiB).
+ *
+ * OpenCV's own decoder limit, OPENCV_IO_MAX_IMAGE_PIXELS, cannot be set from
+ * here: OpenCV 4.6 reads it into a static when libopencv_imgcodecs is loaded,
+ * before main (and glibc re-reads the environment after a .preinit_array
+ * function could set it). ras_image reads the size from the header of every
+ * format OpenCV 4.6 decodes (ras_image_peek_size) instead; a user may still
+ * export OPENCV_IO_MAX_IMAGE_PIXELS, and its refusal is reported as such.
+ */
+#ifndef RAS_MEMORY_H
+#define RAS_MEMORY_H
+
+#include "ras_error.h"
+
+#include <stddef.h> /* size_t */
+
+#define RAS_MEMORY_DEFAULT_CAP_MB 2048u /* the default is at most 2 GiB */
+#define RAS_MEMORY_MIN_MB 16u           /* smaller limits are refused */
+#define RAS_MEMORY_MAX_MB (1u << 24)    /* 16 TiB: larger is a typo */
+
+/* Estimated bytes per pixel of an image being loaded: OpenCV's BGR decode
+ * (3), the RGB copy (3), and the caller's float copy with mips (16). */
+#define RAS_MEMORY_BYTES_PER_LOADED_PIXEL 22.0
+/* Estimated bytes the renderers (teaching pipeline and fast path) hold per
+ * triangle and per vertex of a mesh, beyond the mesh itself: measured peak
+ * RSS / triangle count on 2.1 M-triangle spheres and 1 M-triangle teapots is
+ * 530-600 bytes (docs/robustness.md). */
+#define RAS_MEMORY_RENDER_BYTES_PER_TRIANGLE 600.0
+#define RAS_MEMORY_RENDER_BYTES_PER_VERTEX 64.0
+
+/* The limit in bytes, and a few words saying where it comes from
+ * ("the default, half of physical memory capped at 2 GiB", "--memory-limit",
+ * "RAS_MEMORY_LIMIT_MB", "the address-space limit (ulimit -v)"). */
+size_t ras_memory_limit(void);
+const char *ras_memory_limit_source(void);
+
+/* --memory-limit MB: a whole number of MiB, RAS_MEMORY_MIN_MB..MAX_MB.
+ * False and err for anything else. */
+bool ras_memory_set_limit_mb(const char *text, ras_error *err);
+
+/* Checks the environment variable RAS_MEMORY_LIMIT_MB (programs call it
+ * once, so a bad value is an error rather than silently ignored). */
+bool ras_memory_check_env(ras_error *err);
+
+/* Estimated bytes held by long-lived objects (a scene's meshes and
+ * textures): ras_memory_check counts them against the limit too, so a texture
+ * loaded after a million triangles sees what is left. */
+void ras_memory_commit(double bytes);
+void ras_memory_release(double bytes);
+
+/* True when `bytes` (an estimate) plus what is committed fits the limit. Otherwise false and err:
+ * "WHAT needs about N MiB, over the memory limit of L MiB (SOURCE); HINT, or
+ * raise the limit with --memory-limit MB (or RAS_MEMORY_LIMIT_MB)". */
+bool ras_memory_check(double bytes, const char *what, const char *hint, ras_error *err);
+
+#endif
