@@ -71,6 +71,22 @@ static inline const char *ras_test_signal_name(int sig) {
     }
 }
 
+/* cmocka catches a crash inside a test itself ("Test failed with exception:
+ * Segmentation fault(11)") and exits 1: the signal, read back from the
+ * test's output, or 0. */
+static inline int ras_test_caught_signal(const char *out, const char *name) {
+    char path[4096], text[8192];
+    snprintf(path, sizeof path, "%s/%s.out", out, name);
+    FILE *f = fopen(path, "rb");
+    if (!f) return 0;
+    size_t n = fread(text, 1, sizeof text - 1, f);
+    fclose(f);
+    text[n] = '\0';
+    const char *p = strstr(text, "Test failed with exception: ");
+    const char *open = p ? strchr(p, '(') : NULL;
+    return open ? atoi(open + 1) : 0;
+}
+
 /* Reads at most n-1 bytes of printable ASCII of a small file (a fate). */
 static inline void ras_test_read_text(const char *path, char *buf, size_t n) {
     buf[0] = '\0';
@@ -133,7 +149,7 @@ static inline int ras_test_each(const char *group_name, const struct CMUnitTest 
                       ? 1
                       : 0);
         }
-        int status = 0;
+        int status = 0, sig;
         bool timed_out = false;
         struct timespec t0, now, nap = {0, 2000000};
         clock_gettime(CLOCK_MONOTONIC, &t0);
@@ -157,6 +173,9 @@ static inline int ras_test_each(const char *group_name, const struct CMUnitTest 
         else if (WIFSIGNALED(status))
             snprintf(fate, sizeof fate, "was killed by signal %d (%s)", WTERMSIG(status),
                      ras_test_signal_name(WTERMSIG(status)));
+        else if ((sig = ras_test_caught_signal(out, name)) != 0)
+            snprintf(fate, sizeof fate, "was killed by signal %d (%s)", sig,
+                     ras_test_signal_name(sig));
         else
             snprintf(fate, sizeof fate, "exited with status %d", WEXITSTATUS(status));
         snprintf(path, sizeof path, "%s/%s.fate", out, name);
