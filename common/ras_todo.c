@@ -7,7 +7,7 @@ void ras_todo_notice(bool *shown, const char *function, const char *handout_sect
     if (*shown) return;
     *shown = true;
     fprintf(stderr,
-            "TODO: %s() is not written yet — it returns a placeholder for now. "
-            "See %s.\n",
+            "TODO: %s() is not written yet — it returns a placeholder for now (written it? "
+            "then delete its two notice lines). See %s.\n",
             function, handout_section);
 }

@@ -4,6 +4,9 @@
  * notice until you write it. Read docs/hw1.md first; run the tests with
  * `make grade HW=1` or `ctest --test-dir build -L hw1`.
  */
+/* When you write a function, DELETE its two notice lines (`static bool shown;`
+ * and `ras_todo_notice(...)`): the grader gives no points to a test during
+ * which a notice was printed, however right the result. */
 #include "transform.h"
 
 #include "ras_todo.h"

@@ -7,6 +7,9 @@
  * (ras_triangle.h), ras_fb_sample_index() (ras_framebuffer.h),
  * ras_shade_vertex_color() (stage5_fragment.h), ras_count() (ras_counters.h).
  */
+/* When you write a function, DELETE its two notice lines (`static bool shown;`
+ * and `ras_todo_notice(...)`): the grader gives no points to a test during
+ * which a notice was printed, however right the result. */
 #include "rasterizer.h"
 
 #include "ras_todo.h"

@@ -536,14 +536,16 @@ static void judge_test(item *it, run_result rr, bool failed_in_output, const cha
     }
     if (*out) sb_printf(&o, "%s%s", o.len ? "output before it stopped:\n" : "", out);
     if (it->passed && has_todo_notice(out))
-        sb_add(&o, "\n(passed, but only on a placeholder: the TODO stub it calls is not written "
-                   "yet, so no points)");
+        sb_add(&o, "\n(passed, but a TODO notice was printed, so no points: either a function it "
+                   "calls is still the stub and its placeholder happens to be right, or you wrote "
+                   "the function and left its `static bool shown; ras_todo_notice(...)` lines in: "
+                   "delete them)");
     it->output = o.s ? o.s : xstrdup("");
     it->score = it->passed && !has_todo_notice(out) ? it->max_score : 0;
     if (it->passed && !has_todo_notice(out))
         it->reason = xstrdup("");
     else if (it->passed)
-        it->reason = xstrdup("passes only on the placeholder (TODO not written)");
+        it->reason = xstrdup("passes, but a TODO notice was printed (a stub, or notice lines left in)");
     else
         it->reason = reason_line(it->output);
 }
@@ -1000,8 +1002,18 @@ static bool content_box(const ras_image *img, int *x0, int *y0, int *x1, int *y1
 }
 
 /* Likely-mistake lines recognised from the pictures themselves. */
+/* Does the image's command line contain `word` (e.g. "msaa")? */
+static bool args_have(const cJSON *img, const char *word) {
+    const cJSON *args = cJSON_GetObjectItemCaseSensitive(img, "args");
+    for (const cJSON *v = args ? args->child : NULL; v; v = v->next)
+        if (cJSON_IsString(v) && strstr(v->valuestring, word)) return true;
+    return false;
+}
+
+/* Signatures of classic mistakes; a cause is named only where the picture
+ * can have it (seams need anti-aliasing, doubled ambient needs lighting). */
 static void image_signatures(sbuf *o, const ras_image *expected, const ras_image *got,
-                             const ras_compare_options *opt) {
+                             const ras_compare_options *opt, const cJSON *img) {
     if (is_flat(got) && !is_flat(expected)) {
         sb_add(o, "likely mistake: your image is one flat colour: nothing was drawn (are the "
                   "TODOs written? do the matrices put the scene in front of the camera?)\n");
@@ -1038,17 +1050,19 @@ static void image_signatures(sbuf *o, const ras_image *expected, const ras_image
                       sx);
     }
     double le = mean_luma(expected), lg = mean_luma(got);
+    bool aa = args_have(img, "msaa") || args_have(img, "ssaa");
+    bool lit = args_have(img, "phong") || args_have(img, "texture") ||
+               args_have(img, "displacement");
     if (le > 0.02 && lg < 0.97 * le)
-        sb_printf(o,
-                  "note: your image is darker than the reference on average (mean luma %.4f "
-                  "vs %.4f): dark edges or seams? (resolve in floating point, colour per "
-                  "sample)\n",
-                  lg, le);
+        sb_printf(o, "note: your image is darker than the reference on average (mean luma %.4f "
+                     "vs %.4f)%s\n",
+                  lg, le,
+                  aa ? ": dark edges or seams? (resolve in floating point, colour per sample)"
+                     : "");
     else if (le > 0.02 && lg > 1.03 * le)
-        sb_printf(o,
-                  "note: your image is brighter than the reference on average (mean luma "
-                  "%.4f vs %.4f): light added twice (ambient once per light?)\n",
-                  lg, le);
+        sb_printf(o, "note: your image is brighter than the reference on average (mean luma "
+                     "%.4f vs %.4f)%s\n",
+                  lg, le, lit ? ": light added twice (ambient once per light?)" : "");
 }
 
 /* Reads the image a student's program wrote, refusing before any decoding
@@ -1208,7 +1222,7 @@ static void grade_image(const grader *g, assignment_result *a, const cJSON *img,
             it->status = xstrdup(r.pass ? (todo ? "TODO" : "PASS") : (todo ? "TODO" : "FAIL"));
             sb_printf(&o, "%s\n", r.summary);
             if (!r.pass) {
-                image_signatures(&o, expected, got, &opt);
+                image_signatures(&o, expected, got, &opt, img);
                 if (kind == RAS_COMPARE_EXACT || kind == RAS_COMPARE_EDGE_TOLERANT) {
                     char mask[2048];
                     if (ras_compare_ascii_mask(expected, got, (vec3s){{0, 0, 0}}, r.worst_col,
@@ -1242,8 +1256,8 @@ static void grade_image(const grader *g, assignment_result *a, const cJSON *img,
         sb_printf(&o, "could not read the reference: %s\n", err.msg);
     }
     if (it->passed && todo)
-        sb_add(&o, "(matches, but the program called a TODO stub: no points until it is "
-                   "written)\n");
+        sb_add(&o, "(matches, but the program printed a TODO notice, so no points: a stub it "
+                   "calls, or a function you wrote with its notice lines left in: delete them)\n");
     ras_image_destroy(got);
     ras_image_destroy(expected);
     while (o.len && o.s[o.len - 1] == '\n')
@@ -1253,7 +1267,7 @@ static void grade_image(const grader *g, assignment_result *a, const cJSON *img,
     if (it->score > 0)
         it->reason = xstrdup("");
     else if (it->passed)
-        it->reason = xstrdup("matches only on a placeholder (TODO not written)");
+        it->reason = xstrdup("matches, but a TODO notice was printed (a stub, or notice lines left in)");
     else {
         const char *lm = strstr(it->output, "likely mistake");
         const char *summary = strstr(it->output, " FAIL: ");

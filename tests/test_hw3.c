@@ -725,7 +725,9 @@ static void test_stages_only_what_the_shader_needs(void **state) {
     ras_image_destroy(render(HW3_SHADER_PHONG, FILTER_BILINEAR, &k));
     CHECK(k.texels_fetched == 0 && k.lighting_evaluations == 2 * k.fragments_shaded,
           "phong: expected 0 texels and 2 lighting evaluations per fragment, got %llu texels, "
-          "%llu evaluations for %llu fragments",
+          "%llu evaluations for %llu fragments. Likely mistake: blinn_phong_lighting does not "
+          "count its work (TODO 2.5: stages_run |= RAS_STAGE_LIGHTING, lighting_evaluations += "
+          "light_count)",
           (unsigned long long)k.texels_fetched, (unsigned long long)k.lighting_evaluations,
           (unsigned long long)k.fragments_shaded);
     ras_image_destroy(render(HW3_SHADER_TEXTURE, FILTER_NEAREST, &k));
