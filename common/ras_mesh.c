@@ -38,6 +38,9 @@
 
 #include <cjson/cJSON.h> /* cJSON_ParseWithLength: glTF node trees */
 #include <pthread.h>     /* pthread_create: the import's large stack */
+#ifdef __GLIBC__
+#include <malloc.h> /* malloc_trim */
+#endif
 
 /* ------------------------------------------------------------------------ */
 /* Allocation                                                                */
@@ -553,6 +556,13 @@ ras_mesh *ras_mesh_load(const char *path, ras_error *err) {
     }
     if (threaded) pthread_join(thread, NULL);
     else ras_mesh_import_thread(&job);
+#ifdef __GLIBC__
+    /* The import's memory was freed in the thread's own malloc arena, where
+     * the renderer (on this thread) cannot reuse it: give it back, or the
+     * peak is the import plus the render (980 instead of 667 MB measured on
+     * a 40 MB OBJ). */
+    if (threaded) malloc_trim(0);
+#endif
     return job.mesh;
 }
 

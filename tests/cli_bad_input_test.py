@@ -16,7 +16,8 @@ A few good runs are checked as well, so the checks cannot pass by accident.
 The robustness cases (issue 16: disk full, special files, memory bombs, deep
 models) run as a user would meet them: under a 1 GiB address-space cap
 (prlimit --as; not under ASan, whose shadow memory needs terabytes of address
-space: the cap is left off when the programs link libasan) and a 20 s timeout, with a good output file already in
+space: the cap is left off when the programs link libasan, and
+RAS_MEMORY_LIMIT_MB=528 gives the budget the cap would) and a 20 s timeout, with a good output file already in
 place that must come out byte-identical, and no temporary file (.NAME-XXXXXX)
 left beside it.
 Every bad case fails before rendering; the cases run in parallel, each with
@@ -113,6 +114,9 @@ def check(c):
     limits = []
     if hard and not SANITIZED:
         limits.append(f"--as={AS_CAP}")
+    elif hard and not (env and "RAS_MEMORY_LIMIT_MB" in env):
+        # No cap under ASan: the budget the cap would give, set directly.
+        env = dict(env or {}, RAS_MEMORY_LIMIT_MB="528")
     if fsize is not None:
         limits.append(f"--fsize={fsize}")
     code, out, err = run(program, args, limits, timeout=20 if hard else 120, env_extra=env)
