@@ -643,6 +643,45 @@ static void test_index_rasterizer_writes_flipped(void **state) {
     guarded_free(&g);
 }
 
+/* A tiny triangle whose only covered pixel centre sits in the LAST column and
+ * row of its bounding box (x from k+0.05 to k+0.95): the classic loop
+ * `for (x = floor(min_x); x < floor(max_x); x++)` never visits it. */
+static void test_raster_box_maximum_included(void **state) {
+    (void)state;
+    ras_framebuffer *fb = make_fb(6, 4, 1);
+    /* Only a rasterizer that draws at all can show this mistake. */
+    ras_raster_ctx big_ctx = ctx_none(fb);
+    ras_triangle big = tri_z(tri3(0, 0, 6, 0, 0, 4), 0.5f, RED);
+    rasterize_triangle(&big, &big_ctx);
+    int drawn = covered_pixels(fb);
+    CHECK(drawn > 0, "a triangle over half of a 6x4 frame drew nothing, so the bounding box's "
+                     "last row and column cannot be checked yet (see the other rasterize tests)");
+    const int pixels[][2] = {{2, 1}, {0, 0}, {5, 3}, {3, 2}};
+    for (size_t i = 0; i < sizeof pixels / sizeof pixels[0]; i++) {
+        float x = (float)pixels[i][0], y = (float)pixels[i][1];
+        ras_framebuffer_clear(fb, BLACK);
+        ras_raster_ctx ctx = ctx_none(fb);
+        /* below the diagonal from (x+0.05, y+0.2) to (x+0.95, y+0.95): the
+         * centre (x+0.5, y+0.5) is inside, 0.075 px from that edge */
+        ras_triangle t = tri_z(tri3(x + 0.05f, y + 0.2f, x + 0.95f, y + 0.2f, x + 0.95f, y + 0.95f),
+                               0.5f, RED);
+        rasterize_triangle(&t, &ctx);
+        int idx = ras_fb_sample_index(fb, pixels[i][0], pixels[i][1], 0);
+        CHECK(!isinf(fb->depth[idx]) && covered_pixels(fb) == 1,
+              "a tiny triangle inside screen pixel (%d, %d), x from %.2f to %.2f, covering its "
+              "centre (%.1f, %.1f): expected exactly that pixel drawn, got %d pixels%s. Likely "
+              "mistake: %s",
+              pixels[i][0], pixels[i][1], (double)x + 0.05, (double)x + 0.95, (double)x + 0.5,
+              (double)y + 0.5, covered_pixels(fb), isinf(fb->depth[idx]) ? ", not that one" : "",
+              covered_pixels(fb) == 0
+                  ? "the bounding box's maximum used as an exclusive bound (x < floor(max_x)): "
+                    "the last column and row of the box are never visited; loop to "
+                    "x <= floor(max_x) (and y likewise), clamped to the screen."
+                  : "the pixel centre not used, or the y-flip.");
+    }
+    ras_framebuffer_destroy(fb);
+}
+
 /* ---- 4. rasterize: clamping, rejects, depth ------------------------------------------- */
 
 static void test_raster_clamped_to_screen(void **state) {
@@ -764,6 +803,14 @@ static void test_raster_counters(void **state) {
     ras_triangle t = tri_z(tri3(1, 1, 9, 1, 1, 9), 0.5f, WHITE);
     rasterize_triangle(&t, &ctx);
     int covered = covered_pixels(fb);
+    /* Covered samples on an empty (+inf) frame that all fail the depth test:
+     * the comparison is the wrong way round, whatever else is also wrong. */
+    CHECK(!(k.samples_covered > 0 && k.depth_tests_passed == 0 && covered == 0),
+          "MSAA 4x, one triangle on an empty frame (depth cleared to +inf): your rasterizer "
+          "covered %llu samples and none passed the depth test, so nothing was drawn. Likely "
+          "mistake: the depth comparison is reversed (smaller z is closer: draw when "
+          "z < depth[i]).",
+          (unsigned long long)k.samples_covered);
     CHECK(k.samples_covered == (uint64_t)covered && k.depth_tests_passed == (uint64_t)covered,
           "MSAA 4x, one triangle on an empty frame: expected samples_covered = "
           "depth_tests_passed = %d (the samples written), got %llu and %llu. Likely mistake: "
@@ -1186,6 +1233,7 @@ int main(void) {
         cmocka_unit_test(test_index_corners_and_flip),
         cmocka_unit_test(test_index_all_in_range_and_distinct),
         cmocka_unit_test(test_index_rasterizer_writes_flipped),
+        cmocka_unit_test(test_raster_box_maximum_included),
         cmocka_unit_test(test_raster_clamped_to_screen),
         cmocka_unit_test(test_raster_rejects_nan_and_zero_area),
         cmocka_unit_test(test_raster_depth_test_order),
