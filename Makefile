@@ -54,6 +54,13 @@ grade: configure
 handout:
 	@tests/make-handout --out $(BUILD)/handout
 
+# The Gradescope autograder: build/autograder/raster101-autograder.zip
+# (setup.sh, run_autograder and the tree without solutions; tests/make-autograder,
+# docs/instructors.md). The same zip serves a GitHub Actions runner.
+.PHONY: autograder
+autograder:
+	@tests/make-autograder --out $(BUILD)/autograder
+
 # The accuracy report (issue 6): time and error of every accuracy option,
 # measured on this machine, into docs/accuracy.md, docs/accuracy.csv and
 # docs/img/accuracy_*.png. A few minutes; `bench_accuracy --quick` for seconds.
