@@ -133,6 +133,17 @@ static int prefix_matches(const char *word, const struct option **match) {
     return n;
 }
 
+/* Whether two names are the same file (or the same name for a file that
+ * does not exist yet). */
+static bool same_path(const char *a, const char *b) {
+    if (!strcmp(a, b)) return true;
+    char *ra = realpath(a, NULL), *rb = realpath(b, NULL);
+    bool same = ra && rb && !strcmp(ra, rb);
+    free(ra);
+    free(rb);
+    return same;
+}
+
 ras_cli_status ras_cli_parse(int argc, char **argv, unsigned accepted, ras_cli *out,
                              ras_error *err) {
     *out = (ras_cli){.axis = {{0, 0, 1}}};
@@ -340,16 +351,29 @@ ras_cli_status ras_cli_parse(int argc, char **argv, unsigned accepted, ras_cli *
     }
     if (out->reference && out->output) {
         /* --compare reads the reference before the render overwrites -o. */
-        char *ref = realpath(out->reference, NULL), *dst = realpath(out->output, NULL);
-        bool same = !strcmp(out->reference, out->output) || (ref && dst && !strcmp(ref, dst));
-        free(ref);
-        free(dst);
-        if (same) {
+        if (same_path(out->reference, out->output)) {
             ras_error_set(err,
                           "-o %s would overwrite the --reference image it is compared with; "
                           "write the render to another file",
                           out->output);
             return RAS_CLI_ERROR;
+        }
+        /* Nor may the difference images written beside -o (OUT_diff.png,
+         * OUT_worst.png) land on it. */
+        static const char *const suffixes[] = {"_diff", "_worst"};
+        const char *dot = strrchr(out->output, '.'), *slash = strrchr(out->output, '/');
+        int stem = (dot && (!slash || dot > slash)) ? (int)(dot - out->output)
+                                                    : (int)strlen(out->output);
+        for (int k = 0; k < 2; k++) {
+            char sibling[RAS_IO_MAX_PATH + 16];
+            snprintf(sibling, sizeof sibling, "%.*s%s.png", stem, out->output, suffixes[k]);
+            if (same_path(out->reference, sibling)) {
+                ras_error_set(err,
+                              "--compare writes its difference image to %s, which is the "
+                              "--reference image; name -o differently",
+                              sibling);
+                return RAS_CLI_ERROR;
+            }
         }
     }
     if (!ras_memory_check_env(err)) return RAS_CLI_ERROR;

@@ -209,7 +209,8 @@ bool ras_io_write_atomic(const char *path, const char *what, const void *data, s
     struct stat lst;
     if (lstat(path, &lst) == 0 && S_ISLNK(lst.st_mode) && realpath(path, resolved))
         target = resolved;
-    if (lstat(target, &lst) == 0 && !S_ISREG(lst.st_mode))
+    bool exists = lstat(target, &lst) == 0;
+    if (exists && !S_ISREG(lst.st_mode))
         return ras_error_set(err,
                              "could not write %s '%s': expected a regular file or a new name, "
                              "got %s; choose another name",
@@ -239,9 +240,11 @@ bool ras_io_write_atomic(const char *path, const char *what, const void *data, s
     const char *step = "writing";
     bool ok = false;
     void *copy = NULL;
+    /* The replaced file's permissions, or a new file's usual ones. */
     mode_t mask = umask(0);
     umask(mask);
-    if (fchmod(fd, 0666 & ~mask) != 0) step = "setting the mode of";
+    mode_t mode = exists ? (lst.st_mode & 07777) : (0666 & ~mask);
+    if (fchmod(fd, mode) != 0) step = "setting the mode of";
     else if (!write_full(fd, data, len)) step = "writing";
     else if (fsync(fd) != 0 && errno != EINVAL) step = "flushing (fsync)";
     else ok = true;
@@ -298,6 +301,26 @@ bool ras_io_write_atomic(const char *path, const char *what, const void *data, s
         close(dfd);
     }
     return true;
+}
+
+/* ---- reports -------------------------------------------------------------- */
+
+FILE *ras_io_report_open(ras_io_report *r) {
+    r->buf = NULL;
+    r->len = 0;
+    r->f = open_memstream(&r->buf, &r->len);
+    return r->f;
+}
+
+bool ras_io_report_commit(ras_io_report *r, const char *path, ras_error *err) {
+    bool ok = r->f != NULL;
+    if (r->f && (ferror(r->f) || fclose(r->f) != 0)) ok = false;
+    r->f = NULL;
+    if (!ok && path) ras_error_set(err, "could not write report '%s': out of memory", path);
+    else if (path) ok = ras_io_write_atomic(path, "report", r->buf, r->len, NULL, NULL, err);
+    free(r->buf);
+    r->buf = NULL;
+    return ok;
 }
 
 /* ---- nesting -------------------------------------------------------------- */

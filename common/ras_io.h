@@ -9,7 +9,8 @@
  * a report) so that the target is either the complete new file or what was
  * there before, never a truncated mix:
  *   1. create a short temporary file beside the target, ".NAME-XXXXXX"
- *      (NAME cut so the whole name stays within 255 bytes), mode 0666&~umask;
+ *      (NAME cut so the whole name stays within 255 bytes), with the mode of
+ *      the file it replaces (a new file: 0666 & ~umask);
  *   2. write every byte (each write checked; EINTR and short writes retried),
  *      fsync, close (checked: NFS reports errors there);
  *   3. read the file back and compare it with the buffer, then let the
@@ -28,6 +29,7 @@
 #include "ras_error.h"
 
 #include <stddef.h> /* size_t */
+#include <stdio.h>  /* FILE */
 
 /* Longest file name (path) the programs accept on the command line, in bytes
  * without the NUL: longer ones are refused by name, never silently cut. */
@@ -53,6 +55,18 @@ typedef bool (*ras_io_verify_fn)(const void *data, size_t len, void *ctx, ras_er
  * `what` names the file in messages ("image", "report"). */
 bool ras_io_write_atomic(const char *path, const char *what, const void *data, size_t len,
                          ras_io_verify_fn verify, void *ctx, ras_error *err);
+
+/* A text report (CSV, Markdown) written with stdio into memory, then to its
+ * file with ras_io_write_atomic: ras_io_report_open gives the FILE* to
+ * fprintf into (NULL when out of memory); ras_io_report_commit closes it and
+ * writes the file, or, with path NULL, only discards it. */
+typedef struct ras_io_report {
+    FILE *f;
+    char *buf;
+    size_t len;
+} ras_io_report;
+FILE *ras_io_report_open(ras_io_report *r);
+bool ras_io_report_commit(ras_io_report *r, const char *path, ras_error *err);
 
 /* Checks a file name given on the command line: not longer than
  * RAS_IO_MAX_PATH. `option` names it in the message ("--reference"). */

@@ -24,6 +24,7 @@
 #include "ras_builtin_scenes.h"
 #include "ras_cli.h"
 #include "ras_compare.h"
+#include "ras_io.h" /* RAS_IO_MAX_PATH */
 #include "ras_pipeline.h"
 #include "ras_viewer.h"
 #include "ras_window.h"
@@ -166,7 +167,7 @@ static ras_image *load_reference(const app *a, const char *reference, char *path
 /* Returns the exit status: 0 match, 1 mismatch, 2 cannot compare. */
 static int compare_with_reference(const app *a, const ras_image *expected, const char *path,
                                   const char *output) {
-    char variant[64], diff_path[1024];
+    char variant[64], diff_path[RAS_IO_MAX_PATH + 16]; /* -o's stem + "_worst.png" */
     variant_name(&a->set, variant, sizeof variant);
     ras_error err = {{0}};
     /* Edge-tolerant: a one-pixel shift along an edge (e.g. another fill rule)

@@ -30,6 +30,7 @@
  * Progress goes to stderr, the tables to stdout at the end.
  */
 #include "bench_plot.h"
+#include "ras_io.h" /* ras_io_report: the reports are written atomically */
 #include "ras_pipeline.h"
 #include "ras_texture.h"
 #include "rasterizer.h"   /* hw2 reference: rasterize_triangle, resolve_pixel */
@@ -1318,7 +1319,8 @@ static void csv_num(FILE *f, double v) {
 }
 
 static bool write_csv(const char *path) {
-    FILE *f = fopen(path, "w");
+    ras_io_report report; /* written whole or not at all (ras_io.h) */
+    FILE *f = ras_io_report_open(&report);
     if (!f) return false;
     fputs("section,scene,option,samples,time_ms_median,time_ms_min,time_ms_max,time_rel,"
           "rmse_all,psnr_all_db,rmse_edge,psnr_edge_db,cracks,double_hits,"
@@ -1332,7 +1334,7 @@ static bool write_csv(const char *path) {
         for (size_t k = 0; k < sizeof v / sizeof v[0]; k++) csv_num(f, v[k]);
         fputc('\n', f);
     }
-    return fclose(f) == 0;
+    return ras_io_report_commit(&report, path, NULL);
 }
 
 static void scenes_of(const char *section, char out[][40], int *n, int max) {
@@ -1451,7 +1453,8 @@ static void depth_time_ratio_range(int first, double *lo, double *hi) {
 
 static bool write_markdown(const char *path, const char *machine_name, const char *date,
                            double total_s) {
-    FILE *f = fopen(path, "w");
+    ras_io_report report; /* written whole or not at all (ras_io.h) */
+    FILE *f = ras_io_report_open(&report);
     if (!f) return false;
     char aa_scenes[4][40], sc[8][40];
     int n_aa, n;
@@ -1737,7 +1740,7 @@ static bool write_markdown(const char *path, const char *machine_name, const cha
                "    make bench-accuracy            # full run into docs/ (a few minutes)\n"
                "    build/bin/bench_accuracy --quick --out /tmp/acc   # small and fast\n"
                "    build/bin/bench_accuracy --quick --check          # what `make test` runs\n");
-    return fclose(f) == 0;
+    return ras_io_report_commit(&report, path, NULL);
 }
 
 static void print_tables(void) {

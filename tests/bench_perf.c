@@ -23,6 +23,7 @@
  *                  profiling one configuration under perf or callgrind;
  *                  the plain row is then one frame, the reference image)
  */
+#include "ras_io.h" /* ras_io_report: the report is written atomically */
 #include "ras_mesh.h"
 #include "scene.h"
 
@@ -381,9 +382,10 @@ int main(int argc, char **argv) {
     printf("fast images identical to plain: %s\n", all_identical ? "yes" : "NO");
 
     if (out_path) {
-        FILE *f = fopen(out_path, "w");
+        ras_io_report report; /* written whole or not at all (ras_io.h) */
+        FILE *f = ras_io_report_open(&report);
         if (!f) {
-            fprintf(stderr, "bench_perf: cannot write %s\n", out_path);
+            fprintf(stderr, "bench_perf: cannot write %s: out of memory\n", out_path);
             return 1;
         }
         char cpu[256], date[64];
@@ -471,7 +473,11 @@ int main(int argc, char **argv) {
         fprintf(f, "\nEvery fast image was compared with the plain image of the same row "
                    "byte for byte: %s. The benchmark process peaked at %ld KiB RSS.\n",
                 all_identical ? "all identical" : "**SOME DIFFER**", self.ru_maxrss);
-        fclose(f);
+        ras_error werr = {{0}};
+        if (!ras_io_report_commit(&report, out_path, &werr)) {
+            fprintf(stderr, "bench_perf: %s\n", werr.msg);
+            return 1;
+        }
         fprintf(stderr, "bench_perf: wrote %s\n", out_path);
     }
     ras_image_destroy(expected);

@@ -431,7 +431,22 @@ case(H3, ["--model", CYCLE_GLTF, "-o", OUT], "nonzero", "not a tree", hard=True,
 case(H2, ["--scene", DEEP_SCENE, "-o", OUT], 2, "expected JSON nested at most 1000 levels deep",
      hard=True, keep=REF)
 
-# ---- issue 16: raster101-compare never overwrites its own input ----
+# Counts a PLY/OFF header declares that the file cannot hold (assimp reserved
+# them first: a 123-byte PLY took 4.7 GB and 10 s).
+PLY_BOMB = write("bomb.ply", "ply\nformat binary_little_endian 1.0\nelement vertex 400000000\n"
+                 "property float x\nproperty float y\nproperty float z\nend_header\n")
+OFF_BOMB = write("bomb.off", "OFF\n300000000 1 0\n0 0 0\n")
+case(H3, ["--model", PLY_BOMB, "-o", OUT], "nonzero", "declares 400000000 elements", hard=True,
+     keep=REF)
+case(H3, ["--model", OFF_BOMB, "-o", OUT], "nonzero", "the file is truncated or corrupt",
+     hard=True, keep=REF)
+
+# ---- issue 16: nothing overwrites an input ----
+DIFF_REF = write("cmp_diff.png", open(REF, "rb").read())  # what -o cmp.png's diff would be
+for prog in (H2, H3):
+    case(prog, ["--compare", "--reference", DIFF_REF, "--size", "16x16", "-o", path("cmp.png")],
+         2, "which is the --reference image", absent=(path("cmp.png"),), present=(DIFF_REF,),
+         hard=True)
 IN_COPY = write("compare_input.png", open(REF, "rb").read())
 case(C, ["--metric", "exact", "--diff", IN_COPY, REF, IN_COPY], 2,
      "would overwrite one of the images being compared", absent=(), present=(IN_COPY,),
