@@ -81,6 +81,9 @@ def run(program, args, limits=None, timeout=120, env_extra=None):
     cmd = [os.path.join(BIN, program)] + args
     if limits:
         cmd = ["prlimit"] + limits + ["--"] + cmd
+    if env_extra and env_extra.get("AS_NOBODY"):  # root reads everything: drop to nobody
+        cmd = ["setpriv", "--reuid=65534", "--regid=65534", "--clear-groups"] + cmd
+        env.pop("AS_NOBODY")
     try:
         p = subprocess.run(cmd, capture_output=True, text=True, env=env, timeout=timeout,
                            cwd=WORK, errors="replace")
@@ -331,14 +334,26 @@ case(C, ["--metric", "exact", REF, FIFO_PNG], "nonzero", GOT_FIFO, absent=(), ha
 LONG_REF = os.path.join(WORK, "./" * 600 + "ref.png")
 case(H2, ["--compare", "--reference", LONG_REF, "-o", OUT], 2,
      "--reference expects a file name of at most 1023 bytes", hard=True, keep=REF)
-# An existing file that cannot be read says so (root reads everything: skipped).
+# An existing file that cannot be read says so (root reads everything: run as
+# nobody through setpriv, when the folders let nobody in).
+UNREADABLE = write("unreadable.png", open(REF, "rb").read())
+os.chmod(UNREADABLE, 0)
+UNREADABLE_OBJ = write("unreadable.obj", open(OK_OBJ).read())
+os.chmod(UNREADABLE_OBJ, 0)
 if os.geteuid() != 0:
-    UNREADABLE = write("unreadable.png", open(REF, "rb").read())
-    os.chmod(UNREADABLE, 0)
     case(H3, ["--model", OK_OBJ, "--texture", UNREADABLE, "-o", OUT], "nonzero",
          "Permission denied", hard=True, keep=REF)
     case(C, ["--metric", "exact", UNREADABLE, REF], "nonzero", "Permission denied", absent=(),
          hard=True)
+elif shutil.which("setpriv") and subprocess.run(
+        ["setpriv", "--reuid=65534", "--regid=65534", "--clear-groups", "test", "-r", REF]
+        ).returncode == 0:
+    NOBODY = {"AS_NOBODY": "1"}
+    case(C, ["--metric", "exact", UNREADABLE, REF], "nonzero",
+         "could not read image '%s': Permission denied" % UNREADABLE, absent=(), hard=True,
+         env=NOBODY)
+    case(C, ["--metric", "exact", REF, UNREADABLE_OBJ], "nonzero", "Permission denied",
+         absent=(), hard=True, env=NOBODY)
 
 # ---- issue 16: the memory budget (common/ras_memory.c) ----
 # Each of these asked for gigabytes before: refused from the header or the
