@@ -1659,15 +1659,11 @@ int main(int argc, char **argv) {
         cJSON_Delete(r);
         return 0;
     }
-    if (!g.source || !g.build || !g.out || !g.work || !g.student_tree || !g.student_build)
-        return arg_error("expected --source, --build, --out, --work, --student-tree and "
-                         "--student-build (tests/grade passes them); %s is missing",
-                         !g.source         ? "--source"
-                         : !g.build        ? "--build"
-                         : !g.out          ? "--out"
-                         : !g.work         ? "--work"
-                         : !g.student_tree ? "--student-tree"
-                                           : "--student-build");
+    if (!g.source || !g.build || !g.out)
+        return arg_error("expected --source, --build and --out; %s is missing",
+                         !g.source  ? "--source"
+                         : !g.build ? "--build"
+                                    : "--out");
     if (!is_dir(g.source))
         return arg_error("--source expects the project folder; '%s' is not a folder", g.source);
     if (!is_dir(g.build))
@@ -1722,6 +1718,16 @@ int main(int argc, char **argv) {
         return 2;
     }
 
+    /* The student's side: tests/grade makes it (a sandboxed build of a
+     * pristine copy); without it there is nothing to grade. */
+    if (!g.work || !g.student_tree || !g.student_build) {
+        fprintf(stderr,
+                "raster101-grade: expected --work, --student-tree and --student-build (the "
+                "sandbox's folders, which tests/grade makes); %s is missing: run tests/grade\n",
+                !g.work ? "--work" : !g.student_tree ? "--student-tree" : "--student-build");
+        cJSON_Delete(g.rubric);
+        return 2;
+    }
     int n = cJSON_GetArraySize(asgs);
     assignment_result *as = calloc((size_t)n, sizeof *as);
     double total = 0, max_total = 0;
