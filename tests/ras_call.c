@@ -349,10 +349,18 @@ static const unsigned char *rp_next(uint32_t *tag, uint32_t *len, uint32_t want_
                                     bool inside) {
     for (;;) {
         if (rp_len - rp_pos < 8) {
+            if (inside && want_fn == FN_hw3_render)
+                fail_msg("hw3_render() did not return: the sandboxed test process %s while it "
+                         "drew the frame (call %lu of this test). Likely mistake: a crash, an "
+                         "endless loop or exit() in one of YOUR functions it runs: your shaders "
+                         "and texture lookups (hw3), or your rasterizer (hw2) and matrices "
+                         "(hw1), which hw3 draws with; the hw2 and hw1 tests say whether those "
+                         "pass",
+                         worker_fate(), rp_calls);
             if (inside)
                 fail_msg("%s() did not return: the sandboxed test process %s while it ran "
                          "(call %lu of this test). Likely mistake: a crash, an endless loop or "
-                         "exit() in your %s",
+                         "exit() in your %s (or in a function of yours that it calls)",
                          fn_name(want_fn), worker_fate(), rp_calls, fn_name(want_fn));
             fail_msg("the sandboxed test process %s before the test called %s() (call %lu); "
                      "a function must return its result, never exit or stop the process",
