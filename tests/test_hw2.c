@@ -643,6 +643,31 @@ static void test_index_rasterizer_writes_flipped(void **state) {
     guarded_free(&g);
 }
 
+/* The samples are where ctx->pattern says, not at positions written into the
+ * rasterizer: four samples all in the left half of the pixel, under a
+ * triangle that covers exactly that half, are all covered. */
+static void test_raster_samples_from_pattern(void **state) {
+    (void)state;
+    ras_framebuffer *fb = make_fb(1, 1, 4);
+    ras_sample_pattern pat = pattern(RAS_PATTERN_STANDARD, 4);
+    const float left[4][2] = {{0.1f, 0.1f}, {0.2f, 0.7f}, {0.3f, 0.3f}, {0.4f, 0.9f}};
+    for (int k = 0; k < 4; k++) pat.offsets[k] = (vec2s){{left[k][0], left[k][1]}};
+    ras_raster_ctx ctx = make_ctx(fb, RAS_AA_MSAA, pat);
+    ras_triangle t = tri_z(tri3(-5, -5, 0.45f, -5, 0.45f, 10), 0.5f, RED);
+    rasterize_triangle(&t, &ctx);
+    int covered = covered_pixels(fb);
+    CHECK(covered == 4,
+          "4 samples placed by ctx->pattern at x = 0.1, 0.2, 0.3, 0.4 px in pixel (0, 0), under "
+          "a triangle covering x < 0.45: expected all 4 covered, got %d. Likely mistake: %s",
+          covered,
+          covered == 2 ? "sample positions written into the rasterizer (a 2x2 grid or the "
+                         "standard offsets) instead of read from ctx->pattern.offsets[k]"
+          : covered == 0 ? "nothing drawn with MSAA (the samples, or the depth test)"
+                         : "the sample positions not taken from ctx->pattern.offsets[k] "
+                           "(from the pixel's lower-left corner, in pixels)");
+    ras_framebuffer_destroy(fb);
+}
+
 /* A tiny triangle whose only covered pixel centre sits in the LAST column and
  * row of its bounding box (x from k+0.05 to k+0.95): the classic loop
  * `for (x = floor(min_x); x < floor(max_x); x++)` never visits it. */
@@ -1234,6 +1259,7 @@ int main(void) {
         cmocka_unit_test(test_index_all_in_range_and_distinct),
         cmocka_unit_test(test_index_rasterizer_writes_flipped),
         cmocka_unit_test(test_raster_box_maximum_included),
+        cmocka_unit_test(test_raster_samples_from_pattern),
         cmocka_unit_test(test_raster_clamped_to_screen),
         cmocka_unit_test(test_raster_rejects_nan_and_zero_area),
         cmocka_unit_test(test_raster_depth_test_order),
