@@ -364,6 +364,84 @@ static void test_inside_fan_watertight(void **state) {
                        pattern(RAS_PATTERN_ORDERED, 16), expect_fan, &f);
 }
 
+/* Realistic screen coordinates: small triangles hundreds of pixels from the
+ * origin, as a 700x700 frame has them. Barycentrics and depth against double.
+ * The course's expanded form x*(y1-y2) + (x2-x1)*y + x1*y2 - x2*y1 subtracts
+ * products of ~3.6e5 to get areas of ~30: about 1e-3 wrong, which is more than
+ * the depth between a torus's front and back (7.8e-4 in z01). */
+static void test_bary_precision_at_600px(void **state) {
+    (void)state;
+    const float tris[][6] = {{612.3f, 587.1f, 617.9f, 588.4f, 613.2f, 594.6f},
+                             {401.7f, 655.2f, 405.1f, 652.9f, 404.4f, 659.8f},
+                             {650.2f, 640.6f, 652.9f, 640.9f, 651.0f, 645.3f}};
+    double worst = 0, wx = 0, wy = 0;
+    for (size_t i = 0; i < sizeof tris / sizeof tris[0]; i++) {
+        const float *c = tris[i];
+        ras_triangle t = tri3(c[0], c[1], c[2], c[3], c[4], c[5]);
+        double area = edge_exact(c[0], c[1], c[2], c[3], c[4], c[5]);
+        for (int py = (int)c[1] - 1; py < (int)c[5] + 2; py++)
+            for (int px = (int)c[0] - 2; px < (int)c[2] + 2; px++) {
+                double x = px + 0.5, y = py + 0.5;
+                double want[3] = {edge_exact(c[2], c[3], c[4], c[5], x, y) / area,
+                                  edge_exact(c[4], c[5], c[0], c[1], x, y) / area,
+                                  edge_exact(c[0], c[1], c[2], c[3], x, y) / area};
+                vec3s got = {{0, 0, 0}};
+                if (!compute_barycentric_2d((float)x, (float)y, &t, &got)) continue;
+                double err = fmax(fabs(got.x - want[0]),
+                                  fmax(fabs(got.y - want[1]), fabs(got.z - want[2])));
+                if (err > worst) worst = err, wx = x, wy = y;
+            }
+    }
+    CHECK(worst <= 1e-4,
+          "compute_barycentric_2d on small triangles near screen (600, 600): off by %.2g at "
+          "(%.1f, %.1f) against double (at most 1e-4 expected; a float edge function is off "
+          "by about 1e-6 there). Likely mistake: the expanded formula x*(y1-y2) + (x2-x1)*y + "
+          "x1*y2 - x2*y1 — its products near 3.6e5 cancel to areas near 30 and lose about 1e-3, "
+          "which in hw3 lets back faces win the depth test (speckle). Subtract a vertex first: "
+          "((x-x0)*(y1-y0) - (x1-x0)*(y-y0)) / area, as docs/hw2.md writes it.",
+          worst, wx, wy);
+    /* The same through the rasterizer: the depth it stores. */
+    ras_framebuffer *fb = make_fb(700, 700, 1);
+    ras_raster_ctx ctx = ctx_none(fb);
+    const float *c = tris[0];
+    const float z[3] = {0.3f, 0.9f, 0.5f};
+    ras_triangle t = tri3(c[0], c[1], c[2], c[3], c[4], c[5]);
+    for (int k = 0; k < 3; k++) t.v[k].z = z[k];
+    rasterize_triangle(&t, &ctx);
+    /* Against the plane through the vertices as given and through the
+     * vertices snapped to 1/256 px (a fixed-point rasterizer's): either is
+     * right, and both are far closer than the cancellation's error. */
+    double snapped[6], dworst = 0;
+    for (int k = 0; k < 6; k++) snapped[k] = round((double)c[k] * 256) / 256;
+    int seen = 0;
+    for (int py = 580; py < 600; py++)
+        for (int px = 605; px < 625; px++) {
+            float d = fb->depth[ras_fb_sample_index(fb, px, py, 0)];
+            if (isinf(d)) continue;
+            double x = px + 0.5, y = py + 0.5, err = INFINITY;
+            for (int v = 0; v < 2; v++) {
+                double q[6];
+                for (int k = 0; k < 6; k++) q[k] = v ? snapped[k] : (double)c[k];
+                double area = edge_exact(q[0], q[1], q[2], q[3], q[4], q[5]);
+                double want = (edge_exact(q[2], q[3], q[4], q[5], x, y) * z[0] +
+                               edge_exact(q[4], q[5], q[0], q[1], x, y) * z[1] +
+                               edge_exact(q[0], q[1], q[2], q[3], x, y) * z[2]) /
+                              area;
+                err = fmin(err, fabs(d - want));
+            }
+            dworst = fmax(dworst, err);
+            seen++;
+        }
+    CHECK(seen > 0 && dworst <= 2e-5,
+          "rasterize_triangle, a small triangle near screen (615, 590) with depths 0.3, 0.9, "
+          "0.5: %s (at most 2e-5 expected). Likely mistake: depth interpolated with barycentrics "
+          "from the expanded formula x*(y1-y2) + (x2-x1)*y + x1*y2 - x2*y1, which cancels at "
+          "hundreds of pixels; subtract a vertex first (docs/hw2.md).",
+          seen ? "the stored depth is off by more than 2e-5 against double"
+               : "nothing drawn, so the depth could not be checked");
+    ras_framebuffer_destroy(fb);
+}
+
 /* ---- 2. barycentrics ------------------------------------------------------------ */
 
 static void test_bary_vertices_centroid_sum(void **state) {
@@ -1255,6 +1333,7 @@ int main(void) {
         cmocka_unit_test(test_bary_outside_is_negative),
         cmocka_unit_test(test_bary_degenerate_flagged),
         cmocka_unit_test(test_bary_at_pixel_centre),
+        cmocka_unit_test(test_bary_precision_at_600px),
         cmocka_unit_test(test_index_corners_and_flip),
         cmocka_unit_test(test_index_all_in_range_and_distinct),
         cmocka_unit_test(test_index_rasterizer_writes_flipped),
