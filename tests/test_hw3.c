@@ -310,6 +310,50 @@ static void test_shader_blinn_phong_one_light(void **state) {
              ARG3(want), ARG3(c), hint);
 }
 
+/* Blinn-Phong of one light in double (the test's own arithmetic), with the
+ * viewer at `eye` (view space): the point's colour for kd, ks, p, ka·Ia. */
+static vec3s blinn_phong_double(vec3s kd, const double P[3], const double n[3],
+                                const double light_pos[3], double I, double ks, double pw,
+                                double ambient, const double eye[3]) {
+    double d[3], v[3], r2 = 0, vl = 0;
+    for (int k = 0; k < 3; k++) d[k] = light_pos[k] - P[k], r2 += d[k] * d[k];
+    for (int k = 0; k < 3; k++) v[k] = eye[k] - P[k], vl += v[k] * v[k];
+    double l[3], h[3], hl = 0, nl = 0, nh = 0;
+    for (int k = 0; k < 3; k++) l[k] = d[k] / sqrt(r2), v[k] /= sqrt(vl), h[k] = l[k] + v[k];
+    for (int k = 0; k < 3; k++) hl += h[k] * h[k];
+    for (int k = 0; k < 3; k++) nl += n[k] * l[k], nh += n[k] * h[k] / sqrt(hl);
+    double spec = ks * I / r2 * pow(fmax(0, nh), pw), diff = I / r2 * fmax(0, nl);
+    return V3((float)(ambient + kd.x * diff + spec), (float)(ambient + kd.y * diff + spec),
+              (float)(ambient + kd.z * diff + spec));
+}
+
+/* A point OFF the view axis: the viewer direction is normalize(−point) (the
+ * camera at the view-space origin), which only here differs from the course
+ * viewer's fixed eye_pos = (0, 0, 10). */
+static void test_shader_viewer_off_axis(void **state) {
+    (void)state;
+    fragment_shader_payload p = base_payload();
+    p.color = V3(0.5f, 0.25f, 0.1f);
+    p.view_pos = V3(3, 0, -4);
+    p.p = 8;
+    p.lights[0] = (light){{{6, 0, -1}}, {{50, 50, 50}}};
+    const double P[3] = {3, 0, -4}, n[3] = {0, 0, 1}, L[3] = {6, 0, -1};
+    const double origin[3] = {0, 0, 0}, course_eye[3] = {0, 0, 10};
+    vec3s want = blinn_phong_double(p.color, P, n, L, 50, 0.3, 8, 0.05, origin);
+    vec3s course = blinn_phong_double(p.color, P, n, L, 50, 0.3, 8, 0.05, course_eye);
+    vec3s c = phong_fragment_shader(&p);
+    CHECK(near3(c, want, 1e-4f),
+          "Blinn-Phong at the off-axis point P = (3, 0, -4), n = (0,0,1), one light at (6,0,-1), "
+          "I = 50, kd = (0.5,0.25,0.1), ks = 0.3, p = 8: expected " FMT3 ", got " FMT3
+          ". Likely mistake: %s",
+          ARG3(want), ARG3(c),
+          near3(c, course, 1e-4f)
+              ? "the viewer at a fixed eye position (the course viewer's eye_pos = (0,0,10)): "
+                "points and lights are in view space, where the camera is the origin, so "
+                "v = normalize(−point) (TODO 2.1)"
+              : "check v = normalize(−point) and the other terms (docs/hw3.md section 2)");
+}
+
 /* Ambient once: two lights at grazing incidence (n·l = 0, and (n·h)^150 =
  * 0.7071^150 ≈ 2.4e-23) contribute nothing, so the colour is ka·Ia = 0.05 —
  * 0.10 when the ambient term sits inside the light loop. */
@@ -978,6 +1022,7 @@ int main(void) {
         cmocka_unit_test(test_interp_w1_pitfall_caught),
         cmocka_unit_test(test_shader_normal),
         cmocka_unit_test(test_shader_blinn_phong_one_light),
+        cmocka_unit_test(test_shader_viewer_off_axis),
         cmocka_unit_test(test_shader_ambient_once_not_per_light),
         cmocka_unit_test(test_shader_blinn_phong_classic_numbers),
         cmocka_unit_test(test_shader_texture_kd_from_texture),
