@@ -646,13 +646,21 @@ static char *student_text(const char *raw, size_t cap) {
     return b.s ? b.s : xstrdup("");
 }
 
-/* A fresh folder for one sandboxed run, writable by the sandbox's user and
- * by nobody else. */
+/* Each sandboxed run its own uid (the grading's base + 1 + run % 90), so
+ * runs at the same time never share per-uid limits, and the user isolation's
+ * kill-by-uid reaches only its own run. */
+static long run_uid(const grader *g, int run) {
+    return g->sandbox_uid < 0 ? -1 : g->sandbox_uid + 1 + run % 90;
+}
+
+/* A fresh folder for one sandboxed run, writable by that run's user and by
+ * nobody else. */
 static void run_dir(const grader *g, char *path, size_t size) {
-    fmt(path, size, "%s/runs/%d", g->work, ((grader *)g)->runs++);
+    int run = ((grader *)g)->runs++;
+    fmt(path, size, "%s/runs/%d", g->work, run);
     mkdirs(path);
-    if (g->sandbox_uid >= 0 && chown(path, (uid_t)g->sandbox_uid, (gid_t)g->sandbox_uid) != 0)
-        chmod(path, 0777);
+    long uid = run_uid(g, run);
+    if (uid >= 0 && chown(path, (uid_t)uid, (gid_t)uid) != 0) chmod(path, 0777);
 }
 
 /* Fills j->argv with `tests/sandbox ... --` for a new run folder j->rw: the
@@ -682,7 +690,7 @@ static int sandbox_job(const grader *g, job *j, double limit_s, const char *cons
     j->argv[n++] = j->store[k++];
     if (g->sandbox_uid >= 0) {
         j->argv[n++] = "--uid";
-        fmt(j->store[k], sizeof j->store[k], "%ld", g->sandbox_uid);
+        fmt(j->store[k], sizeof j->store[k], "%ld", run_uid(g, g->runs - 1));
         j->argv[n++] = j->store[k++];
     }
     for (int i = 0; env && env[i] && k < 14; i++) {
