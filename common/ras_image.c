@@ -101,6 +101,17 @@ bool ras_image_check_output(const char *path, ras_error *err) {
                              "cannot write '%s': it is a folder; expected a file name "
                              "such as '%s/out.png'",
                              path, path);
+    /* A FIFO or a device would be replaced by the rename (or, written into,
+     * block): refused before any work. */
+    if (stat(path, &st) == 0 && !S_ISREG(st.st_mode))
+        return ras_error_set(err,
+                             "cannot write '%s': it is %s; expected a regular file or a new "
+                             "name",
+                             path,
+                             S_ISFIFO(st.st_mode)  ? "a FIFO"
+                             : S_ISCHR(st.st_mode) ? "a character device"
+                             : S_ISBLK(st.st_mode) ? "a block device"
+                                                   : "not a regular file");
     /* The folder the file goes into. */
     char dir[4096];
     if (!slash)

@@ -313,6 +313,7 @@ FIFO_TEXTURE_SCENE = write("fifo_texture.json",
                            '{"shader": "texture", "objects": [{"shape": "cube", "material": '
                            '{"texture": {"file": "%s"}}}]}' % FIFO_PNG)
 GOT_FIFO = "expected a regular file, got a FIFO"
+case(H2, ["-o", FIFO_PNG], 2, "it is a FIFO; expected a regular file", absent=(), hard=True)
 case(H3, ["--model", FIFO, "-o", OUT], "nonzero", GOT_FIFO, hard=True, keep=REF)
 case(H3, ["--model", OK_OBJ, "--texture", FIFO_PNG, "-o", OUT], "nonzero", GOT_FIFO, hard=True,
      keep=REF)
