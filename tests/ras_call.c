@@ -79,6 +79,10 @@ __attribute__((unused)) static const char *fn_name(uint32_t fn) { return fn < FN
 typedef struct region {
     void *p;
     size_t n;
+    bool diff; /* record only the bytes that changed: for big buffers the test
+                * itself initialised (a framebuffer); everything else whole,
+                * since an out-parameter's bytes before the call are garbage
+                * that differs between the two processes */
 } region;
 
 /* ---- the inputs' fingerprint (FNV-1a): catches a record made for other calls */
@@ -118,7 +122,7 @@ void ras_call_watch_impl(void *p, size_t n) {
         watched_count = 0;
         return;
     }
-    if (watched_count < MAX_WATCH) watched[watched_count++] = (region){p, n};
+    if (watched_count < MAX_WATCH) watched[watched_count++] = (region){p, n, true};
 }
 
 #ifdef RAS_CALL_RECORD
@@ -211,6 +215,8 @@ static bool call_begin(call *c, uint32_t fn, hash h) {
     memcpy(payload + 4, &h.h, 8);
     rec_put(TAG_BEGIN, payload, sizeof payload, NULL, 0);
     for (int i = 0; i < c->n; i++) {
+        c->before[i] = NULL;
+        if (!c->regs[i].diff) continue;
         c->before[i] = malloc(c->regs[i].n ? c->regs[i].n : 1);
         if (!c->before[i]) abort();
         if (c->regs[i].n) memcpy(c->before[i], c->regs[i].p, c->regs[i].n);
@@ -235,6 +241,15 @@ static void call_end(call *c) {
         uint32_t runs = 0;
         buf_add(&b, &runs, 4);
         size_t k = 0;
+        if (!c->regs[i].diff && size) { /* one run: the whole region */
+            uint64_t off = 0;
+            uint32_t len = (uint32_t)size;
+            buf_add(&b, &off, 8);
+            buf_add(&b, &len, 4);
+            buf_add(&b, now, size);
+            runs = 1;
+            k = size;
+        }
         while (k < size) {
             if (now[k] == was[k]) {
                 size_t skip = 64 - (k & 63);
@@ -488,10 +503,14 @@ typedef struct call {
 #endif
 
 /* The usual shape: a returned value r, maybe counters, maybe out-params. */
-#define RESULT(r) (c.regs[c.n++] = (region){&(r), sizeof(r)})
+#define RESULT(r) (c.regs[c.n++] = (region){&(r), sizeof(r), false})
 #define REGION(ptr, size)                                                                          \
     do {                                                                                           \
-        if (ptr) c.regs[c.n++] = (region){(void *)(ptr), (size)};                                  \
+        if (ptr) c.regs[c.n++] = (region){(void *)(ptr), (size), false};                           \
+    } while (0)
+#define REGION_DIFF(ptr, size)                                                                     \
+    do {                                                                                           \
+        if (ptr) c.regs[c.n++] = (region){(void *)(ptr), (size), true};                            \
     } while (0)
 
 WRAP(mat4s, get_model_matrix, float angle) {
@@ -570,12 +589,12 @@ WRAP(void, rasterize_triangle, const ras_triangle *t, const ras_raster_ctx *ctx)
             HASH(h, fb->height);
             HASH(h, fb->samples);
             size_t n = (size_t)fb->width * (size_t)fb->height * (size_t)fb->samples;
-            REGION(fb->color, n * sizeof *fb->color);
-            REGION(fb->depth, n * sizeof *fb->depth);
+            REGION_DIFF(fb->color, n * sizeof *fb->color);
+            REGION_DIFF(fb->depth, n * sizeof *fb->depth);
         }
         REGION(ctx->counters, sizeof *ctx->counters);
     }
-    for (int i = 0; i < watched_count; i++) REGION(watched[i].p, watched[i].n);
+    for (int i = 0; i < watched_count; i++) REGION_DIFF(watched[i].p, watched[i].n);
 #ifdef RAS_CALL_RECORD
     if (ctx && ctx->shade && depth == 0) {
         ras_raster_ctx seen = *ctx;
