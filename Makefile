@@ -46,7 +46,8 @@ clean:
 #   make grade STUDENT=ref  grades the reference solutions as the student (full marks)
 .PHONY: grade
 grade: configure
-	@tests/grade --build $(BUILD) --jobs $(JOBS) $(if $(HW),--hw $(HW)) $(if $(STUDENT),--student $(STUDENT))
+	@tests/grade --build $(BUILD) --jobs $(JOBS) --reuse-build $(BUILD)/grade-sandbox \
+	  $(if $(HW),--hw $(HW)) $(if $(STUDENT),--student $(STUDENT))
 
 # The student edition: build/handout/raster101-handout.tar.gz, no solution/
 # folders; fails if any solution text would ship (tests/make-handout).
