@@ -205,6 +205,22 @@ static bool pnm_size(const uint8_t *d, size_t len, long *w, long *h) {
     return true;
 }
 
+/* A decimal number after `key` in a text header (PAM's "WIDTH 640"). */
+static bool text_field(const uint8_t *d, size_t len, const char *key, long *out) {
+    size_t k = strlen(key), end = len < 4096 ? len : 4096;
+    for (size_t i = 0; i + k < end; i++)
+        if (!memcmp(d + i, key, k)) {
+            long v = 0;
+            size_t j = i + k;
+            while (j < end && d[j] == ' ') j++;
+            if (j >= end || d[j] < '0' || d[j] > '9') return false;
+            while (j < end && d[j] >= '0' && d[j] <= '9' && v < 100000000) v = v * 10 + (d[j++] - '0');
+            *out = v;
+            return true;
+        }
+    return false;
+}
+
 bool ras_image_peek_size(const uint8_t *d, size_t len, long *w, long *h) {
     if (len >= 24 && !memcmp(d, "\x89PNG\r\n\x1a\n", 8) && !memcmp(d + 12, "IHDR", 4)) {
         *w = (long)be32(d + 16);
@@ -219,6 +235,44 @@ bool ras_image_peek_size(const uint8_t *d, size_t len, long *w, long *h) {
     }
     if (len >= 3 && d[0] == 'P' && ((d[1] >= '1' && d[1] <= '6') || d[1] == 'f' || d[1] == 'F'))
         return pnm_size(d, len, w, h);
+    if (len >= 3 && d[0] == 'P' && d[1] == '7') /* PAM: WIDTH and HEIGHT lines */
+        return text_field(d, len, "\nWIDTH ", w) && text_field(d, len, "\nHEIGHT ", h);
+    if (len >= 10 && (!memcmp(d, "#?RADIANCE", 10) || !memcmp(d, "#?RGBE", 6))) {
+        /* Radiance HDR: after the header's blank line, "-Y H +X W" (or a variant). */
+        const uint8_t *end = d + (len < 65536 ? len : 65536);
+        for (const uint8_t *q = d; q + 2 < end; q++)
+            if (q[0] == '\n' && q[1] == '\n') {
+                char line[64];
+                size_t n = 0;
+                for (q += 2; q < end && *q != '\n' && n + 1 < sizeof line; q++) line[n++] = (char)*q;
+                line[n] = '\0';
+                char a[3], b[3];
+                long v1, v2;
+                if (sscanf(line, "%2s %ld %2s %ld", a, &v1, b, &v2) != 4) return false;
+                bool y_first = a[1] == 'Y';
+                *h = y_first ? v1 : v2;
+                *w = y_first ? v2 : v1;
+                return true;
+            }
+        return false;
+    }
+    if (len >= 24 && d[0] == 0xFF && d[1] == 0x4F && d[2] == 0xFF && d[3] == 0x51) {
+        /* JPEG 2000 codestream: the SIZ segment, image size minus its offset. */
+        *w = (long)be32(d + 8) - (long)be32(d + 16);
+        *h = (long)be32(d + 12) - (long)be32(d + 20);
+        return true;
+    }
+    if (len >= 8 && le32(d) == 0x01312f76u) { /* OpenEXR: the dataWindow attribute */
+        static const char key[] = "dataWindow\0box2i\0";
+        for (size_t i = 8; i + sizeof key - 1 + 20 <= len && i < 65536; i++)
+            if (!memcmp(d + i, key, sizeof key - 1)) {
+                const uint8_t *b = d + i + sizeof key - 1 + 4; /* after the size */
+                *w = (long)(int32_t)le32(b + 8) - (long)(int32_t)le32(b) + 1;
+                *h = (long)(int32_t)le32(b + 12) - (long)(int32_t)le32(b + 4) + 1;
+                return true;
+            }
+        return false;
+    }
     if (len >= 30 && !memcmp(d, "RIFF", 4) && !memcmp(d + 8, "WEBP", 4)) {
         if (!memcmp(d + 12, "VP8 ", 4)) {
             *w = (d[26] | d[27] << 8) & 0x3fff;

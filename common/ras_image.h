@@ -79,9 +79,10 @@ ras_image *ras_image_load(const char *path, ras_error *err);
  * in 1..RAS_IMAGE_MAX_SIDE; NULL and err as ras_image_load. */
 uint8_t *ras_image_load_rgb8(const char *path, int *width, int *height, ras_error *err);
 
-/* The width and height an encoded image's header announces (PNG, BMP, JPEG,
- * PNM, WebP), read without decoding; false for other formats or a header too
- * short to say. */
+/* The width and height an encoded image's header announces, read without
+ * decoding: PNG, JPEG, BMP, PNM/PFM, PAM, WebP, TIFF, Sun raster, JPEG 2000
+ * (jp2 and codestream), Radiance HDR, OpenEXR — every format OpenCV 4.6
+ * decodes. False for other data or a header too short to say. */
 bool ras_image_peek_size(const uint8_t *data, size_t len, long *width, long *height);
 
 /* The same from the start of a file (regular files only); false when it

@@ -380,6 +380,13 @@ BOMB16K = png_bomb("bomb16k.png", 16384)     # 261 KB -> 16384² (was decoded: 3
 BOMB32K = png_bomb("bomb32k.png", 32768, truncated=True)  # (was 6.2 GB before refused)
 BMP_BOMB = write("bomb.bmp", b"BM" + struct.pack("<IHHI", 54, 0, 0, 54) +
                  struct.pack("<IiiHHIIiiII", 40, 16000, 16000, 1, 24, 0, 0, 0, 0, 0, 0))
+JPEG_BOMB = write("bomb.jpg", b"\xff\xd8\xff\xe0\x00\x10JFIF\x00\x01\x01\x00\x00\x01\x00\x01\x00"
+                  b"\x00\xff\xc0\x00\x11\x08" + struct.pack(">HH", 16000, 16000) +
+                  b"\x03\x01\x22\x00\x02\x11\x01\x03\x11\x01" + b"\x00" * 20)
+PAM_BOMB = write("bomb.pam", b"P7\nWIDTH 16000\nHEIGHT 16000\nDEPTH 3\nMAXVAL 255\n"
+                 b"TUPLTYPE RGB\nENDHDR\n" + b"\x00" * 30)
+HDR_BOMB = write("bomb.hdr", b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 40000 +X 40000\n" +
+                 b"\x00" * 30)
 TEAPOTS = write("teapots.json", '{"objects": [%s]}' % ", ".join(
     ['{"shape": "teapot", "divisions": 64}'] * 64))  # 3 KB (was 8.8 GB)
 SPHERES = write("spheres.json", '{"objects": [%s]}' % ", ".join(
@@ -394,6 +401,13 @@ case(H3, ["--model", OK_OBJ, "--texture", BOMB32K, "-o", OUT], "nonzero",
      "header says 32768x32768 pixels; expected 1..16384", hard=True, keep=REF)
 case(H3, ["--model", OK_OBJ, "--texture", BMP_BOMB, "-o", OUT], "nonzero", OVER, hard=True,
      keep=REF)
+for bomb in (JPEG_BOMB, PAM_BOMB):
+    case(H3, ["--model", OK_OBJ, "--texture", bomb, "-o", OUT], "nonzero",
+         "(16000x16000 pixels) needs about", hard=True, keep=REF)
+case(H3, ["--model", OK_OBJ, "--texture", HDR_BOMB, "-o", OUT], "nonzero",
+     "header says 40000x40000 pixels; expected 1..16384", hard=True, keep=REF)
+case(C, ["--metric", "exact", HDR_BOMB, REF], "nonzero",
+     "comparing a 40000x40000 with a 16x16 image needs about", absent=(), hard=True)
 case(H3, ["--scene", TEAPOTS, "-o", OUT], "nonzero", "a teapot of 262144 triangles", hard=True,
      keep=REF)
 case(H1, ["--scene", SPHERES, "-o", OUT], "nonzero", OVER, hard=True, keep=REF)

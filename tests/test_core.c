@@ -16,6 +16,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h> /* chmod, stat */
 #include <unistd.h>
 
 #include <cmocka.h>
@@ -236,6 +237,41 @@ static void test_image_roundtrip_and_failed_write(void **state) {
     ras_image_destroy(back);
 }
 
+/* The size read from a file's header (the memory budget's estimate, before
+ * decoding) is the size the file decodes to, in every format the programs
+ * write; a replaced file keeps its permissions and no temporary file stays. */
+static void test_image_header_size_matches_decode(void **state) {
+    (void)state;
+    char dir[] = "/tmp/raster101-test-XXXXXX";
+    assert_non_null(mkdtemp(dir));
+    static const char *const ext[] = {"png", "jpg", "bmp", "ppm", "tif"};
+    ras_image *img = ras_image_create(37, 23, NULL);
+    ras_error err;
+    for (size_t k = 0; k < sizeof ext / sizeof *ext; k++) {
+        char path[256];
+        snprintf(path, sizeof path, "%s/img.%s", dir, ext[k]);
+        assert_true(ras_image_save(img, path, &err));
+        long w = 0, h = 0;
+        assert_true(ras_image_peek_file(path, &w, &h));
+        assert_int_equal(w, 37);
+        assert_int_equal(h, 23);
+        int dw = 0, dh = 0;
+        uint8_t *rgb = ras_image_load_rgb8(path, &dw, &dh, &err);
+        assert_non_null(rgb);
+        assert_int_equal(dw, 37);
+        assert_int_equal(dh, 23);
+        free(rgb);
+        assert_int_equal(chmod(path, 0640), 0);
+        assert_true(ras_image_save(img, path, &err)); /* over the old one */
+        struct stat st;
+        assert_int_equal(stat(path, &st), 0);
+        assert_int_equal(st.st_mode & 0777, 0640);
+        remove(path);
+    }
+    assert_int_equal(rmdir(dir), 0); /* empty: no .img.png-XXXXXX left */
+    ras_image_destroy(img);
+}
+
 /* The wireframe pipeline runs only vertex/clip/setup/wireframe: no raster, no resolve. */
 static void test_pipeline_wireframe_runs_only_its_stages(void **state) {
     (void)state;
@@ -300,6 +336,7 @@ int main(void) {
         cmocka_unit_test(test_cli_parses_values),
         cmocka_unit_test(test_cli_rejects_bad_input),
         cmocka_unit_test(test_image_roundtrip_and_failed_write),
+        cmocka_unit_test(test_image_header_size_matches_decode),
         cmocka_unit_test(test_pipeline_wireframe_runs_only_its_stages),
         cmocka_unit_test(test_pipeline_rejects_nan),
         cmocka_unit_test(test_pipeline_config_checked),
