@@ -345,6 +345,7 @@ typedef struct job {
     double limit;
     long mem_mb;
     run_result rr;
+    const cJSON *args; /* an image's program arguments, as chosen for this grading */
 } job;
 
 /* Runs the jobs, `parallel` at a time, each through run_limited in a child
@@ -1011,8 +1012,7 @@ static bool content_box(const ras_image *img, int *x0, int *y0, int *x1, int *y1
 
 /* Likely-mistake lines recognised from the pictures themselves. */
 /* Does the image's command line contain `word` (e.g. "msaa")? */
-static bool args_have(const cJSON *img, const char *word) {
-    const cJSON *args = cJSON_GetObjectItemCaseSensitive(img, "args");
+static bool args_have(const cJSON *args, const char *word) {
     for (const cJSON *v = args ? args->child : NULL; v; v = v->next)
         if (cJSON_IsString(v) && strstr(v->valuestring, word)) return true;
     return false;
@@ -1021,7 +1021,7 @@ static bool args_have(const cJSON *img, const char *word) {
 /* Signatures of classic mistakes; a cause is named only where the picture
  * can have it (seams need anti-aliasing, doubled ambient needs lighting). */
 static void image_signatures(sbuf *o, const ras_image *expected, const ras_image *got,
-                             const ras_compare_options *opt, const cJSON *img) {
+                             const ras_compare_options *opt, const cJSON *args) {
     if (is_flat(got) && !is_flat(expected)) {
         sb_add(o, "likely mistake: your image is one flat colour: nothing was drawn (are the "
                   "TODOs written? do the matrices put the scene in front of the camera?)\n");
@@ -1058,9 +1058,9 @@ static void image_signatures(sbuf *o, const ras_image *expected, const ras_image
                       sx);
     }
     double le = mean_luma(expected), lg = mean_luma(got);
-    bool aa = args_have(img, "msaa") || args_have(img, "ssaa");
-    bool lit = args_have(img, "phong") || args_have(img, "texture") ||
-               args_have(img, "displacement");
+    bool aa = args_have(args, "msaa") || args_have(args, "ssaa");
+    bool lit = args_have(args, "phong") || args_have(args, "texture") ||
+               args_have(args, "displacement");
     if (le > 0.02 && lg < 0.97 * le)
         sb_printf(o, "note: your image is darker than the reference on average (mean luma %.4f "
                      "vs %.4f)%s\n",
@@ -1111,7 +1111,7 @@ static ras_image *load_student_image(const char *path, const char *ref_path, ras
 
 /* The sandboxed run of an image's program: -o into its own run folder. */
 static void image_job(const grader *g, const cJSON *img, const char *dir, job *j) {
-    const cJSON *args = cJSON_GetObjectItemCaseSensitive(img, "args");
+    const cJSON *args = j->args;
     int n = sandbox_job(g, j, g->render_limit, NULL);
     fmt(j->store[14], sizeof j->store[14], "%s/bin/%s", g->student_build,
         str_or(img, "program", ""));
@@ -1141,13 +1141,46 @@ static void grade_image(const grader *g, assignment_result *a, const cJSON *img,
     sbuf o = {0};
     char ref_path[4096], prog_path[4096], got_path[4096], log_path[4096];
     fmt(ref_path, sizeof ref_path, "%s/tests/reference/%s", g->source, reference);
+    /* A variant (rubric "reference_program"): its reference is rendered now,
+     * by the trusted reference program with the arguments chosen for this
+     * grading, so no reference image of it exists for a submission to copy or
+     * carry. */
+    const char *ref_program = str_or(img, "reference_program", NULL);
+    if (ref_program) {
+        char ref_prog_path[4096], ref_log[4300];
+        fmt(ref_prog_path, sizeof ref_prog_path, "%s/bin/%s", g->build, ref_program);
+        fmt(ref_path, sizeof ref_path, "%s/%s.expected.png", dir, name);
+        fmt(ref_log, sizeof ref_log, "%s/%s.reference.log", dir, name);
+        char *argv[120] = {ref_prog_path};
+        int n = 1;
+        for (const cJSON *v = j->args ? j->args->child : NULL; v && n < 110; v = v->next)
+            if (cJSON_IsString(v)) argv[n++] = v->valuestring;
+        argv[n++] = "-o";
+        argv[n++] = ref_path;
+        argv[n] = NULL;
+        unlink(ref_path);
+        run_result ref_rr = file_exists(ref_prog_path)
+                                ? run_limited(argv, NULL, ref_log, g->render_limit, g->mem_mb)
+                                : (run_result){RUN_NOT_STARTED, 0, 0};
+        if (ref_rr.kind != RUN_EXITED || ref_rr.code != 0 || !file_exists(ref_path)) {
+            it->counted = false;
+            it->status = xstrdup("SKIP");
+            it->reason = xstrdup("no reference program here (not counted)");
+            sb_printf(&o, "this image is graded against %s, rendered at grading time; this build "
+                          "has no working %s (the student edition has none): not counted",
+                      ref_program, ref_program);
+            it->output = o.s;
+            junit_case(it, a->id, NULL);
+            return;
+        }
+    }
     /* The student's program ran in the sandbox (image_job), writing into a
      * folder of its own, never next to the reference. */
     const char *written = j->store[15];
     fmt(prog_path, sizeof prog_path, "%s", j->store[14]);
     fmt(got_path, sizeof got_path, "%s/%s.got.png", dir, name);
     fmt(log_path, sizeof log_path, "%s", j->out_path);
-    if (!file_exists(ref_path)) {
+    if (!ref_program && !file_exists(ref_path)) {
         it->counted = false;
         it->status = xstrdup("SKIP");
         it->reason = xstrdup("no reference image yet (not counted)");
@@ -1176,11 +1209,11 @@ static void grade_image(const grader *g, assignment_result *a, const cJSON *img,
     /* the copy of the reference that the report shows */
     char exp_copy[4096], rel[4200];
     fmt(exp_copy, sizeof exp_copy, "%s/%s.expected.png", dir, name);
-    copy_file(ref_path, exp_copy);
+    if (!ref_program) copy_file(ref_path, exp_copy);
     fmt(rel, sizeof rel, "%s/%s.expected.png", reldir, name);
     it->img_expected = xstrdup(rel);
 
-    const cJSON *args = cJSON_GetObjectItemCaseSensitive(img, "args");
+    const cJSON *args = j->args;
     sb_printf(&o, "command: %s", program);
     for (const cJSON *v = args ? args->child : NULL; v; v = v->next)
         if (cJSON_IsString(v)) sb_printf(&o, " %s", v->valuestring);
@@ -1230,7 +1263,7 @@ static void grade_image(const grader *g, assignment_result *a, const cJSON *img,
             it->status = xstrdup(r.pass ? (todo ? "TODO" : "PASS") : (todo ? "TODO" : "FAIL"));
             sb_printf(&o, "%s\n", r.summary);
             if (!r.pass) {
-                image_signatures(&o, expected, got, &opt, img);
+                image_signatures(&o, expected, got, &opt, j->args);
                 if (kind == RAS_COMPARE_EXACT || kind == RAS_COMPARE_EDGE_TOLERANT) {
                     char mask[2048];
                     if (ras_compare_ascii_mask(expected, got, (vec3s){{0, 0, 0}}, r.worst_col,
@@ -1272,7 +1305,7 @@ static void grade_image(const grader *g, assignment_result *a, const cJSON *img,
         o.s[--o.len] = '\0';
     it->output = o.s;
     it->score = it->passed && !todo ? it->max_score : 0;
-    if (it->score > 0)
+    if (it->passed && !todo)
         it->reason = xstrdup("");
     else if (it->passed)
         it->reason = xstrdup("matches, but a TODO notice was printed (a stub, or notice lines left in)");
@@ -1541,6 +1574,16 @@ static void print_table(const grader *g, assignment_result *as, int n, double to
 
 /* ------------------------------------------------------------- main */
 
+/* A random number from the kernel (the variants a grading draws must not be
+ * predictable from the time or the process id). */
+static unsigned random_u32(void) {
+    unsigned v = 0;
+    int fd = open("/dev/urandom", O_RDONLY | O_CLOEXEC);
+    if (fd < 0 || read(fd, &v, sizeof v) != (ssize_t)sizeof v) v = (unsigned)time(NULL) ^ (unsigned)getpid();
+    if (fd >= 0) close(fd);
+    return v;
+}
+
 static void usage(FILE *f) {
     fputs("usage: raster101-grade --source SRC --build BUILD --out OUT [--rubric FILE]\n"
           "         [--hw hwN]... [--variant student|ref] [--build-failed hwN=LOG]...\n"
@@ -1780,8 +1823,14 @@ int main(int argc, char **argv) {
             job *runs = calloc((size_t)n_img + 1, sizeof *runs);
             if (!runs) abort();
             int i = 0;
-            for (const cJSON *img = images ? images->child : NULL; img; img = img->next)
+            for (const cJSON *img = images ? images->child : NULL; img; img = img->next) {
+                /* "choose_args": one of the lists, drawn for this grading */
+                const cJSON *choose = cJSON_GetObjectItemCaseSensitive(img, "choose_args");
+                int nc = cJSON_IsArray(choose) ? cJSON_GetArraySize(choose) : 0;
+                runs[i].args = nc > 0 ? cJSON_GetArrayItem(choose, (int)(random_u32() % (unsigned)nc))
+                                      : cJSON_GetObjectItemCaseSensitive(img, "args");
                 image_job(&g, img, dir, &runs[i++]);
+            }
             run_jobs(runs, n_img, g.jobs);
             i = 0;
             for (const cJSON *img = images ? images->child : NULL; img; img = img->next)
