@@ -4,6 +4,7 @@
 #include <errno.h>    /* errno, EINTR */
 #include <fcntl.h>    /* open, fcntl, O_* */
 #include <limits.h>   /* PATH_MAX */
+#include <pthread.h>  /* pthread_mutex_t: one write at a time */
 #include <signal.h>   /* sigaction, sigprocmask, raise */
 #include <stdio.h>    /* snprintf, rename */
 #include <stdlib.h>   /* malloc, free, mkstemp, realpath */
@@ -117,10 +118,11 @@ bool ras_io_path_fits(const char *option, const char *path, ras_error *err) {
 
 /* ---- atomic writes ---------------------------------------------------- */
 
-/* The temporary file being written, for the signal handler: a process writes
- * one file at a time (the programs are single-threaded at this point). */
+/* The temporary file being written, for the signal handler; writes are
+ * serialised by g_write_lock, so there is one at a time. */
 static char g_tmp[PATH_MAX];
 static volatile sig_atomic_t g_tmp_live;
+static pthread_mutex_t g_write_lock = PTHREAD_MUTEX_INITIALIZER;
 
 static const int g_cleanup_signals[] = {SIGINT, SIGTERM, SIGHUP};
 #define N_CLEANUP_SIGNALS (sizeof g_cleanup_signals / sizeof *g_cleanup_signals)
@@ -201,8 +203,19 @@ static bool read_back_matches(const char *tmp, const void *data, size_t len, voi
     return true;
 }
 
+static bool write_atomic_locked(const char *path, const char *what, const void *data,
+                                size_t len, ras_io_verify_fn verify, void *ctx, ras_error *err);
+
 bool ras_io_write_atomic(const char *path, const char *what, const void *data, size_t len,
                          ras_io_verify_fn verify, void *ctx, ras_error *err) {
+    pthread_mutex_lock(&g_write_lock);
+    bool ok = write_atomic_locked(path, what, data, len, verify, ctx, err);
+    pthread_mutex_unlock(&g_write_lock);
+    return ok;
+}
+
+static bool write_atomic_locked(const char *path, const char *what, const void *data,
+                                size_t len, ras_io_verify_fn verify, void *ctx, ras_error *err) {
     /* A symbolic link stays a link: write over the file it points to. */
     char resolved[PATH_MAX];
     const char *target = path;

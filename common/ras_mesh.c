@@ -445,6 +445,9 @@ static bool ras_mesh_gltf_depth(const char *json, size_t len, size_t *depth, boo
     return ok;
 }
 
+/* cJSON's worst case: a 64-byte node (plus malloc's overhead) per 2-byte "0,". */
+#define RAS_MESH_CJSON_BYTES_PER_BYTE 40.0
+
 /* Refuses a model whose nesting would take assimp's recursive importers past
  * any stack: text formats are scanned for bracket/element depth, glTF's node
  * tree is walked. True when the file is fine or not one of those formats. */
@@ -481,7 +484,11 @@ static bool ras_mesh_check_nesting(const char *path, ras_error *err) {
                            "model '%s' is nested deeper than %d levels (at byte %zu); expected a "
                            "flatter file — re-export it with the hierarchy flattened",
                            path, RAS_MESH_MAX_NESTING, at + (size_t)(text - data));
-    } else if (json) {
+    } else if (json && ras_memory_check((double)text_len * RAS_MESH_CJSON_BYTES_PER_BYTE, "",
+                                        NULL, NULL)) {
+        /* The node tree is walked on cJSON's tree of the whole text, which
+         * can take 40 bytes per byte ("0,0,0,..."): only when that fits the
+         * budget (otherwise the import thread's stack is the guard). */
         size_t depth = 0;
         bool bad = false;
         if (ras_mesh_gltf_depth(text, text_len, &depth, &bad) && bad)
@@ -495,6 +502,12 @@ static bool ras_mesh_check_nesting(const char *path, ras_error *err) {
                                RAS_MESH_MAX_NESTING);
     }
     free(data);
+#ifdef __GLIBC__
+    /* cJSON's tree of a big file was freed in small pieces that assimp's big
+     * blocks do not reuse: give them back first (40 MB of glTF numbers peaked
+     * at 2.3 GB, the tree plus the import, instead of the larger of the two). */
+    if (len > (1u << 20)) malloc_trim(0);
+#endif
     return ok;
 }
 
@@ -579,9 +592,13 @@ typedef struct ras_mesh_import_job {
     ras_mesh *mesh;
 } ras_mesh_import_job;
 
+/* The nesting check and the import, on the same thread: the check's cJSON
+ * tree and assimp's allocations share one malloc arena, so the peak is the
+ * larger of the two, not their sum. */
 static void *ras_mesh_import_thread(void *arg) {
     ras_mesh_import_job *job = arg;
-    job->mesh = ras_mesh_import(job->path, job->err);
+    job->mesh = ras_mesh_check_nesting(job->path, job->err) ? ras_mesh_import(job->path, job->err)
+                                                             : NULL;
     return NULL;
 }
 
@@ -610,7 +627,6 @@ ras_mesh *ras_mesh_load(const char *path, ras_error *err) {
     char ext[16];
     ras_mesh_extension(path, ext, sizeof ext);
     if (!ras_mesh_check_declared_counts(path, ext, file_bytes, err)) return NULL;
-    if (!ras_mesh_check_nesting(path, err)) return NULL;
     /* assimp's importers, post-processing and node destructors recurse per
      * level of the file's hierarchy: run them on a thread with a large stack
      * (address space only: pages are touched as they are used), sized to fit
