@@ -165,8 +165,9 @@ int main(int argc, char **argv) {
      * from the files' headers before either is decoded. */
     long ew = 0, eh = 0, gw = 0, gh = 0;
     if (ras_image_peek_file(expected_path, &ew, &eh) && ras_image_peek_file(got_path, &gw, &gh)) {
-        char what[128];
-        snprintf(what, sizeof what, "comparing a %ldx%ld with a %ldx%ld image", ew, eh, gw, gh);
+        char what[2400];
+        snprintf(what, sizeof what, "comparing '%s' (%ldx%ld) with '%s' (%ldx%ld)", expected_path,
+                 ew, eh, got_path, gw, gh);
         if (!ras_memory_check(((double)ew * (double)eh + (double)gw * (double)gh) *
                                   COMPARE_BYTES_PER_PIXEL,
                               what, "compare smaller images", &err)) {
