@@ -489,5 +489,52 @@ with concurrent.futures.ThreadPoolExecutor(max_workers=max(2, os.cpu_count() or 
         if result:
             failures.append(result)
             print(result)
+
+def signal_during_write(sig):
+    """SIGINT/SIGTERM while the temporary file exists (the write held in fsync
+    by strace's fault injection): the process dies of the signal, the old
+    output stays byte-identical and the temporary file is gone."""
+    import signal
+    import time
+    out = path(f"signal{sig}.png")
+    shutil.copyfile(REF, out)
+    before = open(out, "rb").read()
+    env = dict(os.environ)
+    env.pop("DISPLAY", None)
+    p = subprocess.Popen(["strace", "-f", "-o", os.devnull, "-e", "trace=fsync", "-e",
+                          "inject=fsync:delay_exit=3000000",
+                          os.path.join(BIN, "hw2_rasterize_ref"), "-o", out],
+                         stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, env=env, cwd=WORK)
+    temps, deadline = [], time.time() + 15
+    while not temps and time.time() < deadline and p.poll() is None:
+        time.sleep(0.05)
+        temps = glob.glob(os.path.join(glob.escape(WORK), f".signal{sig}.png-*"))
+    child = subprocess.run(["pgrep", "-P", str(p.pid)], capture_output=True, text=True).stdout.split()
+    if not temps or not child:
+        p.kill()
+        p.wait()
+        return f"SKIP: signal {sig}: the write could not be caught in the act"
+    os.kill(int(child[0]), sig)
+    p.wait(timeout=20)
+    problems = []
+    if glob.glob(os.path.join(glob.escape(WORK), f".signal{sig}.png-*")):
+        problems.append("the temporary file was left behind")
+    if open(out, "rb").read() != before:
+        problems.append(f"{out} was changed")
+    if problems:
+        return f"FAIL: signal {sig} during the write: {'; '.join(problems)}"
+    print(f"signal {sig} during the write: exit {p.returncode}, old file intact, no temporary "
+          "file")
+    return None
+
+# Needs strace and ptrace (not under ASan: too slow to time).
+if shutil.which("strace") and shutil.which("pgrep") and not SANITIZED:
+    import signal as _signal
+    for sig in (_signal.SIGINT, _signal.SIGTERM):
+        result = signal_during_write(sig)
+        if result and result.startswith("FAIL"):
+            failures.append(result)
+        if result:
+            print(result)
 print(f"{len(cases)} cases, {len(failures)} failed")
 sys.exit(1 if failures else 0)
