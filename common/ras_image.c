@@ -371,14 +371,17 @@ uint8_t *ras_image_load_rgb8(const char *path, int *width, int *height, ras_erro
      * unreadable file says "Permission denied"), then the size from its
      * header, checked against RAS_IMAGE_MAX_SIDE and the memory budget before
      * a single pixel is decoded, then the decode from memory. */
-    size_t max_bytes = ras_memory_limit() < RAS_IMAGE_MAX_FILE_BYTES ? ras_memory_limit()
-                                                                     : RAS_IMAGE_MAX_FILE_BYTES;
+    struct stat st;
+    char what[1200];
+    snprintf(what, sizeof what, "reading image '%s'", path);
+    if (stat(path, &st) == 0 && S_ISREG(st.st_mode) && st.st_size <= RAS_IMAGE_MAX_FILE_BYTES &&
+        !ras_memory_check((double)st.st_size, what, "use a smaller image", err))
+        return NULL;
     size_t len = 0;
-    uint8_t *data = ras_io_read_file(path, "image", max_bytes, &len, err);
+    uint8_t *data = ras_io_read_file(path, "image", RAS_IMAGE_MAX_FILE_BYTES, &len, err);
     if (!data) return NULL;
     long hw = 0, hh = 0;
     if (ras_image_peek_size(data, len, &hw, &hh)) {
-        char what[1200];
         snprintf(what, sizeof what, "image '%s' (%ldx%ld pixels)", path, hw, hh);
         if (hw < 1 || hh < 1 || hw > RAS_IMAGE_MAX_SIDE || hh > RAS_IMAGE_MAX_SIDE) {
             ras_error_set(err,
