@@ -173,12 +173,15 @@ int main(int argc, char **argv) {
                                .clear_color = a.scene->clear_color,
                                .wireframe = true,
                                .wire_color = {{1, 1, 1}}};
-    a.pipeline = ras_pipeline_create(&cfg, &err);
+    /* Too big a frame for the memory budget is a usage error (exit 2), as in
+     * hw2 and hw3; running out of memory anyway is a failed render (1). */
+    bool fits = ras_framebuffer_check_size(width, height, 1, &err);
+    a.pipeline = fits ? ras_pipeline_create(&cfg, &err) : NULL;
     a.image = a.pipeline ? ras_image_create(width, height, &err) : NULL;
     int status = 0;
     if (!a.pipeline || !a.image) {
         fprintf(stderr, PROGRAM ": %s\n", err.msg);
-        status = 1;
+        status = fits ? 1 : 2;
     } else if (a.cli.output) {
         if (!render(&a, angle, &err) || !ras_image_save(a.image, a.cli.output, &err)) {
             fprintf(stderr, "hw1_transform: %s\n", err.msg);

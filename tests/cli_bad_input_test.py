@@ -412,6 +412,8 @@ case(H3, ["--scene", TEAPOTS, "-o", OUT], "nonzero", "a teapot of 262144 triangl
      keep=REF)
 case(H1, ["--scene", SPHERES, "-o", OUT], "nonzero", OVER, hard=True, keep=REF)
 case(H3, ["--scene", BIG_MAPS, "-o", OUT], "nonzero", "a 4096x4096 texture", hard=True, keep=REF)
+case(H1, ["--size", "8192x8192", "-o", OUT], 2, "a 8192x8192 frame with 1 sample per pixel needs",
+     hard=True, keep=REF)
 case(H2, ["--size", "4096x4096", "--aa", "ssaa", "--samples", "4", "-o", OUT], "nonzero",
      "a 4096x4096 frame with 4 samples per pixel needs about", hard=True, keep=REF)
 case(C, ["--metric", "ssim", BOMB16K, BOMB16K], "nonzero",
