@@ -26,6 +26,7 @@
  */
 #include "ras_compare.h"
 #include "ras_image.h"
+#include "ras_io.h"
 
 #include <cjson/cJSON.h>
 #include <errno.h>
@@ -1364,7 +1365,21 @@ static void mark_build_failed(const grader *g, assignment_result *a, const cJSON
     free(tail.s);
 }
 
-static void write_outputs(const grader *g, assignment_result *as, int n, double total,
+/* The grader's reports go through the atomic write of common/ras_io.h: a
+ * full disk or a kill leaves the previous report whole, never half of one. */
+static FILE *report_begin(ras_io_report *r) {
+    memset(r, 0, sizeof *r);
+    return ras_io_report_open(r);
+}
+
+static bool report_end(ras_io_report *r, const char *path) {
+    ras_error err = {{0}};
+    if (ras_io_report_commit(r, path, &err)) return true;
+    fprintf(stderr, "raster101-grade: %s\n", err.msg);
+    return false;
+}
+
+static bool write_outputs(const grader *g, assignment_result *as, int n, double total,
                           double max_total) {
     char path[4096];
     /* results.json — Gradescope */
@@ -1404,10 +1419,12 @@ static void write_outputs(const grader *g, assignment_result *as, int n, double 
     cJSON_AddStringToObject(root, "output", sb_str(&summary));
     char *json = cJSON_Print(root);
     fmt(path, sizeof path, "%s/results.json", g->out);
-    FILE *f = fopen(path, "w");
+    ras_io_report rep;
+    bool ok = true;
+    FILE *f = report_begin(&rep);
     if (f) {
         fprintf(f, "%s\n", json);
-        fclose(f);
+        ok &= report_end(&rep, path);
     }
     free(json);
     cJSON_Delete(root);
@@ -1415,7 +1432,7 @@ static void write_outputs(const grader *g, assignment_result *as, int n, double 
 
     /* scores.csv — one row per item, for tests/grade-all */
     fmt(path, sizeof path, "%s/scores.csv", g->out);
-    f = fopen(path, "w");
+    f = report_begin(&rep);
     if (f) {
         fprintf(f, "assignment,item,score,max_score,status\n");
         for (int i = 0; i < n; i++) {
@@ -1429,13 +1446,13 @@ static void write_outputs(const grader *g, assignment_result *as, int n, double 
                 fprintf(f, "%s,total,%g,%g,\n", as[i].id, as[i].score, as[i].max_score);
         }
         fprintf(f, "all,total,%g,%g,\n", total, max_total);
-        fclose(f);
+        ok &= report_end(&rep, path);
     }
 
     /* failures.txt — every item that lost points, with what it said (for
      * tests/run-mutants and for a quick read) */
     fmt(path, sizeof path, "%s/failures.txt", g->out);
-    f = fopen(path, "w");
+    f = report_begin(&rep);
     if (f) {
         for (int i = 0; i < n; i++)
             for (int k = 0; k < as[i].n_items; k++) {
@@ -1444,14 +1461,14 @@ static void write_outputs(const grader *g, assignment_result *as, int n, double 
                     fprintf(f, "== %s: %s (%s)\n%s\n", as[i].id, it->name, it->status,
                             it->output ? it->output : "");
             }
-        fclose(f);
+        ok &= report_end(&rep, path);
     }
 
     /* hwN/cmocka.xml — JUnit, one suite per assignment */
     for (int i = 0; i < n; i++) {
         if (!as[i].graded) continue;
         fmt(path, sizeof path, "%s/%s/cmocka.xml", g->out, as[i].id);
-        f = fopen(path, "w");
+        f = report_begin(&rep);
         if (!f) continue;
         int n_tests = 0, n_fail = 0;
         for (int k = 0; k < as[i].n_items; k++)
@@ -1468,13 +1485,13 @@ static void write_outputs(const grader *g, assignment_result *as, int n, double 
             if (!as[i].items[k].is_image && as[i].items[k].counted && as[i].items[k].xml)
                 fputs(as[i].items[k].xml, f);
         fprintf(f, "  </testsuite>\n</testsuites>\n");
-        fclose(f);
+        ok &= report_end(&rep, path);
     }
 
     /* report.md */
     fmt(path, sizeof path, "%s/report.md", g->out);
-    f = fopen(path, "w");
-    if (!f) return;
+    f = report_begin(&rep);
+    if (!f) return false;
     fprintf(f, "# Raster101 grade report\n\n**Total: %g / %g**", total, max_total);
     if (strcmp(g->variant, "ref") == 0) fprintf(f, " (reference solutions graded as the student)");
     fprintf(f, "\n\n| assignment | points |\n|---|---|\n");
@@ -1536,7 +1553,8 @@ static void write_outputs(const grader *g, assignment_result *as, int n, double 
             }
         }
     }
-    fclose(f);
+    ok &= report_end(&rep, path);
+    return ok;
 }
 
 static void print_table(const grader *g, assignment_result *as, int n, double total,
@@ -1848,7 +1866,7 @@ int main(int argc, char **argv) {
         total += a->score;
         max_total += a->max_score;
     }
-    write_outputs(&g, as, k, total, max_total);
+    bool written = write_outputs(&g, as, k, total, max_total);
     print_table(&g, as, k, total, max_total);
     /* Freed although the process ends: the sanitizer CI step runs this tool
      * and counts any leak as a failure. */
@@ -1856,6 +1874,12 @@ int main(int argc, char **argv) {
     cJSON_Delete(g.rubric);
     for (int i = 0; i < g.n_failed; i++)
         free((char *)g.failed_hw[i]);
+    if (!written) {
+        fprintf(stderr, "raster101-grade: the reports in %s could not all be written (see "
+                        "above); the grade is not complete\n",
+                g.out);
+        return 2;
+    }
     if (expect) {
         double want = !strcmp(expect, "full") ? max_total : atof(expect);
         if (fabs(total - want) > 1e-9 || max_total <= 0) {
