@@ -29,7 +29,8 @@
 #include <stdint.h> /* SIZE_MAX */
 #include <stdio.h>  /* fdopen, fread, fseek, fclose, snprintf */
 #include <stdlib.h> /* calloc, malloc, free */
-#include <string.h> /* memcpy, memcmp, strcmp, strrchr, strstr, strchr */
+#include <string.h> /* memcpy, memcmp, strcmp, strrchr, strstr, strchr, strdup */
+#include <time.h>   /* clock_gettime: the import's time limit */
 #include <sys/stat.h> /* fstat */
 #include <unistd.h> /* close */
 
@@ -540,6 +541,21 @@ static bool ras_mesh_check_declared_counts(const char *path, const char *ext, do
             char word[32] = "", type[32] = "", type2[32] = "";
             double c = 0;
             if (sscanf(line, "%31s", word) == 1) {
+                /* An element line must be `element NAME COUNT`, the name
+                 * printable: assimp 5.2's PLY header parser loops forever on
+                 * one without a count (found by fuzz_mesh). */
+                if (!strcmp(word, "element")) {
+                    char name[64] = "";
+                    bool printable = true;
+                    for (const char *q = line + 7; *q && *q != '\n'; q++)
+                        printable &= (*q >= 32 && *q < 127) || *q == '\r' || *q == '\t';
+                    if (!printable || sscanf(line, "element %63s %lf", name, &c) != 2 || c < 0)
+                        return ras_error_set(err,
+                                             "model '%s': a PLY header line 'element ...' is not "
+                                             "'element NAME COUNT'; expected a valid PLY file "
+                                             "(the header lists each element's name and count)",
+                                             path);
+                }
                 if (!strcmp(word, "element") && sscanf(line, "element %*s %lf", &c) == 1) {
                     need += count * size;
                     elements += count;
@@ -586,20 +602,52 @@ static bool ras_mesh_check_declared_counts(const char *path, const char *ext, do
 
 static ras_mesh *ras_mesh_import(const char *path, ras_error *err);
 
+/* The import's own copy of what it needs: when it outlives its time limit
+ * the caller leaves, and the last of the two to let go frees it. */
 typedef struct ras_mesh_import_job {
-    const char *path;
-    ras_error *err;
+    char *path;
+    ras_error err;
     ras_mesh *mesh;
+    bool done, abandoned;
+    pthread_mutex_t lock;
+    pthread_cond_t finished;
 } ras_mesh_import_job;
+
+static void ras_mesh_import_job_free(ras_mesh_import_job *job) {
+    pthread_mutex_destroy(&job->lock);
+    pthread_cond_destroy(&job->finished);
+    free(job->path);
+    free(job);
+}
 
 /* The nesting check and the import, on the same thread: the check's cJSON
  * tree and assimp's allocations share one malloc arena, so the peak is the
  * larger of the two, not their sum. */
 static void *ras_mesh_import_thread(void *arg) {
     ras_mesh_import_job *job = arg;
-    job->mesh = ras_mesh_check_nesting(job->path, job->err) ? ras_mesh_import(job->path, job->err)
-                                                             : NULL;
+    ras_mesh *mesh = ras_mesh_check_nesting(job->path, &job->err)
+                         ? ras_mesh_import(job->path, &job->err)
+                         : NULL;
+    pthread_mutex_lock(&job->lock);
+    bool abandoned = job->abandoned;
+    job->mesh = mesh;
+    job->done = true;
+    pthread_cond_signal(&job->finished);
+    pthread_mutex_unlock(&job->lock);
+    if (abandoned) { /* the caller gave up on it: nobody will take the mesh */
+        ras_mesh_destroy(mesh);
+        ras_mesh_import_job_free(job);
+    }
     return NULL;
+}
+
+/* Seconds an import may take: RAS_MESH_IMPORT_SECONDS, else
+ * RAS_MESH_IMPORT_SECONDS_DEFAULT. assimp has importers that loop forever on
+ * some malformed files; a limit turns that into an error. */
+static double ras_mesh_import_seconds(void) {
+    const char *v = getenv("RAS_MESH_IMPORT_SECONDS");
+    double s = v ? atof(v) : 0;
+    return s > 0 ? s : RAS_MESH_IMPORT_SECONDS_DEFAULT;
 }
 
 ras_mesh *ras_mesh_load(const char *path, ras_error *err) {
@@ -631,7 +679,16 @@ ras_mesh *ras_mesh_load(const char *path, ras_error *err) {
      * level of the file's hierarchy: run them on a thread with a large stack
      * (address space only: pages are touched as they are used), sized to fit
      * the memory budget. If no such thread can be made, the import runs here. */
-    ras_mesh_import_job job = {path, err, NULL};
+    ras_mesh_import_job *job = calloc(1, sizeof *job);
+    char *path_copy = job ? strdup(path) : NULL;
+    if (!job || !path_copy) {
+        free(job);
+        ras_error_set(err, "out of memory importing model '%s'", path);
+        return NULL;
+    }
+    job->path = path_copy;
+    pthread_mutex_init(&job->lock, NULL);
+    pthread_cond_init(&job->finished, NULL);
     size_t stack = ras_memory_limit() / 4;
     if (stack > RAS_MESH_IMPORT_STACK) stack = RAS_MESH_IMPORT_STACK;
     if (stack < (16u << 20)) stack = 16u << 20;
@@ -640,11 +697,35 @@ ras_mesh *ras_mesh_load(const char *path, ras_error *err) {
     bool threaded = pthread_attr_init(&attr) == 0;
     if (threaded) {
         threaded = pthread_attr_setstacksize(&attr, stack) == 0 &&
-                   pthread_create(&thread, &attr, ras_mesh_import_thread, &job) == 0;
+                   pthread_attr_setdetachstate(&attr, PTHREAD_CREATE_DETACHED) == 0 &&
+                   pthread_create(&thread, &attr, ras_mesh_import_thread, job) == 0;
         pthread_attr_destroy(&attr);
     }
-    if (threaded) pthread_join(thread, NULL);
-    else ras_mesh_import_thread(&job);
+    if (!threaded) ras_mesh_import_thread(job);
+    /* Wait for it, at most the import's time limit. */
+    double limit = ras_mesh_import_seconds();
+    struct timespec deadline;
+    clock_gettime(CLOCK_REALTIME, &deadline);
+    deadline.tv_sec += (time_t)limit;
+    deadline.tv_nsec += (long)((limit - (double)(time_t)limit) * 1e9);
+    if (deadline.tv_nsec >= 1000000000L) deadline.tv_sec++, deadline.tv_nsec -= 1000000000L;
+    pthread_mutex_lock(&job->lock);
+    while (!job->done)
+        if (pthread_cond_timedwait(&job->finished, &job->lock, &deadline) != 0) break;
+    bool done = job->done;
+    if (!done) job->abandoned = true; /* the thread frees the job when it ends */
+    pthread_mutex_unlock(&job->lock);
+    if (!done)
+        return ras_error_set(err,
+                             "the importer did not finish '%s' within %g s (assimp is stuck "
+                             "on this file, or it is far too big); expected a model that "
+                             "imports in time — check the file, or raise "
+                             "RAS_MESH_IMPORT_SECONDS",
+                             path, limit),
+               NULL;
+    ras_mesh *mesh = job->mesh;
+    if (!mesh && err) *err = job->err;
+    ras_mesh_import_job_free(job);
 #ifdef __GLIBC__
     /* The import's memory was freed in the thread's own malloc arena, where
      * the renderer (on this thread) cannot reuse it: give it back, or the
@@ -652,7 +733,7 @@ ras_mesh *ras_mesh_load(const char *path, ras_error *err) {
      * a 40 MB OBJ). */
     if (threaded) malloc_trim(0);
 #endif
-    return job.mesh;
+    return mesh;
 }
 
 static ras_mesh *ras_mesh_import(const char *path, ras_error *err) {

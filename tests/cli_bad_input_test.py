@@ -472,6 +472,16 @@ case(H3, ["--model", PLY_BOMB, "-o", OUT], "nonzero", "declares 400000000 elemen
      keep=REF)
 case(H3, ["--model", OFF_BOMB, "-o", OUT], "nonzero", "the file is truncated or corrupt",
      hard=True, keep=REF)
+# A PLY element line without a count: assimp 5.2's header parser loops on it
+# forever (found by fuzz_mesh); refused before assimp. Any other importer that
+# hangs meets the import's time limit (RAS_MESH_IMPORT_SECONDS).
+PLY_LOOP = write("loop.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+                 "property float y\nproperty float z\nelement \x03OFF\n0 0 0\n1 0 0\n0 1 0\n")
+case(H3, ["--model", PLY_LOOP, "-o", OUT], 2, "is not 'element NAME COUNT'", hard=True, keep=REF)
+GRID_OBJ = write("grid.obj", "".join("v %d %d 0\n" % (i % 100, i // 100) for i in range(10000)) +
+                 "".join("f %d %d %d\n" % (i + 1, i + 2, i + 101) for i in range(9800)))
+case(H3, ["--model", GRID_OBJ, "-o", OUT], 2, "the importer did not finish", hard=True, keep=REF,
+     env={"RAS_MESH_IMPORT_SECONDS": "0.000001"})
 
 # ---- issue 16: nothing overwrites an input ----
 DIFF_REF = write("cmp_diff.png", open(REF, "rb").read())  # what -o cmp.png's diff would be
