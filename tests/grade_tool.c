@@ -348,6 +348,7 @@ typedef struct job {
     long mem_mb;
     run_result rr;
     const cJSON *args; /* an image's program arguments, as chosen for this grading */
+    char extra_ro[4096]; /* one more read-only folder in its sandbox ("": none) */
 } job;
 
 /* Runs the jobs, `parallel` at a time, each through run_limited in a child
@@ -479,6 +480,10 @@ typedef struct grader {
      * the sandbox, and the work folder where each run gets its own writable
      * folder. Nothing of the trusted side (source, build, out) is visible. */
     const char *student_tree, *student_build, *work;
+    /* --own: each assignment's programs and test worker linked with the
+     * reference of the earlier assignments (tests/grade, step 2b), as
+     * OWN/refK.../bin and OWN/refK.../tests; NULL when there are none. */
+    const char *own;
     long sandbox_uid; /* -1: not root, runs stay this user's */
     int runs;         /* numbers the run folders */
     int jobs;         /* sandboxed runs at once */
@@ -681,6 +686,10 @@ static int sandbox_job(const grader *g, job *j, double limit_s, const char *cons
     j->argv[n++] = (char *)g->student_tree;
     j->argv[n++] = "--ro";
     j->argv[n++] = (char *)g->student_build;
+    if (j->extra_ro[0]) {
+        j->argv[n++] = "--ro";
+        j->argv[n++] = j->extra_ro;
+    }
     j->argv[n++] = "--rw";
     j->argv[n++] = j->rw;
     j->argv[n++] = "--chdir";
@@ -764,6 +773,25 @@ static run_result fate_parse(const char *fate) {
     return (run_result){RUN_EXITED, 1, 0};
 }
 
+static bool is_dir(const char *path);
+
+/* Whose code a grade measures (docs/grading.md): hwN is graded on its own
+ * code, linked with the reference of hw1 … hwN-1, when tests/grade could link
+ * it (--own). The folder of such a link is OWN/ref1…(N-1); `refs` names the
+ * assignments taken from the reference ("1", "12"; NULL: every earlier one).
+ * False when there is none: then the student's whole chain is graded. */
+static bool own_dir(const grader *g, const char *id, const char *refs, char *dir, size_t size) {
+    int number = 0;
+    if (!g->own || sscanf(id, "hw%d", &number) != 1 || number < 2 || number > 9) return false;
+    char all[10] = "";
+    for (int k = 1; k < number; k++)
+        all[k - 1] = (char)('0' + k);
+    fmt(dir, size, "%s/ref%s", g->own, refs ? refs : all);
+    if (is_dir(dir)) return true;
+    dir[0] = '\0';
+    return false;
+}
+
 static void grade_tests(const grader *g, assignment_result *a, const cJSON *asg, const char *dir) {
     const cJSON *tests = cJSON_GetObjectItemCaseSensitive(asg, "tests");
     const char *crash_hint = str_or(asg, "crash_hint", "look for an out-of-bounds access");
@@ -772,6 +800,24 @@ static void grade_tests(const grader *g, assignment_result *a, const cJSON *asg,
     mkdirs(xml_dir);
     fmt(replay_bin, sizeof replay_bin, "%s/tests/test_%s_replay", g->build, a->id);
     fmt(worker_bin, sizeof worker_bin, "%s/tests/test_%s_worker", g->student_build, a->id);
+    /* On its own code: the worker linked with the earlier references. It holds
+     * reference code, so it is sealed: what it printed is not shown. */
+    char own[4096] = "", own_worker[4200];
+    if (own_dir(g, a->id, NULL, own, sizeof own)) {
+        fmt(own_worker, sizeof own_worker, "%s/tests/test_%s_worker", own, a->id);
+        if (file_exists(own_worker)) {
+            fmt(worker_bin, sizeof worker_bin, "%s", own_worker);
+            if (!a->note) {
+                sbuf n = {0};
+                sb_printf(&n, "graded on your %s code alone, with the reference of the earlier "
+                              "assignments (what the test process printed is not shown; run "
+                              "ctest to see it)",
+                          a->id);
+                a->note = n.s;
+            }
+        } else
+            own[0] = '\0';
+    }
     /* The list of tests comes from the trusted replay program, never from
      * the student's build. */
     fmt(out_path, sizeof out_path, "%s/list.txt", dir);
@@ -814,6 +860,7 @@ static void grade_tests(const grader *g, assignment_result *a, const cJSON *asg,
         int per = (n + chunks - 1) / chunks, first = c * per, last = first + per;
         if (last > n) last = n;
         double limit = (last - first) * (g->test_limit + 1) + 20;
+        fmt(w->extra_ro, sizeof w->extra_ro, "%s", own);
         int k = sandbox_job(g, w, limit, env);
         w->argv[k++] = worker_bin;
         w->argv[k] = NULL;
@@ -927,7 +974,7 @@ static void grade_tests(const grader *g, assignment_result *a, const cJSON *asg,
         /* What the student's code printed: theirs, shown as such, capped. */
         fmt(path, sizeof path, "%s/%s.out", rw, name);
         char *wraw = read_small_file(path, 4096);
-        char *wclean = wraw ? clean_output(wraw) : NULL;
+        char *wclean = wraw && !own[0] ? clean_output(wraw) : NULL;
         if (wclean && *wclean) {
             char *shown = student_text(wclean, 1500);
             sbuf o = {0};
@@ -1113,10 +1160,14 @@ static ras_image *load_student_image(const char *path, const char *ref_path, ras
 }
 
 /* The sandboxed run of an image's program: -o into its own run folder. */
-static void image_job(const grader *g, const cJSON *img, const char *dir, job *j) {
+/* `bin_dir` holds the program: the student's build (the whole chain) or an
+ * own-code link (then also bound read-only); `tag` names the log. */
+static void image_job(const grader *g, const cJSON *img, const char *dir, job *j,
+                      const char *own, const char *tag) {
     const cJSON *args = j->args;
+    fmt(j->extra_ro, sizeof j->extra_ro, "%s", own ? own : "");
     int n = sandbox_job(g, j, g->render_limit, NULL);
-    fmt(j->store[14], sizeof j->store[14], "%s/bin/%s", g->student_build,
+    fmt(j->store[14], sizeof j->store[14], "%s/bin/%s", own ? own : g->student_build,
         str_or(img, "program", ""));
     j->argv[n++] = j->store[14];
     for (const cJSON *v = args ? args->child : NULL; v && n < 110; v = v->next)
@@ -1125,11 +1176,29 @@ static void image_job(const grader *g, const cJSON *img, const char *dir, job *j
     fmt(j->store[15], sizeof j->store[15], "%s/out.png", j->rw);
     j->argv[n++] = j->store[15];
     j->argv[n] = NULL;
-    fmt(j->out_path, sizeof j->out_path, "%s/%s.log", dir, str_or(img, "name", "image"));
+    fmt(j->out_path, sizeof j->out_path, "%s/%s%s.log", dir, str_or(img, "name", "image"), tag);
 }
 
-static void grade_image(const grader *g, assignment_result *a, const cJSON *img, const char *dir,
-                        const char *reldir, const char *crash_hint, const job *j) {
+/* The comparison the rubric asks of an image; false for an unknown metric. */
+static bool image_options(const cJSON *img, ras_compare_kind *kind, ras_compare_options *opt,
+                          ras_error *err) {
+    if (!ras_compare_kind_parse(str_or(img, "metric", "edge"), kind, err)) return false;
+    *opt = ras_compare_defaults(*kind);
+    opt->tolerance = (int)num_or(img, "tolerance", opt->tolerance);
+    opt->max_bad_fraction = num_or(img, "max_bad", opt->max_bad_fraction);
+    opt->min_psnr_db = num_or(img, "min_psnr", opt->min_psnr_db);
+    opt->min_ssim = num_or(img, "min_ssim", opt->min_ssim);
+    return true;
+}
+
+/* Grades one image run (image_job). `sealed`: the program held reference
+ * code (an own-code link), so neither its output nor its picture goes into
+ * the report, only the verdict. `whole`: the run of the student's whole
+ * chain, for the integration part (its reference was rendered by the own-code
+ * run just before, with the same arguments). Returns whether it matched. */
+static bool grade_image(const grader *g, assignment_result *a, const cJSON *img, const char *dir,
+                        const char *reldir, const char *crash_hint, const job *j, bool sealed,
+                        bool whole) {
     const char *name = str_or(img, "name", "image");
     const char *program = str_or(img, "program", "");
     const char *reference = str_or(img, "reference", "");
@@ -1138,7 +1207,8 @@ static void grade_image(const grader *g, assignment_result *a, const cJSON *img,
     item *it = add_item(a);
     it->is_image = true;
     char label[300];
-    fmt(label, sizeof label, "image %s", name);
+    fmt(label, sizeof label, whole ? "%s image %s, your whole chain" : "image %s",
+        whole ? reldir : name, name);
     it->name = xstrdup(label);
     it->max_score = num_or(img, "points", g->default_points);
     sbuf o = {0};
@@ -1161,6 +1231,7 @@ static void grade_image(const grader *g, assignment_result *a, const cJSON *img,
         argv[n++] = "-o";
         argv[n++] = ref_path;
         argv[n] = NULL;
+        if (whole && file_exists(ref_path)) goto reference_ready;
         unlink(ref_path);
         run_result ref_rr = file_exists(ref_prog_path)
                                 ? run_limited(argv, NULL, ref_log, g->render_limit, g->mem_mb)
@@ -1174,9 +1245,10 @@ static void grade_image(const grader *g, assignment_result *a, const cJSON *img,
                       ref_program, ref_program);
             it->output = o.s;
             junit_case(it, a->id, NULL);
-            return;
+            return false;
         }
     }
+reference_ready:;
     /* The student's program ran in the sandbox (image_job), writing into a
      * folder of its own, never next to the reference. */
     const char *written = j->store[15];
@@ -1191,23 +1263,19 @@ static void grade_image(const grader *g, assignment_result *a, const cJSON *img,
                   reference);
         it->output = o.s;
         junit_case(it, a->id, NULL);
-        return;
+        return false;
     }
     ras_error err = {{0}};
     ras_compare_kind kind;
-    if (!ras_compare_kind_parse(metric, &kind, &err)) {
+    ras_compare_options opt;
+    if (!image_options(img, &kind, &opt, &err)) {
         it->counted = false;
         it->status = xstrdup("SKIP");
         it->reason = xstrdup("bad metric in the rubric (not counted)");
         it->output = xstrdup(err.msg);
         junit_case(it, a->id, NULL);
-        return;
+        return false;
     }
-    ras_compare_options opt = ras_compare_defaults(kind);
-    opt.tolerance = (int)num_or(img, "tolerance", opt.tolerance);
-    opt.max_bad_fraction = num_or(img, "max_bad", opt.max_bad_fraction);
-    opt.min_psnr_db = num_or(img, "min_psnr", opt.min_psnr_db);
-    opt.min_ssim = num_or(img, "min_ssim", opt.min_ssim);
 
     /* the copy of the reference that the report shows */
     char exp_copy[4096], rel[4200];
@@ -1249,15 +1317,20 @@ static void grade_image(const grader *g, assignment_result *a, const cJSON *img,
         it->status = xstrdup("FAIL");
         sb_printf(&o, "the program exited with status %d and wrote no usable image: %s\n",
                   rr.code, err.msg);
-    } else {
+    } else if (!sealed) {
         ras_image_save(got, got_path, &err); /* the report's copy, re-encoded by us */
     }
-    if (*clean) sb_printf(&o, "program output:\n%s\n", clean);
+    if (sealed)
+        sb_printf(&o, "(rendered with your %s code and the reference of the earlier assignments; "
+                      "this run holds reference code, so its picture and output are not shown%s)\n",
+                  a->id, *clean ? ", although it printed some" : "");
+    else if (*clean)
+        sb_printf(&o, "program output:\n%s\n", clean);
     free(clean);
     if (got && (expected = ras_image_load(ref_path, &err)) != NULL) {
         ras_compare_result r;
         fmt(rel, sizeof rel, "%s/%s.got.png", reldir, name);
-        it->img_got = xstrdup(rel);
+        if (!sealed) it->img_got = xstrdup(rel);
         if (!ras_compare_images(expected, got, &opt, &r, &err)) {
             it->status = xstrdup("FAIL");
             sb_printf(&o, "%s\n", err.msg);
@@ -1276,7 +1349,7 @@ static void grade_image(const grader *g, assignment_result *a, const cJSON *img,
                 }
                 if (hint) sb_printf(&o, "what this image checks: %s\n", hint);
             }
-            ras_image *heat = ras_compare_heatmap(expected, got, kind, &err);
+            ras_image *heat = sealed ? NULL : ras_compare_heatmap(expected, got, kind, &err);
             char p[4096];
             fmt(p, sizeof p, "%s/%s.diff.png", dir, name);
             if (heat && ras_image_save(heat, p, &err)) {
@@ -1284,7 +1357,7 @@ static void grade_image(const grader *g, assignment_result *a, const cJSON *img,
                 it->img_diff = xstrdup(rel);
             }
             ras_image_destroy(heat);
-            if (!r.pass) {
+            if (!r.pass && !sealed) {
                 ras_image *crop =
                     ras_compare_crop(expected, got, kind, r.worst_col, r.worst_row, &err);
                 fmt(p, sizeof p, "%s/%s.crop.png", dir, name);
@@ -1327,6 +1400,121 @@ static void grade_image(const grader *g, assignment_result *a, const cJSON *img,
             it->reason = reason_line(it->output + strcspn(it->output, "\n") + 1);
     }
     junit_case(it, a->id, NULL);
+    return it->passed;
+}
+
+/* Whether a sealed run (image_job) wrote an image that passes the rubric's
+ * comparison with ref_path. */
+static bool run_matches(const job *j, const cJSON *img, const char *ref_path) {
+    ras_error err = {{0}};
+    ras_compare_kind kind;
+    ras_compare_options opt;
+    if (j->rr.kind != RUN_EXITED || j->rr.code != 0 || !image_options(img, &kind, &opt, &err))
+        return false;
+    ras_image *got = load_student_image(j->store[15], ref_path, &err);
+    ras_image *expected = got ? ras_image_load(ref_path, &err) : NULL;
+    ras_compare_result r = {0};
+    bool pass = expected && ras_compare_images(expected, got, &opt, &r, &err) && r.pass;
+    ras_image_destroy(got);
+    ras_image_destroy(expected);
+    return pass;
+}
+
+/* The first item of assignment `id` that lost points, as "NAME (reason)"
+ * into buf; "" when it lost none or was not graded. */
+static void first_loss(const assignment_result *as, int n, const char *id, char *buf, size_t size) {
+    buf[0] = '\0';
+    for (int i = 0; i < n; i++) {
+        if (!as[i].id || strcmp(as[i].id, id)) continue;
+        for (int k = 0; k < as[i].n_items; k++) {
+            const item *it = &as[i].items[k];
+            if (it->counted && it->score < it->max_score) {
+                fmt(buf, size, "%s%s%s%s", it->name, it->reason && *it->reason ? " (" : "",
+                    it->reason ? it->reason : "", it->reason && *it->reason ? ")" : "");
+                return;
+            }
+        }
+    }
+}
+
+/* Attribution by substitution (docs/grading.md): the student's whole chain
+ * failed an image of hwN. Which assignment's code makes the difference? The
+ * own-code run (the references of every earlier assignment) has answered for
+ * hwN itself; for each earlier assignment K alone, the image is rendered
+ * again, sealed, with only K's reference swapped in. The answer leads the
+ * integration item, with the first loss of the assignment it names. */
+static void attribute_image(grader *g, item *it, const cJSON *img, const char *dir,
+                            const char *id, const job *graded, bool own_passed,
+                            const assignment_result *as, int n_as) {
+    char ref_path[4096], why[1200] = "", loss[700];
+    fmt(ref_path, sizeof ref_path, "%s/%s.expected.png", dir, str_or(img, "name", "image"));
+    if (!str_or(img, "reference_program", NULL))
+        fmt(ref_path, sizeof ref_path, "%s/tests/reference/%s", g->source,
+            str_or(img, "reference", ""));
+    int number = 0;
+    sscanf(id, "hw%d", &number);
+    if (!own_passed) {
+        fmt(why, sizeof why, "your %s code causes this: it fails this image on its own too, "
+                             "with the reference of the earlier assignments (charged in %s)",
+            id, id);
+    } else if (number == 2) {
+        first_loss(as, n_as, "hw1", loss, sizeof loss);
+        fmt(why, sizeof why, "your hw1 causes this: with the reference hw1 your hw2 matches this "
+                             "image%s%s",
+            *loss ? "; hw1's first lost point: " : "", loss);
+    } else if (number == 3) {
+        /* one sealed render per earlier assignment alone: hw1 then hw2 */
+        job subs[2];
+        memset(subs, 0, sizeof subs);
+        bool ran[2] = {false, false};
+        int m = 0;
+        for (int k = 0; k < 2; k++) {
+            char refs[2] = {(char)('1' + k), '\0'}, own[4096], tag[32], prog[4300];
+            if (!own_dir(g, id, refs, own, sizeof own)) continue;
+            fmt(prog, sizeof prog, "%s/bin/%s", own, str_or(img, "program", ""));
+            if (!file_exists(prog)) continue;
+            fmt(tag, sizeof tag, ".ref%s", refs);
+            subs[m].args = graded->args;
+            image_job(g, img, dir, &subs[m], own, tag);
+            ran[k] = true;
+            m++;
+        }
+        run_jobs(subs, m, g->jobs);
+        /* matches[k]: the image matches with only hw(k+1)'s reference */
+        bool matches[2] = {false, false};
+        for (int k = 0, i = 0; k < 2; k++)
+            if (ran[k]) matches[k] = run_matches(&subs[i++], img, ref_path);
+        if (ran[0] && ran[1]) {
+            const char *culprit = matches[1] && !matches[0]   ? "hw2"
+                                  : matches[0] && !matches[1] ? "hw1"
+                                                              : NULL;
+            if (culprit) {
+                first_loss(as, n_as, culprit, loss, sizeof loss);
+                fmt(why, sizeof why, "your %s causes this: with the reference %s this image "
+                                     "matches, with your %s it does not%s%s",
+                    culprit, culprit, culprit, *loss ? "; its first lost point: " : "", loss);
+            } else if (matches[0] && matches[1])
+                fmt(why, sizeof why, "one of your hw1 or your hw2 causes this: the image matches "
+                                     "with either reference swapped in (most likely hw2, which "
+                                     "draws it)");
+            else {
+                char loss2[700];
+                first_loss(as, n_as, "hw1", loss, sizeof loss);
+                first_loss(as, n_as, "hw2", loss2, sizeof loss2);
+                fmt(why, sizeof why, "both your hw1 and your hw2 cause this: the image matches "
+                                     "only with both references swapped in, with neither alone "
+                                     "(hw1's first lost point: %s; hw2's: %s)",
+                    *loss ? loss : "none", *loss2 ? loss2 : "none");
+            }
+        }
+    }
+    if (!*why) return;
+    sbuf o = {0};
+    sb_printf(&o, "whose code: %s\n%s", why, it->output ? it->output : "");
+    free(it->output);
+    it->output = o.s;
+    free(it->reason);
+    it->reason = xstrdup(why);
 }
 
 /* ------------------------------------------------------------- outputs */
@@ -1607,7 +1795,8 @@ static unsigned random_u32(void) {
 static void usage(FILE *f) {
     fputs("usage: raster101-grade --source SRC --build BUILD --out OUT [--rubric FILE]\n"
           "         [--hw hwN]... [--variant student|ref] [--build-failed hwN=LOG]...\n"
-          "         [--expect full|POINTS]\n"
+          "         [--expect full|POINTS] [--own OWN]\n"
+          "         (tests/grade passes --work, --student-tree, --student-build, --own)\n"
           "       raster101-grade --list RUBRIC   (assignments and their programs)\n",
           f);
 }
@@ -1635,7 +1824,7 @@ int main(int argc, char **argv) {
     static const char *const with_value[] = {
         "--source", "--build",        "--out",           "--rubric", "--variant",
         "--expect", "--hw",           "--list",          "--build-failed",
-        "--work",   "--student-tree", "--student-build", "--sandbox-uid", "--jobs"};
+        "--work",   "--student-tree", "--student-build", "--sandbox-uid", "--jobs", "--own"};
     g.sandbox_uid = -1;
     g.jobs = 2;
     for (int i = 1; i < argc; i++) {
@@ -1681,6 +1870,8 @@ int main(int argc, char **argv) {
             list = v;
         else if (!strcmp(a, "--work"))
             g.work = v;
+        else if (!strcmp(a, "--own"))
+            g.own = v;
         else if (!strcmp(a, "--jobs")) {
             g.jobs = atoi(v);
             if (g.jobs < 1 || g.jobs > 64)
@@ -1800,7 +1991,13 @@ int main(int argc, char **argv) {
         return 2;
     }
     int n = cJSON_GetArraySize(asgs);
-    assignment_result *as = calloc((size_t)n, sizeof *as);
+    assignment_result *as = calloc((size_t)n + 1, sizeof *as);
+    /* The integration part: the images with points again, rendered by the
+     * student's whole chain, each failure attributed (attribute_image). */
+    assignment_result integration = {.graded = true};
+    integration.id = xstrdup("integration");
+    integration.title = xstrdup("Your assignments together: the whole chain");
+    double integration_points = num_or(g.rubric, "integration_points_per_image", 0);
     double total = 0, max_total = 0;
     int k = 0;
     for (const cJSON *asg = asgs->child; asg; asg = asg->next) {
@@ -1840,24 +2037,53 @@ int main(int argc, char **argv) {
             else
                 a->note = xstrdup("no test program built; images only");
             int n_img = cJSON_GetArraySize(images);
-            job *runs = calloc((size_t)n_img + 1, sizeof *runs);
-            if (!runs) abort();
-            int i = 0;
-            for (const cJSON *img = images ? images->child : NULL; img; img = img->next) {
+            /* runs[0, n_img): the graded runs, on the assignment's own code
+             * where it could be linked; then the whole-chain runs of the
+             * images with points (the integration part), whole_at[i] */
+            job *runs = calloc(2 * (size_t)n_img + 1, sizeof *runs);
+            int *whole_at = calloc((size_t)n_img + 1, sizeof *whole_at);
+            bool *sealed = calloc((size_t)n_img + 1, sizeof *sealed);
+            if (!runs || !whole_at || !sealed) abort();
+            char own[4096];
+            bool has_own = own_dir(&g, id, NULL, own, sizeof own);
+            int i = 0, n_runs = n_img;
+            for (const cJSON *img = images ? images->child : NULL; img; img = img->next, i++) {
                 /* "choose_args": one of the lists, drawn for this grading */
                 const cJSON *choose = cJSON_GetObjectItemCaseSensitive(img, "choose_args");
                 int nc = cJSON_IsArray(choose) ? cJSON_GetArraySize(choose) : 0;
                 runs[i].args = nc > 0 ? cJSON_GetArrayItem(choose, (int)(random_u32() % (unsigned)nc))
                                       : cJSON_GetObjectItemCaseSensitive(img, "args");
-                image_job(&g, img, dir, &runs[i++]);
+                char p[4300];
+                fmt(p, sizeof p, "%s/bin/%s", own, str_or(img, "program", ""));
+                sealed[i] = has_own && file_exists(p);
+                image_job(&g, img, dir, &runs[i], sealed[i] ? own : NULL, "");
+                whole_at[i] = -1;
+                if (sealed[i] && num_or(img, "points", g.default_points) > 0) {
+                    whole_at[i] = n_runs;
+                    runs[n_runs].args = runs[i].args;
+                    image_job(&g, img, dir, &runs[n_runs++], NULL, ".whole");
+                }
             }
-            run_jobs(runs, n_img, g.jobs);
+            run_jobs(runs, n_runs, g.jobs);
             i = 0;
-            for (const cJSON *img = images ? images->child : NULL; img; img = img->next)
-                grade_image(&g, a, img, dir, id,
-                            str_or(asg, "crash_hint", "look for an out-of-bounds access"),
-                            &runs[i++]);
+            const char *crash_hint = str_or(asg, "crash_hint", "look for an out-of-bounds access");
+            for (const cJSON *img = images ? images->child : NULL; img; img = img->next, i++) {
+                bool own_passed = grade_image(&g, a, img, dir, id, crash_hint, &runs[i], sealed[i],
+                                              false);
+                if (whole_at[i] < 0) continue;
+                bool whole_passed = grade_image(&g, &integration, img, dir, id,
+                                                "a crash in one of your assignments (the "
+                                                "attribution below says which)",
+                                                &runs[whole_at[i]], false, true);
+                item *it = &integration.items[integration.n_items - 1];
+                it->score = it->score > 0 ? integration_points : 0;
+                it->max_score = integration_points;
+                if (!whole_passed || it->score < it->max_score)
+                    attribute_image(&g, it, img, dir, id, &runs[i], own_passed, as, k);
+            }
             free(runs);
+            free(whole_at);
+            free(sealed);
         }
         for (int i = 0; i < a->n_items; i++)
             if (a->items[i].counted) {
@@ -1867,6 +2093,25 @@ int main(int argc, char **argv) {
         a->seconds = now_s() - t0;
         total += a->score;
         max_total += a->max_score;
+    }
+    if (integration.n_items > 0) {
+        integration.note = xstrdup("the images with points again, rendered by your whole chain "
+                                   "(your hw1 → hw2 → hw3); a failure says whose code causes it");
+        for (int i = 0; i < integration.n_items; i++)
+            if (integration.items[i].counted) {
+                integration.score += integration.items[i].score;
+                integration.max_score += integration.items[i].max_score;
+            }
+        total += integration.score;
+        max_total += integration.max_score;
+        char idir[4200];
+        fmt(idir, sizeof idir, "%s/integration", g.out);
+        mkdirs(idir);
+        as[k++] = integration;
+    } else {
+        free(integration.items);
+        free(integration.id);
+        free(integration.title);
     }
     bool written = write_outputs(&g, as, k, total, max_total);
     print_table(&g, as, k, total, max_total);
