@@ -88,11 +88,15 @@ attacks: configure
 # plain teaching pipeline vs the reference fast path, into docs/performance.md.
 # SPOT=DIR uses DIR/spot_triangulated_good.obj (else a built-in teapot).
 .PHONY: bench-perf
+# Beside them Mesa llvmpipe (issue 18; tests/bench_llvmpipe.c, OSMesa installed by
+# scripts/install-bench-deps), and the rows as CSV into docs/performance.csv.
 bench-perf: BUILD = build-perf
-bench-perf: deps
+bench-perf:
+	@scripts/install-bench-deps
 	@cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release >/dev/null
-	@cmake --build $(BUILD) -j $(JOBS) --target bench_perf hw3_shading_ref -- --no-print-directory
-	@$(BUILD)/bin/bench_perf $(if $(SPOT),--spot $(SPOT)) --out docs/performance.md
+	@cmake --build $(BUILD) -j $(JOBS) --target bench_perf bench_llvmpipe hw3_shading_ref -- --no-print-directory
+	@$(BUILD)/bin/bench_perf $(if $(SPOT),--spot $(SPOT)) --out docs/performance.md \
+	  --csv docs/performance.csv
 
 # The pictures and grader messages of docs/pitfalls.md (+ docs/zh/), made from
 # the mutants (scripts/pitfall-gallery; about 20 s a mistake).
