@@ -84,8 +84,8 @@ mutants: configure
 attacks: configure
 	@tests/run-attacks --build $(BUILD)
 
-# The performance report (issue 9): frame times of the classic hw3 scene,
-# plain teaching pipeline vs the reference fast path, into docs/performance.md.
+# The performance report: frame times of the classic hw3 scene, the teaching
+# pipeline vs the fast renderer (hw3_shading/fast/), into docs/performance.md.
 # SPOT=DIR uses DIR/spot_triangulated_good.obj (else a built-in teapot).
 .PHONY: bench-perf
 # Beside them Mesa llvmpipe (issue 18; tests/bench_llvmpipe.c, OSMesa installed by

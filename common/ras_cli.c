@@ -30,6 +30,7 @@ enum {
     OPT_FIT,
     OPT_SCENE,
     OPT_STATS,
+    OPT_RENDERER,
     OPT_SIZE,
     OPT_VERSION,
     OPT_MEMORY_LIMIT,
@@ -53,6 +54,7 @@ static const struct option long_options[] = {
     {"fit", no_argument, NULL, OPT_FIT},
     {"scene", required_argument, NULL, OPT_SCENE},
     {"stats", no_argument, NULL, OPT_STATS},
+    {"renderer", required_argument, NULL, OPT_RENDERER},
     {"memory-limit", required_argument, NULL, OPT_MEMORY_LIMIT},
     {NULL, 0, NULL, 0}};
 
@@ -66,6 +68,7 @@ static unsigned group_of(int opt) {
     case OPT_MODEL: case OPT_TEXTURE: case OPT_HEIGHT: case OPT_FIT: return RAS_OPT_MODEL;
     case OPT_SCENE: return RAS_OPT_SCENE;
     case OPT_STATS: return RAS_OPT_STATS;
+    case OPT_RENDERER: return RAS_OPT_RENDERER;
     default: return 0;
     }
 }
@@ -105,6 +108,7 @@ static const char *metavar_of(int opt) {
     case OPT_TEXTURE:
     case OPT_HEIGHT: return "an image FILE";
     case OPT_SCENE: return "a scene FILE (JSON)";
+    case OPT_RENDERER: return "a renderer NAME such as teaching";
     case OPT_MEMORY_LIMIT: return "a number of MiB such as 4096";
     default: return "a value";
     }
@@ -346,6 +350,7 @@ ras_cli_status ras_cli_parse(int argc, char **argv, unsigned accepted, ras_cli *
             if (!ras_memory_set_limit_mb(arg, err)) return RAS_CLI_ERROR;
             break;
         case OPT_STATS: out->stats = true; break;
+        case OPT_RENDERER: out->renderer = arg; break;
         default: break;
         }
     }
@@ -438,6 +443,10 @@ void ras_cli_help(unsigned accepted, const char *program, const char *usage, cha
     }
     if (accepted & RAS_OPT_STATS)
         ADD("      --stats           print what each pipeline stage did, as JSON on stdout\n");
+    if (accepted & RAS_OPT_RENDERER)
+        ADD("      --renderer NAME   who draws the frames: teaching (default: the pipeline\n"
+            "                        stage by stage, as taught), or a faster renderer the\n"
+            "                        program offers (the same picture)\n");
     ADD("      --memory-limit MB refuse inputs estimated to need more memory (default: half\n"
         "                        of physical memory, at most 2048; also RAS_MEMORY_LIMIT_MB)\n");
     ADD("  -h, --help            this help\n");

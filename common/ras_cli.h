@@ -23,6 +23,7 @@ enum {
     RAS_OPT_MODEL = 1u << 4,   /* --model, --texture, --height, --fit */
     RAS_OPT_SCENE = 1u << 5,   /* --scene FILE */
     RAS_OPT_STATS = 1u << 6,   /* --stats */
+    RAS_OPT_RENDERER = 1u << 7, /* --renderer NAME (the program checks the name) */
 };
 
 #define RAS_CLI_MAX_POSITIONAL 4
@@ -50,6 +51,7 @@ typedef struct ras_cli {
     bool fit;
     const char *scene;
     bool stats;
+    const char *renderer; /* NULL: the program's default */
     const char *positional[RAS_CLI_MAX_POSITIONAL];
     int positional_count;
 } ras_cli;

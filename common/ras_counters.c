@@ -8,12 +8,6 @@ static const char *const stage_names[RAS_STAGE_COUNT] = {
     "vertex", "clip",     "setup",  "raster",  "fragment", "texture",
     "lighting", "bump",   "mipmap", "resolve", "wireframe"};
 
-const char *ras_stage_name(unsigned stage_bit) {
-    for (int i = 0; i < RAS_STAGE_COUNT; i++)
-        if (stage_bit == 1u << i) return stage_names[i];
-    return "?";
-}
-
 int ras_counters_format_json(const ras_counters *c, char *buf, size_t size) {
     char stages[256] = "";
     int n = 0;

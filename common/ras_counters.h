@@ -53,8 +53,6 @@ static inline void ras_count(uint64_t *counter_field_or_null, uint64_t n) {
     if (counter_field_or_null) *counter_field_or_null += n;
 }
 
-const char *ras_stage_name(unsigned stage_bit);
-
 /* The counters as one JSON object (no trailing newline). Returns the length
  * that was needed, like snprintf. */
 int ras_counters_format_json(const ras_counters *c, char *buf, size_t size);

@@ -8,10 +8,6 @@
 #include <string.h> /* strrchr, strcmp, strchr */
 #include <time.h>   /* clock_gettime */
 
-#ifndef RAS_SOURCE_DIR
-#define RAS_SOURCE_DIR "."
-#endif
-
 static const char *const view_names[RAS_VIEW_COUNT] = {"program", "reference", "difference"};
 
 static double now_seconds(void) {
@@ -21,8 +17,11 @@ static double now_seconds(void) {
 }
 
 void ras_viewer_init(ras_viewer *v, const char *title, const char *argv0,
-                     ras_compare_kind diff_kind) {
-    *v = (ras_viewer){.title = title, .diff_kind = diff_kind, .view = RAS_VIEW_PROGRAM};
+                     const char *reference_dir, ras_compare_kind diff_kind) {
+    *v = (ras_viewer){.title = title,
+                      .diff_kind = diff_kind,
+                      .view = RAS_VIEW_PROGRAM,
+                      .reference_dir = reference_dir};
     const char *slash = argv0 ? strrchr(argv0, '/') : NULL;
     snprintf(v->program, sizeof v->program, "%s", slash ? slash + 1 : argv0 ? argv0 : title);
 }
@@ -48,9 +47,9 @@ void ras_viewer_set_reference(ras_viewer *v, const char *name, int width, int he
     ras_image_destroy(v->reference);
     v->reference = NULL;
     snprintf(v->reference_name, sizeof v->reference_name, "%s", name);
-    if (!name[0]) return;
+    if (!name[0] || !v->reference_dir) return;
     char path[1200];
-    snprintf(path, sizeof path, "%s/tests/reference/%s.png", RAS_SOURCE_DIR, name);
+    snprintf(path, sizeof path, "%s/%s.png", v->reference_dir, name);
     ras_error err = {{0}};
     ras_image *ref = ras_image_load(path, &err); /* missing: no reference, not an error */
     if (ref && (ref->width != width || ref->height != height)) {

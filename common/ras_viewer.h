@@ -3,8 +3,8 @@
  *
  * A program renders a frame between ras_viewer_frame_begin/end (the status
  * line shows how long it took), names the reference image for its current
- * settings (ras_viewer_set_reference: "hw2_msaa4" → tests/reference/
- * hw2_msaa4.png; NULL when no reference exists for these settings), and
+ * settings (ras_viewer_set_reference: "hw2_msaa4" → hw2_msaa4.png in the
+ * reference folder the program names; NULL when no reference exists for these settings), and
  * shows the frame with ras_viewer_show. The key `v` (ras_viewer_key) cycles
  * what the window shows:
  *
@@ -50,15 +50,18 @@ typedef struct ras_viewer {
     ras_view view;
     double frame_ms;    /* duration of the last frame_begin..frame_end */
     double frame_start; /* seconds, monotonic clock */
+    const char *reference_dir; /* the reference images' folder, not owned; NULL: none */
     char reference_name[64]; /* "" when there is none for these settings */
     ras_image *reference;    /* loaded reference, NULL when missing */
 } ras_viewer;
 
-/* argv0 names the program in the status line; diff_kind is the metric the
+/* argv0 names the program in the status line; reference_dir is the folder
+ * of the reference images (the build tells each program where it is:
+ * RAS_REFERENCE_DIR; NULL: no reference view); diff_kind is the metric the
  * difference view shows (EDGE_TOLERANT for line and edge pictures, EXACT for
  * shading). */
 void ras_viewer_init(ras_viewer *v, const char *title, const char *argv0,
-                     ras_compare_kind diff_kind);
+                     const char *reference_dir, ras_compare_kind diff_kind);
 
 /* Frees the reference image. NULL-safe. */
 void ras_viewer_release(ras_viewer *v);
@@ -68,7 +71,7 @@ void ras_viewer_frame_begin(ras_viewer *v);
 void ras_viewer_frame_end(ras_viewer *v);
 
 /* The reference for the current settings, by name (no directory, no ".png"):
- * loads tests/reference/<name>.png when the name changed. NULL, a missing
+ * loads <reference_dir>/<name>.png when the name changed. NULL, a missing
  * file, or a size different from `width` x `height` mean "no reference". */
 void ras_viewer_set_reference(ras_viewer *v, const char *name, int width, int height);
 

@@ -1,4 +1,4 @@
-/* ras_window.h — showing a picture in a window, with a status line.
+/* ras_window.h — the window's keys, mouse and closing (ras_viewer.h shows the pictures).
  *
  * A thin C face of cv_bridge's highgui calls. Programs must ask
  * ras_window_available() first: without a display they render headless or
@@ -11,10 +11,6 @@
 #include "ras_image.h"
 
 bool ras_window_available(void);
-
-/* Shows img (status drawn in the top-left corner when non-NULL). */
-bool ras_window_show(const char *title, const ras_image *img, const char *status,
-                     ras_error *err);
 
 /* A key (lower 8 bits), -1 when none came within ms, -2 when the window was closed. */
 int ras_window_wait_key(const char *title, int ms);

@@ -84,7 +84,7 @@ static int run_window(app *a, float angle, const char *argv0) {
     ras_error err;
     const char *title = "hw1_transform";
     ras_viewer viewer;
-    ras_viewer_init(&viewer, title, argv0, RAS_COMPARE_EDGE_TOLERANT);
+    ras_viewer_init(&viewer, title, argv0, RAS_REFERENCE_DIR, RAS_COMPARE_EDGE_TOLERANT);
     bool dirty = true;
     for (;;) {
         if (dirty) {

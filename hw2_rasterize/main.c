@@ -38,10 +38,6 @@
 #define ACCEPTED (RAS_OPT_AA | RAS_OPT_COMPARE | RAS_OPT_SCENE | RAS_OPT_STATS)
 #define PROGRAM "hw2_rasterize"
 
-#ifndef RAS_SOURCE_DIR
-#define RAS_SOURCE_DIR "."
-#endif
-
 /* What the keys change. */
 typedef struct settings {
     ras_aa_mode aa;
@@ -142,7 +138,7 @@ static ras_image *load_reference(const app *a, const char *reference, char *path
                                 "reference images show the built-in scene)\n");
         return NULL;
     } else
-        snprintf(path, size, "%s/tests/reference/hw2_%s.png", RAS_SOURCE_DIR, variant);
+        snprintf(path, size, "%s/hw2_%s.png", RAS_REFERENCE_DIR, variant);
     ras_error err = {{0}};
     ras_image *expected = ras_image_load(path, &err);
     if (!expected) {
@@ -275,7 +271,7 @@ static int run_window(app *a, const char *argv0) {
     const char *title = PROGRAM;
     ras_error err = {{0}};
     ras_viewer viewer;
-    ras_viewer_init(&viewer, title, argv0, RAS_COMPARE_EDGE_TOLERANT);
+    ras_viewer_init(&viewer, title, argv0, RAS_REFERENCE_DIR, RAS_COMPARE_EDGE_TOLERANT);
     ras_image *view = NULL;
     bool dirty = true, redraw = true;
     int mouse_col = -1, mouse_row = -1;

@@ -32,7 +32,8 @@
 #include <string.h>
 
 #define ACCEPTED                                                                                   \
-    (RAS_OPT_SHADING | RAS_OPT_MODEL | RAS_OPT_AA | RAS_OPT_SCENE | RAS_OPT_STATS | RAS_OPT_COMPARE)
+    (RAS_OPT_SHADING | RAS_OPT_MODEL | RAS_OPT_AA | RAS_OPT_SCENE | RAS_OPT_STATS |                \
+     RAS_OPT_COMPARE | RAS_OPT_RENDERER)
 #define PROGRAM "hw3_shading"
 
 static const char usage[] =
@@ -47,7 +48,9 @@ static const char usage[] =
     "  --texture spot_texture.png --shader texture  (bump/displacement read --height,\n"
     "  or the --texture image as the course does with hmap.jpg)\n"
     "--compare (with -o FILE) compares with tests/reference/hw3_<shader>.png and\n"
-    "  writes FILE_diff.png beside FILE.\n";
+    "  writes FILE_diff.png beside FILE.\n"
+    "--renderer: teaching (default); hw3_shading_ref also offers fast, the same\n"
+    "  picture drawn in screen tiles on threads (docs/performance.md).\n";
 
 typedef struct app {
     ras_cli cli;
@@ -93,7 +96,7 @@ static ras_image *load_reference(const app *a, char *path, size_t size) {
                 a->cli.model ? "model" : "scene");
         return NULL;
     } else {
-        snprintf(path, size, "%s/tests/reference/hw3_%s.png", RAS_SOURCE_DIR,
+        snprintf(path, size, "%s/hw3_%s.png", RAS_REFERENCE_DIR,
                  hw3_shader_name(a->opt.shader));
     }
     ras_error err = {{0}};
@@ -160,7 +163,7 @@ static int run_window(app *a) {
     int last_col = -1;
     bool dirty = true, redraw = true;
     ras_viewer viewer;
-    ras_viewer_init(&viewer, title, a->argv0, RAS_COMPARE_EXACT);
+    ras_viewer_init(&viewer, title, a->argv0, RAS_REFERENCE_DIR, RAS_COMPARE_EXACT);
     for (;;) {
         if (dirty) {
             ras_viewer_frame_begin(&viewer);
@@ -245,6 +248,7 @@ static int run(app *a) {
     }
     if ((shader && !hw3_shader_parse(shader, &a->opt.shader, &err)) ||
         (a->cli.filter && !hw3_filter_parse(a->cli.filter, &a->opt.filter, &err)) ||
+        (a->cli.renderer && !hw3_renderer_parse(a->cli.renderer, &a->opt.renderer, &err)) ||
         !parse_aa(&a->cli, a->file_scene, &a->opt, &err)) {
         fprintf(stderr, PROGRAM ": %s\n", err.msg);
         return 2;

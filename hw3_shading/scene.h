@@ -134,29 +134,49 @@ typedef struct hw3_render_options {
     /* NULL: hw1's get_projection_matrix (the program carries your hw1 forward);
      * the tests pass their own so hw3 is graded on its own. */
     mat4s (*projection)(float fov_deg, float aspect, float z_near, float z_far);
-    /* Speed only, never the picture (docs/performance.md). The reference build
-     * renders through a fast path (screen tiles, threads) that draws the same
-     * image bit for bit; `plain` asks for the teaching pipeline instead (one
-     * triangle at a time through rasterize_triangle and hw3_shade_fragment), as
-     * does RAS_PLAIN=1 in the environment. Student builds are always plain.
-     * threads: the fast path's worker count; 0 = $RAS_THREADS, else one per CPU. */
-    bool plain;
-    int threads;
+    /* Who draws the frame: NULL (the default) is the teaching pipeline, one
+     * triangle at a time through rasterize_triangle and hw3_shade_fragment
+     * (the loop in hw3_render). Another renderer (hw3_renderer below) may draw
+     * it faster, but must draw the same picture and counters bit for bit. */
+    const struct hw3_renderer *renderer;
     ras_cull_mode cull;  /* default none */
-    ras_edge_mode edges; /* default fixed; the fast path draws fixed edges without culling */
-    /* default z01 (the only one the fast path draws; inverse_w renders plain,
-     * with the scene's z_near: stage3_setup.h) */
-    ras_depth_format depth;
-    /* Not NULL: the fast path stores how many fragments it shaded for their
-     * colour. It shades only those still visible when their screen tile is
-     * drawn (the others' colours would be overwritten; the shaders it cannot
-     * batch — bump, displacement, trilinear, or no lights — may also shade
-     * one hidden fragment per object and worker to learn its counts, not
-     * included here), while the counters report the teaching
-     * pipeline's work, which shades every fragment that passes a depth test
-     * (docs/performance.md). */
-    uint64_t *fast_shaded;
+    ras_edge_mode edges; /* default fixed */
+    ras_depth_format depth; /* default z01 (inverse_w: with the scene's z_near, stage3_setup.h) */
 } hw3_render_options;
+
+/* One frame as hw3_render has set it up for the teaching loop: the scene,
+ * its options, the fragment stage (shader, varyings, per-scene payload
+ * fields) and every object's matrices (models[i] is object i's). */
+typedef struct hw3_frame {
+    const hw3_scene *scene;
+    const hw3_render_options *opt;
+    const hw3_fragment_stage *stage;
+    const mat4s *models;
+    mat4s view, projection;
+} hw3_frame;
+
+/* The renderer hook: another way through a frame, for speed only. The
+ * teaching pipeline is the reference; a renderer must give the same image
+ * and the same work counters (all but the ms_* timings and buffer_bytes).
+ *   accepts  may it draw this frame? false: hw3_render draws it the teaching way
+ *   draw     the frame into `out`, its counters added to *k (never NULL; it
+ *            holds the mip levels this frame built); false and err on bad
+ *            sizes or out of memory
+ *   user     the renderer's own settings */
+typedef struct hw3_renderer {
+    const char *name; /* as --renderer spells it */
+    bool (*accepts)(const struct hw3_renderer *self, const hw3_render_options *opt);
+    bool (*draw)(const struct hw3_renderer *self, const hw3_frame *frame, ras_image *out,
+                 ras_counters *k, ras_error *err);
+    void *user;
+} hw3_renderer;
+
+/* A program offers renderers by registering them (at most 4, before parsing
+ * its options); "teaching" is always there and means NULL. False when full. */
+bool hw3_renderer_register(const hw3_renderer *renderer);
+/* --renderer NAME: "teaching" gives NULL, a registered name its renderer;
+ * false and err (naming the ones this program has) otherwise. */
+bool hw3_renderer_parse(const char *name, const hw3_renderer **out, ras_error *err);
 
 /* Defaults: normal shader, bilinear, angle 0, no AA, perspective-correct. */
 hw3_render_options hw3_render_defaults(void);

@@ -7,7 +7,8 @@
  * procedural checker colour map and bumps height map). For every shader
  * (normal, phong, texture, bump, displacement) × AA (none, MSAA 4x, SSAA 4x)
  * it times whole frames (hw3_render: setup, raster, shading, resolve) in the
- * plain teaching pipeline and in the fast path with 1 and 2 threads, and
+ * plain teaching pipeline and in the fast path (hw3_shading/fast/, through
+ * hw3_render's renderer hook) with 1 and 2 threads, and
  * prints median/min/max ms, fragments shaded and ns per fragment. It checks
  * that every fast image equals the plain one bit for bit. Then it times the
  * whole program (hw3_shading_ref -o out.png) against the program that only
@@ -36,6 +37,7 @@
  */
 #include "bench_llvmpipe.h" /* llvmpipe beside the project's renderers */
 #include "ras_io.h" /* ras_io_report: the report is written atomically */
+#include "fast_render.h" /* hw3_fast_renderer: the fast path, chosen explicitly */
 #include "ras_mesh.h"
 #include "scene.h"
 
@@ -97,11 +99,11 @@ static bool render(hw3_scene *scene, hw3_shader shader, ras_aa_mode aa, bool pla
                    ras_image *out, ras_counters *k, uint64_t *shaded, double *ms, double *cpu) {
     hw3_render_options opt = hw3_render_defaults();
     *shaded = UINT64_MAX; /* the plain pipeline leaves it: it shades what it counts */
-    opt.fast_shaded = shaded;
+    hw3_fast_settings settings = {.threads = threads, .shaded = shaded};
+    hw3_renderer fast = hw3_fast_renderer(&settings);
+    opt.renderer = plain ? NULL : &fast;
     opt.shader = shader;
     opt.aa = aa;
-    opt.plain = plain;
-    opt.threads = threads;
     if (aa != RAS_AA_NONE) {
         ras_error e = {{0}};
         /* MSAA: llvmpipe's positions, so the images can be compared */
@@ -587,14 +589,19 @@ int main(int argc, char **argv) {
         char prog[1200];
         snprintf(prog, sizeof prog, "%s/bin/hw3_shading_ref", RAS_BINARY_DIR);
         char *v_argv[] = {prog, "--version", NULL};
-        char *r_argv[] = {prog, "--model", model, "--shader", "phong", "-o", out_png, NULL};
+        /* the fast path is asked for; the program's default is the teaching pipeline */
+        char *r_argv[] = {prog, "--model", model, "--shader", "phong", "-o", out_png,
+                          "--renderer", "fast", NULL};
         char *r6_argv[] = {prog, "--model", model, "--texture", texture, "--shader", "phong", "-o",
-                           out_png, NULL};
+                           out_png, "--renderer", "fast", NULL};
         char **render_argv = spot ? r6_argv : r_argv;
         have_proc = time_process(v_argv, 15, &p_version) && time_process(render_argv, 15, &p_render);
-        if (have_proc && setenv("RAS_PLAIN", "1", 1) == 0) {
+        if (have_proc) {
+            char **end = render_argv;
+            while (*end) end++;
+            end[-2] = NULL; /* without --renderer fast: the teaching pipeline */
             have_proc = time_process(render_argv, 15, &p_plain);
-            unsetenv("RAS_PLAIN");
+            end[-2] = "--renderer";
         }
         if (!have_proc) fprintf(stderr, "bench_perf: could not time %s\n", prog);
         remove(out_png);
@@ -699,7 +706,7 @@ int main(int argc, char **argv) {
                     p_plain.median, p_render.median <= p_version.median + frame ? "yes" : "no");
             fprintf(f, "\nWhole processes (wall clock, median of 15 runs, max RSS): `--version` "
                        "%.1f ms / %ld KiB; `-o out.png` fast %.1f ms / %ld KiB; plain "
-                       "(`RAS_PLAIN=1`) %.1f ms / %ld KiB. The render also loads the model (assimp) "
+                       "(without `--renderer fast`) %.1f ms / %ld KiB. The render also loads the model (assimp) "
                    "and the texture (PNG decode) and encodes the PNG, which `--version` does not: "
                    "that I/O, not the frame, makes most of the difference.\n",
                     p_version.median, p_version.max_rss_kb, p_render.median, p_render.max_rss_kb,

@@ -75,7 +75,6 @@ def run(program, args, limits=None, timeout=120, env_extra=None):
     env = dict(os.environ)
     env.pop("DISPLAY", None)  # no window: every case is headless or a "no display" error
     env.pop("WAYLAND_DISPLAY", None)
-    env.pop("RAS_PLAIN", None)
     env.pop("RAS_MEMORY_LIMIT_MB", None)
     env.update(env_extra or {})
     cmd = [os.path.join(BIN, program)] + args

@@ -35,7 +35,6 @@ def write(name, text):
 
 def run(program, args, env_extra=None):
     env = dict(os.environ)
-    env.pop("RAS_PLAIN", None)
     env.update(env_extra or {})
     p = subprocess.run([os.path.join(BIN, program)] + args, capture_output=True, text=True,
                        env=env, timeout=120)
@@ -83,9 +82,9 @@ SCENE = """{
 small = write("small.json", SCENE)
 
 # ---- hw3: the scene's effects, then flags over them ----------------------------
-# RAS_PLAIN=1: the teaching pipeline, whose buffer_bytes is the frame's
-# colour + depth (12 + 4 bytes per sample); the fast path reports its tiles.
-s, out = stats_of("hw3_shading_ref", ["--scene", small], {"RAS_PLAIN": "1"})
+# The teaching pipeline (the default), whose buffer_bytes is the frame's
+# colour + depth (12 + 4 bytes per sample); the fast renderer reports its tiles.
+s, out = stats_of("hw3_shading_ref", ["--scene", small])
 if s:
     check(stages(s) == {"vertex", "clip", "setup", "raster", "fragment", "texture", "lighting"},
           f"hw3 textured scene: stages {sorted(stages(s))}")
@@ -96,8 +95,8 @@ if s:
     check(s["mip_levels_built"] == 0, "hw3 bilinear builds no mip levels")
     check(s["buffer_bytes"] == PIXELS * 16, f"hw3 no AA: buffer_bytes {s['buffer_bytes']}, expected {PIXELS * 16}")
     check(png_size(out) == (64, 48), "hw3 writes the scene's 64x48")
-# the same through the fast path: the same work (buffers aside)
-f, _ = stats_of("hw3_shading_ref", ["--scene", small])
+# the same through the fast renderer: the same work (buffers aside)
+f, _ = stats_of("hw3_shading_ref", ["--scene", small, "--renderer", "fast"])
 if s and f:
     for key in ("stages_run", "fragments_shaded", "texels_fetched", "varyings_interpolated",
                 "samples_tested", "lighting_evaluations"):
@@ -116,8 +115,7 @@ if s:
     check(s["mip_levels_built"] == 5 and "mipmap" in stages(s), f"hw3 trilinear: {s['mip_levels_built']} mip levels, expected 5")
     check(s["texels_fetched"] == 8 * PIXELS, "hw3 trilinear: 8 texels per fragment")
 # --aa msaa and --size override the scene: 4 samples, shaded once per pixel
-s, out = stats_of("hw3_shading_ref", ["--scene", small, "--aa", "msaa", "--size", "32x24"],
-                  {"RAS_PLAIN": "1"})
+s, out = stats_of("hw3_shading_ref", ["--scene", small, "--aa", "msaa", "--size", "32x24"])
 if s:
     px = 32 * 24
     check("resolve" in stages(s), "hw3 --aa msaa resolves")

@@ -1,12 +1,14 @@
-/* test_fast_path.c — the reference fast path draws what the plain pipeline draws.
+/* test_fast_path.c — the fast renderer draws what the teaching pipeline draws.
  *
- * hw3_render has two ways through a frame in the reference build: the plain
- * teaching pipeline (one triangle at a time through rasterize_triangle and
- * hw3_shade_fragment) and the fast path (screen tiles on threads,
- * hw3_shading/solution/fast_render.c). Every scene × shader × AA mode here
- * must give the same image, byte for byte, and the same counters (all but the
- * timings and the buffer memory) in plain mode, fast mode with 1 thread and
- * fast mode with 2 and 3 threads. See docs/performance.md.
+ * The teaching pipeline (hw3_render with no renderer: one triangle at a time
+ * through rasterize_triangle and hw3_shade_fragment, the reference functions
+ * of solution/) is the reference. The fast renderer (hw3_shading/fast/,
+ * chosen through the renderer hook) keeps private copies of some of those
+ * functions for speed. Every scene × shader × AA mode here must give the same
+ * image, byte for byte, and the same counters (all but the timings and the
+ * buffer memory) with the teaching pipeline and with the fast renderer on 1,
+ * 2 and 3 threads. When a reference function changes and its copy does not,
+ * the message names the copy to update. See docs/performance.md.
  */
 #include <setjmp.h> /* cmocka needs these three first */
 #include <stdarg.h>
@@ -15,29 +17,55 @@
 #include <cmocka.h>
 
 #include "ras_test_main.h"
+#include "fast_render.h"
 #include "scene.h"
 
 #include <stdio.h>  /* snprintf */
-#include <stdlib.h> /* unsetenv */
 #include <string.h> /* memcmp */
 
+#define FAST_C "hw3_shading/fast/fast_render.c"
+
+/* For each shader, the fast renderer's copies of the reference functions it
+ * draws with: the one to update when the pictures drift apart. */
+static const char *const fast_copies[HW3_SHADER_COUNT] = {
+    [HW3_SHADER_NORMAL] = "the normal lanes of shade_prepare (" FAST_C
+                          "), its copy of normal_fragment_shader",
+    [HW3_SHADER_PHONG] = "fast_blinn_phong and its four-lane form in shade_prepare/shade_finish ("
+                         FAST_C "), its copies of blinn_phong_lighting and phong_fragment_shader",
+    [HW3_SHADER_TEXTURE] = "fast_blinn_phong and shade_finish (" FAST_C "), its copies of "
+                           "blinn_phong_lighting and texture_fragment_shader, or "
+                           "bilinear_x4_footprint/bilinear_x4_blend, its copy of "
+                           "texture_sample_bilinear",
+    [HW3_SHADER_BUMP] = "persp_bary and interp3/interp2 in shade (" FAST_C "), its copies of "
+                        "perspective_correct_barycentric and interpolate_vec3/interpolate_vec2 "
+                        "(it calls bump_fragment_shader itself)",
+    [HW3_SHADER_DISPLACEMENT] = "persp_bary and interp3/interp2 in shade (" FAST_C "), its copies "
+                                "of perspective_correct_barycentric and "
+                                "interpolate_vec3/interpolate_vec2 (it calls "
+                                "displacement_fragment_shader itself)",
+};
+/* What every shader shares: a difference in all of them points here. */
+#define FAST_SHARED                                                                        \
+    "if every shader differs, the shared copies: setup_fixed and draw_in_tile (" FAST_C    \
+    ") copy rasterize_triangle (hw2_rasterize/solution/rasterizer.c), persp_bary copies " \
+    "perspective_correct_barycentric"
+
 static hw3_scene *scene;
-static ras_image *plain_img, *fast_img;
+static ras_image *teaching_img, *fast_img;
 
 static int group_setup(void **state) {
     (void)state;
     ras_error err = {{0}};
-    unsetenv("RAS_PLAIN"); /* it would turn the fast renders plain too */
     scene = hw3_scene_create_default(&err);
-    plain_img = ras_image_create(700, 700, &err);
+    teaching_img = ras_image_create(700, 700, &err);
     fast_img = ras_image_create(700, 700, &err);
-    return scene && plain_img && fast_img ? 0 : -1;
+    return scene && teaching_img && fast_img ? 0 : -1;
 }
 
 static int group_teardown(void **state) {
     (void)state;
     hw3_scene_destroy(scene);
-    ras_image_destroy(plain_img);
+    ras_image_destroy(teaching_img);
     ras_image_destroy(fast_img);
     return 0;
 }
@@ -46,7 +74,7 @@ static int group_teardown(void **state) {
 static void check_same_counters(const ras_counters *a, const ras_counters *b, const char *what) {
 #define SAME(f)                                                                                   \
     if (a->f != b->f)                                                                             \
-        fail_msg("%s: counter " #f " differs: plain %llu, fast %llu", what,                        \
+        fail_msg("%s: counter " #f " differs: teaching %llu, fast %llu", what,                     \
                  (unsigned long long)a->f, (unsigned long long)b->f)
     SAME(stages_run);
     SAME(vertices_transformed);
@@ -68,18 +96,19 @@ static void check_same_counters(const ras_counters *a, const ras_counters *b, co
 #undef SAME
 }
 
-static void render(hw3_render_options opt, bool plain, int threads, ras_image *img,
+/* One frame: the teaching pipeline, or the fast renderer on `threads`. */
+static void render(hw3_render_options opt, bool teaching, int threads, ras_image *img,
                    ras_counters *k, uint64_t *shaded) {
     ras_error err = {{0}};
-    opt.plain = plain;
-    opt.threads = threads;
-    opt.fast_shaded = shaded;
+    hw3_fast_settings settings = {.threads = threads, .shaded = shaded};
+    hw3_renderer fast = hw3_fast_renderer(&settings);
+    opt.renderer = teaching ? NULL : &fast;
     img->width = scene->width; /* the images are allocated at the largest size */
     img->height = scene->height;
     if (!hw3_render(scene, &opt, img, k, &err)) fail_msg("hw3_render: %s", err.msg);
 }
 
-/* Plain vs fast with 1, 2 and 3 threads for every shader and AA mode. */
+/* Teaching vs fast with 1, 2 and 3 threads for every shader and AA mode. */
 static void check_all(const char *label, hw3_render_options base) {
     const ras_aa_mode aas[3] = {RAS_AA_NONE, RAS_AA_MSAA, RAS_AA_SSAA};
     for (int s = 0; s < HW3_SHADER_COUNT; s++)
@@ -90,25 +119,31 @@ static void check_all(const char *label, hw3_render_options base) {
             if (opt.aa == RAS_AA_NONE) opt.pattern = ras_sample_pattern_center();
             ras_counters kp, kf;
             uint64_t shaded = 0, shaded_1 = 0;
-            render(opt, true, 1, plain_img, &kp, NULL);
+            render(opt, true, 1, teaching_img, &kp, NULL);
             for (int threads = 1; threads <= 3; threads++) {
                 shaded = UINT64_MAX; /* the fast path overwrites it */
                 render(opt, false, threads, fast_img, &kf, &shaded);
                 char what[160];
                 snprintf(what, sizeof what, "%s, %s shader, %s, %d thread(s)", label,
                          hw3_shader_name(opt.shader), ras_aa_mode_name(opt.aa), threads);
-                size_t bytes = sizeof *plain_img->pixels * (size_t)scene->width * (size_t)scene->height;
-                if (memcmp(plain_img->pixels, fast_img->pixels, bytes) != 0) {
-                    int first = 0;
-                    while (!memcmp(&plain_img->pixels[first], &fast_img->pixels[first],
-                                   sizeof *plain_img->pixels))
-                        first++;
-                    fail_msg("%s: the fast image differs from the plain one, first at pixel "
-                             "(col %d, row %d)", what, first % scene->width, first / scene->width);
+                size_t bytes = sizeof *teaching_img->pixels * (size_t)scene->width * (size_t)scene->height;
+                if (memcmp(teaching_img->pixels, fast_img->pixels, bytes) != 0) {
+                    int first = -1, count = 0, pixels = scene->width * scene->height;
+                    for (int i = 0; i < pixels; i++)
+                        if (memcmp(&teaching_img->pixels[i], &fast_img->pixels[i],
+                                   sizeof *teaching_img->pixels)) {
+                            if (first < 0) first = i;
+                            count++;
+                        }
+                    fail_msg("fast path differs from the teaching pipeline for shader %s: update "
+                             "%s (%s: %d of %d pixels differ, the first at col %d, row %d; "
+                             FAST_SHARED ")",
+                             hw3_shader_name(opt.shader), fast_copies[opt.shader], what, count,
+                             pixels, first % scene->width, first / scene->width);
                 }
                 check_same_counters(&kp, &kf, what);
                 if (shaded == UINT64_MAX)
-                    fail_msg("%s: the fast path did not run (hw3_fast_wanted)", what);
+                    fail_msg("%s: the fast renderer did not draw (fast_accepts declined)", what);
                 /* Deferred shading shades each fragment still owning a sample
                  * once: never more than the counter (every fragment that
                  * passed a depth test), none when nothing passed, the same
@@ -165,7 +200,7 @@ static void test_fast_path_odd_size_trilinear(void **state) {
     ras_counters k;
     hw3_render_options first = opt;
     first.shader = HW3_SHADER_TEXTURE;
-    render(first, true, 1, plain_img, &k, NULL);
+    render(first, true, 1, teaching_img, &k, NULL);
     check_all("301x157 trilinear", opt);
     scene->width = scene->height = 700;
 }
@@ -183,7 +218,7 @@ static void test_fast_path_clipping_affine(void **state) {
     opt.filter = FILTER_NEAREST;
     opt.angle_deg = -20;
     ras_counters k;
-    render(opt, true, 1, plain_img, &k, NULL);
+    render(opt, true, 1, teaching_img, &k, NULL);
     assert_true(k.triangles_clip_split > 0);
     check_all("near-plane clipping, affine", opt);
     scene->eye = eye;

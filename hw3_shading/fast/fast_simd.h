@@ -1,4 +1,4 @@
-/* solution/fast_simd.h — four fragments side by side, bit for bit. RASTER101-SOLUTION
+/* fast/fast_simd.h — four fragments side by side, bit for bit. RASTER101-SOLUTION
  * This marker must never appear in a student handout.
  *
  * The fast path's batched shading (fast_render.c) computes four fragments at

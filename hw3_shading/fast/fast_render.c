@@ -1,7 +1,7 @@
-/* solution/fast_render.c — the reference build's fast frame. RASTER101-SOLUTION
+/* fast/fast_render.c — the fast renderer (hw3_fast). RASTER101-SOLUTION
  * This marker must never appear in a student handout.
  *
- * Draws exactly what hw3_render's plain loop draws (common/ras_pipeline.c →
+ * Draws exactly what hw3_render's teaching loop draws (common/ras_pipeline.c →
  * hw2's rasterize_triangle → hw3_shade_fragment → the shader → resolve_pixel),
  * bit for bit, counters included, but organised for speed
  * (docs/performance.md says why each step keeps the result):
@@ -1453,16 +1453,15 @@ static void *worker_main(void *arg) {
 
 /* ---- the frame ------------------------------------------------------------- */
 
-bool hw3_fast_wanted(const hw3_render_options *opt) {
-    /* What the fast path draws: fixed edges, no culling, z01 depth. */
-    if (opt->cull != RAS_CULL_NONE || opt->edges != RAS_EDGES_FIXED || opt->depth != RAS_DEPTH_Z01)
-        return false;
-    const char *env = getenv("RAS_PLAIN");
-    return !opt->plain && !(env && *env && strcmp(env, "0") != 0);
+/* What the fast path draws: fixed edges, no culling, z01 depth. */
+static bool fast_accepts(const hw3_renderer *self, const hw3_render_options *opt) {
+    (void)self;
+    return opt->cull == RAS_CULL_NONE && opt->edges == RAS_EDGES_FIXED &&
+           opt->depth == RAS_DEPTH_Z01;
 }
 
-static int thread_count(const hw3_render_options *opt) {
-    int n = opt->threads;
+static int thread_count(const hw3_fast_settings *s) {
+    int n = s ? s->threads : 0;
     if (n <= 0) {
         const char *env = getenv("RAS_THREADS");
         n = env ? atoi(env) : 0;
@@ -1471,9 +1470,14 @@ static int thread_count(const hw3_render_options *opt) {
     return n < 1 ? 1 : n > MAX_THREADS ? MAX_THREADS : n;
 }
 
-bool hw3_fast_render(const hw3_scene *scene, const hw3_render_options *opt,
-                     const hw3_fragment_stage *stage, const mat4s *models, mat4s view,
-                     mat4s projection, ras_image *out, ras_counters *k, ras_error *err) {
+static bool fast_draw(const hw3_renderer *self, const hw3_frame *frame_in, ras_image *out,
+                      ras_counters *k, ras_error *err) {
+    const hw3_fast_settings *settings = self->user;
+    const hw3_scene *scene = frame_in->scene;
+    const hw3_render_options *opt = frame_in->opt;
+    const hw3_fragment_stage *stage = frame_in->stage;
+    const mat4s *models = frame_in->models;
+    mat4s view = frame_in->view, projection = frame_in->projection;
     int width = scene->width, height = scene->height;
     if (width < 1 || height < 1 || width > RAS_IMAGE_MAX_SIDE || height > RAS_IMAGE_MAX_SIDE)
         return ras_error_set(err, "frame size %dx%d is out of range", width, height);
@@ -1519,7 +1523,7 @@ bool hw3_fast_render(const hw3_scene *scene, const hw3_render_options *opt,
     fr.tiles_x = (width + TILE - 1) / TILE;
     fr.tiles_y = (height + TILE - 1) / TILE;
     int tiles = fr.tiles_x * fr.tiles_y;
-    int threads = thread_count(opt);
+    int threads = thread_count(settings);
     if (threads > tiles) threads = tiles;
     size_t vertices = 0, vchunks = 0;
     for (int o = 0; o < objects; o++) {
@@ -1644,7 +1648,7 @@ bool hw3_fast_render(const hw3_scene *scene, const hw3_render_options *opt,
             k->buffer_bytes +=
                 tile_samples * sizeof(int32_t) + workers[i].frag_cap * sizeof(queued);
         }
-        if (opt->fast_shaded) *opt->fast_shaded = shaded;
+        if (settings && settings->shaded) *settings->shaded = shaded;
     } else {
         ras_error_set(err, "out of memory drawing %zu triangles",
                       fr.tri_first ? fr.tri_first[objects] : (size_t)0);
@@ -1674,4 +1678,9 @@ bool hw3_fast_render(const hw3_scene *scene, const hw3_render_options *opt,
     k->ms_raster += t2 - t1;
     k->ms_total += t2 - t0;
     return ok;
+}
+
+hw3_renderer hw3_fast_renderer(hw3_fast_settings *settings) {
+    return (hw3_renderer){.name = "fast", .accepts = fast_accepts, .draw = fast_draw,
+                          .user = settings};
 }
