@@ -1123,6 +1123,107 @@ static void image_signatures(sbuf *o, const ras_image *expected, const ras_image
                   lg, le, lit ? ": light added twice (ambient once per light?)" : "");
 }
 
+/* Defects a person sees at once but a global pixel budget can hide: a dark
+ * seam, a line of wrong pixels, speckle. Each is a pattern of "bad" pixels
+ * (some channel off by more than BAD_BYTES) that a correct image never has,
+ * whatever its float style: a seam pixel is darker than everything around it
+ * in the reference, speckle sits inside a smooth area of the reference, a
+ * line is a row or column whose neighbours match. Appends one "likely
+ * mistake" line per defect found; returns whether any was. */
+enum { BAD_BYTES = 48, SEAM_MIN = 20, SPECKLE_MIN = 12, LINE_MIN = 24 };
+
+static int byte_diff(vec3s a, vec3s b) {
+    int d = 0;
+    for (int k = 0; k < 3; k++) {
+        int e = abs(ras_unit_to_byte(a.raw[k]) - ras_unit_to_byte(b.raw[k]));
+        if (e > d) d = e;
+    }
+    return d;
+}
+
+static double luma(vec3s p) { return 0.299 * p.x + 0.587 * p.y + 0.114 * p.z; }
+
+static bool image_defects(sbuf *o, const ras_image *expected, const ras_image *got) {
+    int w = expected->width, h = expected->height;
+    if (got->width != w || got->height != h || w < 3 || h < 3) return false;
+    unsigned char *bad = calloc((size_t)w * h, 1);
+    int *row_bad = calloc((size_t)h, sizeof *row_bad), *col_bad = calloc((size_t)w, sizeof *col_bad);
+    if (!bad || !row_bad || !col_bad) abort();
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++)
+            if (byte_diff(ras_image_get(expected, x, y), ras_image_get(got, x, y)) > BAD_BYTES) {
+                bad[(size_t)y * w + x] = 1;
+                row_bad[y]++;
+                col_bad[x]++;
+            }
+    int seams = 0, speckles = 0, sx = -1, sy = -1, px = -1, py = -1;
+    for (int y = 1; y < h - 1; y++)
+        for (int x = 1; x < w - 1; x++) {
+            if (!bad[(size_t)y * w + x]) continue;
+            double lo = 1e9, hi = -1e9;
+            int bad_around = 0;
+            vec3s e0 = ras_image_get(expected, x, y);
+            int spread = 0;
+            for (int dy = -1; dy <= 1; dy++)
+                for (int dx = -1; dx <= 1; dx++) {
+                    vec3s e = ras_image_get(expected, x + dx, y + dy);
+                    double l = luma(e);
+                    lo = l < lo ? l : lo;
+                    hi = l > hi ? l : hi;
+                    int d = byte_diff(e, e0);
+                    spread = d > spread ? d : spread;
+                    bad_around += (dx || dy) && bad[(size_t)(y + dy) * w + x + dx];
+                }
+            double lg = luma(ras_image_get(got, x, y));
+            /* where two drawn surfaces meet (not against the background),
+             * darker than both */
+            if (lo > 0.05 && hi - lo > 0.02 && lg < lo - 0.15) {
+                if (seams++ == 0) sx = x, sy = y;
+            } else if (spread <= 24 && bad_around <= 2) {
+                if (speckles++ == 0) px = x, py = y;
+            }
+        }
+    bool found = false;
+    if (seams >= SEAM_MIN) {
+        sb_printf(o, "likely mistake: a dark seam: %d pixels where two surfaces meet are darker "
+                     "than both in the reference (first at (%d,%d)): the background shows "
+                     "through a shared edge (a coverage rule that drops edge samples, or a "
+                     "resolve that mixes in uncovered or integer-rounded samples)\n",
+                  seams, sx, sy);
+        found = true;
+    }
+    if (speckles >= SPECKLE_MIN) {
+        sb_printf(o, "likely mistake: speckle: %d isolated pixels inside smooth areas are wrong "
+                     "(first at (%d,%d)): back faces winning the depth test (depth or "
+                     "barycentric precision: subtract a vertex before the edge functions; "
+                     "perspective-correct depth) or a NaN in some pixels\n",
+                  speckles, px, py);
+        found = true;
+    }
+    for (int pass = 0; pass < 2; pass++) {
+        const int *line = pass ? col_bad : row_bad;
+        int n = pass ? w : h;
+        for (int i = 0; i < n; i++) {
+            int beside = 0;
+            if (i > 0 && line[i - 1] > beside) beside = line[i - 1];
+            if (i < n - 1 && line[i + 1] > beside) beside = line[i + 1];
+            if (line[i] >= LINE_MIN && line[i] >= 4 * (beside + 1)) {
+                sb_printf(o, "likely mistake: %s %d of the image is wrong along %d pixels while "
+                             "the %ss beside it match: a %s skipped or written twice (a loop "
+                             "bound, < against <=, or an index off by one)\n",
+                          pass ? "column" : "row", i, line[i], pass ? "column" : "row",
+                          pass ? "column" : "row");
+                found = true;
+                break;
+            }
+        }
+    }
+    free(bad);
+    free(row_bad);
+    free(col_bad);
+    return found;
+}
+
 /* Reads the image a student's program wrote, refusing before any decoding
  * what is not a regular PNG file of the reference's size: a symlink, a FIFO,
  * a huge file or a decompression bomb costs nothing. */
@@ -1335,9 +1436,15 @@ reference_ready:;
             it->status = xstrdup("FAIL");
             sb_printf(&o, "%s\n", err.msg);
         } else {
+            sb_printf(&o, "%s\n", r.summary);
+            /* a defect a person sees fails the image even within the budget */
+            if (image_defects(&o, expected, got) && r.pass) {
+                r.pass = false;
+                sb_add(&o, "(within the pixel budget, but the defect above is visible: not a "
+                           "match)\n");
+            }
             it->passed = r.pass;
             it->status = xstrdup(r.pass ? (todo ? "TODO" : "PASS") : (todo ? "TODO" : "FAIL"));
-            sb_printf(&o, "%s\n", r.summary);
             if (!r.pass) {
                 image_signatures(&o, expected, got, &opt, j->args);
                 if (kind == RAS_COMPARE_EXACT || kind == RAS_COMPARE_EDGE_TOLERANT) {
@@ -1415,6 +1522,9 @@ static bool run_matches(const job *j, const cJSON *img, const char *ref_path) {
     ras_image *expected = got ? ras_image_load(ref_path, &err) : NULL;
     ras_compare_result r = {0};
     bool pass = expected && ras_compare_images(expected, got, &opt, &r, &err) && r.pass;
+    sbuf ignored = {0};
+    if (pass && image_defects(&ignored, expected, got)) pass = false;
+    free(ignored.s);
     ras_image_destroy(got);
     ras_image_destroy(expected);
     return pass;
