@@ -44,11 +44,12 @@ static const char *const fast_copies[HW3_SHADER_COUNT] = {
                                 "interpolate_vec3/interpolate_vec2 (it calls "
                                 "displacement_fragment_shader itself)",
 };
-/* What every shader shares: a difference in all of them points here. */
-#define FAST_SHARED                                                                        \
-    "if every shader differs, the shared copies: setup_fixed and draw_in_tile (" FAST_C    \
-    ") copy rasterize_triangle (hw2_rasterize/solution/rasterizer.c), persp_bary copies " \
-    "perspective_correct_barycentric"
+/* What every shader shares. The normal shader is checked first: when it
+ * differs, these may be the cause; when a later shader differs, they are not. */
+#define FAST_SHARED                                                                         \
+    "; or, if the other shaders differ too, the shared copies: setup_fixed and draw_in_tile " \
+    "(" FAST_C ") of rasterize_triangle (hw2_rasterize/solution/rasterizer.c), persp_bary "   \
+    "of perspective_correct_barycentric"
 
 static hw3_scene *scene;
 static ras_image *teaching_img, *fast_img;
@@ -126,7 +127,8 @@ static void check_all(const char *label, hw3_render_options base) {
                 char what[160];
                 snprintf(what, sizeof what, "%s, %s shader, %s, %d thread(s)", label,
                          hw3_shader_name(opt.shader), ras_aa_mode_name(opt.aa), threads);
-                size_t bytes = sizeof *teaching_img->pixels * (size_t)scene->width * (size_t)scene->height;
+                size_t bytes =
+                    sizeof *teaching_img->pixels * (size_t)scene->width * (size_t)scene->height;
                 if (memcmp(teaching_img->pixels, fast_img->pixels, bytes) != 0) {
                     int first = -1, count = 0, pixels = scene->width * scene->height;
                     for (int i = 0; i < pixels; i++)
@@ -136,9 +138,9 @@ static void check_all(const char *label, hw3_render_options base) {
                             count++;
                         }
                     fail_msg("fast path differs from the teaching pipeline for shader %s: update "
-                             "%s (%s: %d of %d pixels differ, the first at col %d, row %d; "
-                             FAST_SHARED ")",
-                             hw3_shader_name(opt.shader), fast_copies[opt.shader], what, count,
+                             "%s%s (%s: %d of %d pixels differ, the first at col %d, row %d)",
+                             hw3_shader_name(opt.shader), fast_copies[opt.shader],
+                             opt.shader == HW3_SHADER_NORMAL ? FAST_SHARED : "", what, count,
                              pixels, first % scene->width, first / scene->width);
                 }
                 check_same_counters(&kp, &kf, what);
