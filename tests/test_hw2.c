@@ -589,6 +589,55 @@ static void test_bary_at_pixel_centre(void **state) {
     ras_framebuffer_destroy(fb);
 }
 
+/* The screen depth v[i].z is already z/w, affine in screen space: it is
+ * interpolated with the screen barycentrics and nothing else, whatever the
+ * vertices' clip w. Every other hw2 test has w = 1 at all three vertices,
+ * where the course framework's `z_interpolated *= w_reciprocal` snippet
+ * changes nothing; here the three w differ (1, 2, 4), as in hw3's scenes. */
+static void test_raster_depth_with_different_w(void **state) {
+    (void)state;
+    ras_framebuffer *fb = make_fb(14, 13, 1);
+    recorded rec = {0};
+    ras_raster_ctx ctx = ctx_none(fb);
+    ctx.shade = record_shade;
+    ctx.shade_user = &rec;
+    ras_triangle t = tri3(0.75f, 0.5f, 13.25f, 2.5f, 3.5f, 12.25f);
+    const float z[3] = {0.2f, 0.5f, 0.8f}, w[3] = {1.0f, 2.0f, 4.0f};
+    for (int i = 0; i < 3; i++)
+        t.v[i].z = z[i], t.v[i].w = w[i];
+    rasterize_triangle(&t, &ctx);
+    CHECK(rec.calls > 0,
+          "rasterize_triangle of a triangle whose vertices have w = 1, 2, 4: expected fragments, "
+          "got none. Likely mistake: the triangle rejected because w is not 1 (w is the clip w, "
+          "any positive value), or nothing is drawn yet.");
+    double area = edge_exact(t.v[0].x, t.v[0].y, t.v[1].x, t.v[1].y, t.v[2].x, t.v[2].y);
+    for (int i = 0; i < rec.calls && i < 256; i++) {
+        const ras_fragment *f = &rec.frag[i];
+        double cx = f->x + 0.5, cy = f->y + 0.5;
+        double b[3] = {edge_exact(t.v[1].x, t.v[1].y, t.v[2].x, t.v[2].y, cx, cy) / area,
+                       edge_exact(t.v[2].x, t.v[2].y, t.v[0].x, t.v[0].y, cx, cy) / area,
+                       edge_exact(t.v[0].x, t.v[0].y, t.v[1].x, t.v[1].y, cx, cy) / area};
+        double want = b[0] * z[0] + b[1] * z[1] + b[2] * z[2];
+        /* the course's snippet: (Σ b·z/w) / (Σ b/w) */
+        double snippet = (b[0] * z[0] / w[0] + b[1] * z[1] / w[1] + b[2] * z[2] / w[2]) /
+                         (b[0] / w[0] + b[1] / w[1] + b[2] / w[2]);
+        float d = fb->depth[ras_fb_sample_index(fb, f->x, f->y, 0)];
+        CHECK(fabs(d - want) < 1e-4,
+              "depth buffer at pixel (%d, %d) of a triangle with z = 0.2, 0.5, 0.8 and w = 1, 2, "
+              "4: expected %.5f (the screen depth v[i].z is z/w already, affine in screen space: "
+              "α·z0 + β·z1 + γ·z2 with the screen barycentrics), got %.5f. Likely mistake: %s",
+              f->x, f->y, want, d,
+              fabs(d - snippet) < 1e-4
+                  ? "the course framework's `z_interpolated *= w_reciprocal` snippet, which "
+                    "divides by an interpolated 1/w: there every w was 1 and it did nothing; "
+                    "here v[i].w is the real clip w: interpolate v[i].z and nothing else "
+                    "(docs/hw2.md, \"Course habits that break here\")."
+                  : "the depth divided or multiplied by w (v[i].z is already divided), or "
+                    "interpolated with other weights than the screen barycentrics.");
+    }
+    ras_framebuffer_destroy(fb);
+}
+
 /* ---- 3. index math ---------------------------------------------------------------- */
 
 static void test_index_corners_and_flip(void **state) {
@@ -1333,6 +1382,7 @@ int main(void) {
         cmocka_unit_test(test_bary_outside_is_negative),
         cmocka_unit_test(test_bary_degenerate_flagged),
         cmocka_unit_test(test_bary_at_pixel_centre),
+        cmocka_unit_test(test_raster_depth_with_different_w),
         cmocka_unit_test(test_bary_precision_at_600px),
         cmocka_unit_test(test_index_corners_and_flip),
         cmocka_unit_test(test_index_all_in_range_and_distinct),
