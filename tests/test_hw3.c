@@ -568,6 +568,13 @@ static void test_tbn_formula(void **state) {
 /* ---- bilinear ------------------------------------------------------------------ */
 
 /* 4×2 texture: texel (i, j) = (i/4, j/2, 0.3), j = 0 the bottom row (v = 0). */
+/* The ramp's texels sit between guard texels of an impossible colour
+ * (GUARD: 9, -9, 9), so a lookup that reads one texel past either end of the
+ * array, instead of going through ras_texture_texel (which wraps or clamps),
+ * brings GUARD back into the result, where it is named. */
+#define GUARD_TEXELS 8
+#define GUARD V3(9, -9, 9)
+
 static ras_texture *ramp4x2(ras_wrap wrap) {
     ras_image *img = ras_image_create(4, 2, NULL);
     assert_non_null(img);
@@ -576,8 +583,32 @@ static ras_texture *ramp4x2(ras_wrap wrap) {
     ras_texture *tex = ras_texture_from_image(img, wrap, NULL);
     ras_image_destroy(img);
     assert_non_null(tex);
+    vec3s *block = malloc((2 * GUARD_TEXELS + 8) * sizeof *block);
+    assert_non_null(block);
+    for (int k = 0; k < 2 * GUARD_TEXELS + 8; k++)
+        block[k] = GUARD;
+    memcpy(block + GUARD_TEXELS, tex->texels, 8 * sizeof *block);
+    free(tex->texels);
+    tex->texels = tex->levels[0] = block + GUARD_TEXELS;
     return tex;
 }
+
+/* Frees the guarded block (ras_texture_destroy frees texels itself). */
+static void ramp_destroy(ras_texture *tex) {
+    free(tex->texels - GUARD_TEXELS);
+    tex->texels = tex->levels[0] = NULL;
+    ras_texture_destroy(tex);
+}
+
+/* Did a guard texel take part in c? The ramp's blue is 0.3 everywhere and
+ * its green never below 0. */
+static bool read_past_the_edge(vec3s c) { return c.z > 0.3f + 1e-4f || c.y < -1e-4f; }
+
+#define PAST_THE_EDGE                                                                      \
+    "read outside the texture: a guard texel placed just before or after the texel array " \
+    "came back, so an index went one past the edge (i0 + 1 = W or j0 + 1 = H, or -1). "   \
+    "Read the four texels through ras_texture_texel(tex, 0, i, j), which wraps or clamps " \
+    "(TODO 4.3): reading tex->texels directly reads memory that is not the texture"
 
 static void expect_bilinear(const ras_texture *tex, float u, float v, vec3s want,
                             const char *what) {
@@ -586,7 +617,9 @@ static void expect_bilinear(const ras_texture *tex, float u, float v, vec3s want
     const char *hint = "x = u·W − 0.5, y = v·H − 0.5, then floor / fraction / wrap";
     /* What the two classic mistakes would read here (the ramp is linear, so
      * with clamp-to-edge its bilinear value is the clamped ramp itself). */
-    if (tex->wrap == RAS_WRAP_CLAMP) {
+    if (read_past_the_edge(got))
+        hint = PAST_THE_EDGE;
+    else if (tex->wrap == RAS_WRAP_CLAMP) {
         float x_ok = fminf(fmaxf(u * 4 - 0.5f, 0), 3);
         float y_ok = fminf(fmaxf(v * 2 - 0.5f, 0), 1);
         float x_noshift = fminf(fmaxf(u * 4, 0), 3), y_noshift = fminf(fmaxf(v * 2, 0), 1);
@@ -621,7 +654,7 @@ static void test_bilinear_centres_and_between(void **state) {
     expect_bilinear(tex, 0.5f, 0.5f, V3(0.375f, 0.25f, 0.3f), "between four centres");
     /* a quarter of the way: x = 1.25, y = 0.25 → (0.3125, 0.125) */
     expect_bilinear(tex, 1.75f / 4, 0.75f / 2, V3(0.3125f, 0.125f, 0.3f), "a quarter between");
-    ras_texture_destroy(tex);
+    ramp_destroy(tex);
 }
 
 /* Clamp-to-edge: u = 0 and u = −ε read the first column, u = 1 and 1 + ε the
@@ -630,15 +663,17 @@ static void test_bilinear_edges_clamp(void **state) {
     (void)state;
     ras_texture *tex = ramp4x2(RAS_WRAP_CLAMP);
     const float eps = 1e-4f;
-    float us[] = {0, -eps, -3};
-    for (int k = 0; k < 3; k++) expect_bilinear(tex, us[k], 0.25f, V3(0, 0, 0.3f), "left edge");
+    /* the top-right corner first: there an index + 1 leaves the array, the
+     * most specific symptom of a lookup that does not clamp */
     float ue[] = {1, 1 + eps, 7};
     for (int k = 0; k < 3; k++)
         expect_bilinear(tex, ue[k], 0.75f, V3(0.75f, 0.5f, 0.3f), "right edge");
+    float us[] = {0, -eps, -3};
+    for (int k = 0; k < 3; k++) expect_bilinear(tex, us[k], 0.25f, V3(0, 0, 0.3f), "left edge");
     expect_bilinear(tex, 0.125f, 0, V3(0, 0, 0.3f), "bottom edge v = 0");
     expect_bilinear(tex, 0.125f, 1, V3(0, 0.5f, 0.3f), "top edge v = 1");
     expect_bilinear(tex, 0.125f, 1 + eps, V3(0, 0.5f, 0.3f), "above the top edge");
-    ras_texture_destroy(tex);
+    ramp_destroy(tex);
 }
 
 /* Repeat: u = 0 sits halfway between the last and the first column:
@@ -655,7 +690,7 @@ static void test_bilinear_edges_repeat(void **state) {
           "repeat just outside [0,1]: expected ≈ 0.375 on both sides of the seam, got %.5f "
           "(u = −ε) and %.5f (u = 1 + ε)",
           (double)a.x, (double)b.x);
-    ras_texture_destroy(tex);
+    ramp_destroy(tex);
 }
 
 /* Garbage coordinates never read out of bounds and never return garbage:
@@ -674,12 +709,15 @@ static void test_bilinear_nan_and_huge(void **state) {
                     CHECK(ras_vec3_finite(c) && c.x >= 0 && c.x <= 0.75f && c.y >= 0 &&
                               c.y <= 0.5f && fabsf(c.z - 0.3f) < 1e-6f,
                           "texture_sample_bilinear(%g, %g) (%s) returned " FMT3
-                          ", not a colour of the texture. Likely mistake: NaN/huge u or v "
-                          "converted to int (undefined) — make them safe first (TODO 4.1)",
-                          (double)u, (double)v, w ? "repeat" : "clamp", ARG3(c));
+                          ", not a colour of the texture. Likely mistake: %s",
+                          (double)u, (double)v, w ? "repeat" : "clamp", ARG3(c),
+                          read_past_the_edge(c) && ras_vec3_finite(c)
+                              ? PAST_THE_EDGE
+                              : "NaN/huge u or v converted to int (undefined) — make them "
+                                "safe first (TODO 4.1)");
                 }
             }
-        ras_texture_destroy(tex);
+        ramp_destroy(tex);
     }
 }
 
