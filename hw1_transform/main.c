@@ -1,7 +1,7 @@
 /* main.c — hw1_transform: a triangle, rotated and projected, as a wireframe.
  *
  * Built twice from this file: hw1_transform (your transform.c) and
- * hw1_transform_ref (solution/transform.c). The frame loop is the pipeline:
+ * hw1_transform_ref (the reference solution). The frame loop is the pipeline:
  * model (get_model_matrix or get_rotation) · view · projection → clip →
  * divide → viewport → lines.
  *

@@ -1,7 +1,7 @@
 /* transform.h — hw1: the matrices that place a triangle on the screen.
  *
  * Implemented twice with the same signatures: transform.c (yours, TODOs) and
- * solution/transform.c (the reference). See docs/hw1.md.
+ * the reference solution (instructors' edition only). See docs/hw1.md.
  *
  * Conventions: right-handed world; the camera looks down -z; angles in
  * DEGREES; z_near and z_far are POSITIVE distances (the visible depths are

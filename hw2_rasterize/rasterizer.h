@@ -1,9 +1,10 @@
 /* rasterizer.h — hw2: from a screen-space triangle to covered, depth-tested samples.
  *
  * Implemented twice with the same signatures: rasterizer.c (yours, TODOs) and
- * solution/rasterizer.c (the reference). The pipeline (common/ras_pipeline.h)
- * calls rasterize_triangle() for every triangle after clipping and the
- * viewport, and resolve_pixel() for every pixel when there are several samples.
+ * the reference solution (instructors' edition only). The pipeline
+ * (common/ras_pipeline.h) calls rasterize_triangle() for every triangle after
+ * clipping and the viewport, and resolve_pixel() for every pixel when there are
+ * several samples.
  * See docs/hw2.md, and common/stage4_raster.h for the contract.
  *
  * Conventions: screen y grows up; pixel (x, y) covers [x, x+1) × [y, y+1) and

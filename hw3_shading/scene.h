@@ -11,6 +11,9 @@
  *                        files), the classic GAMES101 model scene, and any
  *                        scene file (hw3_scene_from_ras: scenes/, ras_scene.h)
  *   hw3_render           one frame of a scene with a shader and a filter
+ *   hw3_renderer         the renderer hook: another way through a frame that
+ *                        draws the same picture (hw3_render_options.renderer;
+ *                        NULL, the default, is the teaching pipeline)
  *
  * Conventions: view space as in shading.h (lights are given in VIEW space,
  * the camera looks down -z from the view-space origin); the view matrix is

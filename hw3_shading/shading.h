@@ -1,7 +1,7 @@
 /* shading.h — hw3: from a covered pixel to its colour.
  *
  * Implemented twice with the same signatures: shading.c (yours, TODOs) and
- * solution/shading.c (the reference). The fragment stage (scene.c) calls the
+ * the reference solution (instructors' edition only). The fragment stage (scene.c) calls the
  * interpolation functions to fill a fragment_shader_payload for every pixel
  * hw2's rasterizer covers, then one of the fragment shaders below. See
  * docs/hw3.md; the numbered TODO(hw3) hints in shading.c follow its sections.
