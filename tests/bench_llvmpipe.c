@@ -24,6 +24,9 @@
  *       each shader is ported with a plausible mistake (WRONG below) and
  *       exit 0 means every wrong port failed: the check catches it.
  *       --save DIR writes both images of every pair as PNG.
+ *
+ * RASTER101-SOLUTION: the GLSL below ports the reference shaders; this file
+ * must never appear in a student handout (tests/make-handout leaves it out).
  */
 #define GL_GLEXT_PROTOTYPES 1
 #include "bench_llvmpipe.h"
