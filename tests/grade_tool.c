@@ -484,6 +484,9 @@ typedef struct grader {
      * reference of the earlier assignments (tests/grade, step 2b), as
      * OWN/refK.../bin and OWN/refK.../tests; NULL when there are none. */
     const char *own;
+    /* --sanitized-build (grade --sanitize): the student's test workers built
+     * with AddressSanitizer and UBSan in the sandbox; NULL: no such pass. */
+    const char *sanitized;
     long sandbox_uid; /* -1: not root, runs stay this user's */
     int runs;         /* numbers the run folders */
     int jobs;         /* sandboxed runs at once */
@@ -792,6 +795,135 @@ static bool own_dir(const grader *g, const char *id, const char *refs, char *dir
     return false;
 }
 
+/* The first line of a sanitizer report in `out` and the first frame of it
+ * in a student file ("in FUNC .../hw3_shading/shading.c:183"), as one line
+ * into buf; false when there is no report. */
+static bool sanitizer_finding(const char *out, const cJSON *assignments, char *buf,
+                              size_t size) {
+    const char *asan = strstr(out, "ERROR: AddressSanitizer: ");
+    const char *ub = strstr(out, ": runtime error: ");
+    if (!asan && !ub) return false;
+    char kind[200] = "", access[120] = "", where[400] = "";
+    if (asan) {
+        sscanf(asan + 25, "%199[^ \n]", kind);
+        const char *acc = strstr(asan, "\nREAD of size ");
+        if (!acc) acc = strstr(asan, "\nWRITE of size ");
+        if (acc) sscanf(acc + 1, "%119[^\n]", access);
+        char *t = strstr(access, " at 0x");
+        if (t) *t = '\0';
+        /* the first frame in a student file */
+        for (const char *f = strstr(asan, "    #"); f && !*where; f = strstr(f + 1, "    #")) {
+            const char *eol = strchr(f, '\n');
+            size_t len = eol ? (size_t)(eol - f) : strlen(f);
+            for (const cJSON *as = assignments ? assignments->child : NULL; as && !*where; as = as->next)
+            for (const cJSON *sf = cJSON_GetObjectItemCaseSensitive(as, "student_files")
+                                       ? cJSON_GetObjectItemCaseSensitive(as, "student_files")->child
+                                       : NULL;
+                 sf; sf = sf->next) {
+                const char *file = cJSON_IsString(sf) ? sf->valuestring : "";
+                const char *in = strstr(f, " in ");
+                const char *hit = strstr(f, file);
+                if (*file && in && hit && hit < f + len) {
+                    const char *end = hit;
+                    while (end < f + len && *end != ' ' && *end != '\n')
+                        end++;
+                    const char *name = in + 4, *name_end = name;
+                    while (name_end < hit && *name_end != ' ')
+                        name_end++;
+                    fmt(where, sizeof where, "in %.*s (%.*s)", (int)(name_end - name), name,
+                        (int)(end - hit), hit);
+                    break;
+                }
+            }
+        }
+        fmt(buf, size, "AddressSanitizer: %s%s%s%s%s", kind, *access ? ", a " : "", access,
+            *where ? " " : "", where);
+    } else {
+        const char *line = ub;
+        while (line > out && line[-1] != '\n')
+            line--;
+        const char *eol = strchr(ub, '\n');
+        fmt(buf, size, "UndefinedBehaviorSanitizer: %.*s", (int)((eol ? eol : ub + strlen(ub)) - line),
+            line);
+    }
+    /* the sandbox's paths mean nothing to the student: keep from the
+     * assignment folder on */
+    for (const cJSON *as = assignments ? assignments->child : NULL; as; as = as->next)
+    for (const cJSON *sf = cJSON_GetObjectItemCaseSensitive(as, "student_files")
+                               ? cJSON_GetObjectItemCaseSensitive(as, "student_files")->child
+                               : NULL;
+         sf; sf = sf->next) {
+        if (!cJSON_IsString(sf)) continue;
+        char *hit = strstr(buf, sf->valuestring), *start = hit;
+        while (start && start > buf && start[-1] != '(' && start[-1] != ' ')
+            start--;
+        if (hit && start < hit) memmove(start, hit, strlen(hit) + 1);
+    }
+    return true;
+}
+
+/* grade --sanitize: the tests once more, on the student's code built with
+ * AddressSanitizer and UBSan, only to say where memory or arithmetic goes
+ * wrong: the verdicts stay the replay's. The finding is added to its test's
+ * output (the first frame in a student file: function, file and line). */
+static void sanitizer_pass(const grader *g, assignment_result *a, const cJSON *asg,
+                           const name_list *names, int first_item) {
+    char worker[4096];
+    fmt(worker, sizeof worker, "%s/tests/test_%s_worker", g->sanitized, a->id);
+    if (!g->sanitized || !file_exists(worker)) return;
+    int n = names->n, chunks = g->jobs < n ? g->jobs : n;
+    if (chunks < 1) return;
+    job *jobs = calloc((size_t)chunks, sizeof *jobs);
+    if (!jobs) abort();
+    int per = (n + chunks - 1) / chunks;
+    for (int c = 0; c < chunks; c++) {
+        job *w = &jobs[c];
+        char each[4][4300];
+        fmt(each[0], sizeof each[0], "RAS_EACH_NAMES=%s/runs/%d/names", g->work, g->runs);
+        fmt(each[1], sizeof each[1], "RAS_EACH_OUT=%s/runs/%d", g->work, g->runs);
+        fmt(each[2], sizeof each[2], "RAS_EACH_CALLS=%s/runs/%d", g->work, g->runs);
+        fmt(each[3], sizeof each[3], "RAS_EACH_LIMIT=%.0f", 3 * g->test_limit);
+        const char *env[] = {each[0], each[1], each[2], each[3], "RAS_EACH_MODE=record",
+                             "RAS_RECORD_CAP_MB=256",
+                             "ASAN_OPTIONS=detect_leaks=0:halt_on_error=1:abort_on_error=0",
+                             "UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1", NULL};
+        int first = c * per, last = first + per > n ? n : first + per;
+        int k = sandbox_job(g, w, (last - first) * (3 * g->test_limit + 1) + 30, env);
+        w->env[0] = "RAS_SANDBOX_NO_AS=1"; /* ASan reserves terabytes of address space */
+        w->env[1] = NULL;
+        w->argv[k++] = worker;
+        w->argv[k] = NULL;
+        fmt(w->out_path, sizeof w->out_path, "%s/runs/sanitized-%s-%d.out", g->work, a->id, c);
+        char list_path[4200];
+        fmt(list_path, sizeof list_path, "%s/names", w->rw);
+        FILE *lf = fopen(list_path, "w");
+        for (int i = first; i < last && lf; i++)
+            fprintf(lf, "%s\n", names->v[i]);
+        if (lf) fclose(lf);
+    }
+    run_jobs(jobs, chunks, g->jobs);
+    (void)asg;
+    const cJSON *files = cJSON_GetObjectItemCaseSensitive(g->rubric, "assignments");
+    for (int i = 0; i < n; i++) {
+        char path[4400], finding[800];
+        fmt(path, sizeof path, "%s/%s.out", jobs[i / per].rw, names->v[i]);
+        char *out = read_small_file(path, 64 * 1024);
+        if (out && sanitizer_finding(out, files, finding, sizeof finding)) {
+            char *shown = student_text(finding, 600);
+            item *it = &a->items[first_item + i];
+            sbuf o = {0};
+            sb_printf(&o, "%s\n--- grade --sanitize (your code built with AddressSanitizer "
+                          "and UBSan) ---\n%s",
+                      it->output ? it->output : "", shown);
+            free(it->output);
+            it->output = o.s;
+            free(shown);
+        }
+        free(out);
+    }
+    free(jobs);
+}
+
 static void grade_tests(const grader *g, assignment_result *a, const cJSON *asg, const char *dir) {
     const cJSON *tests = cJSON_GetObjectItemCaseSensitive(asg, "tests");
     const char *crash_hint = str_or(asg, "crash_hint", "look for an out-of-bounds access");
@@ -994,6 +1126,7 @@ static void grade_tests(const grader *g, assignment_result *a, const cJSON *asg,
     free(workers);
     free(replays);
     free(chunk_of);
+    if (g->sanitized) sanitizer_pass(g, a, asg, &names, a->n_items - n);
     for (const cJSON *t = tests ? tests->child : NULL; t; t = t->next) {
         if (names_has(&names, t->string)) continue;
         item *it = add_item(a);
@@ -1934,7 +2067,7 @@ int main(int argc, char **argv) {
     static const char *const with_value[] = {
         "--source", "--build",        "--out",           "--rubric", "--variant",
         "--expect", "--hw",           "--list",          "--build-failed",
-        "--work",   "--student-tree", "--student-build", "--sandbox-uid", "--jobs", "--own"};
+        "--work",   "--student-tree", "--student-build", "--sandbox-uid", "--jobs", "--own", "--sanitized-build"};
     g.sandbox_uid = -1;
     g.jobs = 2;
     for (int i = 1; i < argc; i++) {
@@ -1982,6 +2115,8 @@ int main(int argc, char **argv) {
             g.work = v;
         else if (!strcmp(a, "--own"))
             g.own = v;
+        else if (!strcmp(a, "--sanitized-build"))
+            g.sanitized = v;
         else if (!strcmp(a, "--jobs")) {
             g.jobs = atoi(v);
             if (g.jobs < 1 || g.jobs > 64)
