@@ -90,13 +90,14 @@ attacks: configure
 .PHONY: bench-perf
 # Beside them Mesa llvmpipe (issue 18; tests/bench_llvmpipe.c, OSMesa installed by
 # scripts/install-bench-deps), and the rows as CSV into docs/performance.csv.
+# INSTRUCTIONS=1 also counts one frame's instructions with callgrind (minutes).
 bench-perf: BUILD = build-perf
 bench-perf:
 	@scripts/install-bench-deps
 	@cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release >/dev/null
 	@cmake --build $(BUILD) -j $(JOBS) --target bench_perf bench_llvmpipe hw3_shading_ref -- --no-print-directory
 	@$(BUILD)/bin/bench_perf $(if $(SPOT),--spot $(SPOT)) --out docs/performance.md \
-	  --csv docs/performance.csv
+	  --csv docs/performance.csv $(if $(INSTRUCTIONS),--instructions)
 
 # The pictures and grader messages of docs/pitfalls.md (+ docs/zh/), made from
 # the mutants (scripts/pitfall-gallery; about 20 s a mistake).

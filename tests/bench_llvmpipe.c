@@ -24,6 +24,11 @@
  *       each shader is ported with a plausible mistake (WRONG below) and
  *       exit 0 means every wrong port failed: the check catches it.
  *       --save DIR writes both images of every pair as PNG.
+ *   bench_llvmpipe --count --model OBJ [--texture PNG]
+ *       under `valgrind --tool=callgrind`, for every shader at 1x and MSAA
+ *       4x: two warm-up frames, then the counters zeroed, one frame, and a
+ *       dump named SHADER_none or SHADER_msaa (bench_perf --instructions
+ *       reads them: the instructions of one frame, all threads)
  *
  * RASTER101-SOLUTION: the GLSL below ports the reference shaders; this file
  * must never appear in a student handout (tests/make-handout leaves it out).
@@ -33,6 +38,8 @@
 #include "ras_counters.h" /* ras_now_ms */
 #include "stage1_vertex.h" /* ras_view_matrix_eye, ras_projection_normalize_w */
 #include "transform.h"     /* hw1: get_projection_matrix, as hw3_render uses */
+
+#include <valgrind/callgrind.h> /* CALLGRIND_ZERO_STATS, CALLGRIND_DUMP_STATS_AT */
 
 #include <GL/osmesa.h>
 #include <GL/gl.h>
@@ -485,11 +492,28 @@ static int check(const gl_scene *g, hw3_scene *scene, bool wrong, const char *sa
     return as_expected == HW3_SHADER_COUNT ? 0 : 1;
 }
 
+/* One frame's instructions per shader and AA under callgrind (outside
+ * valgrind the requests do nothing and this only renders 30 frames). */
+static int count(const gl_scene *g) {
+    for (int sh = 0; sh < HW3_SHADER_COUNT; sh++)
+        for (int msaa = 0; msaa < 2; msaa++) {
+            for (int i = 0; i < 2; i++) gl_frame(g, sh, msaa); /* llvmpipe compiles its variants */
+            char name[64];
+            snprintf(name, sizeof name, "%s_%s", hw3_shader_name((hw3_shader)sh),
+                     msaa ? "msaa" : "none");
+            CALLGRIND_ZERO_STATS;
+            gl_frame(g, sh, msaa);
+            CALLGRIND_DUMP_STATS_AT(name);
+        }
+    return 0;
+}
+
 int main(int argc, char **argv) {
     const char *model = NULL, *texture = NULL, *save_dir = NULL;
-    bool do_serve = false, do_check = false, wrong = false;
+    bool do_serve = false, do_check = false, wrong = false, do_count = false;
     for (int i = 1; i < argc; i++) {
-        if (!strcmp(argv[i], "--serve")) do_serve = true;
+        if (!strcmp(argv[i], "--count")) do_count = true;
+        else if (!strcmp(argv[i], "--serve")) do_serve = true;
         else if (!strcmp(argv[i], "--check")) do_check = true;
         else if (!strcmp(argv[i], "--wrong")) wrong = true;
         else if (!strcmp(argv[i], "--model") && i + 1 < argc) model = argv[++i];
@@ -500,10 +524,12 @@ int main(int argc, char **argv) {
             break;
         }
     }
+    if (do_count) do_serve = true; /* the same: a model is needed */
     if (do_serve == do_check || (do_serve && !model)) {
         fprintf(stderr, "usage: bench_llvmpipe --serve --model OBJ [--texture PNG]\n"
                         "       bench_llvmpipe --check [--model OBJ [--texture PNG]] [--wrong] "
-                        "[--save DIR]\n");
+                        "[--save DIR]\n"
+                        "       bench_llvmpipe --count --model OBJ [--texture PNG]\n");
         return 2;
     }
     char tmp_obj[256] = "";
@@ -536,7 +562,7 @@ int main(int argc, char **argv) {
         fprintf(stderr, "bench_llvmpipe: OpenGL setup failed\n");
         return 1;
     }
-    int rc = do_serve ? serve(&g) : check(&g, scene, wrong, save_dir);
+    int rc = do_count ? count(&g) : do_serve ? serve(&g) : check(&g, scene, wrong, save_dir);
     OSMesaDestroyContext(ctx);
     hw3_scene_destroy(scene);
     return rc;

@@ -29,6 +29,10 @@
  *     --out FILE   write the report (docs/performance.md) there
  *     --quick      3 frames, no process timing (a smoke run)
  *     --csv FILE   also write the rows as CSV (docs/performance.csv)
+ *     --instructions  also count one frame's instructions with callgrind
+ *                  (valgrind) for the teaching pipeline, the fast path and
+ *                  llvmpipe on one thread, 1x and MSAA 4x (several minutes)
+ *     --count-frames teaching|fast  the counting side of --instructions
  *     --no-llvmpipe  leave llvmpipe out
  *     --shader NAME, --aa none|msaa|ssaa, --threads 1|2
  *                  only those rows, no process timing and no report (for
@@ -37,6 +41,8 @@
  */
 #include "bench_llvmpipe.h" /* llvmpipe beside the project's renderers */
 #include "ras_io.h" /* ras_io_report: the report is written atomically */
+
+#include <valgrind/callgrind.h> /* CALLGRIND_ZERO_STATS, CALLGRIND_DUMP_STATS_AT */
 #include "fast_render.h" /* hw3_fast_renderer: the fast path, chosen explicitly */
 #include "ras_mesh.h"
 #include "scene.h"
@@ -72,6 +78,7 @@ typedef struct row {
     size_t buffer_bytes;
     bool identical; /* fast rows: the image equals the plain one; llvmpipe: the check passed */
     bool checked;   /* llvmpipe rows: `check` holds the pixel check against plain */
+    uint64_t instructions; /* one frame, callgrind (--instructions); 0: not counted */
     llvmpipe_check check;
 } row;
 
@@ -272,6 +279,91 @@ static void machine_name(char *buf, size_t size) {
     fclose(f);
 }
 
+/* ---- instructions (callgrind) --------------------------------------------- */
+
+/* --count-frames: one frame of every shader at 1x and MSAA 4x, each after a
+ * warm-up frame, between a zeroing of callgrind's counters and a dump named
+ * SHADER_none / SHADER_msaa. */
+static int count_frames(hw3_scene *scene, bool plain, ras_image *img) {
+    const ras_aa_mode aas[2] = {RAS_AA_NONE, RAS_AA_MSAA};
+    for (int s = 0; s < HW3_SHADER_COUNT; s++)
+        for (int a = 0; a < 2; a++) {
+            ras_counters k;
+            uint64_t shaded;
+            double ms, cpu;
+            char name[64];
+            snprintf(name, sizeof name, "%s_%s", hw3_shader_name((hw3_shader)s), a ? "msaa" : "none");
+            if (!render(scene, (hw3_shader)s, aas[a], plain, 1, img, &k, &shaded, &ms, &cpu))
+                return 1;
+            CALLGRIND_ZERO_STATS;
+            bool ok = render(scene, (hw3_shader)s, aas[a], plain, 1, img, &k, &shaded, &ms, &cpu);
+            CALLGRIND_DUMP_STATS_AT(name);
+            if (!ok) return 1;
+        }
+    return 0;
+}
+
+/* instr[shader][aa][renderer]: 0 teaching pipeline, 1 fast path, 2 llvmpipe. */
+static uint64_t instr[HW3_SHADER_COUNT][2][3];
+
+/* Runs argv under callgrind (LP_NUM_THREADS=1) and reads its dumps into
+ * instr[..][..][who]. */
+static bool callgrind(char *const argv[], int who) {
+    char out[256];
+    snprintf(out, sizeof out, "/tmp/raster101_callgrind_%d_%d", (int)getpid(), who);
+    char opt[300];
+    snprintf(opt, sizeof opt, "--callgrind-out-file=%s", out);
+    const char *vg[32] = {"valgrind", "--tool=callgrind", opt};
+    int n = 3;
+    for (int i = 0; argv[i] && n < 31; i++) vg[n++] = argv[i];
+    vg[n] = NULL;
+    fflush(stdout);
+    pid_t pid = fork();
+    if (pid < 0) return false;
+    if (pid == 0) {
+        setenv("LP_NUM_THREADS", "1", 1);
+        if (!freopen("/dev/null", "w", stdout) || !freopen("/dev/null", "w", stderr)) _exit(126);
+        execvp("valgrind", (char *const *)vg);
+        _exit(127);
+    }
+    int status;
+    if (waitpid(pid, &status, 0) != pid || !WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+        fprintf(stderr, "bench_perf: callgrind of %s failed (is valgrind installed?)\n", argv[0]);
+        return false;
+    }
+    int found = 0;
+    for (int part = 1; part <= 2 * HW3_SHADER_COUNT; part++) {
+        char path[300], line[512], name[128] = "";
+        snprintf(path, sizeof path, "%s.%d", out, part);
+        FILE *f = fopen(path, "r");
+        if (!f) continue;
+        unsigned long long total = 0;
+        while (fgets(line, sizeof line, f)) {
+            if (!strncmp(line, "desc: Trigger: Client Request: ", 31))
+                sscanf(line + 31, "%127s", name);
+            else if (!strncmp(line, "totals: ", 8))
+                total = strtoull(line + 8, NULL, 10);
+        }
+        fclose(f);
+        remove(path);
+        for (int s = 0; s < HW3_SHADER_COUNT; s++)
+            for (int a = 0; a < 2; a++) {
+                char want[64];
+                snprintf(want, sizeof want, "%s_%s", hw3_shader_name((hw3_shader)s),
+                         a ? "msaa" : "none");
+                if (!strcmp(name, want) && total) {
+                    instr[s][a][who] = total;
+                    found++;
+                }
+            }
+    }
+    remove(out);
+    if (found != 2 * HW3_SHADER_COUNT)
+        fprintf(stderr, "bench_perf: callgrind of %s: %d of %d frames counted\n", argv[0], found,
+                2 * HW3_SHADER_COUNT);
+    return found == 2 * HW3_SHADER_COUNT;
+}
+
 /* ---- llvmpipe beside the project's renderers ------------------------------ */
 
 static const row *find_row(hw3_shader shader, ras_aa_mode aa, const char *mode, int threads) {
@@ -374,6 +466,30 @@ static void report_llvmpipe(FILE *f, const char *renderer) {
                "the time other processes took the CPU), the fast path costs less than llvmpipe "
                "in %d of %d shader × AA pairs.\n",
             cpu_wins, cpu_total);
+    bool counted = false;
+    for (int s = 0; s < HW3_SHADER_COUNT; s++) counted = counted || instr[s][0][2];
+    if (counted) {
+        fprintf(f, "\n#### Instructions per frame\n\nOne frame on one thread, counted with "
+                   "callgrind (`--instructions`: exact and repeatable, whatever else the machine "
+                   "does; llvmpipe with `LP_NUM_THREADS=1`, its binning and its rasterizer thread "
+                   "together), million:\n\n"
+                   "| shader | AA | teaching pipeline | fast path | llvmpipe | teaching ÷ llvmpipe | "
+                   "fast ÷ llvmpipe |\n|---|---|---:|---:|---:|---:|---:|\n");
+        int fewer = 0;
+        for (int s = 0; s < HW3_SHADER_COUNT; s++)
+            for (int a = 0; a < 2; a++) {
+                const uint64_t *c = instr[s][a];
+                if (!c[2]) continue;
+                fprintf(f, "| %s | %s | %.1f | %.1f | %.1f | %.2f | %.2f |\n",
+                        hw3_shader_name((hw3_shader)s), aa_label(aas[a]), c[0] / 1e6, c[1] / 1e6,
+                        c[2] / 1e6, (double)c[0] / (double)c[2], (double)c[1] / (double)c[2]);
+                fewer += c[1] < c[2];
+            }
+        fprintf(f, "\nThe fast path executes fewer instructions than llvmpipe in %d of 10 shader × "
+                   "AA pairs. Instructions are not time: llvmpipe's JIT code is 256-bit AVX2 (8 "
+                   "lanes per instruction), the project's SSE2 (4 lanes) or scalar.\n",
+                fewer);
+    }
     fprintf(f, "\n#### Same pixels?\n\nllvmpipe's frame against the plain pipeline's "
                "(`llvmpipe_compare`, tolerances in `tests/bench_llvmpipe.h`): covered pixels, and "
                "on the pixels both cover the mean absolute difference per channel and the share "
@@ -417,8 +533,10 @@ static bool write_csv(const char *path) {
         const char *who = is_llvmpipe(r)         ? "llvmpipe"
                           : r->mode[0] == 'p'    ? "teaching_pipeline"
                                                  : "fast_path";
-        fprintf(f, "%s,%s,%s,%d,%.3f,%.3f,%.3f,,", hw3_shader_name(r->shader), aa, who, r->threads,
+        fprintf(f, "%s,%s,%s,%d,%.3f,%.3f,%.3f,", hw3_shader_name(r->shader), aa, who, r->threads,
                 r->median, r->min, r->max);
+        if (r->instructions) fprintf(f, "%llu", (unsigned long long)r->instructions);
+        fprintf(f, ",");
         if (l && l->median > 0) fprintf(f, "%.3f", r->median / l->median);
         fprintf(f, "\n");
     }
@@ -446,7 +564,8 @@ static bool copy_intro(FILE *out) {
 int main(int argc, char **argv) {
     const char *spot = NULL, *out_path = NULL, *csv_path = NULL;
     int frames = 21;
-    bool quick = false, use_llvmpipe = true;
+    bool quick = false, use_llvmpipe = true, count_instructions = false;
+    int count_mode = -1; /* --count-frames: 0 teaching, 1 fast */
     int only_shader = -1, only_aa = -1, only_threads = 0;
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--spot") && i + 1 < argc) spot = argv[++i];
@@ -454,6 +573,15 @@ int main(int argc, char **argv) {
         else if (!strcmp(argv[i], "--quick")) quick = true;
         else if (!strcmp(argv[i], "--csv") && i + 1 < argc) csv_path = argv[++i];
         else if (!strcmp(argv[i], "--no-llvmpipe")) use_llvmpipe = false;
+        else if (!strcmp(argv[i], "--instructions")) count_instructions = true;
+        else if (!strcmp(argv[i], "--count-frames") && i + 1 < argc) {
+            i++;
+            count_mode = !strcmp(argv[i], "teaching") ? 0 : !strcmp(argv[i], "fast") ? 1 : -2;
+            if (count_mode < 0) {
+                fprintf(stderr, "bench_perf: --count-frames expects teaching or fast\n");
+                return 2;
+            }
+        }
         else if (!strcmp(argv[i], "--shader") && i + 1 < argc) {
             i++;
             for (int sh = 0; sh < HW3_SHADER_COUNT; sh++)
@@ -488,8 +616,8 @@ int main(int argc, char **argv) {
             frames = (int)v;
         } else {
             fprintf(stderr, "usage: bench_perf [--spot DIR] [--frames N] [--out FILE] [--csv FILE] "
-                            "[--quick] [--no-llvmpipe] [--shader NAME] [--aa none|msaa|ssaa] "
-                            "[--threads 1|2]\n");
+                            "[--quick] [--no-llvmpipe] [--instructions] [--shader NAME] "
+                            "[--aa none|msaa|ssaa] [--threads 1|2]\n");
             return 2;
         }
     }
@@ -525,6 +653,11 @@ int main(int argc, char **argv) {
     ras_image *img = ras_image_create(scene->width, scene->height, &err);
     if (!expected || !img) return 1;
 
+    if (count_mode >= 0) { /* the counting side of --instructions, under callgrind */
+        int rc = count_frames(scene, count_mode == 0, img);
+        if (tmp_obj[0]) remove(tmp_obj);
+        return rc;
+    }
     /* llvmpipe, one side process per thread count (LP_NUM_THREADS is read
      * once per process), on the same model and texture. */
     llvmpipe_child *llvm[2] = {NULL, NULL};
@@ -592,6 +725,31 @@ int main(int argc, char **argv) {
         }
     for (int th = 0; th < 2; th++) llvmpipe_stop(llvm[th]);
     free(rgba);
+
+    /* One frame's instructions, 1 thread, 1x and MSAA 4x (exact and repeatable,
+     * whatever else the machine does). */
+    if (count_instructions && !filtered) {
+        char self[1200], llvm_prog[1200];
+        snprintf(self, sizeof self, "%s/bin/bench_perf", RAS_BINARY_DIR);
+        snprintf(llvm_prog, sizeof llvm_prog, "%s/bin/bench_llvmpipe", RAS_BINARY_DIR);
+        bool have_spot = spot && *spot;
+        char *teaching[] = {self, "--count-frames", "teaching", have_spot ? "--spot" : NULL,
+                            (char *)spot, NULL};
+        char *fast[] = {self, "--count-frames", "fast", have_spot ? "--spot" : NULL, (char *)spot,
+                        NULL};
+        char *llvmpipe[] = {llvm_prog, "--count", "--model", model, have_spot ? "--texture" : NULL,
+                            texture, NULL};
+        fprintf(stderr, "bench_perf: counting instructions with callgrind (minutes)\n");
+        if (!callgrind(teaching, 0) || !callgrind(fast, 1) ||
+            (llvm_renderer[0] && !callgrind(llvmpipe, 2)))
+            return 1;
+        for (int i = 0; i < row_count; i++) {
+            row *r = &rows[i];
+            int a = r->aa == RAS_AA_MSAA ? 1 : r->aa == RAS_AA_NONE ? 0 : -1;
+            if (a < 0 || r->threads != 1) continue;
+            r->instructions = instr[r->shader][a][is_llvmpipe(r) ? 2 : r->mode[0] == 'p' ? 0 : 1];
+        }
+    }
 
     /* Whole processes: the program that only loads (OpenCV and all) and exits,
      * and the program that renders the scene once and writes a PNG. */
