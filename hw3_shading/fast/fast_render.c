@@ -248,7 +248,7 @@ typedef struct frame {
     uint64_t varyings_per_fragment;
     int centre_sample; /* a sample whose position is the pixel centre, or -1 */
     /* per object (each has its own p): powf(x, p) is +0 for 0 <= x <= spec_zero
-     * (fast_blinn_phong) */
+     * (spec_zero_of) */
     float spec_zero[HW3_MAX_OBJECTS];
     /* bins: tile t holds bin_tri[bin_start[t] .. bin_start[t+1]) */
     int tiles_x, tiles_y;
@@ -312,8 +312,6 @@ typedef struct worker {
      * depend on the object's material and textures, not on the fragment). */
     ras_counters per_fragment[HW3_MAX_OBJECTS];
     bool per_fragment_known[HW3_MAX_OBJECTS];
-    bool sz_valid; /* spec_zero_for's cache */
-    float sz_p, sz;
 } worker;
 
 /* perspective_correct_barycentric (solution/shading.c), inlined. */
@@ -335,12 +333,21 @@ static inline vec2s interp2(vec3s b, const vec2s attr[3]) {
                     attr[0].y * b.x + attr[1].y * b.y + attr[2].y * b.z}};
 }
 
+/* powf(x, p) is +0 for 0 <= x <= spec_zero_of(p): x <= 2^(-151/p) (rounded
+ * down) gives x^p <= 2^-151, a quarter of the smallest subnormal float, so the
+ * exact power rounds to +0, and powf, whose error is far below a factor of 2,
+ * returns +0 too. -1 (never) when p < 1 or p is not finite. The one bound of
+ * the scalar and the four-lane Blinn-Phong (frame.spec_zero, per object). */
+static float spec_zero_of(float p) {
+    if (!(p >= 1.0f) || !isfinite(p)) return -1.0f;
+    return nextafterf((float)pow(2.0, -151.0 / p), 0.0f);
+}
+
 /* blinn_phong_lighting (solution/shading.c) with the same float operations in
  * the same order, except that powf is not called where its result is certainly
- * +0: for x <= spec_zero, x^p <= 2^-200, far below half the smallest float
- * (2^-150), so every powf returns 0 there (and 0·anything added to the colour
- * adds nothing). The plain shader pays powf's slow underflow path on most of
- * the surface (n·h < 0.56 underflows at p = 150). */
+ * +0 (x <= spec_zero: spec_zero_of), and 0·anything added to the colour adds
+ * nothing. The plain shader pays powf's slow underflow path on most of the
+ * surface (n·h < 0.56 underflows at p = 150). */
 static vec3s fast_blinn_phong(const fragment_shader_payload *payload, vec3s kd, vec3s point,
                               vec3s normal, float spec_zero) {
     if (payload->counters && payload->light_count > 0) { /* ambient alone is no lighting work */
@@ -429,22 +436,6 @@ static vec3s shade_silent(worker *w, const fast_tri *r, vec3s bary) {
     vec3s c = shade(w, r, bary);
     w->k = saved;
     return c;
-}
-
-/* powf(x, p) is +0 for 0 <= x <= spec_zero (see fast_blinn_phong); cached per
- * worker for the last exponent seen. */
-static float spec_zero_for(worker *w, float p) {
-    if (w->sz_valid && w->sz_p == p) return w->sz;
-    float sz = -1.0f; /* never */
-    /* x <= 2^(-151/p) (rounded down) gives x^p <= 2^-151, a quarter of the
-     * smallest subnormal float: the exact power rounds to +0, and powf, whose
-     * error is far below a factor of 2, returns +0 too. (fast_blinn_phong's
-     * bound, 2^-200, is more cautious than needed.) */
-    if (p >= 1.0f && isfinite(p)) sz = nextafterf((float)pow(2.0, -151.0 / p), 0.0f);
-    w->sz_valid = true;
-    w->sz_p = p;
-    w->sz = sz;
-    return sz;
 }
 
 /* texture_sample_bilinear (solution/shading.c's bilinear_level at level 0)
@@ -620,7 +611,7 @@ static void shade_prepare(worker *w, const queued *q, int lanes, lanes4 *S) {
         pay->counters->stages_run |= RAS_STAGE_LIGHTING;
         pay->counters->lighting_evaluations += (uint64_t)pay->light_count * (uint64_t)lanes;
     }
-    float spec_zero = spec_zero_for(w, pay->p);
+    float spec_zero = fr->spec_zero[q[0].r->object];
     v3x4 n = v3_normalize(normal, &odd);
     v3x4 v = v3_normalize((v3x4){-point.x, -point.y, -point.z}, &odd);
     vf4 zero = vf4_splat(0.0f);
@@ -1493,12 +1484,8 @@ static bool fast_draw(const hw3_renderer *self, const hw3_frame *frame_in, ras_i
         fr.off_x[s] = llround((double)o.x * SUBPIXEL_ONE);
         fr.off_y[s] = llround((double)o.y * SUBPIXEL_ONE);
     }
-    for (int o = 0; o < scene->object_count; o++) {
-        float p = scene->objects[o].p;
-        fr.spec_zero[o] = -1.0f; /* never */
-        if (p >= 1.0f && isfinite(p))
-            fr.spec_zero[o] = nextafterf((float)pow(2.0, -200.0 / p), 0.0f);
-    }
+    for (int o = 0; o < scene->object_count; o++)
+        fr.spec_zero[o] = spec_zero_of(scene->objects[o].p);
     fr.omin_x = fr.omax_x = fr.off_x[0];
     fr.omin_y = fr.omax_y = fr.off_y[0];
     for (int k = 1; k <= fr.n; k++) {
