@@ -13,7 +13,7 @@
 #include <sys/stat.h> /* stat */
 #include <unistd.h>   /* access, read, close */
 
-static bool ras_image_size_ok(int width, int height, ras_error *err) {
+static bool size_ok(int width, int height, ras_error *err) {
     if (width >= 1 && height >= 1 && width <= RAS_IMAGE_MAX_SIDE && height <= RAS_IMAGE_MAX_SIDE)
         return true;
     return ras_error_set(err, "image size %dx%d is out of range: expected 1..%d on each side",
@@ -21,7 +21,7 @@ static bool ras_image_size_ok(int width, int height, ras_error *err) {
 }
 
 ras_image *ras_image_create(int width, int height, ras_error *err) {
-    if (!ras_image_size_ok(width, height, err)) return NULL;
+    if (!size_ok(width, height, err)) return NULL;
     ras_image *img = calloc(1, sizeof *img);
     if (!img) {
         ras_error_set(err, "out of memory for a %dx%d image", width, height);
@@ -405,7 +405,7 @@ uint8_t *ras_image_load_rgb8(const char *path, int *width, int *height, ras_erro
         ras_error_set(err, "could not read image '%s': %s; check the file", path, msg);
         return NULL;
     }
-    if (!ras_image_size_ok(w, h, err)) {
+    if (!size_ok(w, h, err)) {
         free(rgb);
         return NULL;
     }

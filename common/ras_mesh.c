@@ -48,7 +48,7 @@
 
 /* calloc that treats n * size overflow as failure and never asks for 0 bytes
  * (calloc(0) may return NULL, which would look like OOM). */
-static void *ras_mesh_calloc(size_t n, size_t size) {
+static void *calloc_checked(size_t n, size_t size) {
     if (n == 0) n = 1;
     if (n > SIZE_MAX / size) return NULL;
     return calloc(n, size);
@@ -62,11 +62,11 @@ ras_mesh *ras_mesh_create(size_t vertex_count, size_t triangle_count) {
     if (!mesh) return NULL;
     mesh->vertex_count = vertex_count;
     mesh->triangle_count = triangle_count;
-    mesh->positions = ras_mesh_calloc(vertex_count, sizeof *mesh->positions);
-    mesh->normals = ras_mesh_calloc(vertex_count, sizeof *mesh->normals);
-    mesh->uvs = ras_mesh_calloc(vertex_count, sizeof *mesh->uvs);
-    mesh->colors = ras_mesh_calloc(vertex_count, sizeof *mesh->colors);
-    mesh->indices = ras_mesh_calloc(3 * triangle_count, sizeof *mesh->indices);
+    mesh->positions = calloc_checked(vertex_count, sizeof *mesh->positions);
+    mesh->normals = calloc_checked(vertex_count, sizeof *mesh->normals);
+    mesh->uvs = calloc_checked(vertex_count, sizeof *mesh->uvs);
+    mesh->colors = calloc_checked(vertex_count, sizeof *mesh->colors);
+    mesh->indices = calloc_checked(3 * triangle_count, sizeof *mesh->indices);
     if (!mesh->positions || !mesh->normals || !mesh->uvs || !mesh->colors || !mesh->indices) {
         ras_mesh_destroy(mesh);
         return NULL;
@@ -87,9 +87,9 @@ void ras_mesh_destroy(ras_mesh *mesh) {
 /* ------------------------------------------------------------------------ */
 /* Small vector helpers (by value, like cglm's struct API)                   */
 
-static vec3s ras_mesh_v3(float x, float y, float z) { return (vec3s){{x, y, z}}; }
+static vec3s v3(float x, float y, float z) { return (vec3s){{x, y, z}}; }
 
-static vec3s ras_mesh_face_normal_raw(vec3s a, vec3s b, vec3s c) {
+static vec3s face_normal_raw(vec3s a, vec3s b, vec3s c) {
     /* Unnormalised: its length is twice the area, which weights the average
      * of face normals at a vertex by area. */
     return glms_vec3_cross(glms_vec3_sub(b, a), glms_vec3_sub(c, a));
@@ -97,29 +97,29 @@ static vec3s ras_mesh_face_normal_raw(vec3s a, vec3s b, vec3s c) {
 
 /* Unit vector, or `fallback` when v is zero, tiny or not finite: normalising
  * such a vector would give NaN or a direction made of rounding noise. */
-static vec3s ras_mesh_unit_or(vec3s v, vec3s fallback) {
+static vec3s unit_or(vec3s v, vec3s fallback) {
     float len2 = glms_vec3_dot(v, v);
     if (!(len2 > 1e-30f) || !isfinite(len2)) return fallback;
     return glms_vec3_scale(v, 1.0f / sqrtf(len2));
 }
 
-static bool ras_mesh_normal_ok(vec3s n) {
+static bool normal_ok(vec3s n) {
     float len2 = glms_vec3_dot(n, n);
     return isfinite(len2) && len2 > 1e-30f;
 }
 
-static void ras_mesh_fill_color(ras_mesh *mesh, vec3s color) {
+static void fill_color(ras_mesh *mesh, vec3s color) {
     for (size_t i = 0; i < mesh->vertex_count; i++) mesh->colors[i] = color;
 }
 
 /* Replaces every normal flagged in `repair` (or every normal, when repair is
  * NULL) by the normalised area-weighted sum of the face normals around it. */
-static void ras_mesh_smooth_normals(ras_mesh *mesh, const bool *repair) {
+static void smooth_normals(ras_mesh *mesh, const bool *repair) {
     for (size_t v = 0; v < mesh->vertex_count; v++)
         if (!repair || repair[v]) mesh->normals[v] = glms_vec3_zero();
     for (size_t t = 0; t < mesh->triangle_count; t++) {
         const unsigned *tri = &mesh->indices[3 * t];
-        vec3s n = ras_mesh_face_normal_raw(mesh->positions[tri[0]], mesh->positions[tri[1]],
+        vec3s n = face_normal_raw(mesh->positions[tri[0]], mesh->positions[tri[1]],
                                            mesh->positions[tri[2]]);
         if (!ras_vec3_finite(n)) continue;
         for (int k = 0; k < 3; k++)
@@ -130,7 +130,7 @@ static void ras_mesh_smooth_normals(ras_mesh *mesh, const bool *repair) {
      * to take a normal from; +y keeps the contract (unit length, finite). */
     for (size_t v = 0; v < mesh->vertex_count; v++)
         if (!repair || repair[v])
-            mesh->normals[v] = ras_mesh_unit_or(mesh->normals[v], ras_mesh_v3(0, 1, 0));
+            mesh->normals[v] = unit_or(mesh->normals[v], v3(0, 1, 0));
 }
 
 /* ------------------------------------------------------------------------ */
@@ -148,7 +148,7 @@ typedef struct ras_mesh_node_item {
 } ras_mesh_node_item;
 
 /* a * b for assimp's row-major matrices (p' = M p). */
-static struct aiMatrix4x4 ras_mesh_ai_mul(const struct aiMatrix4x4 *a, const struct aiMatrix4x4 *b) {
+static struct aiMatrix4x4 ai_mul(const struct aiMatrix4x4 *a, const struct aiMatrix4x4 *b) {
     const float *A = &a->a1, *B = &b->a1;
     struct aiMatrix4x4 r;
     float *R = &r.a1;
@@ -161,7 +161,7 @@ static struct aiMatrix4x4 ras_mesh_ai_mul(const struct aiMatrix4x4 *a, const str
     return r;
 }
 
-static struct aiMatrix4x4 ras_mesh_ai_identity(void) {
+static struct aiMatrix4x4 ai_identity(void) {
     struct aiMatrix4x4 m;
     memset(&m, 0, sizeof m);
     m.a1 = m.b2 = m.c3 = m.d4 = 1.0f;
@@ -171,7 +171,7 @@ static struct aiMatrix4x4 ras_mesh_ai_identity(void) {
 /* Lists every (mesh, transform) pair of the node tree. Iterative, so a file
  * with a very deep hierarchy cannot overflow the C stack. Returns false on
  * OOM; *out is then NULL. */
-static bool ras_mesh_collect_instances(const struct aiScene *scene, ras_mesh_instance **out,
+static bool collect_instances(const struct aiScene *scene, ras_mesh_instance **out,
                                        size_t *out_count) {
     *out = NULL;
     *out_count = 0;
@@ -179,12 +179,12 @@ static bool ras_mesh_collect_instances(const struct aiScene *scene, ras_mesh_ins
     ras_mesh_instance *inst = malloc(inst_cap * sizeof *inst);
     ras_mesh_node_item *stack = malloc(stack_cap * sizeof *stack);
     if (!inst || !stack) goto oom;
-    stack[stack_n++] = (ras_mesh_node_item){scene->mRootNode, ras_mesh_ai_identity()};
+    stack[stack_n++] = (ras_mesh_node_item){scene->mRootNode, ai_identity()};
     while (stack_n > 0) {
         ras_mesh_node_item item = stack[--stack_n];
         const struct aiNode *node = item.node;
         if (!node) continue;
-        struct aiMatrix4x4 m = ras_mesh_ai_mul(&item.transform, &node->mTransformation);
+        struct aiMatrix4x4 m = ai_mul(&item.transform, &node->mTransformation);
         for (unsigned i = 0; i < node->mNumMeshes; i++) {
             unsigned mi = node->mMeshes[i];
             if (mi >= scene->mNumMeshes || !scene->mMeshes[mi]) continue;
@@ -218,7 +218,7 @@ oom:
     return false;
 }
 
-static size_t ras_mesh_ai_triangle_count(const struct aiMesh *m) {
+static size_t ai_triangle_count(const struct aiMesh *m) {
     size_t n = 0;
     for (unsigned f = 0; f < m->mNumFaces; f++)
         if (m->mFaces[f].mNumIndices == 3) n++;
@@ -228,13 +228,13 @@ static size_t ras_mesh_ai_triangle_count(const struct aiMesh *m) {
 /* Fills the merged mesh from the instances. Returns false (err set) on an
  * out-of-range index or a non-finite position. `repair` flags the normals
  * to rebuild from faces. */
-static bool ras_mesh_fill_from_instances(ras_mesh *mesh, bool *repair,
+static bool fill_from_instances(ras_mesh *mesh, bool *repair,
                                          const ras_mesh_instance *inst, size_t inst_count,
                                          const char *path, ras_error *err) {
     size_t vbase = 0, tbase = 0;
     for (size_t k = 0; k < inst_count; k++) {
         const struct aiMesh *am = inst[k].mesh;
-        if (ras_mesh_ai_triangle_count(am) == 0) continue;
+        if (ai_triangle_count(am) == 0) continue;
         const struct aiMatrix4x4 *M = &inst[k].transform;
         /* Normals transform by the inverse transpose; the cofactor matrix is
          * det(M) times that, so it needs no division (works for singular M
@@ -252,7 +252,7 @@ static bool ras_mesh_fill_from_instances(ras_mesh *mesh, bool *repair,
 
         for (unsigned v = 0; v < am->mNumVertices; v++) {
             struct aiVector3D p = am->mVertices[v];
-            vec3s pos = ras_mesh_v3(M->a1 * p.x + M->a2 * p.y + M->a3 * p.z + M->a4,
+            vec3s pos = v3(M->a1 * p.x + M->a2 * p.y + M->a3 * p.z + M->a4,
                                     M->b1 * p.x + M->b2 * p.y + M->b3 * p.z + M->b4,
                                     M->c1 * p.x + M->c2 * p.y + M->c3 * p.z + M->c4);
             if (!ras_vec3_finite(pos))
@@ -266,12 +266,12 @@ static bool ras_mesh_fill_from_instances(ras_mesh *mesh, bool *repair,
             repair[dst] = true;
             if (am->mNormals) {
                 struct aiVector3D n = am->mNormals[v];
-                vec3s nt = ras_mesh_v3(cof[0][0] * n.x + cof[0][1] * n.y + cof[0][2] * n.z,
+                vec3s nt = v3(cof[0][0] * n.x + cof[0][1] * n.y + cof[0][2] * n.z,
                                        cof[1][0] * n.x + cof[1][1] * n.y + cof[1][2] * n.z,
                                        cof[2][0] * n.x + cof[2][1] * n.y + cof[2][2] * n.z);
                 nt = glms_vec3_scale(nt, nsign);
-                if (ras_mesh_normal_ok(nt)) {
-                    mesh->normals[dst] = ras_mesh_unit_or(nt, ras_mesh_v3(0, 1, 0));
+                if (normal_ok(nt)) {
+                    mesh->normals[dst] = unit_or(nt, v3(0, 1, 0));
                     repair[dst] = false;
                 }
             }
@@ -280,7 +280,7 @@ static bool ras_mesh_fill_from_instances(ras_mesh *mesh, bool *repair,
                 /* A NaN UV would poison every interpolated varying. */
                 mesh->uvs[dst] = (vec2s){{isfinite(t.x) ? t.x : 0.0f, isfinite(t.y) ? t.y : 0.0f}};
             }
-            vec3s col = ras_mesh_v3(1, 1, 1);
+            vec3s col = v3(1, 1, 1);
             if (am->mColors[0]) {
                 struct aiColor4D cc = am->mColors[0][v];
                 float ch[3] = {cc.r, cc.g, cc.b};
@@ -316,31 +316,31 @@ static bool ras_mesh_fill_from_instances(ras_mesh *mesh, bool *repair,
 /* Every file assimp opens (the model, and what it names: an OBJ's .mtl, a
  * glTF's .bin) goes through ras_io_open_input, so a FIFO or a device named by
  * a model fails at once instead of blocking the import forever. */
-static size_t ras_mesh_io_read(struct aiFile *f, char *buf, size_t size, size_t count) {
+static size_t io_read(struct aiFile *f, char *buf, size_t size, size_t count) {
     return fread(buf, size, count, (FILE *)f->UserData);
 }
-static size_t ras_mesh_io_write(struct aiFile *f, const char *buf, size_t size, size_t count) {
+static size_t io_write(struct aiFile *f, const char *buf, size_t size, size_t count) {
     (void)f, (void)buf, (void)size, (void)count;
     return 0; /* models are only read */
 }
-static size_t ras_mesh_io_tell(struct aiFile *f) {
+static size_t io_tell(struct aiFile *f) {
     long pos = ftell((FILE *)f->UserData);
     return pos < 0 ? 0 : (size_t)pos;
 }
-static size_t ras_mesh_io_size(struct aiFile *f) {
+static size_t io_size(struct aiFile *f) {
     struct stat st;
     if (fstat(fileno((FILE *)f->UserData), &st) != 0 || st.st_size < 0) return 0;
     return (size_t)st.st_size;
 }
-static enum aiReturn ras_mesh_io_seek(struct aiFile *f, size_t offset, enum aiOrigin origin) {
+static enum aiReturn io_seek(struct aiFile *f, size_t offset, enum aiOrigin origin) {
     int whence = origin == aiOrigin_CUR ? SEEK_CUR : origin == aiOrigin_END ? SEEK_END : SEEK_SET;
     if (offset > LONG_MAX) return aiReturn_FAILURE;
     return fseek((FILE *)f->UserData, (long)offset, whence) == 0 ? aiReturn_SUCCESS
                                                                 : aiReturn_FAILURE;
 }
-static void ras_mesh_io_flush(struct aiFile *f) { (void)f; }
+static void io_flush(struct aiFile *f) { (void)f; }
 
-static struct aiFile *ras_mesh_io_open(struct aiFileIO *io, const char *path, const char *mode) {
+static struct aiFile *io_open(struct aiFileIO *io, const char *path, const char *mode) {
     (void)io;
     if (!mode || mode[0] != 'r') return NULL;
     char why[256];
@@ -353,17 +353,17 @@ static struct aiFile *ras_mesh_io_open(struct aiFileIO *io, const char *path, co
         else close(fd);
         return NULL;
     }
-    f->ReadProc = ras_mesh_io_read;
-    f->WriteProc = ras_mesh_io_write;
-    f->TellProc = ras_mesh_io_tell;
-    f->FileSizeProc = ras_mesh_io_size;
-    f->SeekProc = ras_mesh_io_seek;
-    f->FlushProc = ras_mesh_io_flush;
+    f->ReadProc = io_read;
+    f->WriteProc = io_write;
+    f->TellProc = io_tell;
+    f->FileSizeProc = io_size;
+    f->SeekProc = io_seek;
+    f->FlushProc = io_flush;
     f->UserData = (aiUserData)fp;
     return f;
 }
 
-static void ras_mesh_io_close(struct aiFileIO *io, struct aiFile *f) {
+static void io_close(struct aiFileIO *io, struct aiFile *f) {
     (void)io;
     if (!f) return;
     fclose((FILE *)f->UserData);
@@ -374,7 +374,7 @@ static void ras_mesh_io_close(struct aiFileIO *io, struct aiFile *f) {
 /* Nesting: checked before assimp, whose importers recurse per level         */
 
 /* The file's extension, lower-cased, in `ext` ("" when none). */
-static void ras_mesh_extension(const char *path, char *ext, size_t size) {
+static void file_extension(const char *path, char *ext, size_t size) {
     const char *slash = strrchr(path, '/');
     const char *dot = strrchr(slash ? slash + 1 : path, '.');
     size_t n = 0;
@@ -384,7 +384,7 @@ static void ras_mesh_extension(const char *path, char *ext, size_t size) {
     ext[n] = '\0';
 }
 
-static bool ras_mesh_ext_in(const char *ext, const char *const *list) {
+static bool ext_in(const char *ext, const char *const *list) {
     for (; *list; list++)
         if (!strcmp(ext, *list)) return true;
     return false;
@@ -394,7 +394,7 @@ static bool ras_mesh_ext_in(const char *ext, const char *const *list) {
  * *bad set when the node graph is not a tree (a cycle, a shared child) or
  * deeper than RAS_MESH_MAX_NESTING. False when the JSON does not parse: then
  * assimp gives its own message. */
-static bool ras_mesh_gltf_depth(const char *json, size_t len, size_t *depth, bool *bad) {
+static bool gltf_depth(const char *json, size_t len, size_t *depth, bool *bad) {
     *depth = 0;
     *bad = false;
     cJSON *root = cJSON_ParseWithLength(json, len);
@@ -452,15 +452,15 @@ static bool ras_mesh_gltf_depth(const char *json, size_t len, size_t *depth, boo
 /* Refuses a model whose nesting would take assimp's recursive importers past
  * any stack: text formats are scanned for bracket/element depth, glTF's node
  * tree is walked. True when the file is fine or not one of those formats. */
-static bool ras_mesh_check_nesting(const char *path, ras_error *err) {
+static bool check_nesting(const char *path, ras_error *err) {
     static const char *const json_ext[] = {"gltf", "glb", NULL};
     static const char *const text_ext[] = {"dae", "xml", "x3d", "x3dv", "amf", "irr", "irrmesh",
                                            "xgl", "zgl", "x", "ogex", "ase", "ask", "fbx",
                                            "md5mesh", "smd", "mesh", NULL};
     char ext[16];
-    ras_mesh_extension(path, ext, sizeof ext);
-    bool json = ras_mesh_ext_in(ext, json_ext);
-    if (!json && !ras_mesh_ext_in(ext, text_ext)) return true;
+    file_extension(path, ext, sizeof ext);
+    bool json = ext_in(ext, json_ext);
+    if (!json && !ext_in(ext, text_ext)) return true;
     size_t len = 0;
     ras_error rerr = {{0}};
     char *data = ras_io_read_file(path, "model", RAS_MESH_MAX_SCAN_BYTES, &len, &rerr);
@@ -492,7 +492,7 @@ static bool ras_mesh_check_nesting(const char *path, ras_error *err) {
          * budget (otherwise the import thread's stack is the guard). */
         size_t depth = 0;
         bool bad = false;
-        if (ras_mesh_gltf_depth(text, text_len, &depth, &bad) && bad)
+        if (gltf_depth(text, text_len, &depth, &bad) && bad)
             ok = ras_error_set(err,
                                "model '%s': its node tree is %s; expected a tree at most %d "
                                "levels deep — re-export it with the hierarchy flattened",
@@ -520,7 +520,7 @@ static bool ras_mesh_check_nesting(const char *path, ras_error *err) {
  * and 10 s to be called corrupt. Each element needs some bytes in the file
  * (binary: its fixed-size properties; text: two characters a property), so a
  * count the file cannot hold is refused from the header. */
-static bool ras_mesh_check_declared_counts(const char *path, const char *ext, double file_bytes,
+static bool check_declared_counts(const char *path, const char *ext, double file_bytes,
                                            ras_error *err) {
     bool ply = !strcmp(ext, "ply"), off = !strcmp(ext, "off");
     if (!ply && !off) return true;
@@ -600,7 +600,7 @@ static bool ras_mesh_check_declared_counts(const char *path, const char *ext, do
 /* ------------------------------------------------------------------------ */
 /* Loading                                                                   */
 
-static ras_mesh *ras_mesh_import(const char *path, ras_error *err);
+static ras_mesh *import_mesh(const char *path, ras_error *err);
 
 /* The import's own copy of what it needs: when it outlives its time limit
  * the caller leaves, and the last of the two to let go frees it. */
@@ -613,7 +613,7 @@ typedef struct ras_mesh_import_job {
     pthread_cond_t finished;
 } ras_mesh_import_job;
 
-static void ras_mesh_import_job_free(ras_mesh_import_job *job) {
+static void import_job_free(ras_mesh_import_job *job) {
     pthread_mutex_destroy(&job->lock);
     pthread_cond_destroy(&job->finished);
     free(job->path);
@@ -623,10 +623,10 @@ static void ras_mesh_import_job_free(ras_mesh_import_job *job) {
 /* The nesting check and the import, on the same thread: the check's cJSON
  * tree and assimp's allocations share one malloc arena, so the peak is the
  * larger of the two, not their sum. */
-static void *ras_mesh_import_thread(void *arg) {
+static void *import_thread(void *arg) {
     ras_mesh_import_job *job = arg;
-    ras_mesh *mesh = ras_mesh_check_nesting(job->path, &job->err)
-                         ? ras_mesh_import(job->path, &job->err)
+    ras_mesh *mesh = check_nesting(job->path, &job->err)
+                         ? import_mesh(job->path, &job->err)
                          : NULL;
     pthread_mutex_lock(&job->lock);
     bool abandoned = job->abandoned;
@@ -636,7 +636,7 @@ static void *ras_mesh_import_thread(void *arg) {
     pthread_mutex_unlock(&job->lock);
     if (abandoned) { /* the caller gave up on it: nobody will take the mesh */
         ras_mesh_destroy(mesh);
-        ras_mesh_import_job_free(job);
+        import_job_free(job);
     }
     return NULL;
 }
@@ -644,7 +644,7 @@ static void *ras_mesh_import_thread(void *arg) {
 /* Seconds an import may take: RAS_MESH_IMPORT_SECONDS, else
  * RAS_MESH_IMPORT_SECONDS_DEFAULT. assimp has importers that loop forever on
  * some malformed files; a limit turns that into an error. */
-static double ras_mesh_import_seconds(void) {
+static double import_seconds(void) {
     const char *v = getenv("RAS_MESH_IMPORT_SECONDS");
     double s = v ? atof(v) : 0;
     return s > 0 ? s : RAS_MESH_IMPORT_SECONDS_DEFAULT;
@@ -673,8 +673,8 @@ ras_mesh *ras_mesh_load(const char *path, ras_error *err) {
                           "use a smaller model", err))
         return NULL;
     char ext[16];
-    ras_mesh_extension(path, ext, sizeof ext);
-    if (!ras_mesh_check_declared_counts(path, ext, file_bytes, err)) return NULL;
+    file_extension(path, ext, sizeof ext);
+    if (!check_declared_counts(path, ext, file_bytes, err)) return NULL;
     /* assimp's importers, post-processing and node destructors recurse per
      * level of the file's hierarchy: run them on a thread with a large stack
      * (address space only: pages are touched as they are used), sized to fit
@@ -698,12 +698,12 @@ ras_mesh *ras_mesh_load(const char *path, ras_error *err) {
     if (threaded) {
         threaded = pthread_attr_setstacksize(&attr, stack) == 0 &&
                    pthread_attr_setdetachstate(&attr, PTHREAD_CREATE_DETACHED) == 0 &&
-                   pthread_create(&thread, &attr, ras_mesh_import_thread, job) == 0;
+                   pthread_create(&thread, &attr, import_thread, job) == 0;
         pthread_attr_destroy(&attr);
     }
-    if (!threaded) ras_mesh_import_thread(job);
+    if (!threaded) import_thread(job);
     /* Wait for it, at most the import's time limit. */
-    double limit = ras_mesh_import_seconds();
+    double limit = import_seconds();
     struct timespec deadline;
     clock_gettime(CLOCK_REALTIME, &deadline);
     deadline.tv_sec += (time_t)limit;
@@ -725,7 +725,7 @@ ras_mesh *ras_mesh_load(const char *path, ras_error *err) {
                NULL;
     ras_mesh *mesh = job->mesh;
     if (!mesh && err) *err = job->err;
-    ras_mesh_import_job_free(job);
+    import_job_free(job);
 #ifdef __GLIBC__
     /* The import's memory was freed in the thread's own malloc arena, where
      * the renderer (on this thread) cannot reuse it: give it back, or the
@@ -736,7 +736,7 @@ ras_mesh *ras_mesh_load(const char *path, ras_error *err) {
     return mesh;
 }
 
-static ras_mesh *ras_mesh_import(const char *path, ras_error *err) {
+static ras_mesh *import_mesh(const char *path, ras_error *err) {
 
     /* Triangulate: quads and n-gons become fans the rasterizer can draw.
      * JoinIdenticalVertices: OBJ stores one vertex per face corner; sharing
@@ -746,7 +746,7 @@ static ras_mesh *ras_mesh_import(const char *path, ras_error *err) {
      * with a message instead of handing it over. Normals are made here. */
     const unsigned flags = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
                            aiProcess_SortByPType | aiProcess_ValidateDataStructure;
-    struct aiFileIO io = {ras_mesh_io_open, ras_mesh_io_close, NULL};
+    struct aiFileIO io = {io_open, io_close, NULL};
     const struct aiScene *scene = aiImportFileEx(path, flags, &io);
     if (!scene) {
         ras_error_set(err,
@@ -767,7 +767,7 @@ static ras_mesh *ras_mesh_import(const char *path, ras_error *err) {
 
     ras_mesh_instance *inst = NULL;
     size_t inst_count = 0;
-    if (!ras_mesh_collect_instances(scene, &inst, &inst_count)) {
+    if (!collect_instances(scene, &inst, &inst_count)) {
         aiReleaseImport(scene);
         ras_error_set(err, "out of memory while reading the node tree of '%s'", path);
         return NULL;
@@ -777,7 +777,7 @@ static ras_mesh *ras_mesh_import(const char *path, ras_error *err) {
     bool overflow = false, all_normals = true, any_uv = false;
     for (size_t k = 0; k < inst_count; k++) {
         const struct aiMesh *am = inst[k].mesh;
-        size_t t = ras_mesh_ai_triangle_count(am);
+        size_t t = ai_triangle_count(am);
         if (t == 0) continue;
         if (vcount > SIZE_MAX - am->mNumVertices || tcount > SIZE_MAX - t) overflow = true;
         else {
@@ -802,16 +802,16 @@ static ras_mesh *ras_mesh_import(const char *path, ras_error *err) {
                       "simplify the model",
                       path, vcount, tcount, UINT_MAX);
     } else {
-        bool *repair = ras_mesh_calloc(vcount, sizeof *repair);
+        bool *repair = calloc_checked(vcount, sizeof *repair);
         if (!repair) {
             ras_error_set(err, "out of memory for the %zu vertices of '%s'", vcount, path);
             ras_mesh_destroy(mesh);
             mesh = NULL;
-        } else if (!ras_mesh_fill_from_instances(mesh, repair, inst, inst_count, path, err)) {
+        } else if (!fill_from_instances(mesh, repair, inst, inst_count, path, err)) {
             ras_mesh_destroy(mesh);
             mesh = NULL;
         } else {
-            ras_mesh_smooth_normals(mesh, repair);
+            smooth_normals(mesh, repair);
             mesh->has_uv = any_uv; /* meshes without UVs in a mixed file get (0,0) */
             mesh->has_normals_from_file = all_normals;
         }
@@ -833,7 +833,7 @@ ras_mesh *ras_mesh_create_triangle(vec3s a, vec3s b, vec3s c, vec3s color) {
     mesh->positions[2] = c;
     /* A degenerate triangle has no plane; +z is what a triangle drawn in the
      * xy plane facing the default camera would have. */
-    vec3s n = ras_mesh_unit_or(ras_mesh_face_normal_raw(a, b, c), ras_mesh_v3(0, 0, 1));
+    vec3s n = unit_or(face_normal_raw(a, b, c), v3(0, 0, 1));
     const vec2s uv[3] = {{{0, 0}}, {{1, 0}}, {{0, 1}}};
     for (int i = 0; i < 3; i++) {
         mesh->normals[i] = n;
@@ -848,7 +848,7 @@ ras_mesh *ras_mesh_create_triangle(vec3s a, vec3s b, vec3s c, vec3s color) {
 /* Grid sizes come from ints given by the caller; products are formed in
  * size_t and refused when they cannot be indexed. Returns false when a
  * (rows+1) x (cols+1) grid with 2*rows*cols triangles does not fit. */
-static bool ras_mesh_grid_counts(int rows, int cols, size_t *verts, size_t *tris) {
+static bool grid_counts(int rows, int cols, size_t *verts, size_t *tris) {
     size_t r = (size_t)rows, c = (size_t)cols;
     if (r + 1 > SIZE_MAX / (c + 1)) return false;
     *verts = (r + 1) * (c + 1);
@@ -860,7 +860,7 @@ static bool ras_mesh_grid_counts(int rows, int cols, size_t *verts, size_t *tris
 ras_mesh *ras_mesh_create_plane(float size, int divisions) {
     if (divisions < 1) divisions = 1;
     size_t nv, nt;
-    if (!ras_mesh_grid_counts(divisions, divisions, &nv, &nt)) return NULL;
+    if (!grid_counts(divisions, divisions, &nv, &nt)) return NULL;
     ras_mesh *mesh = ras_mesh_create(nv, nt);
     if (!mesh) return NULL;
     const size_t d = (size_t)divisions, row = d + 1;
@@ -871,8 +871,8 @@ ras_mesh *ras_mesh_create_plane(float size, int divisions) {
         for (size_t i = 0; i <= d; i++) {
             float u = (float)i / (float)d, v = (float)j / (float)d;
             size_t k = j * row + i;
-            mesh->positions[k] = ras_mesh_v3(-half + size * u, 0.0f, half - size * v);
-            mesh->normals[k] = ras_mesh_v3(0, 1, 0);
+            mesh->positions[k] = v3(-half + size * u, 0.0f, half - size * v);
+            mesh->normals[k] = v3(0, 1, 0);
             mesh->uvs[k] = (vec2s){{u, v}};
         }
     unsigned *out = mesh->indices;
@@ -883,7 +883,7 @@ ras_mesh *ras_mesh_create_plane(float size, int divisions) {
             *out++ = a, *out++ = b, *out++ = c;
             *out++ = a, *out++ = c, *out++ = e;
         }
-    ras_mesh_fill_color(mesh, ras_mesh_v3(1, 1, 1));
+    fill_color(mesh, v3(1, 1, 1));
     mesh->has_uv = true;
     return mesh;
 }
@@ -903,9 +903,9 @@ ras_mesh *ras_mesh_create_cube(float size) {
     static const float corner[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
     const float h = 0.5f * size;
     for (int f = 0; f < 6; f++) {
-        vec3s n = ras_mesh_v3(faces[f][0][0], faces[f][0][1], faces[f][0][2]);
-        vec3s s = ras_mesh_v3(faces[f][1][0], faces[f][1][1], faces[f][1][2]);
-        vec3s t = ras_mesh_v3(faces[f][2][0], faces[f][2][1], faces[f][2][2]);
+        vec3s n = v3(faces[f][0][0], faces[f][0][1], faces[f][0][2]);
+        vec3s s = v3(faces[f][1][0], faces[f][1][1], faces[f][1][2]);
+        vec3s t = v3(faces[f][2][0], faces[f][2][1], faces[f][2][2]);
         for (int c = 0; c < 4; c++) {
             int k = 4 * f + c;
             vec3s p = glms_vec3_add(glms_vec3_scale(n, h),
@@ -920,7 +920,7 @@ ras_mesh *ras_mesh_create_cube(float size) {
         out[0] = b, out[1] = b + 1, out[2] = b + 2;
         out[3] = b, out[4] = b + 2, out[5] = b + 3;
     }
-    ras_mesh_fill_color(mesh, ras_mesh_v3(1, 1, 1));
+    fill_color(mesh, v3(1, 1, 1));
     mesh->has_uv = true;
     return mesh;
 }
@@ -929,7 +929,7 @@ ras_mesh *ras_mesh_create_uv_sphere(float radius, int stacks, int slices) {
     if (stacks < 2) stacks = 2;
     if (slices < 3) slices = 3;
     size_t nv, nt;
-    if (!ras_mesh_grid_counts(stacks, slices, &nv, &nt)) return NULL;
+    if (!grid_counts(stacks, slices, &nv, &nt)) return NULL;
     /* The first and last stacks are fans around the poles: one of each
      * quad's two triangles has zero area there and is left out. */
     nt -= 2 * (size_t)slices;
@@ -944,10 +944,10 @@ ras_mesh *ras_mesh_create_uv_sphere(float radius, int stacks, int slices) {
         double theta = RAS_PI * (double)i / (double)st;
         for (size_t j = 0; j <= sl; j++) {
             double phi = 2.0 * RAS_PI * (double)j / (double)sl;
-            vec3s n = ras_mesh_v3((float)(sin(theta) * sin(phi)), (float)cos(theta),
+            vec3s n = v3((float)(sin(theta) * sin(phi)), (float)cos(theta),
                                   (float)(sin(theta) * cos(phi)));
-            if (i == 0) n = ras_mesh_v3(0, 1, 0);   /* exact, not sin(0)*... rounding */
-            if (i == st) n = ras_mesh_v3(0, -1, 0);
+            if (i == 0) n = v3(0, 1, 0);   /* exact, not sin(0)*... rounding */
+            if (i == st) n = v3(0, -1, 0);
             size_t k = i * row + j;
             float u = (float)j / (float)sl;
             if ((i == 0 || i == st) && j < sl) u = ((float)j + 0.5f) / (float)sl;
@@ -966,7 +966,7 @@ ras_mesh *ras_mesh_create_uv_sphere(float radius, int stacks, int slices) {
             if (i != 0) *out++ = a, *out++ = c, *out++ = d;      /* a, d meet at the north pole */
         }
     assert((size_t)(out - mesh->indices) == 3 * nt);
-    ras_mesh_fill_color(mesh, ras_mesh_v3(1, 1, 1));
+    fill_color(mesh, v3(1, 1, 1));
     mesh->has_uv = true;
     return mesh;
 }
@@ -975,7 +975,7 @@ ras_mesh *ras_mesh_create_torus(float major_radius, float minor_radius, int ring
     if (rings < 3) rings = 3;
     if (sides < 3) sides = 3;
     size_t nv, nt;
-    if (!ras_mesh_grid_counts(rings, sides, &nv, &nt)) return NULL;
+    if (!grid_counts(rings, sides, &nv, &nt)) return NULL;
     ras_mesh *mesh = ras_mesh_create(nv, nt);
     if (!mesh) return NULL;
     const size_t nr = (size_t)rings, ns = (size_t)sides, row = ns + 1;
@@ -984,15 +984,15 @@ ras_mesh *ras_mesh_create_torus(float major_radius, float minor_radius, int ring
      * d/dphi x d/dtheta points out of the tube, which fixes the winding. */
     for (size_t i = 0; i <= nr; i++) {
         double phi = 2.0 * RAS_PI * (double)i / (double)nr;
-        vec3s e = ras_mesh_v3((float)sin(phi), 0.0f, (float)cos(phi));
+        vec3s e = v3((float)sin(phi), 0.0f, (float)cos(phi));
         for (size_t j = 0; j <= ns; j++) {
             double theta = 2.0 * RAS_PI * (double)j / (double)ns;
             vec3s n = glms_vec3_add(glms_vec3_scale(e, (float)cos(theta)),
-                                    ras_mesh_v3(0.0f, (float)sin(theta), 0.0f));
+                                    v3(0.0f, (float)sin(theta), 0.0f));
             size_t k = i * row + j;
             mesh->positions[k] = glms_vec3_add(glms_vec3_scale(e, major_radius),
                                                glms_vec3_scale(n, minor_radius));
-            mesh->normals[k] = ras_mesh_unit_or(n, e);
+            mesh->normals[k] = unit_or(n, e);
             mesh->uvs[k] = (vec2s){{(float)i / (float)nr, (float)j / (float)ns}};
         }
     }
@@ -1003,7 +1003,7 @@ ras_mesh *ras_mesh_create_torus(float major_radius, float minor_radius, int ring
             *out++ = a, *out++ = b, *out++ = c;
             *out++ = a, *out++ = c, *out++ = d;
         }
-    ras_mesh_fill_color(mesh, ras_mesh_v3(1, 1, 1));
+    fill_color(mesh, v3(1, 1, 1));
     mesh->has_uv = true;
     return mesh;
 }
@@ -1017,7 +1017,7 @@ ras_mesh *ras_mesh_create_torus(float major_radius, float minor_radius, int ring
  * 24-27 lid, 28-31 bottom (Frank Crow's addition). Four points (204, 205,
  * 215, 222) are part of the published table but used by no patch. In every
  * patch, d/ds x d/dt (s = row, t = column of the 4x4 grid) points inward. */
-static const short ras_teapot_patches[32][16] = {
+static const short teapot_patches[32][16] = {
     {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15},
     {3, 16, 17, 18, 7, 19, 20, 21, 11, 22, 23, 24, 15, 25, 26, 27},
     {18, 28, 29, 30, 21, 31, 32, 33, 24, 34, 35, 36, 27, 37, 38, 39},
@@ -1052,7 +1052,7 @@ static const short ras_teapot_patches[32][16] = {
     {269, 269, 269, 269, 299, 304, 305, 278, 296, 302, 303, 274, 293, 300, 301, 270},
 };
 
-static const float ras_teapot_points[306][3] = {
+static const float teapot_points[306][3] = {
     /*   0 */ {1.4, 0.0, 2.4}, {1.4, -0.784, 2.4}, {0.784, -1.4, 2.4}, {0.0, -1.4, 2.4},
     /*   4 */ {1.3375, 0.0, 2.53125}, {1.3375, -0.749, 2.53125}, {0.749, -1.3375, 2.53125}, {0.0, -1.3375, 2.53125},
     /*   8 */ {1.4375, 0.0, 2.53125}, {1.4375, -0.805, 2.53125}, {0.805, -1.4375, 2.53125}, {0.0, -1.4375, 2.53125},
@@ -1133,7 +1133,7 @@ static const float ras_teapot_points[306][3] = {
 };
 
 /* Cubic Bernstein basis and its derivative at t. */
-static void ras_mesh_bernstein(float t, float b[4], float db[4]) {
+static void bernstein(float t, float b[4], float db[4]) {
     float s = 1.0f - t;
     b[0] = s * s * s;
     b[1] = 3.0f * t * s * s;
@@ -1148,22 +1148,22 @@ static void ras_mesh_bernstein(float t, float b[4], float db[4]) {
 /* Point and outward (unnormalised) normal of patch `p` at (s, t), in the
  * y-up frame: (x, y, z)_data -> (x, z, -y), a rotation, so orientation holds.
  * size->x is |dP/ds|^2 + |dP/dt|^2, the scale a degenerate normal is judged by. */
-static void ras_mesh_teapot_eval(int p, float s, float t, vec3s *pos, vec3s *normal, vec3s *size) {
+static void teapot_eval(int p, float s, float t, vec3s *pos, vec3s *normal, vec3s *size) {
     float bs[4], dbs[4], bt[4], dbt[4];
-    ras_mesh_bernstein(s, bs, dbs);
-    ras_mesh_bernstein(t, bt, dbt);
+    bernstein(s, bs, dbs);
+    bernstein(t, bt, dbt);
     vec3s P = glms_vec3_zero(), Ds = glms_vec3_zero(), Dt = glms_vec3_zero();
     for (int i = 0; i < 4; i++)
         for (int j = 0; j < 4; j++) {
-            const float *c = ras_teapot_points[ras_teapot_patches[p][4 * i + j]];
-            vec3s cp = ras_mesh_v3(c[0], c[2], -c[1]);
+            const float *c = teapot_points[teapot_patches[p][4 * i + j]];
+            vec3s cp = v3(c[0], c[2], -c[1]);
             P = glms_vec3_add(P, glms_vec3_scale(cp, bs[i] * bt[j]));
             Ds = glms_vec3_add(Ds, glms_vec3_scale(cp, dbs[i] * bt[j]));
             Dt = glms_vec3_add(Dt, glms_vec3_scale(cp, bs[i] * dbt[j]));
         }
     *pos = P;
     *normal = glms_vec3_cross(Dt, Ds);
-    *size = ras_mesh_v3(glms_vec3_dot(Ds, Ds) + glms_vec3_dot(Dt, Dt), 0.0f, 0.0f);
+    *size = v3(glms_vec3_dot(Ds, Ds) + glms_vec3_dot(Dt, Dt), 0.0f, 0.0f);
 }
 
 ras_mesh *ras_mesh_create_teapot(int divisions) {
@@ -1171,7 +1171,7 @@ ras_mesh *ras_mesh_create_teapot(int divisions) {
      * are collinear, so their two triangles would have zero area. */
     if (divisions < 2) divisions = 2;
     size_t nv1, nt1;
-    if (!ras_mesh_grid_counts(divisions, divisions, &nv1, &nt1)) return NULL;
+    if (!grid_counts(divisions, divisions, &nv1, &nt1)) return NULL;
     if (nv1 > SIZE_MAX / 32 || nt1 > SIZE_MAX / 32 || 32 * nv1 > (size_t)UINT_MAX) return NULL;
     const size_t n = (size_t)divisions, row = n + 1;
 
@@ -1180,7 +1180,7 @@ ras_mesh *ras_mesh_create_teapot(int divisions) {
     bool collapsed[32][4]; /* s = 0, s = 1, t = 0, t = 1 */
     size_t degenerate = 0;
     for (int p = 0; p < 32; p++) {
-        const short *c = ras_teapot_patches[p];
+        const short *c = teapot_patches[p];
         collapsed[p][0] = c[0] == c[1] && c[1] == c[2] && c[2] == c[3];
         collapsed[p][1] = c[12] == c[13] && c[13] == c[14] && c[14] == c[15];
         collapsed[p][2] = c[0] == c[4] && c[4] == c[8] && c[8] == c[12];
@@ -1191,7 +1191,7 @@ ras_mesh *ras_mesh_create_teapot(int divisions) {
     if (!mesh) return NULL;
 
     bool repair_any = false;
-    bool *repair = ras_mesh_calloc(mesh->vertex_count, sizeof *repair);
+    bool *repair = calloc_checked(mesh->vertex_count, sizeof *repair);
     if (!repair) {
         ras_mesh_destroy(mesh);
         return NULL;
@@ -1203,7 +1203,7 @@ ras_mesh *ras_mesh_create_teapot(int divisions) {
             for (size_t j = 0; j <= n; j++) {
                 float s = (float)i / (float)n, t = (float)j / (float)n;
                 vec3s pos, nrm, ds_dt;
-                ras_mesh_teapot_eval(p, s, t, &pos, &nrm, &ds_dt);
+                teapot_eval(p, s, t, &pos, &nrm, &ds_dt);
                 /* On a collapsed edge one derivative vanishes, but only up to
                  * rounding (the basis derivatives sum to ~1e-7, not 0), so
                  * the cross product is tiny noise rather than zero: detect
@@ -1211,18 +1211,18 @@ ras_mesh *ras_mesh_create_teapot(int divisions) {
                  * derivatives elsewhere. */
                 bool on_pole = (i == 0 && collapsed[p][0]) || (i == n && collapsed[p][1]) ||
                                (j == 0 && collapsed[p][2]) || (j == n && collapsed[p][3]);
-                if (on_pole || !ras_mesh_normal_ok(nrm) ||
+                if (on_pole || !normal_ok(nrm) ||
                     glms_vec3_dot(nrm, nrm) < 1e-10f * ds_dt.x * ds_dt.x) {
                     /* A step into the patch gives the limit direction (the
                      * surface is smooth there, only its parametrisation is not). */
                     const float step = 1e-3f;
                     vec3s dummy, dummy_d;
-                    ras_mesh_teapot_eval(p, s + (s < 0.5f ? step : -step),
+                    teapot_eval(p, s + (s < 0.5f ? step : -step),
                                          t + (t < 0.5f ? step : -step), &dummy, &nrm, &dummy_d);
                 }
                 size_t k = base + i * row + j;
                 mesh->positions[k] = pos;
-                if (ras_mesh_normal_ok(nrm)) mesh->normals[k] = ras_mesh_unit_or(nrm, ras_mesh_v3(0, 1, 0));
+                if (normal_ok(nrm)) mesh->normals[k] = unit_or(nrm, v3(0, 1, 0));
                 else repair[k] = repair_any = true;
                 /* v = 1 at s = 0: the body patches run from the rim down. */
                 mesh->uvs[k] = (vec2s){{t, 1.0f - s}};
@@ -1242,7 +1242,7 @@ ras_mesh *ras_mesh_create_teapot(int divisions) {
             }
     }
     assert((size_t)(out - mesh->indices) == 3 * mesh->triangle_count);
-    if (repair_any) ras_mesh_smooth_normals(mesh, repair);
+    if (repair_any) smooth_normals(mesh, repair);
     free(repair);
 
     /* Centre the bounding box on the origin and scale the longest side
@@ -1251,7 +1251,7 @@ ras_mesh *ras_mesh_create_teapot(int divisions) {
     mat4s fit = ras_mesh_fit_matrix(mesh, 2.0f);
     for (size_t k = 0; k < mesh->vertex_count; k++)
         mesh->positions[k] = glms_mat4_mulv3(fit, mesh->positions[k], 1.0f);
-    ras_mesh_fill_color(mesh, ras_mesh_v3(1, 1, 1));
+    fill_color(mesh, v3(1, 1, 1));
     mesh->has_uv = true;
     return mesh;
 }

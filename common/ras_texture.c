@@ -24,7 +24,7 @@
 
 /* A texture with room for w x h texels at level 0, or NULL. The texels are
  * not initialised: every caller below writes all of them. */
-static ras_texture *ras_texture_alloc(int w, int h, ras_wrap wrap) {
+static ras_texture *alloc(int w, int h, ras_wrap wrap) {
     if (w < 1 || h < 1 || w > RAS_IMAGE_MAX_SIDE || h > RAS_IMAGE_MAX_SIDE) return NULL;
     ras_texture *tex = calloc(1, sizeof *tex);
     if (!tex) return NULL;
@@ -43,9 +43,9 @@ static ras_texture *ras_texture_alloc(int w, int h, ras_wrap wrap) {
     return tex;
 }
 
-/* ras_texture_alloc, or NULL and err saying why. */
-static ras_texture *ras_texture_alloc_for_image(int w, int h, ras_wrap wrap, ras_error *err) {
-    ras_texture *tex = ras_texture_alloc(w, h, wrap);
+/* alloc, or NULL and err saying why. */
+static ras_texture *alloc_for_image(int w, int h, ras_wrap wrap, ras_error *err) {
+    ras_texture *tex = alloc(w, h, wrap);
     if (!tex)
         ras_error_set(err,
                       "cannot make a texture from a %dx%d image: expected 1..%d texels per side "
@@ -56,7 +56,7 @@ static ras_texture *ras_texture_alloc_for_image(int w, int h, ras_wrap wrap, ras
 
 ras_texture *ras_texture_from_image(const ras_image *img, ras_wrap wrap, ras_error *err) {
     assert(img);
-    ras_texture *tex = ras_texture_alloc_for_image(img->width, img->height, wrap, err);
+    ras_texture *tex = alloc_for_image(img->width, img->height, wrap, err);
     if (!tex) return NULL;
     for (int j = 0; j < tex->height; j++) {
         int row = tex->height - 1 - j; /* image row 0 is the top, texel row 0 the bottom */
@@ -74,7 +74,7 @@ ras_texture *ras_texture_load(const char *path, ras_wrap wrap, ras_error *err) {
     int w = 0, h = 0;
     uint8_t *rgb = ras_image_load_rgb8(path, &w, &h, err);
     if (!rgb) return NULL;
-    ras_texture *tex = ras_texture_alloc_for_image(w, h, wrap, err);
+    ras_texture *tex = alloc_for_image(w, h, wrap, err);
     if (tex)
         for (int j = 0; j < h; j++) {
             const uint8_t *src = rgb + (size_t)(h - 1 - j) * (size_t)w * 3; /* top row first */
@@ -99,7 +99,7 @@ void ras_texture_destroy(ras_texture *tex) {
 
 /* Integer hash (a variant of Chris Wellons' "lowbias32"): a few multiplies
  * give well-mixed bits, without rand()'s hidden global state. */
-static uint32_t ras_texture_hash(uint32_t x) {
+static uint32_t hash_u32(uint32_t x) {
     x ^= x >> 16;
     x *= 0x7feb352dU;
     x ^= x >> 15;
@@ -109,15 +109,15 @@ static uint32_t ras_texture_hash(uint32_t x) {
 }
 
 /* Hash of a 2D integer cell to [0, 1). */
-static float ras_texture_hash01(uint32_t a, uint32_t b) {
-    uint32_t h = ras_texture_hash(a * 0x9E3779B9U ^ ras_texture_hash(b + 0x632BE5ABU));
+static float hash01(uint32_t a, uint32_t b) {
+    uint32_t h = hash_u32(a * 0x9E3779B9U ^ hash_u32(b + 0x632BE5ABU));
     return (float)(h >> 8) / 16777216.0f;
 }
 
 ras_texture *ras_texture_create_checker(int size, int squares, vec3s a, vec3s b) {
     if (squares < 1) squares = 1;
     if (squares > size) squares = size; /* a square smaller than a texel cannot be drawn */
-    ras_texture *tex = ras_texture_alloc(size, size, RAS_WRAP_REPEAT);
+    ras_texture *tex = alloc(size, size, RAS_WRAP_REPEAT);
     if (!tex) return NULL;
     for (int j = 0; j < size; j++)
         for (int i = 0; i < size; i++) {
@@ -129,7 +129,7 @@ ras_texture *ras_texture_create_checker(int size, int squares, vec3s a, vec3s b)
 }
 
 ras_texture *ras_texture_create_brick(int size) {
-    ras_texture *tex = ras_texture_alloc(size, size, RAS_WRAP_REPEAT);
+    ras_texture *tex = alloc(size, size, RAS_WRAP_REPEAT);
     if (!tex) return NULL;
     /* 8 courses of 4 bricks, every other course shifted by half a brick;
      * both counts divide the tile, so the texture repeats without a seam. */
@@ -153,8 +153,8 @@ ras_texture *ras_texture_create_brick(int size) {
                 /* The column index is wrapped so the half brick cut at the
                  * right edge has the colour of its other half on the left. */
                 uint32_t id_col = (uint32_t)(col % per_course), id_row = (uint32_t)course;
-                float shade = 0.80f + 0.35f * ras_texture_hash01(id_col, id_row);
-                float grain = 0.94f + 0.06f * ras_texture_hash01((uint32_t)i, (uint32_t)j + 7919U);
+                float shade = 0.80f + 0.35f * hash01(id_col, id_row);
+                float grain = 0.94f + 0.06f * hash01((uint32_t)i, (uint32_t)j + 7919U);
                 c = glms_vec3_scale(brick, shade * grain);
             }
             tex->texels[(size_t)j * (size_t)size + (size_t)i] = c;
@@ -165,7 +165,7 @@ ras_texture *ras_texture_create_brick(int size) {
 
 ras_texture *ras_texture_create_bumps(int size, int bumps) {
     if (bumps < 1) bumps = 1;
-    ras_texture *tex = ras_texture_alloc(size, size, RAS_WRAP_REPEAT);
+    ras_texture *tex = alloc(size, size, RAS_WRAP_REPEAT);
     if (!tex) return NULL;
     /* One round bump per cell of a bumps x bumps grid: height
      * (1 + cos(pi r / R)) / 2 inside radius R, 0 outside. The profile has a
@@ -190,7 +190,7 @@ ras_texture *ras_texture_create_bumps(int size, int bumps) {
  * with n_dst entries covers in a level with n_src entries: 2 texels, 3 for
  * the last one when n_src is odd (the leftover row/column folds in), 1 when
  * the source is a single texel already. */
-static void ras_texture_mip_span(int d, int n_src, int n_dst, int *first, int *last) {
+static void mip_span(int d, int n_src, int n_dst, int *first, int *last) {
     if (n_src == 1) {
         *first = *last = 0;
         return;
@@ -223,10 +223,10 @@ bool ras_texture_build_mips(ras_texture *tex) {
         const vec3s *src = tex->levels[count - 1];
         for (int y = 0; y < dh; y++) {
             int y0, y1;
-            ras_texture_mip_span(y, sh, dh, &y0, &y1);
+            mip_span(y, sh, dh, &y0, &y1);
             for (int x = 0; x < dw; x++) {
                 int x0, x1;
-                ras_texture_mip_span(x, sw, dw, &x0, &x1);
+                mip_span(x, sw, dw, &x0, &x1);
                 vec3s sum = glms_vec3_zero();
                 for (int yy = y0; yy <= y1; yy++)
                     for (int xx = x0; xx <= x1; xx++)
@@ -271,7 +271,7 @@ vec3s ras_texture_texel(const ras_texture *tex, int level, int i, int j) {
  * give 0 under REPEAT (no meaningful texel) and the nearer edge under CLAMP
  * for infinities; finite values of any size are reduced in double first
  * (fmod is exact), so the int conversion below only sees values in range. */
-static int ras_texture_coord_to_index(ras_wrap wrap, float t, int n) {
+static int coord_to_index(ras_wrap wrap, float t, int n) {
     /* float * int (<= 2^14) is exact in double's 53-bit mantissa. */
     double x = floor((double)t * (double)n);
     if (isnan(x)) return 0;
@@ -289,7 +289,7 @@ vec3s ras_texture_sample_nearest(const ras_texture *tex, float u, float v) {
     assert(tex);
     /* Texel i covers u in [i/W, (i+1)/W): its centre is at u_img = u*W - 0.5
      * = i, and the nearest texel to u_img is floor(u_img + 0.5) = floor(u*W). */
-    int i = ras_texture_coord_to_index(tex->wrap, u, tex->width);
-    int j = ras_texture_coord_to_index(tex->wrap, v, tex->height);
+    int i = coord_to_index(tex->wrap, u, tex->width);
+    int j = coord_to_index(tex->wrap, v, tex->height);
     return tex->texels[(size_t)j * (size_t)tex->width + (size_t)i];
 }
