@@ -35,7 +35,7 @@
  */
 #define GL_GLEXT_PROTOTYPES 1
 #include "bench_llvmpipe.h"
-#include "ras_counters.h" /* ras_now_ms */
+#include "ras_counters.h"  /* ras_now_ms */
 #include "stage1_vertex.h" /* ras_view_matrix_eye, ras_projection_normalize_w */
 #include "transform.h"     /* hw1: get_projection_matrix, as hw3_render uses */
 
@@ -241,8 +241,8 @@ static GLuint upload_texture(const ras_texture *tex, GLenum unit) {
     glActiveTexture(unit);
     glBindTexture(GL_TEXTURE_2D, t);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, tex->width, tex->height, 0, GL_RGBA,
-                 GL_UNSIGNED_BYTE, rgba);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, tex->width, tex->height, 0, GL_RGBA, GL_UNSIGNED_BYTE,
+                 rgba);
     free(rgba);
     /* Bilinear on level 0, no mip levels: shading.c's texture_sample_bilinear. */
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
@@ -255,7 +255,8 @@ static GLuint upload_texture(const ras_texture *tex, GLenum unit) {
 
 static void set_uniforms(GLuint p, const hw3_scene *s, const hw3_object *o, mat4s mv, mat4s proj) {
     glUseProgram(p);
-    mat3s nmat = glms_mat3_transpose(glms_mat3_inv(glms_mat4_pick3(mv))); /* ras_vertex_transform's */
+    mat3s nmat =
+        glms_mat3_transpose(glms_mat3_inv(glms_mat4_pick3(mv))); /* ras_vertex_transform's */
     glUniformMatrix4fv(glGetUniformLocation(p, "u_mv"), 1, GL_FALSE, &mv.raw[0][0]);
     glUniformMatrix4fv(glGetUniformLocation(p, "u_proj"), 1, GL_FALSE, &proj.raw[0][0]);
     glUniformMatrix3fv(glGetUniformLocation(p, "u_nmat"), 1, GL_FALSE, &nmat.raw[0][0]);
@@ -303,11 +304,12 @@ static bool gl_scene_init(gl_scene *g, const hw3_scene *s, bool wrong) {
         glms_mat4_mul(glms_mat4_mul(o->place, rotate_y(o->yaw_deg)), o->orient); /* object_model */
     mat4s view = s->look_at ? s->view : ras_view_matrix_eye(s->eye);
     mat4s mv = glms_mat4_mul(view, model);
-    mat4s proj = ras_projection_normalize_w(get_projection_matrix(
-        s->fov_deg, (float)s->width / (float)s->height, s->z_near, s->z_far));
+    mat4s proj = ras_projection_normalize_w(
+        get_projection_matrix(s->fov_deg, (float)s->width / (float)s->height, s->z_near, s->z_far));
     /* The project's depth (1 − z/w)/2 puts near at 0 from z/w = +1; OpenGL's
      * window depth is (z/w + 1)/2: negate the z row, and near is −1 → 0 too. */
-    for (int c = 0; c < 4; c++) proj.raw[c][2] = -proj.raw[c][2];
+    for (int c = 0; c < 4; c++)
+        proj.raw[c][2] = -proj.raw[c][2];
 
     glGenVertexArrays(1, &g->vao);
     glBindVertexArray(g->vao);
@@ -354,8 +356,8 @@ static bool gl_scene_init(gl_scene *g, const hw3_scene *s, bool wrong) {
     }
     glViewport(0, 0, g->width, g->height);
     glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_LESS); /* the project's strict < */
-    glDisable(GL_CULL_FACE); /* the classic scene culls nothing */
+    glDepthFunc(GL_LESS);                                   /* the project's strict < */
+    glDisable(GL_CULL_FACE);                                /* the classic scene culls nothing */
     glClearColor(g->clear.x, g->clear.y, g->clear.z, 0.0f); /* alpha 0: not covered */
     glClearDepth(1.0);
     return glGetError() == GL_NO_ERROR;
@@ -371,8 +373,8 @@ static void gl_frame(const gl_scene *g, int shader, bool msaa) {
     if (msaa) {
         glBindFramebuffer(GL_READ_FRAMEBUFFER, g->fbo[1]);
         glBindFramebuffer(GL_DRAW_FRAMEBUFFER, g->fbo[0]);
-        glBlitFramebuffer(0, 0, g->width, g->height, 0, 0, g->width, g->height,
-                          GL_COLOR_BUFFER_BIT, GL_NEAREST);
+        glBlitFramebuffer(0, 0, g->width, g->height, 0, 0, g->width, g->height, GL_COLOR_BUFFER_BIT,
+                          GL_NEAREST);
     }
     glFinish();
 }
@@ -434,7 +436,8 @@ static int serve(const gl_scene *g) {
 static bool save_rgba(const uint8_t *rgba, int w, int h, const char *path) {
     uint8_t *rgb = malloc((size_t)w * (size_t)h * 3);
     if (!rgb) return false;
-    for (size_t i = 0; i < (size_t)w * (size_t)h; i++) memcpy(rgb + 3 * i, rgba + 4 * i, 3);
+    for (size_t i = 0; i < (size_t)w * (size_t)h; i++)
+        memcpy(rgb + 3 * i, rgba + 4 * i, 3);
     ras_error err = {{0}};
     bool ok = ras_image_save_rgb8(rgb, w, h, path, &err);
     if (!ok) fprintf(stderr, "bench_llvmpipe: %s\n", err.msg);
@@ -497,7 +500,8 @@ static int check(const gl_scene *g, hw3_scene *scene, bool wrong, const char *sa
 static int count(const gl_scene *g) {
     for (int sh = 0; sh < HW3_SHADER_COUNT; sh++)
         for (int msaa = 0; msaa < 2; msaa++) {
-            for (int i = 0; i < 2; i++) gl_frame(g, sh, msaa); /* llvmpipe compiles its variants */
+            for (int i = 0; i < 2; i++)
+                gl_frame(g, sh, msaa); /* llvmpipe compiles its variants */
             char name[64];
             snprintf(name, sizeof name, "%s_%s", hw3_shader_name((hw3_shader)sh),
                      msaa ? "msaa" : "none");
@@ -512,13 +516,20 @@ int main(int argc, char **argv) {
     const char *model = NULL, *texture = NULL, *save_dir = NULL;
     bool do_serve = false, do_check = false, wrong = false, do_count = false;
     for (int i = 1; i < argc; i++) {
-        if (!strcmp(argv[i], "--count")) do_count = true;
-        else if (!strcmp(argv[i], "--serve")) do_serve = true;
-        else if (!strcmp(argv[i], "--check")) do_check = true;
-        else if (!strcmp(argv[i], "--wrong")) wrong = true;
-        else if (!strcmp(argv[i], "--model") && i + 1 < argc) model = argv[++i];
-        else if (!strcmp(argv[i], "--texture") && i + 1 < argc) texture = argv[++i];
-        else if (!strcmp(argv[i], "--save") && i + 1 < argc) save_dir = argv[++i];
+        if (!strcmp(argv[i], "--count"))
+            do_count = true;
+        else if (!strcmp(argv[i], "--serve"))
+            do_serve = true;
+        else if (!strcmp(argv[i], "--check"))
+            do_check = true;
+        else if (!strcmp(argv[i], "--wrong"))
+            wrong = true;
+        else if (!strcmp(argv[i], "--model") && i + 1 < argc)
+            model = argv[++i];
+        else if (!strcmp(argv[i], "--texture") && i + 1 < argc)
+            texture = argv[++i];
+        else if (!strcmp(argv[i], "--save") && i + 1 < argc)
+            save_dir = argv[++i];
         else {
             do_serve = do_check = false;
             break;
@@ -548,9 +559,17 @@ int main(int argc, char **argv) {
         fprintf(stderr, "bench_llvmpipe: %s\n", err.msg);
         return 1;
     }
-    const int attribs[] = {OSMESA_FORMAT, OSMESA_RGBA, OSMESA_DEPTH_BITS, 0, OSMESA_PROFILE,
-                           OSMESA_CORE_PROFILE, OSMESA_CONTEXT_MAJOR_VERSION, 3,
-                           OSMESA_CONTEXT_MINOR_VERSION, 3, 0};
+    const int attribs[] = {OSMESA_FORMAT,
+                           OSMESA_RGBA,
+                           OSMESA_DEPTH_BITS,
+                           0,
+                           OSMESA_PROFILE,
+                           OSMESA_CORE_PROFILE,
+                           OSMESA_CONTEXT_MAJOR_VERSION,
+                           3,
+                           OSMESA_CONTEXT_MINOR_VERSION,
+                           3,
+                           0};
     OSMesaContext ctx = OSMesaCreateContextAttribs(attribs, NULL);
     static uint8_t dummy[4 * 16 * 16]; /* the window-system buffer; frames go to FBOs */
     if (!ctx || !OSMesaMakeCurrent(ctx, dummy, GL_UNSIGNED_BYTE, 16, 16)) {

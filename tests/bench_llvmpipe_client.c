@@ -62,7 +62,8 @@ llvmpipe_child *llvmpipe_start(const char *program, int threads, const char *mod
     if (!c || !c->to || !c->from || !fgets(line, sizeof line, c->from) ||
         strncmp(line, "ready ", 6) != 0) {
         fprintf(stderr, "bench_llvmpipe: %s (LP_NUM_THREADS=%d) did not start\n", program, threads);
-        if (c) llvmpipe_stop(c);
+        if (c)
+            llvmpipe_stop(c);
         else {
             close(in[1]);
             close(out[0]);
@@ -76,7 +77,8 @@ llvmpipe_child *llvmpipe_start(const char *program, int threads, const char *mod
 }
 
 static bool request(llvmpipe_child *c, const char *verb, hw3_shader shader, bool msaa) {
-    return fprintf(c->to, "%s %s %s\n", verb, hw3_shader_name(shader), msaa ? "msaa" : "none") > 0 &&
+    return fprintf(c->to, "%s %s %s\n", verb, hw3_shader_name(shader), msaa ? "msaa" : "none") >
+               0 &&
            fflush(c->to) == 0;
 }
 
@@ -136,16 +138,16 @@ void llvmpipe_compare(const ras_image *ours, vec3s clear, const uint8_t *rgba, b
         if (worst > out->max_diff) out->max_diff = worst;
     }
     long both = out->covered_both;
-    out->coverage_diff = out->covered_ours
-                             ? (double)labs(out->covered_ours - out->covered_llvmpipe) /
-                                   (double)out->covered_ours
-                             : 1.0;
+    out->coverage_diff =
+        out->covered_ours
+            ? (double)labs(out->covered_ours - out->covered_llvmpipe) / (double)out->covered_ours
+            : 1.0;
     out->mean_diff = both ? sum / (3.0 * (double)both) : 0;
     out->bad_fraction = both ? (double)bad / (double)both : 0;
-    out->pass = both > 0 && out->coverage_diff <= LLVMPIPE_MAX_COVERAGE_DIFF &&
-                out->mean_diff <= (msaa ? LLVMPIPE_MAX_MEAN_DIFF_MSAA : LLVMPIPE_MAX_MEAN_DIFF_1X) &&
-                out->bad_fraction <=
-                    (msaa ? LLVMPIPE_MAX_BAD_FRACTION_MSAA : LLVMPIPE_MAX_BAD_FRACTION_1X);
+    out->pass =
+        both > 0 && out->coverage_diff <= LLVMPIPE_MAX_COVERAGE_DIFF &&
+        out->mean_diff <= (msaa ? LLVMPIPE_MAX_MEAN_DIFF_MSAA : LLVMPIPE_MAX_MEAN_DIFF_1X) &&
+        out->bad_fraction <= (msaa ? LLVMPIPE_MAX_BAD_FRACTION_MSAA : LLVMPIPE_MAX_BAD_FRACTION_1X);
 }
 
 bool bench_write_teapot_obj(const char *path) {
