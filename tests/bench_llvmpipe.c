@@ -39,7 +39,12 @@
 #include "stage1_vertex.h" /* ras_view_matrix_eye, ras_projection_normalize_w */
 #include "transform.h"     /* hw1: get_projection_matrix, as hw3_render uses */
 
+#if __has_include(<valgrind/callgrind.h>)
 #include <valgrind/callgrind.h> /* CALLGRIND_ZERO_STATS, CALLGRIND_DUMP_STATS_AT */
+#else /* no valgrind headers (make test does not install them): the requests do nothing */
+#define CALLGRIND_ZERO_STATS
+#define CALLGRIND_DUMP_STATS_AT(name) ((void)(name))
+#endif
 
 #include <GL/osmesa.h>
 #include <GL/gl.h>
