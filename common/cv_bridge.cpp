@@ -64,6 +64,65 @@ extern "C" uint8_t *cv_bridge_encode_rgb8(const char *ext, int width, int height
     }
 }
 
+extern "C" uint8_t *cv_bridge_encode_f32(const char *ext, int width, int height, int channels,
+                                         const float *data, size_t *len, char *err,
+                                         int err_size) {
+    try {
+        if (channels != 1 && channels != 3) {
+            set_err(err, err_size, "a float image has 1 or 3 channels");
+            return nullptr;
+        }
+        cv::Mat in(height, width, channels == 1 ? CV_32FC1 : CV_32FC3,
+                   const_cast<float *>(data));
+        cv::Mat file = in;
+        if (channels == 3) cv::cvtColor(in, file, cv::COLOR_RGB2BGR);
+        std::vector<uchar> buf;
+        if (!cv::imencode(ext, file, buf) || buf.empty()) {
+            set_err(err, err_size, std::string("OpenCV has no float encoder for '") + ext + "'");
+            return nullptr;
+        }
+        auto *out = static_cast<uint8_t *>(std::malloc(buf.size()));
+        if (!out) {
+            set_err(err, err_size, "out of memory for the encoded float image");
+            return nullptr;
+        }
+        std::memcpy(out, buf.data(), buf.size());
+        *len = buf.size();
+        return out;
+    } catch (const std::exception &e) {
+        set_err(err, err_size, std::string("the float encoder failed: ") + e.what());
+        return nullptr;
+    }
+}
+
+extern "C" float *cv_bridge_decode_f32(const uint8_t *data, size_t len, int *width, int *height,
+                                       int *channels, char *err, int err_size) {
+    try {
+        std::vector<uchar> buf(data, data + len);
+        cv::Mat m = cv::imdecode(buf, cv::IMREAD_UNCHANGED);
+        if (m.empty() || m.depth() != CV_32F || (m.channels() != 1 && m.channels() != 3)) {
+            set_err(err, err_size, "not a float image of 1 or 3 channels (expected a .pfm file)");
+            return nullptr;
+        }
+        if (m.channels() == 3) cv::cvtColor(m, m, cv::COLOR_BGR2RGB);
+        m = m.clone(); /* continuous */
+        size_t bytes = m.total() * m.elemSize();
+        auto *out = static_cast<float *>(std::malloc(bytes ? bytes : 1));
+        if (!out) {
+            set_err(err, err_size, "out of memory for the decoded float image");
+            return nullptr;
+        }
+        std::memcpy(out, m.data, bytes);
+        *width = m.cols;
+        *height = m.rows;
+        *channels = m.channels();
+        return out;
+    } catch (const std::exception &e) {
+        set_err(err, err_size, std::string("the float decoder failed: ") + e.what());
+        return nullptr;
+    }
+}
+
 extern "C" bool cv_bridge_decode_size(const uint8_t *data, size_t len, int *width, int *height) {
     try {
         std::vector<uchar> buf(data, data + len);

@@ -37,6 +37,15 @@ bool cv_bridge_can_write(const char *path);
 uint8_t *cv_bridge_decode_rgb8(const uint8_t *data, size_t len, int *width, int *height,
                                char *err, int err_size);
 
+/* Float images (1 or 3 channels, row-major, top row first, RGB order) to and
+ * from an uncompressed exact format (".pfm"): read back bit for bit, ±Inf and
+ * NaN included (--dump's buffers). The decoder gives malloc'd data or NULL
+ * with err set; PFM has no compression, so its size is bounded by `len`. */
+uint8_t *cv_bridge_encode_f32(const char *ext, int width, int height, int channels,
+                              const float *data, size_t *len, char *err, int err_size);
+float *cv_bridge_decode_f32(const uint8_t *data, size_t len, int *width, int *height,
+                            int *channels, char *err, int err_size);
+
 /* Windows (highgui). cv_bridge_display_available() is false when there is no
  * X display: callers must check it first, because highgui aborts the process
  * when it cannot open one. */
