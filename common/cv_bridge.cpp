@@ -74,8 +74,12 @@ extern "C" uint8_t *cv_bridge_encode_f32(const char *ext, int width, int height,
         }
         cv::Mat in(height, width, channels == 1 ? CV_32FC1 : CV_32FC3,
                    const_cast<float *>(data));
-        cv::Mat file = in;
-        if (channels == 3) cv::cvtColor(in, file, cv::COLOR_RGB2BGR);
+        cv::Mat file; /* a new matrix: cvtColor into a view of `in` would write the
+                       * caller's data */
+        if (channels == 3)
+            cv::cvtColor(in, file, cv::COLOR_RGB2BGR);
+        else
+            file = in;
         std::vector<uchar> buf;
         if (!cv::imencode(ext, file, buf) || buf.empty()) {
             set_err(err, err_size, std::string("OpenCV has no float encoder for '") + ext + "'");

@@ -2,12 +2,25 @@
 #include "ras_pipeline.h"
 
 #include "ras_draw.h"
+#include "ras_dump.h"
 #include "stage2_clip.h"
 #include "stage3_setup.h"
 #include "stage6_resolve.h"
 
 #include <math.h>   /* isfinite */
 #include <stdlib.h> /* calloc, realloc, free */
+
+/* --dump's overdraw count: every fragment the rasterizer hands over is
+ * counted at its pixel, then shaded by the real shader (or the vertex
+ * colour, as the rasterizer would have). Installed only with config.dump,
+ * so a frame that is not dumped pays nothing. */
+static vec3s shade_counting(const ras_triangle *t, const ras_fragment *f, void *user) {
+    ras_pipeline *p = user;
+    if (f->x >= 0 && f->x < p->fb->width && f->y >= 0 && f->y < p->fb->height)
+        p->overdraw[ras_fb_pixel_index(p->fb, f->x, f->y)] += 1;
+    ras_shade_fn shade = p->config.shade ? p->config.shade : ras_shade_vertex_color;
+    return shade(t, f, p->config.shade_user);
+}
 
 ras_pipeline *ras_pipeline_create(const ras_pipeline_config *config, ras_error *err) {
     ras_pipeline_config cfg = *config;
@@ -56,6 +69,16 @@ ras_pipeline *ras_pipeline_create(const ras_pipeline_config *config, ras_error *
                                  .shade = cfg.shade,
                                  .shade_user = cfg.shade_user,
                                  .counters = &p->counters};
+    if (cfg.dump && !cfg.wireframe) {
+        p->overdraw = calloc((size_t)cfg.width * (size_t)cfg.height, sizeof *p->overdraw);
+        if (!p->overdraw) {
+            ras_error_set(err, "out of memory for the overdraw buffer of --dump");
+            ras_pipeline_destroy(p);
+            return NULL;
+        }
+        p->raster.shade = shade_counting;
+        p->raster.shade_user = p;
+    }
     ras_pipeline_begin_frame(p);
     return p;
 }
@@ -64,12 +87,16 @@ void ras_pipeline_destroy(ras_pipeline *p) {
     if (!p) return;
     ras_framebuffer_destroy(p->fb);
     free(p->clip_vertices);
+    free(p->overdraw);
     free(p);
 }
 
 void ras_pipeline_begin_frame(ras_pipeline *p) {
     ras_framebuffer_clear(p->fb, p->config.clear_color);
     p->counters = (ras_counters){.buffer_bytes = p->fb->bytes};
+    if (p->overdraw)
+        for (long i = 0, n = (long)p->fb->width * p->fb->height; i < n; i++)
+            p->overdraw[i] = 0;
 }
 
 static void draw_wire_polygon(ras_pipeline *p, const ras_clip_vertex *poly, int n) {
@@ -173,4 +200,78 @@ void ras_pipeline_end_frame(ras_pipeline *p, ras_image *out) {
     double dt = ras_now_ms() - t0;
     p->counters.ms_resolve += dt;
     p->counters.ms_total += dt;
+}
+
+bool ras_pipeline_dump(const ras_pipeline *p, const char *dir, int *written, ras_error *err) {
+    if (written) *written = 0;
+    if (p->config.wireframe) return true; /* lines only: no depth, no coverage */
+    const ras_framebuffer *fb = p->fb;
+    static const char *const depth_units[] = {
+        [RAS_DEPTH_Z01] = "depth format z01: 0 at the near plane, 1 at the far plane; smaller is "
+                          "closer",
+        [RAS_DEPTH_INV_W] = "depth format inverse_w: -near/w, -1 at the near plane towards 0 far "
+                            "away; smaller is closer",
+    };
+    ras_dump_buffer depth = {
+        .name = "depth",
+        .what = fb->samples > 1 ? "the depth buffer, one value per sample: what the depth test "
+                                  "compared against at the end of the frame"
+                                : "the depth buffer: what the depth test compared against at the "
+                                  "end of the frame",
+        .units = (unsigned)p->config.depth < RAS_DEPTH_FORMAT_COUNT
+                     ? depth_units[p->config.depth]
+                     : "depth",
+        .width = fb->width,
+        .height = fb->height,
+        .samples = fb->samples,
+        .channels = 1,
+        .data = fb->depth,
+        .style = RAS_DUMP_SCALAR,
+        .empty = INFINITY,
+        .has_empty = true};
+    if (!ras_dump_write(dir, &depth, err)) return false;
+    if (written) (*written)++;
+    if (fb->samples > 1) {
+        /* covered = a fragment was stored there: its depth is no longer the
+         * cleared +INF */
+        size_t n = (size_t)fb->width * fb->height * fb->samples;
+        float *cov = malloc(n * sizeof *cov);
+        if (!cov) return ras_error_set(err, "out of memory for the coverage buffer of --dump");
+        for (size_t i = 0; i < n; i++)
+            cov[i] = fb->depth[i] != INFINITY ? 1.0f : 0.0f;
+        ras_dump_buffer coverage = {
+            .name = "coverage",
+            .what = "which samples some triangle covered (1) or none did (0); the picture "
+                    "shows the covered fraction of each pixel",
+            .units = "1 covered, 0 not",
+            .width = fb->width,
+            .height = fb->height,
+            .samples = fb->samples,
+            .channels = 1,
+            .data = cov,
+            .style = RAS_DUMP_SCALAR};
+        bool ok = ras_dump_write(dir, &coverage, err);
+        free(cov);
+        if (!ok) return false;
+        if (written) (*written)++;
+    }
+    if (p->overdraw) {
+        ras_dump_buffer overdraw = {
+            .name = "overdraw",
+            .what = "how many fragments were shaded at each pixel (every triangle that passed "
+                    "the depth test there, in drawing order, counts once; per sample with "
+                    "SSAA)",
+            .units = "fragments",
+            .width = fb->width,
+            .height = fb->height,
+            .samples = 1,
+            .channels = 1,
+            .data = p->overdraw,
+            .style = RAS_DUMP_SCALAR,
+            .empty = 0.0f,
+            .has_empty = true};
+        if (!ras_dump_write(dir, &overdraw, err)) return false;
+        if (written) (*written)++;
+    }
+    return true;
 }

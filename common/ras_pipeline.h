@@ -40,6 +40,9 @@ typedef struct ras_pipeline_config {
     ras_resolve_fn resolve;     /* required when the pattern has > 1 sample */
     ras_shade_fn shade;         /* NULL: interpolated vertex colour */
     void *shade_user;
+    /* --dump: also count the fragments shaded at each pixel (the overdraw
+     * buffer of ras_pipeline_dump). Off, nothing is counted or allocated. */
+    bool dump;
 } ras_pipeline_config;
 
 typedef struct ras_pipeline {
@@ -49,6 +52,7 @@ typedef struct ras_pipeline {
     ras_raster_ctx raster; /* handed to the rasterize hook */
     ras_clip_vertex *clip_vertices; /* scratch, grows to the largest mesh */
     size_t clip_capacity;
+    float *overdraw; /* config.dump: fragments shaded per pixel, else NULL */
 } ras_pipeline;
 
 /* Checks the configuration (hooks present, sizes, sample counts) and
@@ -69,5 +73,11 @@ void ras_pipeline_draw_clip_triangle(ras_pipeline *p, const ras_clip_vertex *a,
 
 /* Stage 6 into `out` (same size as the frame). */
 void ras_pipeline_end_frame(ras_pipeline *p, ras_image *out);
+
+/* --dump: writes the frame's buffers into dir (ras_dump.h): depth (per
+ * sample), coverage (per sample, only with anti-aliasing) and overdraw (only
+ * with config.dump). A wireframe frame has none of them: it writes nothing.
+ * `written` (may be NULL) gets how many buffers were written. */
+bool ras_pipeline_dump(const ras_pipeline *p, const char *dir, int *written, ras_error *err);
 
 #endif

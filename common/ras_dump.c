@@ -1,0 +1,253 @@
+/* ras_dump.c — see ras_dump.h. */
+#include "ras_dump.h"
+
+#include "cv_bridge.h"
+#include "ras_image.h"
+#include "ras_io.h"
+
+#include <cjson/cJSON.h>
+#include <errno.h>
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+/* Rows under the picture for the legend. */
+enum { LEGEND_ROWS = 34 };
+
+/* Google's "turbo" colour map as Anton Mikhailov's polynomial fit (Apache
+ * 2.0): perceptually ordered blue → green → red, readable by colour-blind
+ * people better than a rainbow, and never black, which stays "empty". */
+static void turbo(double x, uint8_t rgb[3]) {
+    x = x < 0 ? 0 : x > 1 ? 1 : x;
+    double x2 = x * x, x3 = x2 * x, x4 = x2 * x2, x5 = x4 * x;
+    double r = 0.13572138 + 4.61539260 * x - 42.66032258 * x2 + 132.13108234 * x3 -
+               152.94239396 * x4 + 59.28637943 * x5;
+    double g = 0.09140261 + 2.19418839 * x + 4.84296658 * x2 - 14.18503333 * x3 + 4.27729857 * x4 +
+               2.82956604 * x5;
+    double b = 0.10667330 + 12.64194608 * x - 60.58204836 * x2 + 110.36276771 * x3 -
+               89.90310912 * x4 + 27.34824973 * x5;
+    double c[3] = {r, g, b};
+    for (int k = 0; k < 3; k++)
+        rgb[k] = (uint8_t)lround(255.0 * (c[k] < 0 ? 0 : c[k] > 1 ? 1 : c[k]));
+}
+
+static bool is_empty(const ras_dump_buffer *b, const float *v) {
+    if (!b->has_empty) return false;
+    for (int k = 0; k < b->channels; k++)
+        if (memcmp(&v[k], &b->empty, sizeof(float)) != 0) return false;
+    return true;
+}
+
+/* Range of the finite, non-empty values per channel; counts of empty and
+ * non-finite entries. */
+typedef struct stats {
+    double lo[3], hi[3];
+    long empty, nonfinite, entries;
+} stats;
+
+static stats buffer_stats(const ras_dump_buffer *b) {
+    stats s = {{INFINITY, INFINITY, INFINITY}, {-INFINITY, -INFINITY, -INFINITY}, 0, 0, 0};
+    s.entries = (long)b->width * b->height * b->samples;
+    for (long i = 0; i < s.entries; i++) {
+        const float *v = b->data + i * b->channels;
+        if (is_empty(b, v)) {
+            s.empty++;
+            continue;
+        }
+        bool finite = true;
+        for (int k = 0; k < b->channels; k++)
+            finite = finite && isfinite(v[k]);
+        if (!finite) {
+            s.nonfinite++;
+            continue;
+        }
+        for (int k = 0; k < b->channels; k++) {
+            if (v[k] < s.lo[k]) s.lo[k] = v[k];
+            if (v[k] > s.hi[k]) s.hi[k] = v[k];
+        }
+    }
+    return s;
+}
+
+/* The picture: each pixel's mean over its non-empty finite samples, in the
+ * buffer's style; black where every sample is empty, magenta where only
+ * non-finite values are (a NaN is a mistake worth seeing). */
+static void paint(const ras_dump_buffer *b, const stats *s, uint8_t *rgb) {
+    int spp = b->samples, ch = b->channels;
+    for (int row = 0; row < b->height; row++)
+        for (int x = 0; x < b->width; x++) {
+            double sum[3] = {0, 0, 0};
+            int n = 0, bad = 0;
+            for (int k = 0; k < spp; k++) {
+                const float *v = b->data + (((long)row * b->width + x) * spp + k) * ch;
+                if (is_empty(b, v)) continue;
+                bool finite = true;
+                for (int c = 0; c < ch; c++)
+                    finite = finite && isfinite(v[c]);
+                if (!finite) {
+                    bad++;
+                    continue;
+                }
+                for (int c = 0; c < ch; c++)
+                    sum[c] += v[c];
+                n++;
+            }
+            uint8_t *p = rgb + ((size_t)row * b->width + x) * 3;
+            if (n == 0) {
+                p[0] = bad ? 255 : 0, p[1] = 0, p[2] = bad ? 255 : 0;
+                continue;
+            }
+            if (b->style == RAS_DUMP_SCALAR) {
+                double span = s->hi[0] - s->lo[0];
+                turbo(span > 0 ? (sum[0] / n - s->lo[0]) / span : 0.5, p);
+            } else {
+                for (int c = 0; c < 3; c++) {
+                    double v = c < ch ? sum[c] / n : 0;
+                    if (b->style == RAS_DUMP_VECTOR) v = 0.5 + 0.5 * v;
+                    p[c] = ras_unit_to_byte((float)v);
+                }
+            }
+        }
+}
+
+static void legend(const ras_dump_buffer *b, const stats *s, uint8_t *rgb) {
+    int w = b->width, h = b->height + LEGEND_ROWS;
+    memset(rgb + (size_t)b->height * w * 3, 40, (size_t)LEGEND_ROWS * w * 3);
+    char text[160];
+    if (b->style == RAS_DUMP_SCALAR) {
+        for (int x = 4; x < w - 4; x++)
+            for (int y = b->height + 3; y < b->height + 11; y++)
+                turbo((double)(x - 4) / (w > 9 ? w - 9 : 1), rgb + ((size_t)y * w + x) * 3);
+        if (s->lo[0] <= s->hi[0])
+            snprintf(text, sizeof text, "%s: %.6g (blue) .. %.6g (red); black: empty", b->name,
+                     s->lo[0], s->hi[0]);
+        else
+            snprintf(text, sizeof text, "%s: every entry empty", b->name);
+    } else if (b->style == RAS_DUMP_VECTOR)
+        snprintf(text, sizeof text, "%s: x y z as red green blue (0.5 + 0.5 v); black: empty",
+                 b->name);
+    else
+        snprintf(text, sizeof text, "%s: u v as red green; black: empty", b->name);
+    cv_bridge_draw_text(rgb, w, h, 4, b->height + 28, text, 0.4);
+}
+
+static bool same_floats(const void *data, size_t len, void *ctx, ras_error *err) {
+    const ras_dump_buffer *b = ctx;
+    char msg[256] = "";
+    int w = 0, h = 0, ch = 0;
+    float *back = cv_bridge_decode_f32(data, len, &w, &h, &ch, msg, sizeof msg);
+    size_t n = (size_t)b->width * b->samples * b->height * b->channels;
+    bool ok = back && w == b->width * b->samples && h == b->height && ch == b->channels &&
+              memcmp(back, b->data, n * sizeof(float)) == 0;
+    free(back);
+    if (!ok)
+        return ras_error_set(err, "the buffer file does not read back bit for bit%s%s",
+                             *msg ? ": " : "", msg);
+    return true;
+}
+
+static bool write_json(const char *path, const ras_dump_buffer *b, const stats *s, ras_error *err) {
+    cJSON *j = cJSON_CreateObject();
+    cJSON_AddStringToObject(j, "buffer", b->name);
+    cJSON_AddStringToObject(j, "what", b->what);
+    cJSON_AddStringToObject(j, "units", b->units);
+    cJSON_AddNumberToObject(j, "width", b->width);
+    cJSON_AddNumberToObject(j, "height", b->height);
+    cJSON_AddNumberToObject(j, "samples", b->samples);
+    cJSON_AddNumberToObject(j, "channels", b->channels);
+    cJSON_AddStringToObject(j, "layout",
+                            b->samples > 1
+                                ? "row-major, top row first; sample s of pixel x at column "
+                                  "x*samples+s (the PFM is width*samples wide)"
+                                : "row-major, top row first");
+    char file[300];
+    snprintf(file, sizeof file, "%s.pfm", b->name);
+    cJSON_AddStringToObject(j, "exact", file);
+    snprintf(file, sizeof file, "%s.png", b->name);
+    cJSON_AddStringToObject(j, "picture", file);
+    cJSON *range = cJSON_AddArrayToObject(j, "range");
+    for (int k = 0; k < b->channels; k++) {
+        cJSON *r = cJSON_CreateArray();
+        if (s->lo[k] <= s->hi[k]) {
+            cJSON_AddItemToArray(r, cJSON_CreateNumber(s->lo[k]));
+            cJSON_AddItemToArray(r, cJSON_CreateNumber(s->hi[k]));
+        }
+        cJSON_AddItemToArray(range, r);
+    }
+    if (b->has_empty) {
+        char e[32];
+        snprintf(e, sizeof e, "%g", (double)b->empty);
+        cJSON_AddStringToObject(j, "empty_value", e);
+    }
+    cJSON_AddNumberToObject(j, "entries", (double)s->entries);
+    cJSON_AddNumberToObject(j, "empty_entries", (double)s->empty);
+    cJSON_AddNumberToObject(j, "non_finite_entries", (double)s->nonfinite);
+    char *text = cJSON_Print(j);
+    cJSON_Delete(j);
+    if (!text) return ras_error_set(err, "out of memory writing '%s'", path);
+    size_t len = strlen(text);
+    text[len] = '\n'; /* cJSON's terminator becomes the last newline */
+    bool ok = ras_io_write_atomic(path, "buffer description", text, len + 1, NULL, NULL, err);
+    free(text);
+    return ok;
+}
+
+bool ras_dump_write(const char *dir, const ras_dump_buffer *b, ras_error *err) {
+    if (b->channels != 1 && b->channels != 3)
+        return ras_error_set(err, "buffer '%s': 1 or 3 channels, not %d", b->name, b->channels);
+    stats s = buffer_stats(b);
+    char path[RAS_IO_MAX_PATH + 64];
+    /* the exact file first: the picture and the sidecar describe it */
+    size_t len = 0;
+    char msg[256] = "";
+    uint8_t *pfm = cv_bridge_encode_f32(".pfm", b->width * b->samples, b->height, b->channels,
+                                        b->data, &len, msg, sizeof msg);
+    if (!pfm) return ras_error_set(err, "could not encode the %s buffer: %s", b->name, msg);
+    snprintf(path, sizeof path, "%s/%s.pfm", dir, b->name);
+    bool ok = ras_io_write_atomic(path, "buffer", pfm, len, same_floats, (void *)b, err);
+    free(pfm);
+    if (!ok) return false;
+    size_t bytes = (size_t)b->width * (b->height + LEGEND_ROWS) * 3;
+    uint8_t *rgb = malloc(bytes);
+    if (!rgb) return ras_error_set(err, "out of memory drawing the %s buffer", b->name);
+    paint(b, &s, rgb);
+    legend(b, &s, rgb);
+    snprintf(path, sizeof path, "%s/%s.png", dir, b->name);
+    ok = ras_image_save_rgb8(rgb, b->width, b->height + LEGEND_ROWS, path, err);
+    free(rgb);
+    if (!ok) return false;
+    snprintf(path, sizeof path, "%s/%s.json", dir, b->name);
+    return write_json(path, b, &s, err);
+}
+
+float *ras_dump_read_pfm(const char *path, int *width, int *height, int *channels, ras_error *err) {
+    size_t len = 0;
+    /* PFM is uncompressed: the file's size bounds what decoding allocates */
+    uint8_t *data = ras_io_read_file(path, "buffer file", (size_t)1 << 30, &len, err);
+    if (!data) return NULL;
+    char msg[256] = "";
+    float *f = cv_bridge_decode_f32(data, len, width, height, channels, msg, sizeof msg);
+    free(data);
+    if (!f) ras_error_set(err, "could not read the buffer file '%s': %s", path, msg);
+    return f;
+}
+
+bool ras_dump_prepare_dir(const char *dir, ras_error *err) {
+    struct stat st;
+    if (!ras_io_path_fits("--dump", dir, err)) return false;
+    if (stat(dir, &st) == 0) {
+        if (S_ISDIR(st.st_mode)) return true;
+        return ras_error_set(err,
+                             "--dump expects a folder; '%s' exists and is not one: choose "
+                             "another path",
+                             dir);
+    }
+    if (errno == ENOENT && mkdir(dir, 0777) == 0) return true;
+    return ras_error_set(err,
+                         "--dump could not create the folder '%s' (%s): create it, or "
+                         "choose a folder you can write",
+                         dir, strerror(errno));
+}

@@ -1,0 +1,63 @@
+/* ras_dump.h — a frame's intermediate buffers as files (--dump DIR).
+ *
+ * The colour picture hides most rasterizer mistakes; the buffers behind it
+ * show them: back faces speckling through the depth buffer, samples never
+ * covered, a triangle shaded twice, normals or UVs that jump. Each buffer is
+ * written as three files in DIR:
+ *   NAME.png   a picture a person can read: false colour (turbo: blue is the
+ *              smallest value, red the largest) or the vector as RGB, with a
+ *              legend strip below saying what the colours mean;
+ *   NAME.pfm   the exact floats (OpenCV's PFM, read back bit for bit, ±Inf
+ *              included), one or three channels;
+ *   NAME.json  what it is, its units, its size and layout, and the range of
+ *              its values (the --stats style).
+ * Only buffers the frame produced exist: without anti-aliasing there is no
+ * coverage file, without a texture no UV file. Files are written atomically
+ * (ras_io.h): a failure leaves no half-written file.
+ *
+ * Layout of `data`: row-major, TOP image row first (like ras_image and the
+ * framebuffer), `channels` floats per entry. With `samples` > 1 each pixel
+ * owns `samples` consecutive entries (sample s of pixel x at column
+ * x*samples + s), exactly as the framebuffer stores them: the PFM is then
+ * (width*samples) x height, and the picture shows each pixel's mean over
+ * its non-empty samples.
+ */
+#ifndef RAS_DUMP_H
+#define RAS_DUMP_H
+
+#include "ras_error.h"
+
+#include <stdbool.h>
+
+typedef enum ras_dump_style {
+    RAS_DUMP_SCALAR, /* one channel, false colour over its finite range */
+    RAS_DUMP_VECTOR, /* three channels in [-1, 1] (a normal), shown as 0.5 + 0.5 v */
+    RAS_DUMP_UNIT,   /* two or three channels in [0, 1] (u, v), shown as they are */
+} ras_dump_style;
+
+typedef struct ras_dump_buffer {
+    const char *name;  /* the file stem: depth, coverage, overdraw, normal, uv, view_depth */
+    const char *what;  /* one sentence for the sidecar */
+    const char *units; /* e.g. "depth format z01: 0 at near, 1 at far" */
+    int width, height, samples, channels;
+    const float *data;
+    ras_dump_style style;
+    /* entries equal to `empty` (compared bitwise after NaN checks: +INF for
+     * a cleared depth) mean "nothing here": black in the picture, left out of
+     * the range, counted in the sidecar */
+    float empty;
+    bool has_empty;
+} ras_dump_buffer;
+
+/* Writes NAME.png, NAME.pfm and NAME.json into dir (which must exist). */
+bool ras_dump_write(const char *dir, const ras_dump_buffer *b, ras_error *err);
+
+/* Reads an exact float file back: malloc'd floats (free them), its size and
+ * channels. At most max_bytes are read. */
+float *ras_dump_read_pfm(const char *path, int *width, int *height, int *channels, ras_error *err);
+
+/* The folder for --dump: created if missing (one level), refused when it is
+ * a file; false with err set. */
+bool ras_dump_prepare_dir(const char *dir, ras_error *err);
+
+#endif

@@ -1,0 +1,318 @@
+/* test_dump.c — --dump's buffer files (common/ras_dump.h, ras_pipeline_dump)
+ * checked against the buffers in memory:
+ *
+ *   exact       depth.pfm read back is the framebuffer's depth bit for bit
+ *               (+INF where nothing was drawn); a buffer with NaN and -INF
+ *               too; coverage.pfm is (depth != +INF) per sample
+ *   hand-worked overdraw of a far quad and a near triangle drawn after it is
+ *               2 inside the triangle, 1 elsewhere on the quad, 0 outside;
+ *               drawn before it, 1 (the far one fails the depth test)
+ *   existence   no coverage file without anti-aliasing, no file at all for a
+ *               wireframe; the sidecar's size, range and empty count are the
+ *               ones computed here; the picture is the frame plus its legend
+ *   errors      --dump on a file says it expects a folder
+ */
+#include <setjmp.h> /* cmocka needs these before cmocka.h */
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include <cmocka.h>
+
+#include "ras_test_main.h"
+
+#include "ras_dump.h"
+#include "ras_image.h"
+#include "ras_io.h"
+#include "ras_pipeline.h"
+#include "rasterizer.h" /* hw2 reference: rasterize_triangle, resolve_pixel */
+
+#include <cjson/cJSON.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#define CHECK(cond, ...)                                                                           \
+    do {                                                                                           \
+        if (!(cond)) fail_msg(__VA_ARGS__);                                                        \
+    } while (0)
+
+enum { W = 24, H = 16 };
+
+/* A fresh folder under /tmp for one test. */
+static void temp_dir(char *dir, size_t size) {
+    snprintf(dir, size, "/tmp/raster101-test-dump-XXXXXX");
+    assert_non_null(mkdtemp(dir));
+}
+
+static void remove_dir(const char *dir) {
+    char cmd[512];
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
+    assert_int_equal(system(cmd), 0);
+}
+
+static bool exists(const char *dir, const char *file) {
+    char path[512];
+    snprintf(path, sizeof path, "%s/%s", dir, file);
+    return access(path, F_OK) == 0;
+}
+
+/* A clip-space vertex at NDC (x, y) with clip w = 1 and NDC depth z. */
+static ras_clip_vertex vtx(float x, float y, float z) {
+    ras_clip_vertex v = {0};
+    v.p_clip = (vec4s){{x, y, z, 1}};
+    v.color = (vec3s){{1, 1, 1}};
+    return v;
+}
+
+static ras_pipeline *pipeline(ras_aa_mode aa, int samples) {
+    ras_pipeline_config cfg = {.width = W,
+                               .height = H,
+                               .aa = aa,
+                               .rasterize = rasterize_triangle,
+                               .resolve = resolve_pixel,
+                               .dump = true};
+    ras_error err = {{0}};
+    cfg.pattern = ras_sample_pattern_center();
+    if (samples > 1)
+        CHECK(ras_sample_pattern_make(RAS_PATTERN_ORDERED, samples, &cfg.pattern, &err),
+              "pattern: %s", err.msg);
+    ras_pipeline *p = ras_pipeline_create(&cfg, &err);
+    CHECK(p, "pipeline: %s", err.msg);
+    return p;
+}
+
+/* A far quad over the left of the screen (two triangles; its right edge at
+ * NDC 0.55 is screen x = 18.6, inside pixel column 18),
+ * and a near triangle in its middle, drawn in the given order. */
+static void draw_scene(ras_pipeline *p, bool near_first) {
+    /* NDC z: larger is nearer here (depth z01 = (1 - z_ndc) / 2, smaller
+     * is closer), so the quad at -0.5 (depth 0.75) is behind the triangle at
+     * 0.5 (depth 0.25) */
+    ras_clip_vertex q[4] = {vtx(-1, -1, -0.5f), vtx(0.55f, -1, -0.5f), vtx(0.55f, 1, -0.5f),
+                            vtx(-1, 1, -0.5f)};
+    ras_clip_vertex t[3] = {vtx(-0.6f, -0.6f, 0.5f), vtx(0.2f, -0.6f, 0.5f),
+                            vtx(-0.2f, 0.6f, 0.5f)};
+    if (near_first) ras_pipeline_draw_clip_triangle(p, &t[0], &t[1], &t[2]);
+    ras_pipeline_draw_clip_triangle(p, &q[0], &q[1], &q[2]);
+    ras_pipeline_draw_clip_triangle(p, &q[0], &q[2], &q[3]);
+    if (!near_first) ras_pipeline_draw_clip_triangle(p, &t[0], &t[1], &t[2]);
+}
+
+static float *read_back(const char *dir, const char *name, int *w, int *h, int *ch) {
+    char path[512];
+    snprintf(path, sizeof path, "%s/%s.pfm", dir, name);
+    ras_error err = {{0}};
+    float *f = ras_dump_read_pfm(path, w, h, ch, &err);
+    CHECK(f, "%s.pfm: %s", name, err.msg);
+    return f;
+}
+
+static void test_dump_depth_exact_and_overdraw(void **state) {
+    (void)state;
+    char dir[64];
+    temp_dir(dir, sizeof dir);
+    for (int order = 0; order < 2; order++) {
+        ras_pipeline *p = pipeline(RAS_AA_NONE, 1);
+        draw_scene(p, order == 1);
+        int written = 0;
+        ras_error err = {{0}};
+        CHECK(ras_pipeline_dump(p, dir, &written, &err), "dump: %s", err.msg);
+        assert_int_equal(written, 2); /* depth and overdraw; no coverage at 1x */
+        CHECK(!exists(dir, "coverage.pfm") && !exists(dir, "coverage.png"),
+              "a frame without anti-aliasing has no coverage buffer, yet coverage files exist");
+        int w, h, ch;
+        float *depth = read_back(dir, "depth", &w, &h, &ch);
+        assert_int_equal(w, W);
+        assert_int_equal(h, H);
+        assert_int_equal(ch, 1);
+        CHECK(memcmp(depth, p->fb->depth, sizeof(float) * W * H) == 0,
+              "depth.pfm differs from the depth buffer in memory");
+        free(depth);
+        float *over = read_back(dir, "overdraw", &w, &h, &ch);
+        /* Screen pixel (x, y): the near triangle covers NDC x -0.6..0.2 at
+         * the bottom; pixel (6, 5) has its centre (6.5, 5.5) at NDC
+         * (-0.458, -0.3125), inside it; pixel (2, 14) is on the quad only;
+         * pixel (22, 8) is right of the quad (NDC x 0.875 > 0.55). */
+        int in_both = ras_fb_pixel_index(p->fb, 6, 5), quad_only = ras_fb_pixel_index(p->fb, 2, 14),
+            outside = ras_fb_pixel_index(p->fb, 22, 8);
+        float want = order == 1 ? 1.0f : 2.0f;
+        CHECK(over[in_both] == want,
+              "overdraw where the near triangle is %s the far quad: expected %g, got %g",
+              order == 1 ? "drawn before (the quad fails the depth test)" : "drawn after",
+              (double)want, (double)over[in_both]);
+        CHECK(over[quad_only] == 1.0f && over[outside] == 0.0f,
+              "overdraw on the quad only: expected 1 and 0 outside, got %g and %g",
+              (double)over[quad_only], (double)over[outside]);
+        CHECK(memcmp(over, p->overdraw, sizeof(float) * W * H) == 0,
+              "overdraw.pfm differs from the count in memory");
+        free(over);
+        /* the sidecar: sizes, the range and the empty count, computed here */
+        char path[512];
+        snprintf(path, sizeof path, "%s/depth.json", dir);
+        ras_error e2 = {{0}};
+        size_t len = 0;
+        char *text = ras_io_read_file(path, "sidecar", 1 << 20, &len, &e2);
+        CHECK(text, "depth.json: %s", e2.msg);
+        char *z = realloc(text, len + 1);
+        assert_non_null(z);
+        z[len] = '\0';
+        cJSON *j = cJSON_Parse(z);
+        free(z);
+        assert_non_null(j);
+        double lo = INFINITY, hi = -INFINITY;
+        long empty = 0;
+        for (int i = 0; i < W * H; i++) {
+            float d = p->fb->depth[i];
+            if (d == INFINITY) {
+                empty++;
+                continue;
+            }
+            lo = d < lo ? d : lo;
+            hi = d > hi ? d : hi;
+        }
+        cJSON *range = cJSON_GetArrayItem(cJSON_GetObjectItem(j, "range"), 0);
+        CHECK(cJSON_GetObjectItem(j, "width")->valueint == W &&
+                  cJSON_GetObjectItem(j, "samples")->valueint == 1 &&
+                  !strcmp(cJSON_GetObjectItem(j, "buffer")->valuestring, "depth"),
+              "depth.json: wrong size, samples or name");
+        CHECK(fabs(cJSON_GetArrayItem(range, 0)->valuedouble - lo) < 1e-7 &&
+                  fabs(cJSON_GetArrayItem(range, 1)->valuedouble - hi) < 1e-7,
+              "depth.json range [%g, %g], expected [%g, %g]",
+              cJSON_GetArrayItem(range, 0)->valuedouble, cJSON_GetArrayItem(range, 1)->valuedouble,
+              lo, hi);
+        CHECK((long)cJSON_GetObjectItem(j, "empty_entries")->valuedouble == empty,
+              "depth.json: %g empty entries, expected %ld",
+              cJSON_GetObjectItem(j, "empty_entries")->valuedouble, empty);
+        cJSON_Delete(j);
+        /* the picture: the frame and the legend below it; nothing drawn at
+         * the right edge, so black there */
+        snprintf(path, sizeof path, "%s/depth.png", dir);
+        ras_image *img = ras_image_load(path, &e2);
+        CHECK(img, "depth.png: %s", e2.msg);
+        CHECK(img->width == W && img->height > H,
+              "depth.png is %dx%d, expected %d wide and a "
+              "legend below %d rows",
+              img->width, img->height, W, H);
+        vec3s c = ras_image_get(img, W - 1, 0);
+        CHECK(c.x == 0 && c.y == 0 && c.z == 0, "an empty pixel of depth.png is not black");
+        ras_image_destroy(img);
+        ras_pipeline_destroy(p);
+    }
+    remove_dir(dir);
+}
+
+static void test_dump_coverage_per_sample(void **state) {
+    (void)state;
+    char dir[64];
+    temp_dir(dir, sizeof dir);
+    ras_pipeline *p = pipeline(RAS_AA_MSAA, 4);
+    draw_scene(p, false);
+    int written = 0;
+    ras_error err = {{0}};
+    CHECK(ras_pipeline_dump(p, dir, &written, &err), "dump: %s", err.msg);
+    assert_int_equal(written, 3);
+    int w, h, ch;
+    float *cov = read_back(dir, "coverage", &w, &h, &ch);
+    CHECK(w == W * 4 && h == H && ch == 1, "coverage.pfm is %dx%d (%d channels), expected %dx%d", w,
+          h, ch, W * 4, H);
+    long partial = 0;
+    for (int i = 0; i < W * H * 4; i++)
+        CHECK(cov[i] == (p->fb->depth[i] != INFINITY ? 1.0f : 0.0f),
+              "coverage entry %d is %g, but the depth there is %g", i, (double)cov[i],
+              (double)p->fb->depth[i]);
+    for (int i = 0; i < W * H; i++) {
+        float s = cov[4 * i] + cov[4 * i + 1] + cov[4 * i + 2] + cov[4 * i + 3];
+        partial += s > 0 && s < 4;
+    }
+    /* Hand-worked: the near triangle lies on the quad, so its edges cover
+     * nothing new; the quad's right edge at x = 18.6 splits column 18 (the
+     * ordered 4x samples at x + 0.25 and x + 0.75: 18.25 in, 18.75 out), and
+     * only that column, all H rows. */
+    CHECK(partial == H, "pixels partly covered: expected %d (column 18), got %ld", H, partial);
+    float *depth = read_back(dir, "depth", &w, &h, &ch);
+    CHECK(w == W * 4 && memcmp(depth, p->fb->depth, sizeof(float) * W * H * 4) == 0,
+          "per-sample depth.pfm differs from the depth buffer in memory");
+    free(depth);
+    free(cov);
+    ras_pipeline_destroy(p);
+    remove_dir(dir);
+}
+
+static void test_dump_wireframe_writes_nothing(void **state) {
+    (void)state;
+    char dir[64];
+    temp_dir(dir, sizeof dir);
+    ras_pipeline_config cfg = {.width = W, .height = H, .wireframe = true, .dump = true};
+    ras_pipeline *p = ras_pipeline_create(&cfg, NULL);
+    assert_non_null(p);
+    draw_scene(p, false);
+    int written = -1;
+    assert_true(ras_pipeline_dump(p, dir, &written, NULL));
+    assert_int_equal(written, 0);
+    CHECK(!exists(dir, "depth.pfm"), "a wireframe has no depth buffer, yet depth.pfm exists");
+    ras_pipeline_destroy(p);
+    remove_dir(dir);
+}
+
+/* NaN, ±INF and the smallest subnormal survive the file bit for bit, in one
+ * channel and in three. */
+static void test_dump_exact_special_values(void **state) {
+    (void)state;
+    char dir[64];
+    temp_dir(dir, sizeof dir);
+    float v[2 * 3 * 3];
+    const float special[] = {NAN, INFINITY, -INFINITY, 1e-45f, -0.0f, 0.1f, 3.4e38f, -1, 0.5f};
+    for (int i = 0; i < 18; i++)
+        v[i] = special[i % 9];
+    for (int ch = 1; ch <= 3; ch += 2) {
+        ras_dump_buffer b = {.name = "special",
+                             .what = "test values",
+                             .units = "none",
+                             .width = 3,
+                             .height = ch == 1 ? 6 : 2,
+                             .samples = 1,
+                             .channels = ch,
+                             .data = v,
+                             .style = ch == 1 ? RAS_DUMP_SCALAR : RAS_DUMP_VECTOR};
+        ras_error err = {{0}};
+        CHECK(ras_dump_write(dir, &b, &err), "write: %s", err.msg);
+        int w, h, c;
+        float *back = read_back(dir, "special", &w, &h, &c);
+        CHECK(w == 3 && h == b.height && c == ch && memcmp(back, v, sizeof v) == 0,
+              "%d-channel special values did not come back bit for bit", ch);
+        free(back);
+    }
+    remove_dir(dir);
+}
+
+static void test_dump_dir_must_be_a_folder(void **state) {
+    (void)state;
+    char dir[64], file[128];
+    temp_dir(dir, sizeof dir);
+    snprintf(file, sizeof file, "%s/a-file", dir);
+    FILE *f = fopen(file, "w");
+    assert_non_null(f);
+    fclose(f);
+    ras_error err = {{0}};
+    CHECK(!ras_dump_prepare_dir(file, &err) && strstr(err.msg, "expects a folder"),
+          "--dump on a file: expected 'expects a folder', got '%s'", err.msg);
+    char sub[160];
+    snprintf(sub, sizeof sub, "%s/new", dir);
+    CHECK(ras_dump_prepare_dir(sub, &err), "--dump into a new folder: %s", err.msg);
+    remove_dir(dir);
+}
+
+int main(void) {
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_dump_depth_exact_and_overdraw),
+        cmocka_unit_test(test_dump_coverage_per_sample),
+        cmocka_unit_test(test_dump_wireframe_writes_nothing),
+        cmocka_unit_test(test_dump_exact_special_values),
+        cmocka_unit_test(test_dump_dir_must_be_a_folder),
+    };
+    return RAS_RUN_TESTS("dump", tests, NULL, NULL);
+}
