@@ -427,7 +427,7 @@ static vec3s shade(worker *w, const fast_tri *r, vec3s bary) {
  * rare lanes with a near-zero vector to normalise (see v3_normalize) are done
  * per lane with the scalar functions. */
 
-enum { BATCH_NONE, BATCH_NORMAL, BATCH_PHONG, BATCH_TEXTURE };
+enum { BATCH_NONE, BATCH_NORMAL, BATCH_PHONG, BATCH_TEXTURE, BATCH_BUMP, BATCH_DISPLACEMENT };
 
 /* shade() without counting: for a lane redone by the scalar path after the
  * vector path has already counted it. */
@@ -524,6 +524,76 @@ static v3x4 bilinear_x4_blend(const footprint *F) {
     return (v3x4){out[0], out[1], out[2]};
 }
 
+/* height_sample (shading.h) for four lookups: |rgb| · 255 of the height map
+ * read bilinearly (any filter but nearest) or nearest, lane by lane with the
+ * reference's operations (glm_vec3_norm: sqrtf of (x·x + y·y) + z·z). Lanes
+ * from `lanes` on are not looked up. Counts nothing (the caller does). */
+static vf4 height_x4(const fragment_shader_payload *pay, vf4 u, vf4 v, int lanes) {
+    const ras_texture *tex = pay->height_map;
+    v3x4 rgb;
+    if (pay->filter == FILTER_NEAREST) {
+        rgb = v3_splat((vec3s){{0.0f, 0.0f, 0.0f}});
+        for (int i = 0; i < lanes; i++) {
+            vec3s c = ras_texture_sample_nearest(tex, u[i], v[i]);
+            rgb.x[i] = c.x, rgb.y[i] = c.y, rgb.z[i] = c.z;
+        }
+    } else {
+        footprint F;
+        bilinear_x4_footprint(tex, u, v, lanes, &F);
+        rgb = bilinear_x4_blend(&F);
+        for (int i = 0; i < lanes; i++) {
+            if (!(F.fallback >> i & 1)) continue;
+            vec3s c = texture_sample_bilinear(tex, u[i], v[i]);
+            rgb.x[i] = c.x, rgb.y[i] = c.y, rgb.z[i] = c.z;
+        }
+    }
+    return vf4_splat(255.0f) * vf4_sqrt(v3_dot(rgb, rgb));
+}
+
+/* bump_normal (solution/shading.c) for four fragments: n = normalize(normal)
+ * (the payload's normal, itself normalised), tangent_frame's t and b, the
+ * three height lookups and TBN · (−dU, −dV, 1) normalised — the reference's
+ * float operations in its order, lane by lane; a lane whose result is not
+ * finite keeps n, as the reference does. *h receives h(u, v) (displacement
+ * reuses it: the same lookup gives the same float). */
+static v3x4 bump_normal_x4(const fragment_shader_payload *pay, v3x4 normal, vf4 u, vf4 v,
+                           int lanes, vi4 *odd, vf4 *h_out) {
+    v3x4 n = v3_normalize(normal, odd);
+    const ras_texture *hm = pay->height_map;
+    if (!hm) {
+        *h_out = vf4_splat(0.0f);
+        return n;
+    }
+    /* tangent_frame */
+    vf4 zero = vf4_splat(0.0f), one = vf4_splat(1.0f);
+    vf4 s = vf4_sqrt(n.x * n.x + n.z * n.z);
+    vi4 big = s > vf4_splat(1e-6f);
+    v3x4 t = {vf4_select(big, n.x * n.y / s, one), vf4_select(big, s, zero),
+              vf4_select(big, n.z * n.y / s, zero)};
+    v3x4 b = {n.y * t.z - n.z * t.y, n.z * t.x - n.x * t.z, n.x * t.y - n.y * t.x};
+    vf4 h = height_x4(pay, u, v, lanes);
+    vf4 k = vf4_splat(pay->kh * pay->kn);
+    vf4 du = k * (height_x4(pay, u + vf4_splat(1.0f / (float)hm->width), v, lanes) - h);
+    vf4 dv = k * (height_x4(pay, u, v + vf4_splat(1.0f / (float)hm->height), lanes) - h);
+    v3x4 p = v3_add(v3_scale(t, -du), v3_scale(b, -dv));
+    v3x4 bumped = v3_normalize(v3_add(p, n), odd);
+    vf4 fmax = vf4_splat(FLT_MAX);
+    vi4 fin = (vf4)((vi4)bumped.x & 0x7fffffff) <= fmax;
+    fin &= (vf4)((vi4)bumped.y & 0x7fffffff) <= fmax;
+    fin &= (vf4)((vi4)bumped.z & 0x7fffffff) <= fmax;
+    *h_out = h;
+    return (v3x4){vf4_select(fin, bumped.x, n.x), vf4_select(fin, bumped.y, n.y),
+                  vf4_select(fin, bumped.z, n.z)};
+}
+
+/* What height_sample and bump_normal add to the counters for `count`
+ * fragments: `lookups` height lookups each. */
+static void count_heights(const fragment_shader_payload *pay, uint64_t lookups, uint64_t count) {
+    if (!pay->counters || !pay->height_map) return;
+    pay->counters->stages_run |= RAS_STAGE_TEXTURE | RAS_STAGE_BUMP;
+    pay->counters->texels_fetched += lookups * (pay->filter == FILTER_NEAREST ? 1 : 4) * count;
+}
+
 /* Four fragments between the two halves of their shading. */
 typedef struct lanes4 {
     const queued *q;
@@ -606,6 +676,26 @@ static void shade_prepare(worker *w, const queued *q, int lanes, lanes4 *S) {
     v3x4 point = {lo[3], hi[0], hi[1]}; /* payload->view_pos */
     S->u = hi[2];
     S->v = hi[3];
+    if (fr->batch == BATCH_BUMP) {
+        /* bump_fragment_shader: (bump_normal + 1) · 0.5 */
+        vf4 h;
+        v3x4 n = bump_normal_x4(pay, normal, S->u, S->v, lanes, &odd, &h);
+        count_heights(pay, 3, (uint64_t)lanes);
+        S->color = v3_scale(v3_add(n, v3_splat((vec3s){{1.0f, 1.0f, 1.0f}})), vf4_splat(0.5f));
+        S->odd = odd;
+        return;
+    }
+    if (fr->batch == BATCH_DISPLACEMENT) {
+        /* displacement_fragment_shader: the point p + n·(kn·h), then
+         * Blinn-Phong with bump_normal's normal (below) */
+        vf4 h;
+        v3x4 bumped = bump_normal_x4(pay, normal, S->u, S->v, lanes, &odd, &h);
+        count_heights(pay, 4, (uint64_t)lanes);
+        v3x4 n = v3_normalize(normal, &odd);
+        vf4 s = vf4_splat(pay->kn) * h;
+        point = (v3x4){point.x + n.x * s, point.y + n.y * s, point.z + n.z * s};
+        normal = bumped;
+    }
     /* fast_blinn_phong, up to kd */
     if (pay->counters) {
         pay->counters->stages_run |= RAS_STAGE_LIGHTING;
@@ -660,7 +750,7 @@ static void shade_finish(worker *w, lanes4 *S) {
     int lanes = S->lanes;
     fragment_shader_payload *pay = &w->pay[q[0].r->object];
     v3x4 color = S->color;
-    if (fr->batch != BATCH_NORMAL) {
+    if (fr->batch != BATCH_NORMAL && fr->batch != BATCH_BUMP) {
         v3x4 kd = v3_splat(pay->color);
         if (fr->batch == BATCH_TEXTURE && pay->texture && pay->filter == FILTER_BILINEAR) {
             kd = bilinear_x4_blend(&S->texels);
@@ -756,7 +846,9 @@ static void count_unshaded(worker *w, const queued *f) {
     const fragment_shader_payload *pay = &w->pay[f->r->object];
     w->k.fragments_shaded++;
     w->k.varyings_interpolated += fr->varyings_per_fragment;
-    if (fr->batch == BATCH_NORMAL || !pay->counters) return;
+    if (fr->batch == BATCH_BUMP) count_heights(pay, 3, 1);
+    if (fr->batch == BATCH_DISPLACEMENT) count_heights(pay, 4, 1);
+    if (fr->batch == BATCH_NORMAL || fr->batch == BATCH_BUMP || !pay->counters) return;
     pay->counters->stages_run |= RAS_STAGE_LIGHTING;
     pay->counters->lighting_evaluations += (uint64_t)pay->light_count;
     if (fr->batch == BATCH_TEXTURE && pay->texture) {
@@ -852,6 +944,12 @@ static int batch_kind(const hw3_scene *scene, const hw3_render_options *opt,
     if (stage->shader == texture_fragment_shader && lit && (v & RAS_VARYING_UV) &&
         opt->filter != FILTER_TRILINEAR)
         return BATCH_TEXTURE;
+    /* bump and displacement read no uv derivatives: any filter */
+    if (stage->shader == bump_fragment_shader && (v & RAS_VARYING_NORMAL) &&
+        (v & RAS_VARYING_UV))
+        return BATCH_BUMP;
+    if (stage->shader == displacement_fragment_shader && lit && (v & RAS_VARYING_UV))
+        return BATCH_DISPLACEMENT;
     return BATCH_NONE;
 }
 
