@@ -106,7 +106,10 @@ static void paint(const ras_dump_buffer *b, const stats *s, uint8_t *rgb) {
             } else {
                 for (int c = 0; c < 3; c++) {
                     double v = c < ch ? sum[c] / n : 0;
-                    if (b->style == RAS_DUMP_VECTOR) v = 0.5 + 0.5 * v;
+                    if (b->style == RAS_DUMP_VECTOR)
+                        v = 0.5 + 0.5 * v;
+                    else if (v < 0 || v > 1) /* repeating coordinates: the fraction */
+                        v -= floor(v);
                     p[c] = ras_unit_to_byte((float)v);
                 }
             }
@@ -130,7 +133,10 @@ static void legend(const ras_dump_buffer *b, const stats *s, uint8_t *rgb) {
         snprintf(text, sizeof text, "%s: x y z as red green blue (0.5 + 0.5 v); black: empty",
                  b->name);
     else
-        snprintf(text, sizeof text, "%s: u v as red green; black: empty", b->name);
+        snprintf(text, sizeof text,
+                 "%s: u v as red green (outside 0..1: the fraction); black: "
+                 "empty",
+                 b->name);
     cv_bridge_draw_text(rgb, w, h, 4, b->height + 28, text, 0.4);
 }
 

@@ -32,7 +32,7 @@
 typedef enum ras_dump_style {
     RAS_DUMP_SCALAR, /* one channel, false colour over its finite range */
     RAS_DUMP_VECTOR, /* three channels in [-1, 1] (a normal), shown as 0.5 + 0.5 v */
-    RAS_DUMP_UNIT,   /* two or three channels in [0, 1] (u, v), shown as they are */
+    RAS_DUMP_UNIT,   /* two or three channels in [0, 1] (u, v); outside it the fraction is shown */
 } ras_dump_style;
 
 typedef struct ras_dump_buffer {

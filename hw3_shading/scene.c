@@ -1,6 +1,8 @@
 /* scene.c — see scene.h. */
 #include "scene.h"
 
+#include "ras_dump.h"
+
 #include "rasterizer.h" /* hw2: rasterize_triangle, resolve_pixel */
 #include "transform.h"  /* hw1: get_projection_matrix */
 
@@ -110,6 +112,19 @@ vec3s hw3_shade_fragment(const ras_triangle *t, const ras_fragment *f, void *use
         }
     }
     if (payload.counters) payload.counters->varyings_interpolated += interpolated;
+    hw3_gbuffer *g = stage->gbuffer;
+    if (g && f->x >= 0 && f->x < g->width && f->y >= 0 && f->y < g->height) {
+        size_t i = (size_t)(g->height - 1 - f->y) * (size_t)g->width + (size_t)f->x;
+        if (g->normal)
+            for (int k = 0; k < 3; k++)
+                g->normal[3 * i + k] = payload.normal.raw[k];
+        if (g->uv) {
+            g->uv[3 * i] = payload.uv.x;
+            g->uv[3 * i + 1] = payload.uv.y;
+            g->uv[3 * i + 2] = 0.0f;
+        }
+        if (g->view_depth) g->view_depth[i] = -payload.view_pos.z;
+    }
     return stage->shader(&payload);
 }
 
@@ -459,6 +474,64 @@ static mat4s object_model(const hw3_object *o, float angle_deg) {
     return glms_mat4_mul(glms_mat4_mul(o->place, rotate_y(o->yaw_deg + angle_deg)), o->orient);
 }
 
+/* --dump's fragment-stage buffers, for the varyings this frame interpolates;
+ * false on out of memory. */
+static bool gbuffer_create(hw3_gbuffer *g, int width, int height, unsigned varyings) {
+    size_t n = (size_t)width * (size_t)height;
+    *g = (hw3_gbuffer){.width = width, .height = height};
+    float **arrays[3] = {&g->normal, &g->uv, &g->view_depth};
+    const unsigned need[3] = {RAS_VARYING_NORMAL, RAS_VARYING_UV, RAS_VARYING_VIEW_POS};
+    const size_t channels[3] = {3, 3, 1};
+    for (int k = 0; k < 3; k++) {
+        if (!(varyings & need[k])) continue;
+        float *a = malloc(n * channels[k] * sizeof *a);
+        if (!a) return false;
+        for (size_t i = 0; i < n * channels[k]; i++)
+            a[i] = INFINITY;
+        *arrays[k] = a;
+    }
+    return true;
+}
+
+static void gbuffer_destroy(hw3_gbuffer *g) {
+    free(g->normal);
+    free(g->uv);
+    free(g->view_depth);
+}
+
+static bool gbuffer_dump(const hw3_gbuffer *g, const char *dir, ras_error *err) {
+    const ras_dump_buffer buffers[3] = {
+        {.name = "normal",
+         .what = "the unit normal each pixel's shader got (interpolated, normalised), view space",
+         .units = "unit vector: x right, y up, z towards the eye",
+         .channels = 3,
+         .data = g->normal,
+         .style = RAS_DUMP_VECTOR},
+        {.name = "uv",
+         .what = "the texture coordinates each pixel's shader got (perspective-correct unless "
+                 "--affine); the third channel is 0",
+         .units = "u, v in texture space (1 = the texture's width, height)",
+         .channels = 3,
+         .data = g->uv,
+         .style = RAS_DUMP_UNIT},
+        {.name = "view_depth",
+         .what = "how far in front of the eye each pixel's shaded point is: -z of its "
+                 "interpolated view-space position",
+         .units = "scene units",
+         .channels = 1,
+         .data = g->view_depth,
+         .style = RAS_DUMP_SCALAR},
+    };
+    for (int k = 0; k < 3; k++) {
+        if (!buffers[k].data) continue;
+        ras_dump_buffer b = buffers[k];
+        b.width = g->width, b.height = g->height, b.samples = 1;
+        b.empty = INFINITY, b.has_empty = true;
+        if (!ras_dump_write(dir, &b, err)) return false;
+    }
+    return true;
+}
+
 static bool shader_reads_texture(hw3_shader shader) {
     return shader == HW3_SHADER_TEXTURE;
 }
@@ -489,7 +562,7 @@ bool hw3_render(hw3_scene *scene, const hw3_render_options *opt, ras_image *out,
         scene->fov_deg, (float)scene->width / (float)scene->height, scene->z_near, scene->z_far);
     /* The renderer hook: another renderer draws the frame when it accepts it. */
     const hw3_renderer *r = opt->renderer;
-    if (r && r->accepts(r, opt)) {
+    if (r && !opt->dump_dir && r->accepts(r, opt)) {
         mat4s models[HW3_MAX_OBJECTS];
         for (int i = 0; i < scene->object_count; i++)
             models[i] = object_model(&scene->objects[i], opt->angle_deg);
@@ -514,9 +587,21 @@ bool hw3_render(hw3_scene *scene, const hw3_render_options *opt, ras_image *out,
                                .rasterize = rasterize_triangle,
                                .resolve = resolve_pixel,
                                .shade = hw3_shade_fragment,
-                               .shade_user = &stage};
+                               .shade_user = &stage,
+                               .dump = opt->dump_dir != NULL};
+    hw3_gbuffer gbuffer = {0};
+    if (opt->dump_dir) {
+        if (!gbuffer_create(&gbuffer, scene->width, scene->height, stage.varyings)) {
+            gbuffer_destroy(&gbuffer);
+            return ras_error_set(err, "out of memory for the buffers of --dump");
+        }
+        stage.gbuffer = &gbuffer;
+    }
     ras_pipeline *p = ras_pipeline_create(&cfg, err);
-    if (!p) return false;
+    if (!p) {
+        gbuffer_destroy(&gbuffer);
+        return false;
+    }
     b->counters = &p->counters;
     p->counters.mip_levels_built = mip_levels;
     if (mip_levels) p->counters.stages_run |= RAS_STAGE_MIPMAP;
@@ -536,7 +621,11 @@ bool hw3_render(hw3_scene *scene, const hw3_render_options *opt, ras_image *out,
                                     err);
     }
     if (ok) ras_pipeline_end_frame(p, out);
+    if (ok && opt->dump_dir)
+        ok = ras_pipeline_dump(p, opt->dump_dir, NULL, err) &&
+             gbuffer_dump(&gbuffer, opt->dump_dir, err);
     if (stats) *stats = p->counters;
     ras_pipeline_destroy(p);
+    gbuffer_destroy(&gbuffer);
     return ok;
 }

@@ -49,6 +49,18 @@ unsigned hw3_shader_varyings(hw3_shader shader);
 const char *hw3_filter_name(texture_filter filter); /* "nearest", "bilinear", "trilinear" */
 bool hw3_filter_parse(const char *name, texture_filter *out, ras_error *err);
 
+/* --dump's buffers of the fragment stage: per pixel, what the last fragment
+ * shaded there was given (the visible one: a later fragment passed the
+ * depth test, so it is nearer). A NULL array is a buffer this frame does not
+ * produce (its shader does not read that varying). Entries nothing was
+ * shaded at stay +INF. Row-major, top row first, like the framebuffer. */
+typedef struct hw3_gbuffer {
+    int width, height;
+    float *normal;     /* 3 per pixel: the unit normal the shader got, view space */
+    float *uv;         /* 3 per pixel: u, v and 0 */
+    float *view_depth; /* 1 per pixel: -view_pos.z, the distance in front of the eye */
+} hw3_gbuffer;
+
 /* The fragment stage's state: the pipeline's shade_user. `base` holds the
  * per-scene and per-object fields; the varyings are filled per fragment. */
 typedef struct hw3_fragment_stage {
@@ -56,6 +68,7 @@ typedef struct hw3_fragment_stage {
     unsigned varyings;
     bool perspective; /* false: affine interpolation (the w = 1 pitfall, for pictures) */
     fragment_shader_payload base;
+    hw3_gbuffer *gbuffer; /* --dump only; NULL otherwise */
 } hw3_fragment_stage;
 
 /* ras_shade_fn: user is a hw3_fragment_stage. */
@@ -145,6 +158,11 @@ typedef struct hw3_render_options {
     ras_cull_mode cull;  /* default none */
     ras_edge_mode edges; /* default fixed */
     ras_depth_format depth; /* default z01 (inverse_w: with the scene's z_near, stage3_setup.h) */
+    /* --dump DIR: the frame's buffers are written there (ras_dump.h: depth,
+     * coverage with AA, overdraw, and the fragment stage's normal, uv and
+     * view_depth where the shader reads them); the teaching pipeline draws
+     * such a frame. NULL: nothing is dumped or kept. */
+    const char *dump_dir;
 } hw3_render_options;
 
 /* One frame as hw3_render has set it up for the teaching loop: the scene,

@@ -10,6 +10,10 @@
  *   existence   no coverage file without anti-aliasing, no file at all for a
  *               wireframe; the sidecar's size, range and empty count are the
  *               ones computed here; the picture is the frame plus its legend
+ *   hw3         the fragment stage's buffers exist exactly for the varyings
+ *               the shader reads (phong: normal and view_depth, no uv;
+ *               texture: uv too); where something was drawn the normal is a
+ *               unit vector, elsewhere +INF; dumping changes no pixel
  *   errors      --dump on a file says it expects a folder
  */
 #include <setjmp.h> /* cmocka needs these before cmocka.h */
@@ -26,6 +30,7 @@
 #include "ras_io.h"
 #include "ras_pipeline.h"
 #include "rasterizer.h" /* hw2 reference: rasterize_triangle, resolve_pixel */
+#include "scene.h"      /* hw3: hw3_render with dump_dir */
 
 #include <cjson/cJSON.h>
 #include <math.h>
@@ -289,6 +294,57 @@ static void test_dump_exact_special_values(void **state) {
     remove_dir(dir);
 }
 
+static void test_dump_hw3_fragment_buffers(void **state) {
+    (void)state;
+    const char *shaders[2] = {"phong", "texture"};
+    for (int k = 0; k < 2; k++) {
+        char dir[64];
+        temp_dir(dir, sizeof dir);
+        ras_error err = {{0}};
+        hw3_scene *scene = hw3_scene_create_default(&err);
+        CHECK(scene, "default scene: %s", err.msg);
+        scene->width = 96, scene->height = 72;
+        hw3_render_options opt = hw3_render_defaults();
+        assert_true(hw3_shader_parse(shaders[k], &opt.shader, &err));
+        ras_image *plain = ras_image_create(96, 72, NULL), *dumped = ras_image_create(96, 72, NULL);
+        assert_true(plain && dumped);
+        CHECK(hw3_render(scene, &opt, plain, NULL, &err), "render: %s", err.msg);
+        opt.dump_dir = dir;
+        CHECK(hw3_render(scene, &opt, dumped, NULL, &err), "render with --dump: %s", err.msg);
+        CHECK(memcmp(plain->pixels, dumped->pixels, sizeof(vec3s) * 96 * 72) == 0,
+              "%s: the picture changed when its buffers were dumped", shaders[k]);
+        bool want_uv = k == 1;
+        CHECK(exists(dir, "depth.pfm") && exists(dir, "overdraw.pfm") &&
+                  exists(dir, "normal.pfm") && exists(dir, "view_depth.pfm") &&
+                  exists(dir, "uv.pfm") == want_uv && !exists(dir, "coverage.pfm"),
+              "%s: expected depth, overdraw, normal, view_depth%s and no coverage", shaders[k],
+              want_uv ? ", uv" : " and no uv (the shader reads no texture)");
+        int w, h, ch;
+        float *n = read_back(dir, "normal", &w, &h, &ch);
+        float *d = read_back(dir, "depth", &w, &h, &ch);
+        long drawn = 0;
+        for (int i = 0; i < 96 * 72; i++) {
+            double len = sqrt((double)n[3 * i] * n[3 * i] + (double)n[3 * i + 1] * n[3 * i + 1] +
+                              (double)n[3 * i + 2] * n[3 * i + 2]);
+            if (d[i] == INFINITY)
+                CHECK(n[3 * i] == INFINITY, "%s: a normal at pixel %d where nothing was drawn",
+                      shaders[k], i);
+            else {
+                drawn++;
+                CHECK(fabs(len - 1) < 1e-5, "%s: normal at pixel %d has length %g, not 1",
+                      shaders[k], i, len);
+            }
+        }
+        CHECK(drawn > 96 * 72 / 10, "%s: only %ld pixels drawn", shaders[k], drawn);
+        free(n);
+        free(d);
+        ras_image_destroy(plain);
+        ras_image_destroy(dumped);
+        hw3_scene_destroy(scene);
+        remove_dir(dir);
+    }
+}
+
 static void test_dump_dir_must_be_a_folder(void **state) {
     (void)state;
     char dir[64], file[128];
@@ -312,6 +368,7 @@ int main(void) {
         cmocka_unit_test(test_dump_coverage_per_sample),
         cmocka_unit_test(test_dump_wireframe_writes_nothing),
         cmocka_unit_test(test_dump_exact_special_values),
+        cmocka_unit_test(test_dump_hw3_fragment_buffers),
         cmocka_unit_test(test_dump_dir_must_be_a_folder),
     };
     return RAS_RUN_TESTS("dump", tests, NULL, NULL);
