@@ -448,15 +448,23 @@ static vec3s shade_silent(worker *w, const fast_tri *r, vec3s bary) {
  * colour channel) with lerp3's operations in its order, so every lane is the
  * reference's float. */
 typedef struct footprint {
-    const vec3s *texel[4][4]; /* lookup i: (i0, j0), (i0+1, j0), (i0, j0+1), (i0+1, j0+1) */
+    const vec3s *px; /* level 0's texels */
+    /* per lane, the texel offsets of (i0, j0), (i0+1, j0), (i0, j0+1),
+     * (i0+1, j0+1) after wrapping (0 in a fallback lane) */
+    vi4 o[4];
     vf4 sx, sy;
     unsigned looked_up, fallback; /* lanes done here / by the reference */
+    bool last; /* some offset is the last texel: no 16-byte load there */
 } footprint;
+
+static inline const vec3s *footprint_texel(const footprint *F, int lane, int k) {
+    return F->px + F->o[k][lane];
+}
 
 static void bilinear_x4_footprint(const ras_texture *tex, vf4 u, vf4 v, int lanes,
                                   footprint *F) {
     const int w = tex->level_width[0], h = tex->level_height[0]; /* as bilinear_level */
-    const vec3s *px = tex->levels[0] ? tex->levels[0] : tex->texels;
+    F->px = tex->levels[0] ? tex->levels[0] : tex->texels;
     vf4 zero = vf4_splat(0.0f), one = vf4_splat(1.0f);
     vf4 coord[2] = {u, v};
     for (int c = 0; c < 2; c++) { /* safe_coord */
@@ -474,48 +482,51 @@ static void bilinear_x4_footprint(const ras_texture *tex, vf4 u, vf4 v, int lane
     vf4 x0f = vf4_floor(x), y0f = vf4_floor(y);
     F->sx = x - x0f;
     F->sy = y - y0f;
-    /* x0f, y0f are integers in [-1, size - 1] when the range test passes */
-    vi4 i0 = __builtin_convertvector(vf4_select(x0f == x0f, x0f, zero), vi4);
-    vi4 j0 = __builtin_convertvector(vf4_select(y0f == y0f, y0f, zero), vi4);
-    vi4 bad = (x0f < vf4_splat(-1.0f)) | (x0f > vf4_splat((float)(w - 1))) |
-              (y0f < vf4_splat(-1.0f)) | (y0f > vf4_splat((float)(h - 1)));
-    F->looked_up = F->fallback = 0;
-    for (int i = 0; i < lanes; i++) {
-        if (bad[i]) {
-            F->fallback |= 1u << i;
-            continue;
-        }
-        F->looked_up |= 1u << i;
-        int ia, ib, ja, jb; /* ras_texture_wrap_index of i0, i0 + 1, j0, j0 + 1 */
-        if (tex->wrap == RAS_WRAP_REPEAT) {
-            ia = i0[i] < 0 ? i0[i] + w : i0[i];
-            ib = i0[i] + 1 >= w ? i0[i] + 1 - w : i0[i] + 1;
-            ja = j0[i] < 0 ? j0[i] + h : j0[i];
-            jb = j0[i] + 1 >= h ? j0[i] + 1 - h : j0[i] + 1;
-        } else {
-            ia = i0[i] < 0 ? 0 : i0[i];
-            ib = i0[i] + 1 > w - 1 ? w - 1 : i0[i] + 1;
-            ja = j0[i] < 0 ? 0 : j0[i];
-            jb = j0[i] + 1 > h - 1 ? h - 1 : j0[i] + 1;
-        }
-        F->texel[i][0] = &px[ja * w + ia];
-        F->texel[i][1] = &px[ja * w + ib];
-        F->texel[i][2] = &px[jb * w + ia];
-        F->texel[i][3] = &px[jb * w + ib];
+    /* x0f, y0f are integers in [-1, size - 1] when the range test passes
+     * (NaN fails it: the comparisons below are written to be true for NaN) */
+    vi4 bad = ~((x0f >= vf4_splat(-1.0f)) & (x0f <= vf4_splat((float)(w - 1))) &
+                (y0f >= vf4_splat(-1.0f)) & (y0f <= vf4_splat((float)(h - 1))));
+    vi4 i0 = __builtin_convertvector(vf4_select(bad, zero, x0f), vi4);
+    vi4 j0 = __builtin_convertvector(vf4_select(bad, zero, y0f), vi4);
+    vi4 i1 = i0 + 1, j1 = j0 + 1;
+    vi4 W = {w, w, w, w}, H = {h, h, h, h}, z = {0, 0, 0, 0};
+    vi4 ia, ib, ja, jb; /* ras_texture_wrap_index of i0, i0 + 1, j0, j0 + 1 */
+    if (tex->wrap == RAS_WRAP_REPEAT) {
+        ia = i0 + (W & (i0 < z));
+        ib = i1 - (W & (i1 >= W));
+        ja = j0 + (H & (j0 < z));
+        jb = j1 - (H & (j1 >= H));
+    } else {
+        ia = i0 & ~(i0 < z);
+        vi4 in_w = i1 < W, in_h = j1 < H;
+        ib = (i1 & in_w) | ((W - 1) & ~in_w);
+        ja = j0 & ~(j0 < z);
+        jb = (j1 & in_h) | ((H - 1) & ~in_h);
     }
+    /* fallback lanes read texel 0 (and are replaced) */
+    ia &= ~bad, ib &= ~bad, ja &= ~bad, jb &= ~bad;
+    vi4 ra = ja * W, rb = jb * W;
+    F->o[0] = ra + ia, F->o[1] = ra + ib, F->o[2] = rb + ia, F->o[3] = rb + ib;
+    vi4 L = W * H - 1;
+    F->last = vi4_any((F->o[0] == L) | (F->o[1] == L) | (F->o[2] == L) | (F->o[3] == L));
+    unsigned all = (1u << lanes) - 1;
+    F->fallback = vi4_sign_bits(bad) & all;
+    F->looked_up = all & ~F->fallback;
 }
 
-/* The looked-up lanes' colours (the others are 0). */
+/* Every lane's blend (a fallback lane's, of texel 0, is replaced by the
+ * caller's; lanes past those looked up are unused). */
 static v3x4 bilinear_x4_blend(const footprint *F) {
     vf4 out[4];
     for (int i = 0; i < 4; i++) {
-        if (!(F->looked_up >> i & 1)) {
-            out[i] = vf4_splat(0.0f);
-            continue;
+        vf4 a, b, c, d;
+        if (__builtin_expect(!F->last, 1)) { /* 16 bytes: the next texel's x too */
+            a = vf4_load(&footprint_texel(F, i, 0)->x), b = vf4_load(&footprint_texel(F, i, 1)->x);
+            c = vf4_load(&footprint_texel(F, i, 2)->x), d = vf4_load(&footprint_texel(F, i, 3)->x);
+        } else {
+            a = vf4_load3(&footprint_texel(F, i, 0)->x), b = vf4_load3(&footprint_texel(F, i, 1)->x);
+            c = vf4_load3(&footprint_texel(F, i, 2)->x), d = vf4_load3(&footprint_texel(F, i, 3)->x);
         }
-        const vec3s *const *t = F->texel[i];
-        vf4 a = vf4_load3(&t[0]->x), b = vf4_load3(&t[1]->x);
-        vf4 c = vf4_load3(&t[2]->x), d = vf4_load3(&t[3]->x);
         vf4 s = vf4_splat(F->sx[i]), tt = vf4_splat(F->sy[i]);
         vf4 bottom = a + (b - a) * s, top = c + (d - c) * s;
         out[i] = bottom + (top - bottom) * tt;
@@ -737,7 +748,7 @@ static void shade_prepare(worker *w, const queued *q, int lanes, lanes4 *S) {
         bilinear_x4_footprint(pay->texture, S->u, S->v, lanes, &S->texels);
         for (int i = 0; i < lanes; i++)
             if (S->texels.looked_up >> i & 1)
-                for (int k = 0; k < 4; k++) __builtin_prefetch(S->texels.texel[i][k]);
+                for (int k = 0; k < 4; k++) __builtin_prefetch(footprint_texel(&S->texels, i, k));
     }
 }
 
