@@ -461,57 +461,81 @@ static inline const vec3s *footprint_texel(const footprint *F, int lane, int k) 
     return F->px + F->o[k][lane];
 }
 
-static void bilinear_x4_footprint(const ras_texture *tex, vf4 u, vf4 v, int lanes,
-                                  footprint *F) {
+/* One axis of four lookups: bilinear_level's safe_coord, x = t·n − 0.5, its
+ * floor and fraction, and the two wrapped texel indices times `stride` (1 for
+ * columns, the width for rows). bad: lanes whose floor leaves [-1, n - 1]. */
+typedef struct axis4 {
+    vi4 a, b; /* wrapped index of floor(x), of floor(x) + 1, times stride */
+    vf4 s;    /* x - floor(x) */
+    vi4 bad;
+} axis4;
+
+static inline axis4 axis_x4(vf4 t, int n, int stride, ras_wrap wrap) {
+    vf4 zero = vf4_splat(0.0f), one = vf4_splat(1.0f);
+    /* safe_coord */
+    vi4 finite = (t == t) & ((vf4)((vi4)t & 0x7fffffff) <= vf4_splat(FLT_MAX));
+    t = vf4_select(finite, t, zero);
+    if (wrap == RAS_WRAP_REPEAT)
+        t = t - vf4_floor(t);
+    else
+        t = vf4_select(t < zero, zero, vf4_select(t > one, one, t));
+    vf4 x = t * vf4_splat((float)n) - vf4_splat(0.5f);
+    axis4 A;
+    /* t is in [0, 1], so x is in [-0.5, n - 0.5] and small enough for the
+     * conversion (the range test below still guards): floorf is the
+     * truncation, minus one where it went up; x is never -0 (a difference
+     * x - 0.5 that is zero is +0), so the sign of a zero floor is +. */
+    vi4 bad = ~((x >= vf4_splat(-1.0f)) & (x < vf4_splat((float)n)));
+    vf4 xs = vf4_select(bad, zero, x);
+    vi4 ti = __builtin_convertvector(xs, vi4);
+    vf4 tf = __builtin_convertvector(ti, vf4);
+    vi4 up = tf > xs;
+    vi4 i0 = ti + up; /* up is -1 where truncation went up */
+    vf4 x0f = tf - (vf4)((vi4)one & up);
+    A.s = x - x0f;
+    vi4 i1 = i0 + 1, N = {n, n, n, n}, z = {0, 0, 0, 0};
+    bad |= (i0 < -1) | (i0 > N - 1);
+    vi4 ia, ib; /* ras_texture_wrap_index of i0, i0 + 1 */
+    if (wrap == RAS_WRAP_REPEAT) {
+        ia = i0 + (N & (i0 < z));
+        ib = i1 - (N & (i1 >= N));
+    } else {
+        vi4 in = i1 < N;
+        ia = i0 & ~(i0 < z);
+        ib = (i1 & in) | ((N - 1) & ~in);
+    }
+    ia &= ~bad, ib &= ~bad; /* fallback lanes read texel 0 (and are replaced) */
+    if (stride != 1) {
+        vi4 S = {stride, stride, stride, stride};
+        ia *= S, ib *= S;
+    }
+    A.a = ia, A.b = ib, A.bad = bad;
+    return A;
+}
+
+/* The footprints of lookups (X, Y): lane i reads column X[i], row Y[i]. */
+static void footprint_of(const ras_texture *tex, const axis4 *X, const axis4 *Y, int lanes,
+                         footprint *F) {
     const int w = tex->level_width[0], h = tex->level_height[0]; /* as bilinear_level */
     F->px = tex->levels[0] ? tex->levels[0] : tex->texels;
-    vf4 zero = vf4_splat(0.0f), one = vf4_splat(1.0f);
-    vf4 coord[2] = {u, v};
-    for (int c = 0; c < 2; c++) { /* safe_coord */
-        vf4 t = coord[c];
-        vi4 finite = (t == t) & ((vf4)((vi4)t & 0x7fffffff) <= vf4_splat(FLT_MAX));
-        t = vf4_select(finite, t, zero);
-        if (tex->wrap == RAS_WRAP_REPEAT)
-            t = t - vf4_floor(t);
-        else
-            t = vf4_select(t < zero, zero, vf4_select(t > one, one, t));
-        coord[c] = t;
-    }
-    vf4 x = coord[0] * vf4_splat((float)w) - vf4_splat(0.5f);
-    vf4 y = coord[1] * vf4_splat((float)h) - vf4_splat(0.5f);
-    vf4 x0f = vf4_floor(x), y0f = vf4_floor(y);
-    F->sx = x - x0f;
-    F->sy = y - y0f;
-    /* x0f, y0f are integers in [-1, size - 1] when the range test passes
-     * (NaN fails it: the comparisons below are written to be true for NaN) */
-    vi4 bad = ~((x0f >= vf4_splat(-1.0f)) & (x0f <= vf4_splat((float)(w - 1))) &
-                (y0f >= vf4_splat(-1.0f)) & (y0f <= vf4_splat((float)(h - 1))));
-    vi4 i0 = __builtin_convertvector(vf4_select(bad, zero, x0f), vi4);
-    vi4 j0 = __builtin_convertvector(vf4_select(bad, zero, y0f), vi4);
-    vi4 i1 = i0 + 1, j1 = j0 + 1;
-    vi4 W = {w, w, w, w}, H = {h, h, h, h}, z = {0, 0, 0, 0};
-    vi4 ia, ib, ja, jb; /* ras_texture_wrap_index of i0, i0 + 1, j0, j0 + 1 */
-    if (tex->wrap == RAS_WRAP_REPEAT) {
-        ia = i0 + (W & (i0 < z));
-        ib = i1 - (W & (i1 >= W));
-        ja = j0 + (H & (j0 < z));
-        jb = j1 - (H & (j1 >= H));
-    } else {
-        ia = i0 & ~(i0 < z);
-        vi4 in_w = i1 < W, in_h = j1 < H;
-        ib = (i1 & in_w) | ((W - 1) & ~in_w);
-        ja = j0 & ~(j0 < z);
-        jb = (j1 & in_h) | ((H - 1) & ~in_h);
-    }
-    /* fallback lanes read texel 0 (and are replaced) */
-    ia &= ~bad, ib &= ~bad, ja &= ~bad, jb &= ~bad;
-    vi4 ra = ja * W, rb = jb * W;
-    F->o[0] = ra + ia, F->o[1] = ra + ib, F->o[2] = rb + ia, F->o[3] = rb + ib;
-    vi4 L = W * H - 1;
-    F->last = vi4_any((F->o[0] == L) | (F->o[1] == L) | (F->o[2] == L) | (F->o[3] == L));
+    F->sx = X->s;
+    F->sy = Y->s;
+    vi4 bad = X->bad | Y->bad;
+    F->o[0] = (Y->a + X->a) & ~bad, F->o[1] = (Y->a + X->b) & ~bad;
+    F->o[2] = (Y->b + X->a) & ~bad, F->o[3] = (Y->b + X->b) & ~bad;
+    int L = w * h - 1;
+    vi4 Lv = {L, L, L, L};
+    F->last = vi4_any((F->o[0] == Lv) | (F->o[1] == Lv) | (F->o[2] == Lv) | (F->o[3] == Lv));
     unsigned all = (1u << lanes) - 1;
     F->fallback = vi4_sign_bits(bad) & all;
     F->looked_up = all & ~F->fallback;
+}
+
+static void bilinear_x4_footprint(const ras_texture *tex, vf4 u, vf4 v, int lanes,
+                                  footprint *F) {
+    const int w = tex->level_width[0], h = tex->level_height[0];
+    axis4 X = axis_x4(u, w, 1, tex->wrap), Y = axis_x4(v, h, w, tex->wrap);
+    footprint_of(tex, &X, &Y, lanes, F);
 }
 
 /* Every lane's blend (a fallback lane's, of texel 0, is replaced by the
@@ -535,6 +559,19 @@ static v3x4 bilinear_x4_blend(const footprint *F) {
     return (v3x4){out[0], out[1], out[2]};
 }
 
+/* 255·|rgb| of the bilinear lookups of footprint F (at u, v). */
+static inline vf4 height_of(const ras_texture *tex, const footprint *F, vf4 u, vf4 v,
+                            int lanes) {
+    v3x4 rgb = bilinear_x4_blend(F);
+    if (__builtin_expect(F->fallback != 0, 0))
+        for (int i = 0; i < lanes; i++) {
+            if (!(F->fallback >> i & 1)) continue;
+            vec3s c = texture_sample_bilinear(tex, u[i], v[i]);
+            rgb.x[i] = c.x, rgb.y[i] = c.y, rgb.z[i] = c.z;
+        }
+    return vf4_splat(255.0f) * vf4_sqrt(v3_dot(rgb, rgb));
+}
+
 /* height_sample (shading.h) for four lookups: |rgb| · 255 of the height map
  * read bilinearly (any filter but nearest) or nearest, lane by lane with the
  * reference's operations (glm_vec3_norm: sqrtf of (x·x + y·y) + z·z). Lanes
@@ -551,12 +588,7 @@ static vf4 height_x4(const fragment_shader_payload *pay, vf4 u, vf4 v, int lanes
     } else {
         footprint F;
         bilinear_x4_footprint(tex, u, v, lanes, &F);
-        rgb = bilinear_x4_blend(&F);
-        for (int i = 0; i < lanes; i++) {
-            if (!(F.fallback >> i & 1)) continue;
-            vec3s c = texture_sample_bilinear(tex, u[i], v[i]);
-            rgb.x[i] = c.x, rgb.y[i] = c.y, rgb.z[i] = c.z;
-        }
+        return height_of(tex, &F, u, v, lanes);
     }
     return vf4_splat(255.0f) * vf4_sqrt(v3_dot(rgb, rgb));
 }
@@ -582,10 +614,30 @@ static v3x4 bump_normal_x4(const fragment_shader_payload *pay, v3x4 normal, vf4 
     v3x4 t = {vf4_select(big, n.x * n.y / s, one), vf4_select(big, s, zero),
               vf4_select(big, n.z * n.y / s, zero)};
     v3x4 b = {n.y * t.z - n.z * t.y, n.z * t.x - n.x * t.z, n.x * t.y - n.y * t.x};
-    vf4 h = height_x4(pay, u, v, lanes);
+    vf4 u1 = u + vf4_splat(1.0f / (float)hm->width);
+    vf4 v1 = v + vf4_splat(1.0f / (float)hm->height);
+    vf4 h, hu, hv;
+    if (pay->filter == FILTER_NEAREST) {
+        h = height_x4(pay, u, v, lanes);
+        hu = height_x4(pay, u1, v, lanes);
+        hv = height_x4(pay, u, v1, lanes);
+    } else {
+        /* the three lookups share their columns and rows: u and v1 share u's,
+         * v and u1 share v's */
+        const int w = hm->level_width[0], hh = hm->level_height[0];
+        axis4 X = axis_x4(u, w, 1, hm->wrap), X1 = axis_x4(u1, w, 1, hm->wrap);
+        axis4 Y = axis_x4(v, hh, w, hm->wrap), Y1 = axis_x4(v1, hh, w, hm->wrap);
+        footprint F;
+        footprint_of(hm, &X, &Y, lanes, &F);
+        h = height_of(hm, &F, u, v, lanes);
+        footprint_of(hm, &X1, &Y, lanes, &F);
+        hu = height_of(hm, &F, u1, v, lanes);
+        footprint_of(hm, &X, &Y1, lanes, &F);
+        hv = height_of(hm, &F, u, v1, lanes);
+    }
     vf4 k = vf4_splat(pay->kh * pay->kn);
-    vf4 du = k * (height_x4(pay, u + vf4_splat(1.0f / (float)hm->width), v, lanes) - h);
-    vf4 dv = k * (height_x4(pay, u, v + vf4_splat(1.0f / (float)hm->height), lanes) - h);
+    vf4 du = k * (hu - h);
+    vf4 dv = k * (hv - h);
     v3x4 p = v3_add(v3_scale(t, -du), v3_scale(b, -dv));
     v3x4 bumped = v3_normalize(v3_add(p, n), odd);
     vf4 fmax = vf4_splat(FLT_MAX);
