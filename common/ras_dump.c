@@ -257,3 +257,172 @@ bool ras_dump_prepare_dir(const char *dir, ras_error *err) {
                          "choose a folder you can write",
                          dir, strerror(errno));
 }
+
+const char *const ras_dump_buffer_names[] = {"depth", "coverage",   "overdraw", "normal",
+                                             "uv",    "view_depth", NULL};
+
+/* The tolerance of a buffer kind, and whether it is relative to the value. */
+static double tolerance_of(const char *name, bool *relative) {
+    *relative = !strcmp(name, "depth") || !strcmp(name, "view_depth");
+    if (*relative) return 1e-5;
+    if (!strcmp(name, "normal")) return 1e-3;
+    if (!strcmp(name, "uv")) return 1e-4;
+    return 0; /* coverage, overdraw: counts */
+}
+
+static float *read_dump(const char *dir, const char *name, long max_bytes, int *w, int *h, int *ch,
+                        long *bytes, ras_error *err) {
+    char path[RAS_IO_MAX_PATH + 64];
+    snprintf(path, sizeof path, "%s/%s.pfm", dir, name);
+    struct stat st;
+    if (lstat(path, &st) != 0 || !S_ISREG(st.st_mode))
+        return ras_error_set(err, "%s: no buffer file (expected a regular file)", path), NULL;
+    if (max_bytes >= 0 && st.st_size > max_bytes)
+        return ras_error_set(err, "%s: %lld bytes, more than the reference's %ld", path,
+                             (long long)st.st_size, max_bytes),
+               NULL;
+    *bytes = (long)st.st_size;
+    return ras_dump_read_pfm(path, w, h, ch, err);
+}
+
+bool ras_dump_compare(const char *ref_dir, const char *got_dir, const char *name,
+                      ras_dump_difference *d, ras_error *err) {
+    *d = (ras_dump_difference){.line = -1, .first_col = -1, .first_row = -1, .pattern = ""};
+    int rw, rh, rc, gw, gh, gc;
+    long rbytes = 0, gbytes = 0;
+    float *ref = read_dump(ref_dir, name, -1, &rw, &rh, &rc, &rbytes, err);
+    if (!ref) return false;
+    float *got = read_dump(got_dir, name, rbytes + 4096, &gw, &gh, &gc, &gbytes, err);
+    if (!got) {
+        free(ref);
+        return false;
+    }
+    if (gw != rw || gh != rh || gc != rc) {
+        free(ref);
+        free(got);
+        return ras_error_set(err,
+                             "%s: expected %dx%d with %d channel(s) like the reference, got "
+                             "%dx%d with %d",
+                             name, rw, rh, rc, gw, gh, gc);
+    }
+    /* Samples per pixel: the reference's sidecar would say; the buffers a
+     * frame makes are width*samples wide with samples in 1..64, and only
+     * depth and coverage have them. Read the reference sidecar's "samples". */
+    int samples = 1;
+    char path[RAS_IO_MAX_PATH + 64];
+    snprintf(path, sizeof path, "%s/%s.json", ref_dir, name);
+    size_t jlen = 0;
+    char *json = ras_io_read_file(path, "buffer description", 1 << 20, &jlen, NULL);
+    if (json) {
+        char *z = realloc(json, jlen + 1);
+        if (z) {
+            z[jlen] = '\0';
+            cJSON *j = cJSON_Parse(z);
+            const cJSON *s = cJSON_GetObjectItemCaseSensitive(j, "samples");
+            if (cJSON_IsNumber(s) && s->valueint >= 1 && rw % s->valueint == 0)
+                samples = s->valueint;
+            cJSON_Delete(j);
+            json = z;
+        }
+        free(json);
+    }
+    int w = rw / samples, h = rh, per = samples * rc;
+    bool relative;
+    double tol = tolerance_of(name, &relative);
+    unsigned char *bad = calloc((size_t)w * h, 1);
+    if (!bad) {
+        free(ref);
+        free(got);
+        return ras_error_set(err, "out of memory comparing the %s buffers", name);
+    }
+    d->entries = (long)rw * rh * rc;
+    for (int row = 0; row < h; row++)
+        for (int x = 0; x < w; x++) {
+            const float *a = ref + ((size_t)row * w + x) * per,
+                        *b = got + ((size_t)row * w + x) * per;
+            bool differs = false, one_empty = false;
+            for (int k = 0; k < per; k++) {
+                bool ea = isinf(a[k]) && a[k] > 0, eb = isinf(b[k]) && b[k] > 0;
+                if (ea != eb) {
+                    one_empty = differs = true;
+                    continue;
+                }
+                if (ea) continue;
+                if (isnan(a[k]) != isnan(b[k])) {
+                    differs = true;
+                    continue;
+                }
+                if (isnan(a[k])) continue;
+                double diff = fabs((double)a[k] - b[k]);
+                double limit = relative ? tol * fmax(1.0, fabs((double)a[k])) : tol;
+                if (diff > d->max_abs && isfinite(diff)) d->max_abs = diff;
+                if (diff > limit || !isfinite(diff)) differs = true;
+            }
+            if (!differs) continue;
+            bad[(size_t)row * w + x] = 1;
+            d->pixels_differ++;
+            d->drawn_in_one += one_empty;
+            if (d->first_col < 0) d->first_col = x, d->first_row = row;
+        }
+    free(ref);
+    free(got);
+    /* the pattern: isolated pixels, a line, or regions */
+    int *rows = calloc((size_t)h, sizeof *rows), *cols = calloc((size_t)w, sizeof *cols);
+    if (!rows || !cols) {
+        free(bad), free(rows), free(cols);
+        return ras_error_set(err, "out of memory comparing the %s buffers", name);
+    }
+    for (int row = 0; row < h; row++)
+        for (int x = 0; x < w; x++) {
+            if (!bad[(size_t)row * w + x]) continue;
+            rows[row]++, cols[x]++;
+            int around = 0;
+            for (int dy = -1; dy <= 1; dy++)
+                for (int dx = -1; dx <= 1; dx++)
+                    if ((dx || dy) && row + dy >= 0 && row + dy < h && x + dx >= 0 && x + dx < w)
+                        around += bad[(size_t)(row + dy) * w + x + dx];
+            d->isolated += around <= 2;
+        }
+    for (int pass = 0; pass < 2 && d->line < 0; pass++) {
+        const int *line = pass ? cols : rows;
+        int n = pass ? w : h;
+        for (int i = 0; i < n; i++) {
+            int beside = 0;
+            if (i > 0 && line[i - 1] > beside) beside = line[i - 1];
+            if (i < n - 1 && line[i + 1] > beside) beside = line[i + 1];
+            if (line[i] >= 24 && line[i] >= 4 * (beside + 1) && line[i] * 2 >= d->pixels_differ) {
+                d->line = i, d->line_is_column = pass == 1;
+                break;
+            }
+        }
+    }
+    free(bad), free(rows), free(cols);
+    if (d->pixels_differ == 0)
+        d->pattern = "";
+    else if (d->line >= 0)
+        d->pattern = d->line_is_column ? "along a column" : "along a row";
+    else if (d->isolated * 2 >= d->pixels_differ)
+        d->pattern = "in speckles";
+    else if (d->drawn_in_one * 2 >= d->pixels_differ)
+        d->pattern = "where only one drew";
+    else
+        d->pattern = "in regions";
+    return true;
+}
+
+void ras_dump_difference_text(const char *name, const ras_dump_difference *d, char *buf,
+                              size_t size) {
+    if (d->pixels_differ == 0) {
+        snprintf(buf, size, "%s: the same (within its tolerance)", name);
+        return;
+    }
+    char where[80] = "";
+    if (d->line >= 0)
+        snprintf(where, sizeof where, " %d", d->line);
+    else if (!strcmp(d->pattern, "in speckles"))
+        snprintf(where, sizeof where, ": %ld isolated", d->isolated);
+    snprintf(buf, size,
+             "%s differs in %ld pixels (largest difference %.3g), %s%s; the first at (%d, %d)%s",
+             name, d->pixels_differ, d->max_abs, d->pattern, where, d->first_col, d->first_row,
+             d->drawn_in_one ? "" : "");
+}

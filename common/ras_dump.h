@@ -28,6 +28,7 @@
 #include "ras_error.h"
 
 #include <stdbool.h>
+#include <stddef.h>
 
 typedef enum ras_dump_style {
     RAS_DUMP_SCALAR, /* one channel, false colour over its finite range */
@@ -55,6 +56,39 @@ bool ras_dump_write(const char *dir, const ras_dump_buffer *b, ras_error *err);
 /* Reads an exact float file back: malloc'd floats (free them), its size and
  * channels. At most max_bytes are read. */
 float *ras_dump_read_pfm(const char *path, int *width, int *height, int *channels, ras_error *err);
+
+/* The buffers a dump may hold, in the order a frame makes them (NULL-ended):
+ * the first one that differs from the reference is where to look first. */
+extern const char *const ras_dump_buffer_names[];
+
+/* How buffer NAME of one dump differs from another's (ras_dump_compare). */
+typedef struct ras_dump_difference {
+    long entries;       /* floats compared (all channels and samples) */
+    long pixels_differ; /* pixels with any entry beyond the tolerance */
+    long drawn_in_one;  /* pixels empty in one dump and not in the other */
+    long isolated;      /* differing pixels with at most 2 differing neighbours */
+    int line;           /* a row (or column) wrong along it while its neighbours are
+                         * not: its index; -1 when there is none */
+    bool line_is_column;
+    double max_abs;           /* largest difference where both have a value */
+    int first_col, first_row; /* first differing pixel (image col, row) */
+    const char *pattern;      /* "in speckles", "along a row", "along a column",
+                               * "where only one drew", "in regions" */
+} ras_dump_difference;
+
+/* Compares buffer `name` of the dumps in ref_dir and got_dir with the
+ * tolerance of its kind (depth and view_depth 1e-5 relative, normal 1e-3, uv
+ * 1e-4, coverage and overdraw exact). d->pixels_differ == 0: the same.
+ * got_dir's file may be hostile: it is read only if no larger than the
+ * reference's (plus its header) and must have the reference's size. False
+ * with err when a file is missing or unreadable. */
+bool ras_dump_compare(const char *ref_dir, const char *got_dir, const char *name,
+                      ras_dump_difference *d, ras_error *err);
+
+/* One line for a difference: "depth differs in 3112 of 490000 pixels (max
+ * 0.0021), in speckles: 2900 isolated, the first at (120, 340)". */
+void ras_dump_difference_text(const char *name, const ras_dump_difference *d, char *buf,
+                              size_t size);
 
 /* The folder for --dump: created if missing (one level), refused when it is
  * a file; false with err set. */

@@ -4,6 +4,12 @@
  *   raster101-compare --metric exact|edge|psnr|ssim EXPECTED.png GOT.png
  *                     [--tolerance N] [--max-bad F] [--min-psnr DB] [--min-ssim S]
  *                     [--diff HEATMAP.png] [--crop CROP.png] [--mask]
+ *   raster101-compare --buffers REFERENCE_DIR GOT_DIR
+ *
+ * --buffers compares two --dump folders buffer by buffer, in the order a frame
+ * makes them (depth, coverage, overdraw, normal, uv, view_depth), each with
+ * its kind's tolerance (common/ras_dump.h), and names the first that differs:
+ * where a picture is wrong, the first wrong buffer says which stage made it.
  *
  * Prints the one-line summary of ras_compare_result (and, with --mask, the
  * ASCII coverage window around the worst pixel, background black). Exit
@@ -12,6 +18,7 @@
  * module in-process; this tool is for students and scripts.
  */
 #include "ras_compare.h"
+#include "ras_dump.h"
 #include "ras_image.h"
 #include "ras_memory.h"
 
@@ -21,6 +28,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 static void usage(FILE *out) {
     fputs("usage: raster101-compare --metric exact|edge|psnr|ssim EXPECTED GOT\n"
@@ -29,6 +37,8 @@ static void usage(FILE *out) {
           "Compares GOT (the image under test) with EXPECTED (the reference).\n"
           "--memory-limit MB (or RAS_MEMORY_LIMIT_MB): refuse images estimated to need\n"
           "more (default: half of physical memory, at most 2048).\n"
+          "       raster101-compare --buffers REFERENCE_DIR GOT_DIR\n"
+          "Compares two --dump folders buffer by buffer and names the first that differs.\n"
           "Exit status: 0 match, 1 mismatch, 2 error.\n",
           out);
 }
@@ -67,17 +77,69 @@ static bool same_file(const char *a, const char *b) {
            sa.st_ino == sb.st_ino;
 }
 
+/* --buffers: each buffer of the reference's dump against the same of GOT. */
+static int compare_buffers(const char *ref_dir, const char *got_dir) {
+    int differing = 0, compared = 0;
+    for (int i = 0; ras_dump_buffer_names[i]; i++) {
+        const char *name = ras_dump_buffer_names[i];
+        char ref_json[4096], got_json[4096];
+        snprintf(ref_json, sizeof ref_json, "%s/%s.pfm", ref_dir, name);
+        snprintf(got_json, sizeof got_json, "%s/%s.pfm", got_dir, name);
+        bool in_ref = access(ref_json, F_OK) == 0, in_got = access(got_json, F_OK) == 0;
+        if (!in_ref && !in_got) continue;
+        compared++;
+        if (in_ref != in_got) {
+            printf("%s: only in %s (the other frame %s it)\n", name,
+                   in_ref ? "the reference" : "yours",
+                   in_ref ? "did not make" : "made no such buffer: the reference does not have");
+            if (differing++ == 0) printf("first differing buffer: %s\n", name);
+            continue;
+        }
+        ras_dump_difference d;
+        ras_error err = {{0}};
+        if (!ras_dump_compare(ref_dir, got_dir, name, &d, &err)) {
+            fprintf(stderr, "raster101-compare: %s\n", err.msg);
+            return 2;
+        }
+        char line[512];
+        ras_dump_difference_text(name, &d, line, sizeof line);
+        printf("%s\n", line);
+        if (d.pixels_differ && differing++ == 0) printf("first differing buffer: %s\n", name);
+    }
+    if (compared == 0) {
+        fprintf(stderr,
+                "raster101-compare: --buffers found no buffer files in '%s' or '%s' "
+                "(expected the folders of two --dump runs)\n",
+                ref_dir, got_dir);
+        return 2;
+    }
+    return differing ? 1 : 0;
+}
+
 int main(int argc, char **argv) {
+    if (argc >= 2 && !strcmp(argv[1], "--buffers")) {
+        if (argc != 4) {
+            fprintf(stderr,
+                    "raster101-compare: --buffers expects two folders (the reference's "
+                    "--dump, then yours); got %d argument(s)\n",
+                    argc - 2);
+            usage(stderr);
+            return 2;
+        }
+        return compare_buffers(argv[2], argv[3]);
+    }
     enum { OPT_TOL = 256, OPT_MAXBAD, OPT_PSNR, OPT_SSIM, OPT_MASK, OPT_MEMORY };
-    static const struct option longopts[] = {
-        {"metric", required_argument, NULL, 'm'},  {"diff", required_argument, NULL, 'd'},
-        {"crop", required_argument, NULL, 'c'},    {"tolerance", required_argument, NULL, OPT_TOL},
-        {"max-bad", required_argument, NULL, OPT_MAXBAD},
-        {"min-psnr", required_argument, NULL, OPT_PSNR},
-        {"min-ssim", required_argument, NULL, OPT_SSIM},
-        {"mask", no_argument, NULL, OPT_MASK},     {"help", no_argument, NULL, 'h'},
-        {"memory-limit", required_argument, NULL, OPT_MEMORY},
-        {NULL, 0, NULL, 0}};
+    static const struct option longopts[] = {{"metric", required_argument, NULL, 'm'},
+                                             {"diff", required_argument, NULL, 'd'},
+                                             {"crop", required_argument, NULL, 'c'},
+                                             {"tolerance", required_argument, NULL, OPT_TOL},
+                                             {"max-bad", required_argument, NULL, OPT_MAXBAD},
+                                             {"min-psnr", required_argument, NULL, OPT_PSNR},
+                                             {"min-ssim", required_argument, NULL, OPT_SSIM},
+                                             {"mask", no_argument, NULL, OPT_MASK},
+                                             {"help", no_argument, NULL, 'h'},
+                                             {"memory-limit", required_argument, NULL, OPT_MEMORY},
+                                             {NULL, 0, NULL, 0}};
     const char *metric = NULL, *diff_path = NULL, *crop_path = NULL;
     double tol = NAN, max_bad = NAN, min_psnr = NAN, min_ssim = NAN;
     bool mask = false;
@@ -153,8 +215,8 @@ int main(int argc, char **argv) {
     /* --diff or --crop over one of the inputs would destroy it. */
     const char *outputs[2][2] = {{"--diff", diff_path}, {"--crop", crop_path}};
     for (int k = 0; k < 2; k++)
-        if (outputs[k][1] && (same_file(outputs[k][1], expected_path) ||
-                              same_file(outputs[k][1], got_path))) {
+        if (outputs[k][1] &&
+            (same_file(outputs[k][1], expected_path) || same_file(outputs[k][1], got_path))) {
             fprintf(stderr,
                     "raster101-compare: %s '%s' would overwrite one of the images being "
                     "compared; expected a new file name, e.g. diff.png\n",
@@ -196,7 +258,8 @@ int main(int argc, char **argv) {
     status = r.pass ? 0 : 1;
     if (mask) {
         char buf[4096];
-        if (ras_compare_ascii_mask(expected, got, (vec3s){{0, 0, 0}}, r.worst_col < 0 ? 0 : r.worst_col,
+        if (ras_compare_ascii_mask(expected, got, (vec3s){{0, 0, 0}},
+                                   r.worst_col < 0 ? 0 : r.worst_col,
                                    r.worst_row < 0 ? 0 : r.worst_row, 12, buf, sizeof buf, &err))
             printf("coverage around (%d,%d), %s:\n%s", r.worst_col, r.worst_row,
                    RAS_COMPARE_ASCII_LEGEND, buf);

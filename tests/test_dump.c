@@ -14,6 +14,9 @@
  *               the shader reads (phong: normal and view_depth, no uv;
  *               texture: uv too); where something was drawn the normal is a
  *               unit vector, elsewhere +INF; dumping changes no pixel
+ *   compare     a dump against itself is the same; with isolated depths
+ *               changed, "in speckles"; with one row changed, "along a row";
+ *               with a triangle missing, "where only one drew"
  *   errors      --dump on a file says it expects a folder
  */
 #include <setjmp.h> /* cmocka needs these before cmocka.h */
@@ -345,6 +348,82 @@ static void test_dump_hw3_fragment_buffers(void **state) {
     }
 }
 
+/* Writes `depth` (W x H) as the depth buffer of a dump in dir. */
+static void write_depth(const char *dir, const float *depth) {
+    ras_dump_buffer b = {.name = "depth",
+                         .what = "test",
+                         .units = "test",
+                         .width = W,
+                         .height = H,
+                         .samples = 1,
+                         .channels = 1,
+                         .data = depth,
+                         .style = RAS_DUMP_SCALAR,
+                         .empty = INFINITY,
+                         .has_empty = true};
+    ras_error err = {{0}};
+    CHECK(ras_dump_write(dir, &b, &err), "write: %s", err.msg);
+}
+
+static void test_dump_compare_patterns(void **state) {
+    (void)state;
+    char ref[64], got[64];
+    temp_dir(ref, sizeof ref);
+    temp_dir(got, sizeof got);
+    ras_pipeline *p = pipeline(RAS_AA_NONE, 1);
+    draw_scene(p, false);
+    float base[W * H], d[W * H];
+    memcpy(base, p->fb->depth, sizeof base);
+    ras_pipeline_destroy(p);
+    write_depth(ref, base);
+    ras_dump_difference diff;
+    ras_error err = {{0}};
+    write_depth(got, base);
+    CHECK(ras_dump_compare(ref, got, "depth", &diff, &err), "compare: %s", err.msg);
+    CHECK(diff.pixels_differ == 0, "a dump against itself: %ld pixels differ", diff.pixels_differ);
+    /* 5 isolated pixels on the quad, far apart: speckle */
+    memcpy(d, base, sizeof d);
+    const int spots[5][2] = {{2, 2}, {8, 3}, {3, 10}, {12, 12}, {16, 6}};
+    for (int k = 0; k < 5; k++)
+        d[spots[k][1] * W + spots[k][0]] += 0.01f;
+    write_depth(got, d);
+    CHECK(ras_dump_compare(ref, got, "depth", &diff, &err), "compare: %s", err.msg);
+    CHECK(diff.pixels_differ == 5 && !strcmp(diff.pattern, "in speckles") && diff.first_col == 2 &&
+              diff.first_row == 2,
+          "5 isolated depths changed: expected 5 pixels 'in speckles', the first at (2, 2), row by "
+          "row; got "
+          "%ld '%s' at (%d, %d)",
+          diff.pixels_differ, diff.pattern, diff.first_col, diff.first_row);
+    /* image row 7 wrong along its whole width: a line (W = 24 pixels) */
+    memcpy(d, base, sizeof d);
+    for (int x = 0; x < W; x++)
+        d[7 * W + x] = d[7 * W + x] == INFINITY ? 0.5f : d[7 * W + x] + 0.1f;
+    write_depth(got, d);
+    CHECK(ras_dump_compare(ref, got, "depth", &diff, &err), "compare: %s", err.msg);
+    CHECK(!strcmp(diff.pattern, "along a row") && diff.line == 7,
+          "row 7 changed: expected 'along a row' 7, got '%s' %d", diff.pattern, diff.line);
+    /* everything drawn missing: only the reference drew */
+    for (int i = 0; i < W * H; i++)
+        d[i] = INFINITY;
+    write_depth(got, d);
+    CHECK(ras_dump_compare(ref, got, "depth", &diff, &err), "compare: %s", err.msg);
+    CHECK(!strcmp(diff.pattern, "where only one drew") && diff.drawn_in_one == diff.pixels_differ,
+          "nothing drawn: expected 'where only one drew', got '%s' (%ld of %ld)", diff.pattern,
+          diff.drawn_in_one, diff.pixels_differ);
+    /* a file larger than the reference's is not read */
+    char path[160];
+    snprintf(path, sizeof path, "%s/depth.pfm", got);
+    FILE *f = fopen(path, "ab");
+    assert_non_null(f);
+    static char pad[8192];
+    fwrite(pad, 1, sizeof pad, f);
+    fclose(f);
+    CHECK(!ras_dump_compare(ref, got, "depth", &diff, &err) && strstr(err.msg, "more than"),
+          "an oversized buffer file: expected a refusal, got '%s'", err.msg);
+    remove_dir(ref);
+    remove_dir(got);
+}
+
 static void test_dump_dir_must_be_a_folder(void **state) {
     (void)state;
     char dir[64], file[128];
@@ -369,6 +448,7 @@ int main(void) {
         cmocka_unit_test(test_dump_wireframe_writes_nothing),
         cmocka_unit_test(test_dump_exact_special_values),
         cmocka_unit_test(test_dump_hw3_fragment_buffers),
+        cmocka_unit_test(test_dump_compare_patterns),
         cmocka_unit_test(test_dump_dir_must_be_a_folder),
     };
     return RAS_RUN_TESTS("dump", tests, NULL, NULL);
