@@ -4,6 +4,8 @@
 #include "cv_bridge.h"
 #include "ras_image.h"
 #include "ras_io.h"
+#include "ras_mesh.h"
+#include "stage3_setup.h" /* ras_viewport */
 
 #include <cjson/cJSON.h>
 #include <errno.h>
@@ -425,4 +427,58 @@ void ras_dump_difference_text(const char *name, const ras_dump_difference *d, ch
              "%s differs in %ld pixels (largest difference %.3g), %s%s; the first at (%d, %d)%s",
              name, d->pixels_differ, d->max_abs, d->pattern, where, d->first_col, d->first_row,
              d->drawn_in_one ? "" : "");
+}
+
+static cJSON *numbers(const float *v, int n) {
+    cJSON *a = cJSON_CreateArray();
+    for (int k = 0; k < n; k++)
+        cJSON_AddItemToArray(a, isfinite(v[k]) ? cJSON_CreateNumber(v[k]) : cJSON_CreateNull());
+    return a;
+}
+
+bool ras_dump_vertices(const char *dir, const ras_mesh *mesh, mat4s model, mat4s view,
+                       mat4s projection, int width, int height, ras_error *err) {
+    cJSON *j = cJSON_CreateObject();
+    cJSON_AddStringToObject(j, "buffer", "vertices");
+    cJSON_AddStringToObject(
+        j, "what",
+        "each vertex at every step of the vertex stage: object -> world (model) -> eye (view) "
+        "-> clip (projection) -> NDC (divided by w) -> screen (viewport: x right, y up, pixel "
+        "(x, y) covers [x, x+1) x [y, y+1)); null where a value is not finite");
+    cJSON_AddNumberToObject(j, "width", width);
+    cJSON_AddNumberToObject(j, "height", height);
+    cJSON_AddItemToObject(j, "model", numbers((const float *)model.raw, 16));
+    cJSON_AddItemToObject(j, "view", numbers((const float *)view.raw, 16));
+    cJSON_AddItemToObject(j, "projection", numbers((const float *)projection.raw, 16));
+    cJSON_AddStringToObject(j, "matrix_layout", "column-major (cglm): m[column][row]");
+    cJSON *vs = cJSON_AddArrayToObject(j, "vertices");
+    size_t n = mesh->vertex_count < 4096 ? mesh->vertex_count : 4096;
+    for (size_t i = 0; i < n; i++) {
+        vec4s object = glms_vec4(mesh->positions[i], 1.0f);
+        vec4s world = glms_mat4_mulv(model, object);
+        vec4s eye = glms_mat4_mulv(view, world);
+        vec4s clip = glms_mat4_mulv(projection, eye);
+        vec4s ndc = glms_vec4_scale(clip, 1.0f / clip.w);
+        vec4s screen = ras_viewport(clip, width, height);
+        cJSON *v = cJSON_CreateObject();
+        cJSON_AddItemToObject(v, "object", numbers(object.raw, 3));
+        cJSON_AddItemToObject(v, "world", numbers(world.raw, 3));
+        cJSON_AddItemToObject(v, "eye", numbers(eye.raw, 3));
+        cJSON_AddItemToObject(v, "clip", numbers(clip.raw, 4));
+        cJSON_AddItemToObject(v, "ndc", numbers(ndc.raw, 3));
+        cJSON_AddItemToObject(v, "screen", numbers(screen.raw, 3));
+        cJSON_AddItemToArray(vs, v);
+    }
+    if (n < mesh->vertex_count)
+        cJSON_AddNumberToObject(j, "vertices_left_out", (double)(mesh->vertex_count - n));
+    char *text = cJSON_Print(j);
+    cJSON_Delete(j);
+    if (!text) return ras_error_set(err, "out of memory writing vertices.json");
+    char path[RAS_IO_MAX_PATH + 64];
+    snprintf(path, sizeof path, "%s/vertices.json", dir);
+    size_t len = strlen(text);
+    text[len] = '\n';
+    bool ok = ras_io_write_atomic(path, "vertex dump", text, len + 1, NULL, NULL, err);
+    free(text);
+    return ok;
 }

@@ -26,6 +26,7 @@
 #define RAS_DUMP_H
 
 #include "ras_error.h"
+#include "ras_math.h"
 
 #include <stdbool.h>
 #include <stddef.h>
@@ -89,6 +90,15 @@ bool ras_dump_compare(const char *ref_dir, const char *got_dir, const char *name
  * 0.0021), in speckles: 2900 isolated, the first at (120, 340)". */
 void ras_dump_difference_text(const char *name, const ras_dump_difference *d, char *buf,
                               size_t size);
+
+/* hw1's buffer is its vertices: vertices.json holds, for each vertex of the
+ * mesh (at most the first 4096), its position at every step of the vertex
+ * stage — object, world (model), eye (view), clip (projection), NDC (the
+ * divide by w) and screen (the viewport, y up, pixel centres at +0.5) — so
+ * a wrong matrix shows at the step where the numbers go wrong. */
+struct ras_mesh;
+bool ras_dump_vertices(const char *dir, const struct ras_mesh *mesh, mat4s model, mat4s view,
+                       mat4s projection, int width, int height, ras_error *err);
 
 /* The folder for --dump: created if missing (one level), refused when it is
  * a file; false with err set. */

@@ -17,6 +17,9 @@
  *   compare     a dump against itself is the same; with isolated depths
  *               changed, "in speckles"; with one row changed, "along a row";
  *               with a triangle missing, "where only one drew"
+ *   vertices    hw1's vertices.json: a hand-worked vertex through a model
+ *               translation, an identity view and a projection that halves x
+ *               and sets w = 2: world, eye, clip, NDC and screen by hand
  *   errors      --dump on a file says it expects a folder
  */
 #include <setjmp.h> /* cmocka needs these before cmocka.h */
@@ -31,6 +34,7 @@
 #include "ras_dump.h"
 #include "ras_image.h"
 #include "ras_io.h"
+#include "ras_mesh.h"
 #include "ras_pipeline.h"
 #include "rasterizer.h" /* hw2 reference: rasterize_triangle, resolve_pixel */
 #include "scene.h"      /* hw3: hw3_render with dump_dir */
@@ -424,6 +428,52 @@ static void test_dump_compare_patterns(void **state) {
     remove_dir(got);
 }
 
+static double at(const cJSON *v, const char *step, int k) {
+    return cJSON_GetArrayItem(cJSON_GetObjectItem(v, step), k)->valuedouble;
+}
+
+static void test_dump_vertices_hand_worked(void **state) {
+    (void)state;
+    char dir[64];
+    temp_dir(dir, sizeof dir);
+    ras_mesh *m = ras_mesh_create_triangle((vec3s){{1, 2, 3}}, (vec3s){{0, 0, 0}},
+                                           (vec3s){{0, 1, 0}}, (vec3s){{1, 1, 1}});
+    assert_non_null(m);
+    mat4s model = glms_translate_make((vec3s){{1, 0, -5}});
+    /* x' = x/2, y' = y, z' = z, w' = 2 (a fixed w, easy to divide by) */
+    mat4s proj = glms_mat4_zero();
+    proj.m00 = 0.5f, proj.m11 = 1, proj.m22 = 1, proj.m33 = 2; /* m[column][row] */
+    ras_error err = {{0}};
+    CHECK(ras_dump_vertices(dir, m, model, glms_mat4_identity(), proj, W, H, &err), "dump: %s",
+          err.msg);
+    ras_mesh_destroy(m);
+    char path[160];
+    snprintf(path, sizeof path, "%s/vertices.json", dir);
+    size_t len = 0;
+    char *text = ras_io_read_file(path, "vertices", 1 << 20, &len, &err);
+    CHECK(text, "vertices.json: %s", err.msg);
+    char *z = realloc(text, len + 1);
+    assert_non_null(z);
+    z[len] = '\0';
+    cJSON *j = cJSON_Parse(z);
+    free(z);
+    assert_non_null(j);
+    const cJSON *v = cJSON_GetArrayItem(cJSON_GetObjectItem(j, "vertices"), 0);
+    /* (1, 2, 3) moved by (1, 0, -5): world (2, 2, -2); the view is the
+     * identity; clip = (1, 2, -2, 2); NDC = (0.5, 1, -1); screen x =
+     * (0.5 + 1) / 2 * 24 = 18, y = (1 + 1) / 2 * 16 = 16 */
+    const double want[][4] = {{2, 2, -2}, {2, 2, -2}, {1, 2, -2, 2}, {0.5, 1, -1}, {18, 16}};
+    const char *steps[] = {"world", "eye", "clip", "ndc", "screen"};
+    const int count[] = {3, 3, 4, 3, 2};
+    for (int s = 0; s < 5; s++)
+        for (int k = 0; k < count[s]; k++)
+            CHECK(fabs(at(v, steps[s], k) - want[s][k]) < 1e-5,
+                  "vertices.json: %s[%d] is %g, expected %g (by hand)", steps[s], k,
+                  at(v, steps[s], k), want[s][k]);
+    cJSON_Delete(j);
+    remove_dir(dir);
+}
+
 static void test_dump_dir_must_be_a_folder(void **state) {
     (void)state;
     char dir[64], file[128];
@@ -449,6 +499,7 @@ int main(void) {
         cmocka_unit_test(test_dump_exact_special_values),
         cmocka_unit_test(test_dump_hw3_fragment_buffers),
         cmocka_unit_test(test_dump_compare_patterns),
+        cmocka_unit_test(test_dump_vertices_hand_worked),
         cmocka_unit_test(test_dump_dir_must_be_a_folder),
     };
     return RAS_RUN_TESTS("dump", tests, NULL, NULL);
