@@ -25,6 +25,7 @@
  * status: 0 graded (whatever the score), 1 --expect not met, 2 grader error.
  */
 #include "ras_compare.h"
+#include "ras_dump.h"
 #include "ras_image.h"
 #include "ras_io.h"
 
@@ -431,6 +432,8 @@ typedef struct item {
     char *xml;    /* JUnit <testcase> for tests */
     /* images: paths relative to OUT */
     char *img_expected, *img_got, *img_diff, *img_crop;
+    /* the first buffer that differs (--dump): its name and pictures */
+    char *buf_name, *buf_ref, *buf_got, *buf_diff;
 } item;
 
 typedef struct assignment_result {
@@ -457,7 +460,8 @@ static item *add_item(assignment_result *a) {
 
 static void item_free(item *it) {
     char *owned[] = {it->name,         it->status,  it->reason,   it->output,  it->xml,
-                     it->img_expected, it->img_got, it->img_diff, it->img_crop};
+                     it->img_expected, it->img_got, it->img_diff, it->img_crop,
+                     it->buf_name,     it->buf_ref, it->buf_got,  it->buf_diff};
     for (size_t i = 0; i < sizeof owned / sizeof owned[0]; i++)
         free(owned[i]);
 }
@@ -1425,6 +1429,200 @@ static bool image_options(const cJSON *img, ras_compare_kind *kind, ras_compare_
     return true;
 }
 
+/* What a buffer's first difference most likely means, by buffer and
+ * pattern; "" when nothing specific can be said. */
+static const char *buffer_hint(const char *name, const char *pattern) {
+    bool speckle = !strcmp(pattern, "in speckles"), line = !strncmp(pattern, "along", 5),
+         one = !strcmp(pattern, "where only one drew");
+    if (!strcmp(name, "depth")) {
+        if (speckle)
+            return "back faces winning the depth test in scattered pixels: depth or barycentric "
+                   "precision (docs/hw2.md: subtract a vertex before the edge functions, "
+                   "interpolate v[i].z with the screen barycentrics)";
+        if (line) return "a row or column of samples skipped or written twice: the loop bounds";
+        if (one)
+            return "pixels drawn in one frame and not the other: coverage (the bounding box, "
+                   "the inside test, the top-left rule) or the depth test's direction";
+        return "depths interpolated differently: v[i].z with the screen barycentrics, nothing "
+               "else (not the course's w_reciprocal snippet), or a reversed depth test";
+    }
+    if (!strcmp(name, "coverage"))
+        return line ? "a row or column of samples skipped: the loop bounds"
+                    : "samples covered differently: sample positions from ctx->pattern, the "
+                      "top-left rule on shared edges";
+    if (!strcmp(name, "overdraw"))
+        return "fragments shaded a different number of times: shading once per pixel with MSAA, "
+               "per sample with SSAA; the depth test before shading";
+    if (!strcmp(name, "normal"))
+        return "the normals the shader got: interpolate with perspective-correct weights, then "
+               "normalise";
+    if (!strcmp(name, "uv"))
+        return "the texture coordinates the shader got: perspective-correct interpolation (the "
+               "1/w weights), not affine";
+    if (!strcmp(name, "view_depth"))
+        return "the view-space positions: perspective-correct interpolation of view_pos";
+    return "";
+}
+
+/* Evidence for a failing image (docs/grading.md, "Buffers"): the program
+ * renders it again with --dump, in the sandbox, and the trusted reference
+ * program with --dump; the first buffer in frame order that differs (with
+ * its kind's tolerance) is named, with the likely cause. Sealed runs give
+ * the words only; others also the buffer's pictures (redrawn here from the
+ * exact files, never the sandbox's own pictures). Programs without --dump,
+ * and pictures that only differ in colour, add nothing. */
+static void buffer_evidence(const grader *g, item *it, sbuf *o, const cJSON *img, const char *dir,
+                            const char *reldir, const job *graded, const char *own) {
+    const char *name = str_or(img, "name", "image");
+    const char *program = str_or(img, "program", "");
+    char ref_prog[4200], ref_dir[4300], log[4400];
+    const char *rp = str_or(img, "reference_program", NULL);
+    if (rp)
+        fmt(ref_prog, sizeof ref_prog, "%s/bin/%s", g->build, rp);
+    else
+        fmt(ref_prog, sizeof ref_prog, "%s/bin/%s_ref", g->build, program);
+    if (!file_exists(ref_prog)) return;
+    fmt(ref_dir, sizeof ref_dir, "%s/%s%s.buffers-reference", dir, name, own ? ".own" : "");
+    mkdirs(ref_dir);
+    char ref_png[4400];
+    fmt(ref_png, sizeof ref_png, "%s/frame.png", ref_dir);
+    fmt(log, sizeof log, "%s/log.txt", ref_dir);
+    char *argv[120] = {ref_prog};
+    int n = 1;
+    for (const cJSON *v = graded->args ? graded->args->child : NULL; v && n < 110; v = v->next)
+        if (cJSON_IsString(v)) argv[n++] = v->valuestring;
+    argv[n++] = "-o";
+    argv[n++] = ref_png;
+    argv[n++] = "--dump";
+    argv[n++] = ref_dir;
+    argv[n] = NULL;
+    run_result rr = run_limited(argv, NULL, log, g->render_limit, g->mem_mb);
+    if (rr.kind != RUN_EXITED || rr.code != 0) return; /* no --dump here */
+    /* the student's run, as the graded one but with --dump */
+    job dj;
+    memset(&dj, 0, sizeof dj);
+    dj.args = graded->args;
+    image_job(g, img, dir, &dj, own, own ? ".own-dump" : ".dump");
+    int k = 0;
+    while (dj.argv[k])
+        k++;
+    fmt(dj.store[13], sizeof dj.store[13], "%s/dump", dj.rw);
+    dj.argv[k++] = "--dump";
+    dj.argv[k++] = dj.store[13];
+    dj.argv[k] = NULL;
+    run_jobs(&dj, 1, 1);
+    if (dj.rr.kind != RUN_EXITED || dj.rr.code != 0) {
+        sb_printf(o, "buffers: your program's --dump run %s, so its buffers cannot be compared\n",
+                  dj.rr.kind == RUN_TIMEOUT ? "timed out" : "failed");
+        return;
+    }
+    for (int b = 0; ras_dump_buffer_names[b]; b++) {
+        const char *buf = ras_dump_buffer_names[b];
+        char rf[4400], gf[4400];
+        fmt(rf, sizeof rf, "%s/%s.pfm", ref_dir, buf);
+        fmt(gf, sizeof gf, "%s/%s.pfm", dj.store[13], buf);
+        bool in_ref = file_exists(rf), in_got = file_exists(gf);
+        if (!in_ref && !in_got) continue;
+        if (in_ref != in_got) {
+            sb_printf(o, "buffers: the first that differs is %s: %s\n", buf,
+                      in_ref ? "your program wrote none (its frame made no such buffer)"
+                             : "the reference's frame makes no such buffer");
+            return;
+        }
+        ras_dump_difference d;
+        ras_error err = {{0}};
+        if (!ras_dump_compare(ref_dir, dj.store[13], buf, &d, &err)) {
+            char *shown = student_text(err.msg, 300);
+            sb_printf(o, "buffers: %s could not be compared: %s\n", buf, shown);
+            free(shown);
+            return;
+        }
+        if (d.pixels_differ == 0) continue;
+        char line[600];
+        ras_dump_difference_text(buf, &d, line, sizeof line);
+        const char *hint = buffer_hint(buf, d.pattern);
+        sb_printf(o, "buffers: the first that differs is %s%s%s\n", line,
+                  *hint ? "; likely: " : "", hint);
+        if (own) return; /* sealed: words only */
+        /* the pictures, redrawn from the exact files */
+        int w, h, ch;
+        char path[4400];
+        fmt(path, sizeof path, "%s/%s.pfm", dj.store[13], buf);
+        float *got = ras_dump_read_pfm(path, &w, &h, &ch, &err);
+        float *ref = got ? ras_dump_read_pfm(rf, &w, &h, &ch, &err) : NULL;
+        if (got && ref) {
+            char out_dir[4400];
+            fmt(out_dir, sizeof out_dir, "%s/%s.buffers", dir, name);
+            mkdirs(out_dir);
+            int samples = 1;
+            /* the sidecar of the reference says how many samples per pixel */
+            char jp[4400];
+            fmt(jp, sizeof jp, "%s/%s.json", ref_dir, buf);
+            char *json = read_small_file(jp, 1 << 20);
+            cJSON *j = json ? cJSON_Parse(json) : NULL;
+            const cJSON *sj = cJSON_GetObjectItemCaseSensitive(j, "samples");
+            if (cJSON_IsNumber(sj) && sj->valueint >= 1 && w % sj->valueint == 0)
+                samples = sj->valueint;
+            cJSON_Delete(j);
+            free(json);
+            size_t count = (size_t)w * h * ch;
+            float *diff = malloc((size_t)w * h * sizeof *diff);
+            if (diff) {
+                for (size_t i = 0; i < (size_t)w * h; i++) {
+                    double m = 0;
+                    for (int c = 0; c < ch; c++) {
+                        float a = ref[i * ch + c], bb = got[i * ch + c];
+                        double e = (isinf(a) && isinf(bb) && a == bb) ? 0 : fabs((double)a - bb);
+                        if (!isfinite(e)) e = 1;
+                        m = e > m ? e : m;
+                    }
+                    diff[i] = (float)m;
+                }
+            }
+            (void)count;
+            ras_dump_buffer views[3] = {
+                {.name = "reference", .data = ref, .channels = ch},
+                {.name = "yours", .data = got, .channels = ch},
+                {.name = "difference", .data = diff, .channels = 1},
+            };
+            char *rels[3] = {NULL, NULL, NULL};
+            for (int v = 0; v < 3 && views[v].data; v++) {
+                ras_dump_buffer bv = views[v];
+                bv.what = buf;
+                bv.units = "";
+                bv.width = w / samples, bv.height = h, bv.samples = samples;
+                if (v == 2) bv.samples = samples, bv.width = w / samples;
+                bv.style = ch == 3 && v < 2 ? (!strcmp(buf, "normal") ? RAS_DUMP_VECTOR
+                                                                      : RAS_DUMP_UNIT)
+                                            : RAS_DUMP_SCALAR;
+                bv.empty = v < 2 ? INFINITY : 0.0f;
+                bv.has_empty = true;
+                char sub[4500];
+                fmt(sub, sizeof sub, "%s/%s", out_dir, buf);
+                mkdirs(sub);
+                char vname[64];
+                fmt(vname, sizeof vname, "%s", views[v].name);
+                bv.name = vname;
+                if (ras_dump_write(sub, &bv, &err)) {
+                    char rel[4600];
+                    fmt(rel, sizeof rel, "%s/%s.buffers/%s/%s.png", reldir, name, buf, vname);
+                    rels[v] = xstrdup(rel);
+                }
+            }
+            free(diff);
+            it->buf_name = xstrdup(buf);
+            it->buf_ref = rels[0];
+            it->buf_got = rels[1];
+            it->buf_diff = rels[2];
+        }
+        free(got);
+        free(ref);
+        return;
+    }
+    sb_add(o, "buffers: every buffer matches the reference's: the difference is in the "
+              "colours the shader computed\n");
+}
+
 /* Grades one image run (image_job). `sealed`: the program held reference
  * code (an own-code link), so neither its output nor its picture goes into
  * the report, only the verdict. `whole`: the run of the student's whole
@@ -1612,6 +1810,9 @@ reference_ready:;
         it->status = xstrdup("ERROR");
         sb_printf(&o, "could not read the reference: %s\n", err.msg);
     }
+    /* a wrong picture the program did draw: which buffer goes wrong first */
+    if (!it->passed && got && rr.kind == RUN_EXITED && !getenv("RAS_GRADE_NO_BUFFERS"))
+        buffer_evidence(g, it, &o, img, dir, reldir, j, sealed ? j->extra_ro : NULL);
     if (it->passed && todo)
         sb_add(&o, "(matches, but the program printed a TODO notice, so no points: a stub it "
                    "calls, or a function you wrote with its notice lines left in: delete them)\n");
@@ -1969,6 +2170,15 @@ static bool write_outputs(const grader *g, assignment_result *as, int n, double 
                             "\nWorst region (reference | yours | difference):\n\n"
                             "![worst region](%s)\n",
                             it->img_crop);
+                if (it->buf_name && it->buf_ref)
+                    fprintf(f,
+                            "\nThe first buffer that differs, **%s** (reference | yours | "
+                            "difference):\n\n| ![reference](%s) | %s%s%s | %s%s%s |\n|---|---|---|"
+                            "\n",
+                            it->buf_name, it->buf_ref, it->buf_got ? "![yours](" : "",
+                            it->buf_got ? it->buf_got : "", it->buf_got ? ")" : "",
+                            it->buf_diff ? "![difference](" : "", it->buf_diff ? it->buf_diff : "",
+                            it->buf_diff ? ")" : "");
                 fprintf(f, "\n```\n%s\n```\n", it->output ? it->output : "");
             }
         }
