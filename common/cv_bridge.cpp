@@ -1,4 +1,6 @@
-// cv_bridge.cpp — see cv_bridge.h. The project's only C++ file.
+// cv_bridge.cpp — see cv_bridge.h. The project's only C++ file, built alone
+// into the module libraster101_cv.so that cv_bridge_load.c opens with dlopen
+// when OpenCV is first needed. It exports one symbol, the table at the end.
 #include "cv_bridge.h"
 
 #include <opencv2/core.hpp>
@@ -38,9 +40,8 @@ void on_mouse(int event, int x, int y, int, void *user) {
 
 }  // namespace
 
-extern "C" uint8_t *cv_bridge_encode_rgb8(const char *ext, int width, int height,
-                                          const uint8_t *rgb, size_t *len, char *err,
-                                          int err_size) {
+static uint8_t *encode_rgb8(const char *ext, int width, int height, const uint8_t *rgb, size_t *len,
+                            char *err, int err_size) {
     try {
         cv::Mat in(height, width, CV_8UC3, const_cast<uint8_t *>(rgb));
         cv::Mat bgr;
@@ -64,9 +65,8 @@ extern "C" uint8_t *cv_bridge_encode_rgb8(const char *ext, int width, int height
     }
 }
 
-extern "C" uint8_t *cv_bridge_encode_f32(const char *ext, int width, int height, int channels,
-                                         const float *data, size_t *len, char *err,
-                                         int err_size) {
+static uint8_t *encode_f32(const char *ext, int width, int height, int channels, const float *data,
+                           size_t *len, char *err, int err_size) {
     try {
         if (channels != 1 && channels != 3) {
             set_err(err, err_size, "a float image has 1 or 3 channels");
@@ -99,8 +99,8 @@ extern "C" uint8_t *cv_bridge_encode_f32(const char *ext, int width, int height,
     }
 }
 
-extern "C" float *cv_bridge_decode_f32(const uint8_t *data, size_t len, int *width, int *height,
-                                       int *channels, char *err, int err_size) {
+static float *decode_f32(const uint8_t *data, size_t len, int *width, int *height, int *channels,
+                         char *err, int err_size) {
     try {
         std::vector<uchar> buf(data, data + len);
         cv::Mat m = cv::imdecode(buf, cv::IMREAD_UNCHANGED);
@@ -127,7 +127,7 @@ extern "C" float *cv_bridge_decode_f32(const uint8_t *data, size_t len, int *wid
     }
 }
 
-extern "C" bool cv_bridge_decode_size(const uint8_t *data, size_t len, int *width, int *height) {
+static bool decode_size(const uint8_t *data, size_t len, int *width, int *height) {
     try {
         std::vector<uchar> buf(data, data + len);
         cv::Mat m = cv::imdecode(buf, cv::IMREAD_UNCHANGED);
@@ -140,7 +140,7 @@ extern "C" bool cv_bridge_decode_size(const uint8_t *data, size_t len, int *widt
     }
 }
 
-extern "C" bool cv_bridge_can_write(const char *path) {
+static bool can_write(const char *path) {
     try {
         return cv::haveImageWriter(path);
     } catch (const cv::Exception &) {
@@ -148,8 +148,8 @@ extern "C" bool cv_bridge_can_write(const char *path) {
     }
 }
 
-extern "C" uint8_t *cv_bridge_decode_rgb8(const uint8_t *data, size_t len, int *width,
-                                          int *height, char *err, int err_size) {
+static uint8_t *decode_rgb8(const uint8_t *data, size_t len, int *width, int *height, char *err,
+                            int err_size) {
     try {
         // A corrupt file makes libpng / libjpeg print their own "libpng error:
         // ..." to stderr before imdecode returns empty: catch that text and
@@ -226,14 +226,8 @@ extern "C" uint8_t *cv_bridge_decode_rgb8(const uint8_t *data, size_t len, int *
     }
 }
 
-extern "C" bool cv_bridge_display_available(void) {
-    const char *d = std::getenv("DISPLAY");
-    const char *w = std::getenv("WAYLAND_DISPLAY");
-    return (d && *d) || (w && *w);
-}
-
-extern "C" bool cv_bridge_window_show(const char *title, int width, int height,
-                                      const uint8_t *rgb, char *err, int err_size) {
+static bool window_show(const char *title, int width, int height, const uint8_t *rgb, char *err,
+                        int err_size) {
     try {
         if (g_mouse.find(title) == g_mouse.end()) {
             cv::namedWindow(title, cv::WINDOW_AUTOSIZE);
@@ -251,7 +245,7 @@ extern "C" bool cv_bridge_window_show(const char *title, int width, int height,
     }
 }
 
-extern "C" int cv_bridge_window_wait_key(const char *title, int ms) {
+static int window_wait_key(const char *title, int ms) {
     int key = cv::waitKey(ms);
     try {
         if (cv::getWindowProperty(title, cv::WND_PROP_VISIBLE) < 1) return -2;
@@ -261,7 +255,7 @@ extern "C" int cv_bridge_window_wait_key(const char *title, int ms) {
     return key < 0 ? -1 : (key & 0xFF);
 }
 
-extern "C" void cv_bridge_window_close(const char *title) {
+static void window_close(const char *title) {
     try {
         cv::destroyWindow(title);
     } catch (const cv::Exception &) {
@@ -269,7 +263,7 @@ extern "C" void cv_bridge_window_close(const char *title) {
     g_mouse.erase(title);
 }
 
-extern "C" bool cv_bridge_window_mouse(const char *title, int *col, int *row) {
+static bool window_mouse(const char *title, int *col, int *row) {
     auto it = g_mouse.find(title);
     if (it == g_mouse.end() || it->second.col < 0) return false;
     *col = it->second.col;
@@ -277,12 +271,23 @@ extern "C" bool cv_bridge_window_mouse(const char *title, int *col, int *row) {
     return true;
 }
 
-extern "C" void cv_bridge_draw_text(uint8_t *rgb, int width, int height, int col, int row,
-                                    const char *text, double scale) {
+static void draw_text(uint8_t *rgb, int width, int height, int col, int row, const char *text,
+                      double scale) {
     cv::Mat img(height, width, CV_8UC3, rgb);
     // A dark outline under the white text keeps it readable on any picture.
     cv::putText(img, text, cv::Point(col, row), cv::FONT_HERSHEY_SIMPLEX, scale,
                 cv::Scalar(0, 0, 0), 3, cv::LINE_AA);
     cv::putText(img, text, cv::Point(col, row), cv::FONT_HERSHEY_SIMPLEX, scale,
                 cv::Scalar(255, 255, 255), 1, cv::LINE_AA);
+}
+
+// The one exported symbol (cv_bridge.h, CV_BRIDGE_MODULE_SYMBOL).
+extern "C" __attribute__((visibility("default"))) const cv_bridge_table *
+cv_bridge_module_table(void) {
+    static const cv_bridge_table table = {
+        /* in cv_bridge_table's order */
+        CV_BRIDGE_ABI, encode_rgb8, decode_size,     can_write,    decode_rgb8,  encode_f32,
+        decode_f32,    window_show, window_wait_key, window_close, window_mouse, draw_text,
+    };
+    return &table;
 }

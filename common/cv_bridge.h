@@ -6,6 +6,15 @@
  * first, 3 bytes per pixel (the bridge swaps to OpenCV's BGR inside).
  * Errors come back as false/NULL plus a message in `err`; no C++ exception
  * ever crosses into C.
+ *
+ * Loaded only when used. cv_bridge.cpp is built alone into a module,
+ * libraster101_cv.so, the only thing linked against OpenCV (and libstdc++);
+ * the programs link cv_bridge_load.c, which implements the functions below
+ * by opening the module with dlopen on the first call that needs OpenCV: a
+ * window, a non-PNG image file, a float (.pfm) file, text drawn on a picture.
+ * PNG files never need it (ras_png.h), and cv_bridge_display_available() is
+ * a plain getenv. So a program that writes a PNG, or only prints --version,
+ * loads none of OpenCV's ~150 libraries (docs/startup.md).
  */
 #ifndef CV_BRIDGE_H
 #define CV_BRIDGE_H
@@ -64,6 +73,36 @@ bool cv_bridge_window_mouse(const char *title, int *col, int *row);
 /* Draws a line of text onto an RGB buffer (for the on-screen status line). */
 void cv_bridge_draw_text(uint8_t *rgb, int width, int height, int col, int row,
                          const char *text, double scale);
+
+/* Why the module could not be loaded ("" when it is, or was never needed). */
+const char *cv_bridge_load_error(void);
+
+/* Between cv_bridge_load.c and the module: the module exports one function,
+ * CV_BRIDGE_MODULE_SYMBOL, returning this table; `abi` must be
+ * CV_BRIDGE_ABI (a module from another build is refused). */
+#define CV_BRIDGE_ABI 1
+#define CV_BRIDGE_MODULE_SYMBOL "cv_bridge_module_table"
+typedef struct cv_bridge_table {
+    int abi;
+    uint8_t *(*encode_rgb8)(const char *ext, int width, int height, const uint8_t *rgb, size_t *len,
+                            char *err, int err_size);
+    bool (*decode_size)(const uint8_t *data, size_t len, int *width, int *height);
+    bool (*can_write)(const char *path);
+    uint8_t *(*decode_rgb8)(const uint8_t *data, size_t len, int *width, int *height, char *err,
+                            int err_size);
+    uint8_t *(*encode_f32)(const char *ext, int width, int height, int channels, const float *data,
+                           size_t *len, char *err, int err_size);
+    float *(*decode_f32)(const uint8_t *data, size_t len, int *width, int *height, int *channels,
+                         char *err, int err_size);
+    bool (*window_show)(const char *title, int width, int height, const uint8_t *rgb, char *err,
+                        int err_size);
+    int (*window_wait_key)(const char *title, int ms);
+    void (*window_close)(const char *title);
+    bool (*window_mouse)(const char *title, int *col, int *row);
+    void (*draw_text)(uint8_t *rgb, int width, int height, int col, int row, const char *text,
+                      double scale);
+} cv_bridge_table;
+const cv_bridge_table *cv_bridge_module_table(void);
 
 #ifdef __cplusplus
 }

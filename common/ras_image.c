@@ -4,6 +4,7 @@
 #include "cv_bridge.h"
 #include "ras_io.h"
 #include "ras_memory.h"
+#include "ras_png.h"
 
 #include <errno.h>    /* errno */
 #include <stdio.h>    /* snprintf */
@@ -90,7 +91,15 @@ bool ras_image_check_output(const char *path, ras_error *err) {
     bool known = false;
     for (size_t i = 0; i < sizeof formats / sizeof *formats; i++)
         known |= strcasecmp(ext, formats[i]) == 0;
-    if (!known || !cv_bridge_can_write(path))
+    /* PNG is written here (ras_png.h); other formats ask OpenCV, which is
+     * loaded for it (cv_bridge.h). */
+    if (known && strcasecmp(ext, ".png") != 0 && !cv_bridge_can_write(path) &&
+        *cv_bridge_load_error())
+        return ras_error_set(err,
+                             "cannot write '%s': %s needs OpenCV, which could not be "
+                             "loaded (%s); write a .png instead",
+                             path, ext, cv_bridge_load_error());
+    if (!known || (strcasecmp(ext, ".png") != 0 && !cv_bridge_can_write(path)))
         return ras_error_set(err,
                              "cannot write '%s': expected an image extension (.png, .jpg, "
                              ".bmp, .ppm or .tif), got '%s'; name the file e.g. '%.*s.png'",
@@ -140,7 +149,14 @@ bool ras_image_check_output(const char *path, ras_error *err) {
 static bool verify_decodes(const void *data, size_t len, void *ctx, ras_error *err) {
     const int *size = ctx;
     int w = 0, h = 0;
-    if (!cv_bridge_decode_size(data, len, &w, &h))
+    bool exif = false;
+    if (ras_png_is_png(data, len)) {
+        char msg[512];
+        uint8_t *rgb = ras_png_decode_rgb8(data, len, &w, &h, &exif, msg, sizeof msg);
+        if (!rgb && !exif) return ras_error_set(err, "libpng cannot decode it (%s)", msg);
+        free(rgb);
+    }
+    if ((!ras_png_is_png(data, len) || exif) && !cv_bridge_decode_size(data, len, &w, &h))
         return ras_error_set(err, "OpenCV cannot decode it");
     if (w != size[0] || h != size[1])
         return ras_error_set(err, "it decodes as %dx%d, expected %dx%d", w, h, size[0], size[1]);
@@ -156,7 +172,9 @@ bool ras_image_save_rgb8(const uint8_t *rgb, int width, int height, const char *
     const char *ext = strrchr(path, '.');
     char msg[512] = "";
     size_t len = 0;
-    uint8_t *encoded = cv_bridge_encode_rgb8(ext, width, height, rgb, &len, msg, sizeof msg);
+    uint8_t *encoded = strcasecmp(ext, ".png") == 0
+                           ? ras_png_encode_rgb8(width, height, rgb, &len, msg, sizeof msg)
+                           : cv_bridge_encode_rgb8(ext, width, height, rgb, &len, msg, sizeof msg);
     if (!encoded) return ras_error_set(err, "could not write '%s': %s", path, msg);
     int size[2] = {width, height};
     bool ok = ras_io_write_atomic(path, "image", encoded, len, verify_decodes, size, err);
@@ -399,7 +417,12 @@ uint8_t *ras_image_load_rgb8(const char *path, int *width, int *height, ras_erro
     }
     char msg[512] = "";
     int w = 0, h = 0;
-    uint8_t *rgb = cv_bridge_decode_rgb8(data, len, &w, &h, msg, sizeof msg);
+    /* PNG by its signature through libpng (ras_png.h); anything else, and a
+     * PNG with EXIF, through OpenCV. */
+    bool exif = false;
+    bool png = ras_png_is_png(data, len);
+    uint8_t *rgb = png ? ras_png_decode_rgb8(data, len, &w, &h, &exif, msg, sizeof msg) : NULL;
+    if (!png || exif) rgb = cv_bridge_decode_rgb8(data, len, &w, &h, msg, sizeof msg);
     free(data);
     if (!rgb) {
         ras_error_set(err, "could not read image '%s': %s; check the file", path, msg);

@@ -15,6 +15,9 @@
  *     data is z-up and is turned to the project's y-up world (spout to +x).
  *
  * Dependencies: assimp (C API), cglm (struct API) through ras_math.h.
+ * assimp is not linked: it is opened with dlopen when the first model file is
+ * read (load_assimp), so programs that draw built-in shapes never load it
+ * (docs/startup.md).
  */
 #include "ras_mesh.h"
 
@@ -24,6 +27,7 @@
 #include <assimp/scene.h>       /* aiScene, aiNode, aiMesh */
 
 #include <assert.h> /* assert */
+#include <dlfcn.h>  /* dlopen, dlsym, dlerror: assimp, loaded on first use */
 #include <limits.h> /* UINT_MAX */
 #include <math.h>   /* sqrtf, sinf, cosf, isfinite */
 #include <stdint.h> /* SIZE_MAX */
@@ -736,7 +740,64 @@ ras_mesh *ras_mesh_load(const char *path, ras_error *err) {
     return mesh;
 }
 
+/* ------------------------------------------------------------------------ */
+/* assimp, opened on the first import                                        */
+
+/* The library's file name (its SONAME, libassimp.so.5), found by
+ * common/CMakeLists.txt from the one this build was compiled against. */
+#ifndef RAS_ASSIMP_LIBRARY
+#define RAS_ASSIMP_LIBRARY "libassimp.so.5"
+#endif
+
+/* The three functions of assimp's C API the loader calls. */
+static struct {
+    const struct aiScene *(*import_file_ex)(const char *, unsigned int, struct aiFileIO *);
+    void (*release_import)(const struct aiScene *);
+    const char *(*get_error_string)(void);
+    char error[512];
+} assimp;
+static pthread_once_t assimp_once = PTHREAD_ONCE_INIT;
+
+static void *assimp_symbol(void *lib, const char *name) {
+    void *p = dlsym(lib, name);
+    if (!p && !assimp.error[0])
+        snprintf(assimp.error, sizeof assimp.error, "%s has no %s", RAS_ASSIMP_LIBRARY, name);
+    return p;
+}
+
+static void open_assimp(void) {
+    void *lib = dlopen(RAS_ASSIMP_LIBRARY, RTLD_NOW | RTLD_LOCAL);
+    if (!lib) {
+        const char *why = dlerror();
+        snprintf(assimp.error, sizeof assimp.error, "%s", why ? why : RAS_ASSIMP_LIBRARY);
+        return;
+    }
+    union {
+        void *p;
+        const struct aiScene *(*import_file_ex)(const char *, unsigned int, struct aiFileIO *);
+        void (*release_import)(const struct aiScene *);
+        const char *(*get_error_string)(void);
+    } f[3] = {{assimp_symbol(lib, "aiImportFileEx")},
+              {assimp_symbol(lib, "aiReleaseImport")},
+              {assimp_symbol(lib, "aiGetErrorString")}};
+    if (!f[0].p || !f[1].p || !f[2].p) return; /* the library stays open: harmless */
+    assimp.import_file_ex = f[0].import_file_ex;
+    assimp.release_import = f[1].release_import;
+    assimp.get_error_string = f[2].get_error_string;
+}
+
+/* True when assimp is there; else false and err says why. */
+static bool load_assimp(const char *path, ras_error *err) {
+    pthread_once(&assimp_once, open_assimp);
+    if (assimp.import_file_ex) return true;
+    return ras_error_set(err,
+                         "cannot read model '%s': the model importer (assimp) could not be "
+                         "loaded (%s); install it (scripts/install-deps)",
+                         path, assimp.error);
+}
+
 static ras_mesh *import_mesh(const char *path, ras_error *err) {
+    if (!load_assimp(path, err)) return NULL;
 
     /* Triangulate: quads and n-gons become fans the rasterizer can draw.
      * JoinIdenticalVertices: OBJ stores one vertex per face corner; sharing
@@ -747,17 +808,17 @@ static ras_mesh *import_mesh(const char *path, ras_error *err) {
     const unsigned flags = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
                            aiProcess_SortByPType | aiProcess_ValidateDataStructure;
     struct aiFileIO io = {io_open, io_close, NULL};
-    const struct aiScene *scene = aiImportFileEx(path, flags, &io);
+    const struct aiScene *scene = assimp.import_file_ex(path, flags, &io);
     if (!scene) {
         ras_error_set(err,
                       "assimp could not read '%s' as a model (%s); expected a complete mesh file "
                       "in a format assimp knows (OBJ, PLY, STL, glTF, ...) — check the file and "
                       "its extension",
-                      path, aiGetErrorString());
+                      path, assimp.get_error_string());
         return NULL;
     }
     if ((scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) || !scene->mRootNode) {
-        aiReleaseImport(scene);
+        assimp.release_import(scene);
         ras_error_set(err,
                       "model '%s' is incomplete (an animation or skeleton without geometry); "
                       "expected triangles — export the mesh itself",
@@ -768,7 +829,7 @@ static ras_mesh *import_mesh(const char *path, ras_error *err) {
     ras_mesh_instance *inst = NULL;
     size_t inst_count = 0;
     if (!collect_instances(scene, &inst, &inst_count)) {
-        aiReleaseImport(scene);
+        assimp.release_import(scene);
         ras_error_set(err, "out of memory while reading the node tree of '%s'", path);
         return NULL;
     }
@@ -818,7 +879,7 @@ static ras_mesh *import_mesh(const char *path, ras_error *err) {
         free(repair);
     }
     free(inst);
-    aiReleaseImport(scene);
+    assimp.release_import(scene);
     return mesh;
 }
 
