@@ -3,6 +3,10 @@
 
 #include "ras_io.h"     /* ras_io_path_fits */
 #include "ras_memory.h" /* ras_memory_set_limit_mb */
+#include "ras_names.h"  /* the values --aa, --shader, ... take */
+#include "ras_scene.h"  /* RAS_SHADER_NORMAL */
+
+#include <stddef.h> /* offsetof */
 
 #include <getopt.h> /* getopt_long */
 #include <math.h>   /* isfinite */
@@ -13,64 +17,130 @@
 #include <malloc.h> /* mallopt */
 #endif
 
-enum {
-    OPT_AXIS = 256,
-    OPT_AA,
-    OPT_SAMPLES,
-    OPT_PATTERN,
-    OPT_EDGES,
-    OPT_DEPTH,
-    OPT_COMPARE,
-    OPT_REFERENCE,
-    OPT_SHADER,
-    OPT_FILTER,
-    OPT_MODEL,
-    OPT_TEXTURE,
-    OPT_HEIGHT,
-    OPT_FIT,
-    OPT_SCENE,
-    OPT_STATS,
-    OPT_RENDERER,
-    OPT_SIZE,
-    OPT_VERSION,
-    OPT_MEMORY_LIMIT,
+/* ---- the option table ------------------------------------------------------ */
+
+/* What an option's value is, and so how it is checked and stored. */
+typedef enum kind {
+    FLAG,     /* no value: sets a bool */
+    FILE_ARG, /* a file name: stored as given, checked to fit and to not look like an option */
+    NAME,     /* one of a ras_names table's names: stored as the enum value */
+    TEXT,     /* any word, stored as given (--renderer: the program checks it) */
+    SIZE,     /* WIDTHxHEIGHT */
+    ANGLE,    /* a finite number */
+    AXIS,     /* X,Y,Z, not all zero */
+    SAMPLES,  /* 1 .. RAS_MAX_SAMPLES */
+    MEMORY,   /* MiB, handed to ras_memory_set_limit_mb */
+    HELP,
+    VERSION,
+} kind;
+
+#define NO_FIELD ((size_t)-1)
+#define F(x) offsetof(ras_cli, x)
+
+typedef struct option_row {
+    const char *name; /* long name, without "--" */
+    char letter;      /* short option, or 0 */
+    unsigned group;   /* RAS_OPT_* bit; 0: every program takes it */
+    kind kind;
+    size_t field, set_flag; /* where the value goes, and its "_set" bool (NO_FIELD: none) */
+    const ras_names *names; /* NAME: the table, from value `first` on */
+    int first;
+    const char *value; /* what the value looks like: "needs a value: expected ..." */
+    const char *arg;   /* its placeholder in --help ("FILE") */
+    const char *help;  /* the help text; '\n' starts an indented line */
+} option_row;
+
+/* One row per option, in --help's order. */
+static const option_row options[] = {
+    {"output", 'o', 0, FILE_ARG, F(output), NO_FIELD, NULL, 0, "an output FILE such as out.png",
+     "FILE", "render once without a window and write FILE (.png; .jpg, .bmp,\n.ppm and .tif "
+             "work too)"},
+    {"size", 0, 0, SIZE, NO_FIELD, NO_FIELD, NULL, 0, "WIDTHxHEIGHT such as 700x700", "WxH",
+     "image size in pixels, 1x1 to 8192x8192 (default: the scene's)"},
+    {"angle", 'r', RAS_OPT_ANGLE, ANGLE, F(angle), F(angle_set), NULL, 0,
+     "an angle in degrees such as 20", "DEG", "rotation angle in degrees"},
+    {"axis", 0, RAS_OPT_ANGLE, AXIS, F(axis), F(axis_set), NULL, 0, "an axis X,Y,Z such as 0,1,0",
+     "X,Y,Z", "rotate about this axis (bonus: get_rotation)"},
+    {"aa", 0, RAS_OPT_AA, NAME, F(aa), F(aa_set), &ras_names_aa, 0, NULL, "MODE",
+     "anti-aliasing: none, msaa or ssaa"},
+    {"samples", 0, RAS_OPT_AA, SAMPLES, F(samples), NO_FIELD, NULL, 0, "a sample count such as 4",
+     "N", "samples per pixel (ordered: 4, 16, 64; standard: 2, 4, 8, 16);\nalone, it means "
+          "--aa msaa"},
+    {"pattern", 0, RAS_OPT_AA, NAME, F(pattern), F(pattern_set), &ras_names_pattern, 0, NULL, "P",
+     "sample positions: ordered (grid) or standard (D3D/Vulkan)"},
+    {"edges", 0, RAS_OPT_AA, NAME, F(edges), F(edges_set), &ras_names_edges, 0, NULL, "E",
+     "reference edge functions: fixed (watertight) or float"},
+    {"depth", 0, RAS_OPT_AA, NAME, F(depth), F(depth_set), &ras_names_depth, 0, NULL, "F",
+     "depth format: z01 ((1-z)/2, default) or inverse_w\n(-near/w: reversed-z, precise far "
+     "away; docs/accuracy.md)"},
+    {"shader", 0, RAS_OPT_SHADING, NAME, F(shader), F(shader_set), &ras_names_shader,
+     RAS_SHADER_NORMAL, NULL, "NAME", "normal, phong, texture, bump or displacement"},
+    {"filter", 0, RAS_OPT_SHADING, NAME, F(filter), F(filter_set), &ras_names_filter, 0, NULL,
+     "NAME", "texture filter: nearest, bilinear or trilinear"},
+    {"model", 0, RAS_OPT_MODEL, FILE_ARG, F(model), NO_FIELD, NULL, 0,
+     "a model FILE (OBJ, PLY, STL, glTF, ...)", "FILE", "a model file (OBJ, PLY, STL, glTF, ...)"},
+    {"texture", 0, RAS_OPT_MODEL, FILE_ARG, F(texture), NO_FIELD, NULL, 0, "an image FILE",
+     "FILE", "colour texture image"},
+    {"height", 0, RAS_OPT_MODEL, FILE_ARG, F(height_map), NO_FIELD, NULL, 0, "an image FILE",
+     "FILE", "height map for bump / displacement"},
+    {"fit", 0, RAS_OPT_MODEL, FLAG, F(fit), NO_FIELD, NULL, 0, NULL, NULL,
+     "scale and centre the model to fill the view"},
+    {"scene", 0, RAS_OPT_SCENE, FILE_ARG, F(scene), NO_FIELD, NULL, 0, "a scene FILE (JSON)",
+     "FILE", "the scene to draw (JSON, docs/scenes.md; default: the built-in\nscene of this "
+             "assignment); the options here override it"},
+    {"compare", 0, RAS_OPT_COMPARE, FLAG, F(compare), NO_FIELD, NULL, 0, NULL, NULL,
+     "render once, compare with the reference image for these settings\n(tests/reference/"
+     "catalogue.json) and write a difference image"},
+    {"reference", 0, RAS_OPT_COMPARE, FILE_ARG, F(reference), NO_FIELD, NULL, 0, "an image FILE",
+     "FILE", "with --compare: the reference image to compare with"},
+    {"stats", 0, RAS_OPT_STATS, FLAG, F(stats), NO_FIELD, NULL, 0, NULL, NULL,
+     "print what each pipeline stage did, as JSON on stdout"},
+    {"renderer", 0, RAS_OPT_RENDERER, TEXT, F(renderer), NO_FIELD, NULL, 0,
+     "a renderer NAME such as teaching", "NAME",
+     "who draws the frames: teaching (default: the pipeline\nstage by stage, as taught), or a "
+     "faster renderer the\nprogram offers (the same picture)"},
+    {"memory-limit", 0, 0, MEMORY, NO_FIELD, NO_FIELD, NULL, 0, "a number of MiB such as 4096",
+     "MB", "refuse inputs estimated to need more memory (default: half\nof physical memory, at "
+           "most 2048; also RAS_MEMORY_LIMIT_MB)"},
+    {"help", 'h', 0, HELP, NO_FIELD, NO_FIELD, NULL, 0, NULL, NULL, "this help"},
+    {"version", 0, 0, VERSION, NO_FIELD, NO_FIELD, NULL, 0, NULL, NULL, "the version"},
 };
+#define OPTION_COUNT ((int)(sizeof options / sizeof options[0]))
 
-static const struct option long_options[] = {
-    {"help", no_argument, NULL, 'h'},         {"version", no_argument, NULL, OPT_VERSION},
-    {"output", required_argument, NULL, 'o'}, {"size", required_argument, NULL, OPT_SIZE},
-    {"angle", required_argument, NULL, 'r'},  {"axis", required_argument, NULL, OPT_AXIS},
-    {"aa", required_argument, NULL, OPT_AA},  {"samples", required_argument, NULL, OPT_SAMPLES},
-    {"pattern", required_argument, NULL, OPT_PATTERN},
-    {"edges", required_argument, NULL, OPT_EDGES},
-    {"depth", required_argument, NULL, OPT_DEPTH},
-    {"compare", no_argument, NULL, OPT_COMPARE},
-    {"reference", required_argument, NULL, OPT_REFERENCE},
-    {"shader", required_argument, NULL, OPT_SHADER},
-    {"filter", required_argument, NULL, OPT_FILTER},
-    {"model", required_argument, NULL, OPT_MODEL},
-    {"texture", required_argument, NULL, OPT_TEXTURE},
-    {"height", required_argument, NULL, OPT_HEIGHT},
-    {"fit", no_argument, NULL, OPT_FIT},
-    {"scene", required_argument, NULL, OPT_SCENE},
-    {"stats", no_argument, NULL, OPT_STATS},
-    {"renderer", required_argument, NULL, OPT_RENDERER},
-    {"memory-limit", required_argument, NULL, OPT_MEMORY_LIMIT},
-    {NULL, 0, NULL, 0}};
+/* getopt_long's view of the table: val is the row's index + 256. */
+static struct option long_options[OPTION_COUNT + 1];
+static char short_options[2 * OPTION_COUNT + 2];
 
-/* Which group each option belongs to (0: always accepted). */
-static unsigned group_of(int opt) {
-    switch (opt) {
-    case 'r': case OPT_AXIS: return RAS_OPT_ANGLE;
-    case OPT_AA: case OPT_SAMPLES: case OPT_PATTERN: case OPT_EDGES: case OPT_DEPTH: return RAS_OPT_AA;
-    case OPT_COMPARE: case OPT_REFERENCE: return RAS_OPT_COMPARE;
-    case OPT_SHADER: case OPT_FILTER: return RAS_OPT_SHADING;
-    case OPT_MODEL: case OPT_TEXTURE: case OPT_HEIGHT: case OPT_FIT: return RAS_OPT_MODEL;
-    case OPT_SCENE: return RAS_OPT_SCENE;
-    case OPT_STATS: return RAS_OPT_STATS;
-    case OPT_RENDERER: return RAS_OPT_RENDERER;
-    default: return 0;
+static void build_getopt_tables(void) {
+    int n = 0;
+    short_options[n++] = ':'; /* report a missing value as ':' */
+    for (int i = 0; i < OPTION_COUNT; i++) {
+        bool has_arg = options[i].kind != FLAG && options[i].kind != HELP &&
+                       options[i].kind != VERSION;
+        long_options[i] = (struct option){options[i].name, has_arg ? required_argument : no_argument,
+                                          NULL, 256 + i};
+        if (options[i].letter) {
+            short_options[n++] = options[i].letter;
+            if (has_arg) short_options[n++] = ':';
+        }
     }
+    long_options[OPTION_COUNT] = (struct option){NULL, 0, NULL, 0};
+    short_options[n] = '\0';
+}
+
+/* The row of getopt's answer (a short letter or 256 + index); NULL if none. */
+static const option_row *row_of(int opt) {
+    if (opt >= 256 && opt < 256 + OPTION_COUNT) return &options[opt - 256];
+    for (int i = 0; i < OPTION_COUNT; i++)
+        if (options[i].letter && options[i].letter == opt) return &options[i];
+    return NULL;
+}
+
+/* What the row's value looks like: its own words, or its table's names. */
+static const char *value_of(const option_row *r, char *buf, size_t size) {
+    if (!r) return "a value";
+    if (r->kind == NAME) return ras_names_list(r->names, r->first, buf, size);
+    return r->value ? r->value : "a value";
 }
 
 static bool parse_float(const char *s, float *out) {
@@ -89,35 +159,70 @@ static bool parse_int(const char *s, long lo, long hi, int *out) {
     return true;
 }
 
-/* What an option's value looks like, for "needs a value" messages. */
-static const char *metavar_of(int opt) {
-    switch (opt) {
-    case 'o': return "an output FILE such as out.png";
-    case OPT_SIZE: return "WIDTHxHEIGHT such as 700x700";
-    case 'r': return "an angle in degrees such as 20";
-    case OPT_AXIS: return "an axis X,Y,Z such as 0,1,0";
-    case OPT_AA: return "none, msaa or ssaa";
-    case OPT_SAMPLES: return "a sample count such as 4";
-    case OPT_PATTERN: return "ordered or standard";
-    case OPT_EDGES: return "fixed or float";
-    case OPT_DEPTH: return "z01 or inverse_w";
-    case OPT_SHADER: return "normal, phong, texture, bump or displacement";
-    case OPT_FILTER: return "nearest, bilinear or trilinear";
-    case OPT_REFERENCE: return "an image FILE";
-    case OPT_MODEL: return "a model FILE (OBJ, PLY, STL, glTF, ...)";
-    case OPT_TEXTURE:
-    case OPT_HEIGHT: return "an image FILE";
-    case OPT_SCENE: return "a scene FILE (JSON)";
-    case OPT_RENDERER: return "a renderer NAME such as teaching";
-    case OPT_MEMORY_LIMIT: return "a number of MiB such as 4096";
-    default: return "a value";
+/* --size: digits 'x' digits, nothing else (sscanf alone would take
+ * "10x10junk", " 10x10" or "+10x10"). */
+static bool parse_size(const char *arg, ras_cli *out) {
+    size_t w_len = strspn(arg, "0123456789");
+    bool shape = w_len > 0 && w_len < 6 && arg[w_len] == 'x';
+    if (shape) {
+        size_t h_len = strspn(arg + w_len + 1, "0123456789");
+        shape = h_len > 0 && h_len < 6 && arg[w_len + 1 + h_len] == '\0';
     }
+    return shape && sscanf(arg, "%dx%d", &out->width, &out->height) == 2 && out->width >= 1 &&
+           out->height >= 1 && out->width <= 8192 && out->height <= 8192;
 }
 
-/* The options whose value is a file name. */
-static bool takes_file(int opt) {
-    return opt == 'o' || opt == OPT_REFERENCE || opt == OPT_MODEL || opt == OPT_TEXTURE ||
-           opt == OPT_HEIGHT || opt == OPT_SCENE;
+static bool parse_axis(const char *arg, vec3s *axis) {
+    float x, y, z;
+    char tail;
+    if (sscanf(arg, "%f,%f,%f%c", &x, &y, &z, &tail) != 3 || !isfinite(x) || !isfinite(y) ||
+        !isfinite(z) || (x == 0 && y == 0 && z == 0))
+        return false;
+    *axis = (vec3s){{x, y, z}};
+    return true;
+}
+
+/* Stores one option's value in `out` (its row says where and how); false
+ * with err set when the value is not one the row takes. */
+static bool store(const option_row *r, const char *arg, ras_cli *out, ras_error *err) {
+    char *base = (char *)out, list[128];
+    bool ok = true;
+    const char *expects = NULL; /* the "expects ..." message when !ok */
+    switch (r->kind) {
+    case FLAG: *(bool *)(base + r->field) = true; break;
+    case FILE_ARG:
+    case TEXT: *(const char **)(base + r->field) = arg; break;
+    case NAME: {
+        int v = ras_name_find(r->names, arg, r->first);
+        ok = v >= 0;
+        if (ok) *(int *)(base + r->field) = v;
+        expects = value_of(r, list, sizeof list);
+        break;
+    }
+    case SIZE:
+        ok = parse_size(arg, out);
+        expects = "WIDTHxHEIGHT between 1x1 and 8192x8192, e.g. --size 700x700";
+        break;
+    case ANGLE:
+        ok = parse_float(arg, (float *)(base + r->field));
+        expects = "a finite number of degrees, e.g. -r 20";
+        break;
+    case AXIS:
+        ok = parse_axis(arg, (vec3s *)(base + r->field));
+        expects = "three numbers X,Y,Z, not all zero, e.g. --axis 0,1,0";
+        break;
+    case SAMPLES:
+        ok = parse_int(arg, 1, RAS_MAX_SAMPLES, (int *)(base + r->field));
+        expects = "a whole number of samples per pixel (1, 2, 4, 8, 16 or 64)";
+        break;
+    case MEMORY: return ras_memory_set_limit_mb(arg, err);
+    case HELP:
+    case VERSION: break;
+    }
+    if (!ok)
+        return ras_error_set(err, "--%s expects %s; got '%s'", r->name, expects, arg);
+    if (r->set_flag != NO_FIELD) *(bool *)(base + r->set_flag) = true;
+    return true;
 }
 
 /* The long options `word` (after "--", up to any '=') abbreviates; *match is
@@ -148,240 +253,110 @@ static bool same_path(const char *a, const char *b) {
     return same;
 }
 
+/* getopt's '?' (unknown, ambiguous, or a value given to a flag) and ':' (a
+ * value missing) as a message. `word` is the word as typed. */
+static bool getopt_error(int opt, const char *word, unsigned accepted, const char *program,
+                         ras_error *err) {
+    /* An unknown letter inside a cluster ("-xr") leaves optind on its word,
+     * so only optopt tells a long option (0, >= 256, or --help=) from a
+     * short one there. */
+    bool long_word = !strncmp(word, "--", 2);
+    if (opt == '?')
+        long_word = optopt == 0 || optopt >= 256 || (optopt == 'h' && long_word && strchr(word, '='));
+    const struct option *match = NULL;
+    int n = long_word ? prefix_matches(word + 2, &match) : 0;
+    int len = (int)strcspn(word, "=");
+    if (opt == '?' && long_word) {
+        if (n == 1 && match->has_arg == no_argument && strchr(word, '='))
+            return ras_error_set(err, "option '--%s' takes no value; got '%s'; write it as just "
+                                      "'--%s'", match->name, word, match->name);
+        if (n > 1)
+            return ras_error_set(err, "option '%.*s' is ambiguous: it starts more than one "
+                                      "option name; write the option out in full (run '%s "
+                                      "--help' for the list)", len, word, program);
+        return ras_error_set(err, "unknown option '%.*s'; run '%s --help' for the options it "
+                                  "takes", len, word, program);
+    }
+    char letter = optopt > 32 && optopt < 127 ? (char)optopt : '?';
+    if (opt == '?')
+        return ras_error_set(err, "unknown option '-%c'; run '%s --help' for the options it takes",
+                             letter, program);
+    /* ':' — optopt is the short letter or the long option's value. */
+    const option_row *r = row_of(long_word && n == 1 ? match->val : optopt);
+    char name[64], list[128];
+    if (long_word) snprintf(name, sizeof name, "--%s", match ? match->name : word + 2);
+    else snprintf(name, sizeof name, "-%c", letter);
+    if (r && r->group && !(r->group & accepted))
+        return ras_error_set(err, "option '%s' does not apply to this program; run '%s --help' "
+                                  "for the options it takes", name, program);
+    return ras_error_set(err, "option '%s' needs a value: expected %s after it, got the end of "
+                              "the command line", name, value_of(r, list, sizeof list));
+}
+
+/* A file option's value that is empty or looks like an option (`-o --size
+ * 9x9`: getopt took the option as the file name), or that is too long for
+ * the programs' buffers (refused, never cut). */
+static bool check_file_value(const option_row *r, const char *name, const char *arg,
+                             ras_error *err) {
+    if (!arg[0])
+        return ras_error_set(err, "option '%s' expects %s, got an empty name", name, r->value);
+    if (arg[0] == '-' && arg[1])
+        return ras_error_set(err, "option '%s' expects %s, got '%s', which looks like an option; "
+                                  "give the file name after %s (a file whose name starts with "
+                                  "'-' is written ./%s)", name, r->value, arg, name, arg);
+    return ras_io_path_fits(name, arg, err);
+}
+
+/* -o must not land on the --reference image, nor on the difference images
+ * written beside it (OUT_diff.png, OUT_worst.png): --compare reads the
+ * reference before the render overwrites anything. */
+static bool check_reference_output(const ras_cli *out, ras_error *err) {
+    if (!out->reference || !out->output) return true;
+    if (same_path(out->reference, out->output))
+        return ras_error_set(err, "-o %s would overwrite the --reference image it is compared "
+                                  "with; write the render to another file", out->output);
+    static const char *const suffixes[] = {"diff", "worst"};
+    for (int k = 0; k < 2; k++) {
+        char sibling[RAS_IO_MAX_PATH + 16];
+        ras_cli_sibling_path(out->output, NULL, suffixes[k], sibling, sizeof sibling);
+        if (same_path(out->reference, sibling))
+            return ras_error_set(err, "--compare writes its difference image to %s, which is "
+                                      "the --reference image; name -o differently", sibling);
+    }
+    return true;
+}
+
 ras_cli_status ras_cli_parse(int argc, char **argv, unsigned accepted, ras_cli *out,
                              ras_error *err) {
     *out = (ras_cli){.axis = {{0, 0, 1}}};
     const char *program = argc > 0 ? argv[0] : "program";
+    if (!long_options[0].name) build_getopt_tables();
     optind = 0; /* glibc: 0 re-initialises getopt fully, so parsing twice works */
     opterr = 0; /* we write our own messages */
-    for (;;) {
-        int index = -1;
-        int opt = getopt_long(argc, argv, ":ho:r:", long_options, &index);
-        if (opt == -1) break;
-        const char *arg = optarg;
-        /* Name the option as the user typed it: argv[optind - 1] would be its
-         * value when the value came as a separate word. */
-        /* The word that went wrong, as typed: "--name[=value]" or "-x". An
-         * unknown letter inside a cluster ("-xr") leaves optind on its word,
-         * so only optopt tells a long option (0 or a value >= 256, or --help=)
-         * from a short one there. */
+    int opt;
+    while ((opt = getopt_long(argc, argv, short_options, long_options, NULL)) != -1) {
+        /* The word that went wrong, as typed: "--name[=value]" or "-x". */
         const char *word = optind > 0 && optind <= argc ? argv[optind - 1] : "";
-        bool long_word = !strncmp(word, "--", 2);
-        if (opt == '?')
-            long_word =
-                optopt == 0 || optopt >= 256 || (optopt == 'h' && long_word && strchr(word, '='));
+        if (opt == '?' || opt == ':') {
+            getopt_error(opt, word, accepted, program, err);
+            return RAS_CLI_ERROR;
+        }
+        const option_row *r = row_of(opt);
         char name[64];
-        if (index >= 0) snprintf(name, sizeof name, "--%s", long_options[index].name);
-        else if (opt != '?' && opt != ':') snprintf(name, sizeof name, "-%c", opt);
-        else
-            snprintf(name, sizeof name, "%s", word);
-        if (opt == '?' && long_word) {
-            const struct option *match = NULL;
-            int n = prefix_matches(word + 2, &match);
-            if (n == 1 && match->has_arg == no_argument && strchr(word, '='))
-                ras_error_set(err,
-                              "option '--%s' takes no value; got '%s'; write it as just "
-                              "'--%s'",
-                              match->name, word, match->name);
-            else if (n > 1)
-                ras_error_set(err,
-                              "option '%.*s' is ambiguous: it starts more than one option "
-                              "name; write the option out in full (run '%s --help' for "
-                              "the list)",
-                              (int)strcspn(word, "="), word, program);
-            else
-                ras_error_set(err,
-                              "unknown option '%.*s'; run '%s --help' for the options it "
-                              "takes",
-                              (int)strcspn(word, "="), word, program);
+        if (opt >= 256) snprintf(name, sizeof name, "--%s", r->name);
+        else snprintf(name, sizeof name, "-%c", opt);
+        if (r->group && !(r->group & accepted)) {
+            ras_error_set(err, "option '%s' does not apply to this program; run '%s --help' for "
+                               "the options it takes", name, program);
             return RAS_CLI_ERROR;
         }
-        if (opt == '?') {
-            ras_error_set(err, "unknown option '-%c'; run '%s --help' for the options it takes",
-                          optopt > 32 && optopt < 127 ? optopt : '?', program);
+        if (r->kind == HELP) return RAS_CLI_HELP;
+        if (r->kind == VERSION) return RAS_CLI_VERSION;
+        if ((r->kind == FILE_ARG && !check_file_value(r, name, optarg, err)) ||
+            !store(r, optarg, out, err))
             return RAS_CLI_ERROR;
-        }
-        if (opt == ':') {
-            /* optopt is the short letter or the long option's value. */
-            int which = optopt;
-            if (long_word) {
-                const struct option *match = NULL;
-                if (prefix_matches(word + 2, &match) == 1) which = match->val;
-                snprintf(name, sizeof name, "--%s", match ? match->name : word + 2);
-            } else {
-                snprintf(name, sizeof name, "-%c", optopt > 32 && optopt < 127 ? optopt : '?');
-            }
-            unsigned g = group_of(which);
-            if (g && !(g & accepted))
-                ras_error_set(err,
-                              "option '%s' does not apply to this program; run '%s --help' "
-                              "for the options it takes",
-                              name, program);
-            else
-                ras_error_set(err,
-                              "option '%s' needs a value: expected %s after it, got the "
-                              "end of the command line",
-                              name, metavar_of(which));
-            return RAS_CLI_ERROR;
-        }
-        unsigned group = group_of(opt);
-        if (group && !(group & accepted)) {
-            ras_error_set(err,
-                          "option '%s' does not apply to this program; run '%s --help' for "
-                          "the options it takes",
-                          name, program);
-            return RAS_CLI_ERROR;
-        }
-        /* A file option followed by another option (`-o --size 9x9`): getopt
-         * takes the option as the file name. Names starting with '-' need ./ */
-        if (takes_file(opt) && (!arg[0] || (arg[0] == '-' && arg[1]))) {
-            if (!arg[0])
-                ras_error_set(err, "option '%s' expects %s, got an empty name", name,
-                              metavar_of(opt));
-            else
-                ras_error_set(err,
-                              "option '%s' expects %s, got '%s', which looks like an option; "
-                              "give the file name after %s (a file whose name starts with "
-                              "'-' is written ./%s)",
-                              name, metavar_of(opt), arg, name, arg);
-            return RAS_CLI_ERROR;
-        }
-        /* A file name longer than the programs' buffers is refused, never cut. */
-        if (takes_file(opt) && !ras_io_path_fits(name, arg, err)) return RAS_CLI_ERROR;
-        switch (opt) {
-        case 'h': return RAS_CLI_HELP;
-        case OPT_VERSION: return RAS_CLI_VERSION;
-        case 'o': out->output = arg; break;
-        case OPT_SIZE: {
-            /* Digits 'x' digits, nothing else: sscanf alone would take
-             * "10x10junk", " 10x10" or "+10x10". */
-            size_t w_len = strspn(arg, "0123456789");
-            bool shape = w_len > 0 && w_len < 6 && arg[w_len] == 'x';
-            if (shape) {
-                size_t h_len = strspn(arg + w_len + 1, "0123456789");
-                shape = h_len > 0 && h_len < 6 && arg[w_len + 1 + h_len] == '\0';
-            }
-            if (!shape || sscanf(arg, "%dx%d", &out->width, &out->height) != 2 || out->width < 1 ||
-                out->height < 1 || out->width > 8192 || out->height > 8192) {
-                ras_error_set(err, "--size expects WIDTHxHEIGHT between 1x1 and 8192x8192, "
-                                   "e.g. --size 700x700; got '%s'", arg);
-                return RAS_CLI_ERROR;
-            }
-            break;
-        }
-        case 'r':
-            if (!parse_float(arg, &out->angle)) {
-                ras_error_set(err, "--angle expects a finite number of degrees, e.g. -r 20; "
-                                   "got '%s'", arg);
-                return RAS_CLI_ERROR;
-            }
-            out->angle_set = true;
-            break;
-        case OPT_AXIS: {
-            float x, y, z;
-            char tail;
-            if (sscanf(arg, "%f,%f,%f%c", &x, &y, &z, &tail) != 3 || !isfinite(x) ||
-                !isfinite(y) || !isfinite(z) || (x == 0 && y == 0 && z == 0)) {
-                ras_error_set(err, "--axis expects three numbers X,Y,Z, not all zero, e.g. "
-                                   "--axis 0,1,0; got '%s'", arg);
-                return RAS_CLI_ERROR;
-            }
-            out->axis = (vec3s){{x, y, z}};
-            out->axis_set = true;
-            break;
-        }
-        case OPT_AA:
-            if (!strcmp(arg, "none")) out->aa = RAS_AA_NONE;
-            else if (!strcmp(arg, "msaa")) out->aa = RAS_AA_MSAA;
-            else if (!strcmp(arg, "ssaa")) out->aa = RAS_AA_SSAA;
-            else {
-                ras_error_set(err, "--aa expects none, msaa or ssaa; got '%s'", arg);
-                return RAS_CLI_ERROR;
-            }
-            out->aa_set = true;
-            break;
-        case OPT_SAMPLES:
-            if (!parse_int(arg, 1, RAS_MAX_SAMPLES, &out->samples)) {
-                ras_error_set(err, "--samples expects a whole number of samples per pixel "
-                                   "(1, 2, 4, 8, 16 or 64); got '%s'", arg);
-                return RAS_CLI_ERROR;
-            }
-            break;
-        case OPT_PATTERN:
-            if (!strcmp(arg, "ordered")) out->pattern = RAS_PATTERN_ORDERED;
-            else if (!strcmp(arg, "standard")) out->pattern = RAS_PATTERN_STANDARD;
-            else {
-                ras_error_set(err, "--pattern expects ordered or standard; got '%s'", arg);
-                return RAS_CLI_ERROR;
-            }
-            out->pattern_set = true;
-            break;
-        case OPT_EDGES:
-            if (!strcmp(arg, "fixed")) out->edges = RAS_EDGES_FIXED;
-            else if (!strcmp(arg, "float")) out->edges = RAS_EDGES_FLOAT;
-            else {
-                ras_error_set(err, "--edges expects fixed or float; got '%s'", arg);
-                return RAS_CLI_ERROR;
-            }
-            out->edges_set = true;
-            break;
-        case OPT_DEPTH: {
-            int f = 0;
-            while (f < RAS_DEPTH_FORMAT_COUNT && strcmp(arg, ras_depth_format_names[f]))
-                f++;
-            if (f == RAS_DEPTH_FORMAT_COUNT) {
-                ras_error_set(err, "--depth expects z01 or inverse_w; got '%s'", arg);
-                return RAS_CLI_ERROR;
-            }
-            out->depth = (ras_depth_format)f;
-            out->depth_set = true;
-            break;
-        }
-        case OPT_COMPARE: out->compare = true; break;
-        case OPT_REFERENCE: out->reference = arg; break;
-        case OPT_SHADER: out->shader = arg; break;
-        case OPT_FILTER: out->filter = arg; break;
-        case OPT_MODEL: out->model = arg; break;
-        case OPT_TEXTURE: out->texture = arg; break;
-        case OPT_HEIGHT: out->height_map = arg; break;
-        case OPT_FIT: out->fit = true; break;
-        case OPT_SCENE: out->scene = arg; break;
-        case OPT_MEMORY_LIMIT:
-            if (!ras_memory_set_limit_mb(arg, err)) return RAS_CLI_ERROR;
-            break;
-        case OPT_STATS: out->stats = true; break;
-        case OPT_RENDERER: out->renderer = arg; break;
-        default: break;
-        }
     }
-    if (out->reference && out->output) {
-        /* --compare reads the reference before the render overwrites -o. */
-        if (same_path(out->reference, out->output)) {
-            ras_error_set(err,
-                          "-o %s would overwrite the --reference image it is compared with; "
-                          "write the render to another file",
-                          out->output);
-            return RAS_CLI_ERROR;
-        }
-        /* Nor may the difference images written beside -o (OUT_diff.png,
-         * OUT_worst.png) land on it. */
-        static const char *const suffixes[] = {"_diff", "_worst"};
-        const char *dot = strrchr(out->output, '.'), *slash = strrchr(out->output, '/');
-        int stem = (dot && (!slash || dot > slash)) ? (int)(dot - out->output)
-                                                    : (int)strlen(out->output);
-        for (int k = 0; k < 2; k++) {
-            char sibling[RAS_IO_MAX_PATH + 16];
-            snprintf(sibling, sizeof sibling, "%.*s%s.png", stem, out->output, suffixes[k]);
-            if (same_path(out->reference, sibling)) {
-                ras_error_set(err,
-                              "--compare writes its difference image to %s, which is the "
-                              "--reference image; name -o differently",
-                              sibling);
-                return RAS_CLI_ERROR;
-            }
-        }
-    }
-    if (!ras_memory_check_env(err)) return RAS_CLI_ERROR;
+    if (!check_reference_output(out, err) || !ras_memory_check_env(err)) return RAS_CLI_ERROR;
     if (out->reference && !out->compare) {
         ras_error_set(err, "--reference FILE goes with --compare (it names the image to compare "
                            "with); add --compare, or drop --reference");
@@ -404,57 +379,38 @@ void ras_cli_help(unsigned accepted, const char *program, const char *usage, cha
     int n = snprintf(buf, (size_t)size, "Usage: %s [options]\n%s\nOptions:\n", program, usage);
 #define ADD(...)                                                                              \
     do {                                                                                      \
-        if (n < size) n += snprintf(buf + n, (size_t)(size - n), __VA_ARGS__);                \
+        if (n >= 0 && n < size) n += snprintf(buf + n, (size_t)(size - n), __VA_ARGS__);     \
     } while (0)
-    ADD("  -o, --output FILE     render once without a window and write FILE (.png; .jpg, .bmp,\n"
-        "                        .ppm and .tif work too)\n");
-    ADD("      --size WxH        image size in pixels, 1x1 to 8192x8192 (default: the scene's)\n");
-    if (accepted & RAS_OPT_ANGLE) {
-        ADD("  -r, --angle DEG       rotation angle in degrees\n");
-        ADD("      --axis X,Y,Z      rotate about this axis (bonus: get_rotation)\n");
+    for (int i = 0; i < OPTION_COUNT; i++) {
+        const option_row *r = &options[i];
+        if (r->group && !(r->group & accepted)) continue;
+        char letter[8] = "", words[40];
+        if (r->letter) snprintf(letter, sizeof letter, "-%c,", r->letter);
+        snprintf(words, sizeof words, "--%s%s%s", r->name, r->arg ? " " : "", r->arg ? r->arg : "");
+        ADD("  %-4s%-17s ", letter, words);
+        /* The help text, each further line indented under the first. */
+        for (const char *line = r->help; line;) {
+            const char *nl = strchr(line, '\n');
+            ADD("%.*s\n", nl ? (int)(nl - line) : (int)strlen(line), line);
+            line = nl ? nl + 1 : NULL;
+            if (line) ADD("%24s", "");
+        }
     }
-    if (accepted & RAS_OPT_AA) {
-        ADD("      --aa MODE         anti-aliasing: none, msaa or ssaa\n");
-        ADD("      --samples N       samples per pixel (ordered: 4, 16, 64; standard: 2, 4, "
-            "8, 16)\n");
-        ADD("      --pattern P       sample positions: ordered (grid) or standard (D3D/Vulkan)\n");
-        ADD("      --edges E         reference edge functions: fixed (watertight) or float\n");
-        ADD("      --depth F         depth format: z01 ((1-z)/2, default) or inverse_w\n"
-            "                        (-near/w: reversed-z, precise far away; docs/accuracy.md)\n");
-    }
-    if (accepted & RAS_OPT_SHADING) {
-        ADD("      --shader NAME     normal, phong, texture, bump or displacement\n");
-        ADD("      --filter NAME     texture filter: nearest, bilinear or trilinear\n");
-    }
-    if (accepted & RAS_OPT_MODEL) {
-        ADD("      --model FILE      a model file (OBJ, PLY, STL, glTF, ...)\n");
-        ADD("      --texture FILE    colour texture image\n");
-        ADD("      --height FILE     height map for bump / displacement\n");
-        ADD("      --fit             scale and centre the model to fill the view\n");
-    }
-    if (accepted & RAS_OPT_SCENE)
-        ADD("      --scene FILE      the scene to draw (JSON, docs/scenes.md; default: the "
-            "built-in\n                        scene of this assignment); the options here "
-            "override it\n");
-    if (accepted & RAS_OPT_COMPARE) {
-        ADD("      --compare         compare the render with its reference image and write a "
-            "difference image\n");
-        ADD("      --reference FILE  with --compare: the reference image to compare with\n");
-    }
-    if (accepted & RAS_OPT_STATS)
-        ADD("      --stats           print what each pipeline stage did, as JSON on stdout\n");
-    if (accepted & RAS_OPT_RENDERER)
-        ADD("      --renderer NAME   who draws the frames: teaching (default: the pipeline\n"
-            "                        stage by stage, as taught), or a faster renderer the\n"
-            "                        program offers (the same picture)\n");
-    ADD("      --memory-limit MB refuse inputs estimated to need more memory (default: half\n"
-        "                        of physical memory, at most 2048; also RAS_MEMORY_LIMIT_MB)\n");
-    ADD("  -h, --help            this help\n");
-    ADD("      --version         the version\n");
     ADD("Exit status: 0 done, 1 the render or writing failed, 2 bad options or input\n"
         "(nothing is written then).%s\n",
         accepted & RAS_OPT_COMPARE ? " With --compare: 0 the images match, 1 they differ." : "");
 #undef ADD
+}
+
+void ras_cli_sibling_path(const char *output, const char *fallback_stem, const char *suffix,
+                          char *buf, size_t size) {
+    if (!output) {
+        snprintf(buf, size, "%s_%s.png", fallback_stem ? fallback_stem : "out", suffix);
+        return;
+    }
+    const char *dot = strrchr(output, '.'), *slash = strrchr(output, '/');
+    int stem = (dot && (!slash || dot > slash)) ? (int)(dot - output) : (int)strlen(output);
+    snprintf(buf, size, "%.*s_%s.png", stem, output, suffix);
 }
 
 void ras_cli_reuse_freed_memory(void) {

@@ -1,10 +1,14 @@
 /* ras_cli.h — the one command-line parser the three programs share.
  *
+ * One table (ras_cli.c, `options`) holds a row per option: its name, letter,
+ * group, the kind of value it takes, the field it fills and its help line.
+ * The parser, the "needs a value" and "expects" messages and --help are all
+ * read from that table, so an option is added by adding one row.
  * Each program says which option groups it accepts (RAS_OPT_* bits); an
  * option of another group is rejected like an unknown one, with a message
  * that names it and points to --help. Values are checked here (numbers are
- * finite and in range, names are from the list) so mains only read fields.
- * Parsing never prints: the caller prints err->msg or the help text.
+ * finite and in range, names are from ras_names.h's tables) so programs only
+ * read fields. Parsing never prints: the caller prints err->msg or the help.
  */
 #ifndef RAS_CLI_H
 #define RAS_CLI_H
@@ -46,7 +50,10 @@ typedef struct ras_cli {
     bool depth_set;
     bool compare;
     const char *reference; /* --reference FILE for --compare */
-    const char *shader, *filter;
+    int shader; /* ras_scene_shader (never flat: --shader takes hw3's five) */
+    bool shader_set;
+    int filter; /* ras_scene_filter */
+    bool filter_set;
     const char *model, *texture, *height_map;
     bool fit;
     const char *scene;
@@ -73,6 +80,12 @@ ras_cli_status ras_cli_parse(int argc, char **argv, unsigned accepted, ras_cli *
  * off a spot render (docs/startup.md). Output is unchanged; the memory goes
  * back to the system at exit. A no-op outside glibc. */
 void ras_cli_reuse_freed_memory(void);
+
+/* The file written beside `output` for --compare: out/x.png with suffix
+ * "diff" is out/x_diff.png (a dot in a folder name is not an extension);
+ * without an output, FALLBACK_STEM_diff.png in the current folder. */
+void ras_cli_sibling_path(const char *output, const char *fallback_stem, const char *suffix,
+                          char *buf, size_t size);
 
 /* Help for the accepted groups, after a program-specific usage paragraph. */
 void ras_cli_help(unsigned accepted, const char *program, const char *usage, char *buf,

@@ -34,6 +34,7 @@
 
 #include "ras_io.h"     /* ras_io_open_input */
 #include "ras_memory.h" /* ras_memory_check, ras_memory_commit */
+#include "ras_names.h"  /* the option values' spellings */
 
 #define BIG 1e6 /* coordinates, strengths and scales are limited to ±1e6 */
 #define PATH_LEN 192
@@ -43,14 +44,9 @@
 
 static const char *const shape_names[RAS_SHAPE_COUNT] = {"triangle", "plane",  "cube",     "sphere",
                                                          "torus",    "teapot", "thin_fan", "model"};
-static const char *const shader_names[RAS_SHADER_COUNT] = {"flat",    "normal", "phong",
-                                                           "texture", "bump",   "displacement"};
-static const char *const filter_names[] = {"nearest", "bilinear", "trilinear"};
-static const char *const cull_names[] = {"none", "back", "front"};
-static const char *const aa_names[] = {"none", "msaa", "ssaa"};
-static const char *const pattern_names[] = {"ordered", "standard"};
-static const char *const edge_names[] = {"fixed", "float"};
-static const char *const wrap_names[] = {"repeat", "clamp"};
+/* Option values are spelled by ras_names.h's tables; NAMES(t) passes one
+ * to read_enum. */
+#define NAMES(t) (t).names, (t).count
 static const char *const space_names[] = {"view", "world"};
 static const char *const builtin_map_names[] = {"checker", "brick", "bumps"};
 #define COUNT(a) ((int)(sizeof(a) / sizeof((a)[0])))
@@ -59,13 +55,13 @@ const char *ras_scene_shape_name(ras_scene_shape s) {
     return (unsigned)s < RAS_SHAPE_COUNT ? shape_names[s] : "?";
 }
 const char *ras_scene_shader_name(ras_scene_shader s) {
-    return (unsigned)s < RAS_SHADER_COUNT ? shader_names[s] : "?";
+    return ras_name_of(&ras_names_shader, (int)s);
 }
 const char *ras_scene_filter_name(ras_scene_filter f) {
-    return (unsigned)f < (unsigned)COUNT(filter_names) ? filter_names[f] : "?";
+    return ras_name_of(&ras_names_filter, (int)f);
 }
 const char *ras_scene_cull_name(ras_cull_mode c) {
-    return (unsigned)c < (unsigned)COUNT(cull_names) ? cull_names[c] : "?";
+    return ras_name_of(&ras_names_cull, (int)c);
 }
 
 /* ------------------------------------------------------------------------ */
@@ -806,7 +802,7 @@ static bool parse_map(ctx *c, const cJSON *v, const char *path, ras_scene_map *m
     if (m->kind == RAS_MAP_CHECKER) known[kn++] = "colors";
     if (!check_keys(c, v, path, known, kn, NULL, NULL)) return false;
     int wrap = 0;
-    if (!opt_enum(c, v, path, "wrap", wrap_names, COUNT(wrap_names), &wrap)) return false;
+    if (!opt_enum(c, v, path, "wrap", NAMES(ras_names_wrap), &wrap)) return false;
     m->wrap = wrap == 0 ? RAS_WRAP_REPEAT : RAS_WRAP_CLAMP;
     if (!opt_int(c, v, path, "size", 1, 4096, &m->size) ||
         !opt_int(c, v, path, "squares", 1, 4096, &m->squares) ||
@@ -1008,8 +1004,8 @@ static bool parse_aa(ctx *c, const cJSON *v, ras_scene *s) {
     if (!read_object(c, v, "aa") || !check_keys(c, v, "aa", keys, COUNT(keys), NULL, NULL))
         return false;
     int mode = 0, pattern = 0, samples = 4;
-    if (!opt_enum(c, v, "aa", "mode", aa_names, COUNT(aa_names), &mode) ||
-        !opt_enum(c, v, "aa", "pattern", pattern_names, COUNT(pattern_names), &pattern) ||
+    if (!opt_enum(c, v, "aa", "mode", NAMES(ras_names_aa), &mode) ||
+        !opt_enum(c, v, "aa", "pattern", NAMES(ras_names_pattern), &pattern) ||
         !opt_int(c, v, "aa", "samples", 1, RAS_MAX_SAMPLES, &samples))
         return false;
     s->aa = (ras_aa_mode)mode;
@@ -1028,7 +1024,7 @@ static bool parse_aa(ctx *c, const cJSON *v, ras_scene *s) {
     ras_error inner;
     if (!ras_sample_pattern_make(s->pattern_kind, samples, &s->pattern, &inner))
         return fail(c, "aa.samples", "%s (pattern \"%s\")", inner.msg,
-                    pattern_names[s->pattern_kind]);
+                    ras_name_of(&ras_names_pattern, (int)s->pattern_kind));
     return true;
 }
 
@@ -1052,11 +1048,11 @@ static bool parse_root(ctx *c, const cJSON *root, ras_scene *s) {
     if (!opt_vec3_or_scalar(c, root, "", "ambient", R_NONNEG, &s->ambient)) return false;
     if ((v = member(root, "aa")) && !parse_aa(c, v, s)) return false;
     int shader = 0, filter = RAS_FILTER_BILINEAR, cull = 0, edges = 0, depth = 0;
-    if (!opt_enum(c, root, "", "shader", shader_names, RAS_SHADER_COUNT, &shader) ||
-        !opt_enum(c, root, "", "filter", filter_names, COUNT(filter_names), &filter) ||
-        !opt_enum(c, root, "", "cull", cull_names, COUNT(cull_names), &cull) ||
-        !opt_enum(c, root, "", "edges", edge_names, COUNT(edge_names), &edges) ||
-        !opt_enum(c, root, "", "depth", ras_depth_format_names, RAS_DEPTH_FORMAT_COUNT, &depth) ||
+    if (!opt_enum(c, root, "", "shader", NAMES(ras_names_shader), &shader) ||
+        !opt_enum(c, root, "", "filter", NAMES(ras_names_filter), &filter) ||
+        !opt_enum(c, root, "", "cull", NAMES(ras_names_cull), &cull) ||
+        !opt_enum(c, root, "", "edges", NAMES(ras_names_edges), &edges) ||
+        !opt_enum(c, root, "", "depth", NAMES(ras_names_depth), &depth) ||
         !opt_color(c, root, "", "clear_color", &s->clear_color))
         return false;
     s->shader = (ras_scene_shader)shader;

@@ -2,7 +2,10 @@
 #include "ras_viewer.h"
 
 #include "cv_bridge.h" /* Required for: cv_bridge_draw_text, cv_bridge_window_show */
+#include "ras_framebuffer.h"    /* the inspector reads the samples */
+#include "ras_sample_pattern.h"
 
+#include <math.h>   /* isinf */
 #include <stdio.h>  /* snprintf */
 #include <stdlib.h> /* malloc, free */
 #include <string.h> /* strrchr, strcmp, strchr */
@@ -116,4 +119,56 @@ bool ras_viewer_show(ras_viewer *v, const ras_image *img, const char *status, ra
     free(rgb);
     if (!ok) return ras_error_set(err, "%s", msg);
     return true;
+}
+
+/* ---- the pixel inspector ----------------------------------------------------- */
+
+#define ZOOM 16  /* magnification of the inspector */
+#define RADIUS 5 /* pixels shown on each side of the one under the mouse */
+#define MARGIN 8
+
+static void fill_box(ras_image *img, int c0, int r0, int w, int h, vec3s c) {
+    for (int r = r0; r < r0 + h; r++)
+        for (int col = c0; col < c0 + w; col++)
+            if (col >= 0 && r >= 0 && col < img->width && r < img->height)
+                ras_image_set(img, col, r, c);
+}
+
+static void outline_box(ras_image *img, int c0, int r0, int w, int h, vec3s c) {
+    fill_box(img, c0, r0, w, 1, c);
+    fill_box(img, c0, r0 + h - 1, w, 1, c);
+    fill_box(img, c0, r0, 1, h, c);
+    fill_box(img, c0 + w - 1, r0, 1, h, c);
+}
+
+void ras_viewer_inspect(ras_image *view, const ras_image *image, const ras_framebuffer *fb,
+                        const ras_sample_pattern *pat, int x, int y, char *info, size_t size) {
+    int side = (2 * RADIUS + 1) * ZOOM;
+    int c0 = view->width - side - MARGIN, r0 = MARGIN;
+    if (c0 < 0) return; /* frame too small for the inspector */
+    outline_box(view, c0 - 1, r0 - 1, side + 2, side + 2, (vec3s){{1, 1, 1}});
+    for (int dy = -RADIUS; dy <= RADIUS; dy++)
+        for (int dx = -RADIUS; dx <= RADIUS; dx++) {
+            int px = x + dx, py = y + dy;
+            vec3s c = {{0.25f, 0.25f, 0.25f}}; /* outside the frame */
+            if (px >= 0 && py >= 0 && px < image->width && py < image->height)
+                c = image->pixels[ras_fb_pixel_index(fb, px, py)];
+            /* Screen y is up, image rows go down. */
+            fill_box(view, c0 + (dx + RADIUS) * ZOOM, r0 + (RADIUS - dy) * ZOOM, ZOOM, ZOOM, c);
+        }
+    int pc = c0 + RADIUS * ZOOM, pr = r0 + RADIUS * ZOOM;
+    outline_box(view, pc, pr, ZOOM, ZOOM, (vec3s){{1, 1, 1}});
+    int n = snprintf(info, size, "pixel (%d,%d) depth:", x, y);
+    for (int s = 0; s < pat->count; s++) {
+        int i = ras_fb_sample_index(fb, x, y, s);
+        int sc = pc + (int)(pat->offsets[s].x * ZOOM);
+        int sr = pr + ZOOM - 1 - (int)(pat->offsets[s].y * ZOOM);
+        bool empty = isinf(fb->depth[i]);
+        fill_box(view, sc - 2, sr - 2, 5, 5, empty ? (vec3s){{1, 0, 0}} : (vec3s){{0, 0, 0}});
+        fill_box(view, sc - 1, sr - 1, 3, 3, fb->color[i]);
+        if (n > 0 && (size_t)n < size && s < 8)
+            n += empty ? snprintf(info + n, size - (size_t)n, " -")
+                       : snprintf(info + n, size - (size_t)n, " %.4f", fb->depth[i]);
+    }
+    if (pat->count > 8 && n > 0 && (size_t)n < size) snprintf(info + n, size - (size_t)n, " ...");
 }

@@ -82,6 +82,17 @@ bool ras_viewer_key(ras_viewer *v, int key);
  * hw2's pixel inspector belong only on that view). */
 bool ras_viewer_showing_program(const ras_viewer *v);
 
+/* The pixel inspector (hw2's window): magnifies the pixels around screen
+ * pixel (x, y) of `image` into the top-right corner of `view`, marks the
+ * samples of (x, y) from the frame buffer `fb` (pattern `pattern`), each a
+ * dot of its colour, ringed red when nothing covers it, and writes their
+ * depths to `info`. Draw it only on the program's view. */
+struct ras_framebuffer;
+struct ras_sample_pattern;
+void ras_viewer_inspect(ras_image *view, const ras_image *image, const struct ras_framebuffer *fb,
+                        const struct ras_sample_pattern *pattern, int x, int y, char *info,
+                        size_t size);
+
 /* Shows the current view of `img` (the program's frame) with the status
  * lines. False and err when the window cannot be shown or memory runs out. */
 bool ras_viewer_show(ras_viewer *v, const ras_image *img, const char *status, ras_error *err);

@@ -1,10 +1,10 @@
 /* stage3_setup.c — see stage3_setup.h. */
 #include "stage3_setup.h"
 
-const char *const ras_depth_format_names[RAS_DEPTH_FORMAT_COUNT] = {"z01", "inverse_w"};
+#include "ras_names.h"
 
 const char *ras_depth_format_name(ras_depth_format format) {
-    return (unsigned)format < RAS_DEPTH_FORMAT_COUNT ? ras_depth_format_names[format] : "?";
+    return ras_name_of(&ras_names_depth, (int)format);
 }
 
 vec4s ras_viewport_depth(vec4s p_clip, int width, int height, ras_depth_format format,

@@ -50,8 +50,7 @@ typedef enum ras_depth_format {
 
 /* "z01", "inverse_w" (the names scene files use); "?" out of range. */
 const char *ras_depth_format_name(ras_depth_format format);
-/* The same names in enum order, for parsers (scene files, --depth). */
-extern const char *const ras_depth_format_names[RAS_DEPTH_FORMAT_COUNT];
+/* The same names in enum order, for parsers: ras_names_depth (ras_names.h). */
 
 /* Screen-space vertex from a clip-space one (w > 0 guaranteed by stage 2),
  * with RAS_DEPTH_Z01 depth. */

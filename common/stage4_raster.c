@@ -2,6 +2,6 @@
  * are the hw2 student's and the reference's; see stage4_raster.h). */
 #include "stage4_raster.h"
 
-const char *ras_aa_mode_name(ras_aa_mode aa) {
-    return aa == RAS_AA_MSAA ? "msaa" : aa == RAS_AA_SSAA ? "ssaa" : "none";
-}
+#include "ras_names.h"
+
+const char *ras_aa_mode_name(ras_aa_mode aa) { return ras_name_of(&ras_names_aa, (int)aa); }

@@ -6,6 +6,8 @@
 #include "rasterizer.h" /* hw2: rasterize_triangle, resolve_pixel */
 #include "transform.h"  /* hw1: get_projection_matrix */
 
+#include "ras_names.h" /* the shader and filter spellings */
+
 #include <math.h>   /* cosf, sinf */
 #include <stdio.h>  /* snprintf */
 #include <stdlib.h> /* calloc, free */
@@ -13,22 +15,24 @@
 
 /* ---- names --------------------------------------------------------------- */
 
-static const char *const shader_names[HW3_SHADER_COUNT] = {"normal", "phong", "texture", "bump",
-                                                           "displacement"};
-static const char *const filter_names[3] = {"nearest", "bilinear", "trilinear"};
+/* The spellings are ras_names.h's: hw3_shader is ras_scene_shader without
+ * "flat" (hw3_shader + 1), texture_filter is ras_scene_filter. */
 
 const char *hw3_shader_name(hw3_shader shader) {
-    return (unsigned)shader < HW3_SHADER_COUNT ? shader_names[shader] : "?";
+    return (unsigned)shader < HW3_SHADER_COUNT ? ras_name_of(&ras_names_shader, (int)shader + 1)
+                                               : "?";
 }
 
 bool hw3_shader_parse(const char *name, hw3_shader *out, ras_error *err) {
-    for (int i = 0; i < HW3_SHADER_COUNT; i++)
-        if (!strcmp(name, shader_names[i])) {
-            *out = (hw3_shader)i;
-            return true;
-        }
-    return ras_error_set(err, "--shader expects normal, phong, texture, bump or displacement; "
-                              "got '%s'", name);
+    int i = ras_name_find(&ras_names_shader, name, RAS_SHADER_NORMAL);
+    if (i >= 0) {
+        *out = (hw3_shader)(i - 1);
+        return true;
+    }
+    char list[96];
+    return ras_error_set(err, "--shader expects %s; got '%s'",
+                         ras_names_list(&ras_names_shader, RAS_SHADER_NORMAL, list, sizeof list),
+                         name);
 }
 
 fragment_shader_fn hw3_shader_function(hw3_shader shader) {
@@ -55,16 +59,18 @@ unsigned hw3_shader_varyings(hw3_shader shader) {
 }
 
 const char *hw3_filter_name(texture_filter filter) {
-    return (unsigned)filter < 3 ? filter_names[filter] : "?";
+    return ras_name_of(&ras_names_filter, (int)filter);
 }
 
 bool hw3_filter_parse(const char *name, texture_filter *out, ras_error *err) {
-    for (int i = 0; i < 3; i++)
-        if (!strcmp(name, filter_names[i])) {
-            *out = (texture_filter)i;
-            return true;
-        }
-    return ras_error_set(err, "--filter expects nearest, bilinear or trilinear; got '%s'", name);
+    int i = ras_name_find(&ras_names_filter, name, 0);
+    if (i >= 0) {
+        *out = (texture_filter)i;
+        return true;
+    }
+    char list[96];
+    return ras_error_set(err, "--filter expects %s; got '%s'",
+                         ras_names_list(&ras_names_filter, 0, list, sizeof list), name);
 }
 
 /* ---- the fragment stage --------------------------------------------------- */

@@ -218,7 +218,7 @@ case(H2, ["--depth", "inverse_w", "--size", "16x16", "-o", OUT], 0, "wrote", abs
 case(H2, ["--aa", "none", "--samples", "4", "-o", OUT], 2, "--aa none draws one sample")
 case(H2, ["--reference", CORRUPT_PNG, "-o", OUT], 2, "--reference FILE goes with --compare")
 case(H2, ["--compare", "--aa", "msaa", "--samples", "16", "-o", OUT], 2,
-     "no reference image for this variant (msaa16)")
+     "no reference image for these settings; hw2_rasterize's references")
 case(H2, ["--compare", "--reference", CORRUPT_PNG, "-o", OUT], 2, "--reference: could not read")
 case(H2, ["--compare", "--size", "64x64", "-o", path("cmp2.png")], 2,
      "render at the reference's size", absent=(path("cmp2.png"), path("cmp2_diff.png")))
@@ -234,8 +234,12 @@ H3 = "hw3_shading_ref"
 case(H3, ["--shader", "bogus", "-o", OUT], 2, "--shader expects normal, phong")
 case(H3, ["phong", OUT], 2, "--shader expects")  # positional arguments in the wrong order
 case(H3, ["-o", OUT, path("b.png")], 2, "unexpected argument", absent=(OUT, path("b.png")))
-case(H3, ["--samples", "4", "-o", OUT], 2, "--samples 4 needs --aa msaa or --aa ssaa")
-case(H3, ["--compare"], 2, "--compare needs -o FILE")
+# One rule set (common/ras_app.h): --samples N alone means MSAA in every program.
+case(H3, ["--samples", "8", "--size", "16x16", "-o", OUT], 0, "wrote", absent=(), present=(OUT,))
+case(H3, ["--aa", "none", "--samples", "4", "-o", OUT], 2, "--aa none draws one sample")
+case(H3, ["--compare", "--filter", "nearest", "-o", OUT], 2,
+     "no reference image for these settings; hw3_shading's references")
+case(H3, ["--texture", OK_OBJ, "-o", OUT], 2, "go with --model FILE")
 case(H3, ["--compare", "--size", "64x64", "-o", path("cmp3.png")], 2,
      "render at the reference's size", absent=(path("cmp3.png"), path("cmp3_diff.png")))
 case(H3, ["--compare", "--scene", CUBE_SCENE, "-o", OUT], 2, "needs --reference FILE")

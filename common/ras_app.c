@@ -1,0 +1,477 @@
+/* ras_app.c — see ras_app.h. */
+#include "ras_app.h"
+
+#include "ras_builtin_scenes.h" /* ras_scene_load_or_builtin */
+#include "ras_catalogue.h"
+#include "ras_io.h"     /* RAS_IO_MAX_PATH */
+#include "ras_names.h"
+#include "ras_viewer.h"
+#include "ras_window.h"
+
+#include <math.h>   /* fabsf, floorf, sqrtf */
+#include <stdio.h>  /* fprintf, printf, snprintf */
+#include <stdlib.h> /* malloc, free */
+#include <string.h> /* strcmp */
+
+/* ---- settings: one set of rules ------------------------------------------- */
+
+static ras_app_settings scene_settings(const ras_app_hooks *h, const ras_scene *sc) {
+    ras_app_settings s = {.samples = 4, .shader = RAS_SHADER_NORMAL,
+                          .filter = RAS_FILTER_BILINEAR, .axis = {{0, 0, 1}}};
+    if (!sc) return s; /* hw3's --model: the defaults */
+    s.width = sc->width;
+    s.height = sc->height;
+    if (h->spin_from_scene) {
+        s.angle = sc->model_rotation_deg;
+        s.axis_set = sc->model_rotation_axis_set;
+        s.axis = sc->model_rotation_axis;
+    }
+    s.aa = sc->aa;
+    s.samples = sc->aa != RAS_AA_NONE ? sc->samples : 4;
+    s.pattern_kind = sc->pattern_kind;
+    s.edges = sc->edges;
+    s.depth = sc->depth;
+    s.cull = sc->cull;
+    s.shader = sc->shader;
+    s.filter = sc->filter;
+    return s;
+}
+
+bool ras_app_resolve(const ras_app_hooks *h, const ras_cli *cli, const ras_scene *scene,
+                     ras_app_settings *set, ras_error *err) {
+    ras_app_settings s = scene_settings(h, scene);
+    s.builtin_scene = !cli->scene && !cli->model;
+    if (cli->width) s.width = cli->width, s.height = cli->height;
+    if (cli->angle_set) s.angle = cli->angle;
+    if (cli->axis_set) s.axis_set = true, s.axis = cli->axis;
+    if (cli->shader_set) s.shader = (ras_scene_shader)cli->shader;
+    if (cli->filter_set) s.filter = (ras_scene_filter)cli->filter;
+    if (cli->edges_set) s.edges = cli->edges;
+    if (cli->depth_set) s.depth = cli->depth;
+    if (cli->aa_set && cli->aa == RAS_AA_NONE && cli->samples > 1)
+        return ras_error_set(err, "--aa none draws one sample per pixel, but --samples %d asks for "
+                                  "%d; drop --samples or use --aa msaa / --aa ssaa",
+                             cli->samples, cli->samples);
+    if (cli->aa_set) s.aa = cli->aa;
+    if (cli->samples) s.samples = cli->samples;
+    if (cli->pattern_set) s.pattern_kind = cli->pattern;
+    if (cli->samples > 1 && !cli->aa_set && s.aa == RAS_AA_NONE)
+        s.aa = RAS_AA_MSAA; /* --samples N alone means MSAA */
+    if (!(h->options & RAS_OPT_AA)) s.aa = RAS_AA_NONE; /* the program draws one sample */
+    /* Ordered grids have no 2x or 8x: without --pattern, those counts take
+     * the standard pattern. */
+    ras_sample_pattern probe;
+    if (!cli->pattern_set && s.aa != RAS_AA_NONE &&
+        !ras_sample_pattern_make(RAS_PATTERN_ORDERED, s.samples, &probe, NULL))
+        s.pattern_kind = RAS_PATTERN_STANDARD;
+    s.pattern = ras_sample_pattern_center();
+    ras_error why = {{0}};
+    if (s.aa != RAS_AA_NONE && !ras_sample_pattern_make(s.pattern_kind, s.samples, &s.pattern, &why))
+        return ras_error_set(err, "%s (--pattern %s --samples %d)", why.msg,
+                             ras_pattern_kind_name(s.pattern_kind), s.samples);
+    *set = s;
+    return true;
+}
+
+/* Whether two settings draw the picture of the same reference image. The
+ * edge and depth modes are left out: they decide only exact ties (samples on
+ * an edge, equal depths), which the comparisons tolerate; a whole turn of
+ * the angle is the same picture. The size is checked where the image is
+ * read (another size: "render at the reference's size"). */
+static bool same_picture(const ras_app_settings *a, const ras_app_settings *b) {
+    float turns = (a->angle - b->angle) / 360.0f;
+    bool axes = a->axis_set == b->axis_set;
+    if (axes && a->axis_set) {
+        float la = glms_vec3_norm(a->axis), lb = glms_vec3_norm(b->axis);
+        vec3s d = glms_vec3_sub(glms_vec3_scale(a->axis, 1 / la), glms_vec3_scale(b->axis, 1 / lb));
+        axes = glms_vec3_norm(d) < 1e-6f;
+    }
+    return a->builtin_scene && b->builtin_scene && fabsf(turns) < 1e6f && turns == floorf(turns) && axes &&
+           a->aa == b->aa &&
+           (a->aa == RAS_AA_NONE ||
+            (a->samples == b->samples && a->pattern_kind == b->pattern_kind)) &&
+           a->shader == b->shader && a->filter == b->filter && a->affine == b->affine;
+}
+
+/* ---- the catalogue of reference images ------------------------------------ */
+
+/* The catalogue in the program's reference folder, read once; NULL (err
+ * set when given) when it cannot be read. */
+static const ras_catalogue *catalogue(const ras_app *app, ras_error *err) {
+    static ras_catalogue cat;
+    static int state; /* 0 not read, 1 read, -1 failed */
+    static ras_error failure;
+    if (!state) {
+        char path[RAS_IO_MAX_PATH];
+        snprintf(path, sizeof path, "%s/catalogue.json", app->hooks->reference_dir);
+        state = ras_catalogue_load(path, &cat, &failure) ? 1 : -1;
+    }
+    if (state < 0 && err) *err = failure;
+    return state > 0 ? &cat : NULL;
+}
+
+/* The settings a catalogue entry's arguments give on this program's scene. */
+static bool entry_settings(const ras_app *app, const ras_catalogue_entry *e,
+                           ras_app_settings *out) {
+    char *argv[RAS_CATALOGUE_MAX_ARGS + 1];
+    argv[0] = (char *)app->hooks->program;
+    for (int i = 0; i < e->argc; i++) argv[i + 1] = (char *)e->args[i];
+    ras_cli cli;
+    ras_error err = {{0}};
+    return ras_cli_parse(e->argc + 1, argv, app->hooks->options, &cli, &err) == RAS_CLI_RUN &&
+           ras_app_resolve(app->hooks, &cli, app->scene, out, &err);
+}
+
+bool ras_app_reference_name(const ras_app *app, char *buf, size_t size) {
+    const ras_catalogue *cat = app->set.builtin_scene ? catalogue(app, NULL) : NULL;
+    for (int i = 0; cat && i < cat->count; i++) {
+        const ras_catalogue_entry *e = &cat->entries[i];
+        ras_app_settings s;
+        if (!strcmp(e->program, app->hooks->program) && entry_settings(app, e, &s) &&
+            same_picture(&app->set, &s)) {
+            snprintf(buf, size, "%s", e->reference);
+            return true;
+        }
+    }
+    return false;
+}
+
+/* "hw2_1x (no options), hw2_msaa4 (--aa msaa --samples 4), ...". */
+static void list_references(const ras_app *app, char *buf, size_t size) {
+    const ras_catalogue *cat = catalogue(app, NULL);
+    size_t n = 0;
+    buf[0] = '\0';
+    for (int i = 0; cat && i < cat->count && n < size; i++) {
+        const ras_catalogue_entry *e = &cat->entries[i];
+        if (strcmp(e->program, app->hooks->program)) continue;
+        char args[256];
+        ras_catalogue_args_text(e, args, sizeof args);
+        int w = snprintf(buf + n, size - n, "%s%s (%s)", n ? ", " : "", e->reference, args);
+        n += w > 0 ? (size_t)w : 0;
+    }
+}
+
+/* The image --compare compares with, loaded before anything is drawn so a
+ * missing or mismatched one is a usage error (exit 2) that leaves no output
+ * behind. NULL (message set) when there is none; `path` names it. */
+static ras_image *load_reference(const ras_app *app, char *path, size_t size, ras_error *err) {
+    const char *program = app->hooks->program;
+    char name[RAS_CATALOGUE_NAME], list[1024];
+    if (app->cli.reference) {
+        snprintf(path, size, "%s", app->cli.reference);
+    } else if (!app->set.builtin_scene) {
+        ras_error_set(err, "--compare with --%s needs --reference FILE (the reference images "
+                           "show the built-in scene)", app->cli.model ? "model" : "scene");
+        return NULL;
+    } else if (!catalogue(app, err)) {
+        return NULL;
+    } else if (!ras_app_reference_name(app, name, sizeof name)) {
+        list_references(app, list, sizeof list);
+        ras_error_set(err, "no reference image for these settings; %s's references "
+                           "(tests/reference/catalogue.json) are %s; use one of those settings, "
+                           "or pass --reference FILE for another", program, list);
+        return NULL;
+    } else {
+        snprintf(path, size, "%s/%s.png", app->hooks->reference_dir, name);
+    }
+    ras_image *expected = ras_image_load(path, err);
+    if (!expected) {
+        if (app->cli.reference) {
+            ras_error why = *err;
+            ras_error_set(err, "--reference: %s", why.msg);
+        }
+        return NULL;
+    }
+    if (!ras_compare_reference_fits(expected, path, app->set.width, app->set.height, err)) {
+        ras_image_destroy(expected);
+        return NULL;
+    }
+    return expected;
+}
+
+/* ---- headless ------------------------------------------------------------- */
+
+/* Saves an image made from the comparison beside -o (FILE_diff.png), or in
+ * the current folder without -o. */
+static void save_beside(const ras_app *app, ras_image *img, const char *suffix, const char *what,
+                        ras_error *err) {
+    char path[RAS_IO_MAX_PATH + 16], stem[RAS_CATALOGUE_NAME];
+    if (app->cli.reference || !ras_app_reference_name(app, stem, sizeof stem))
+        snprintf(stem, sizeof stem, "%s", app->hooks->program);
+    ras_cli_sibling_path(app->cli.output, stem, suffix, path, sizeof path);
+    if (img && ras_image_save(img, path, err)) printf("  %s: %s\n", what, path);
+    else fprintf(stderr, "%s: no %s: %s\n", app->hooks->program, what, err->msg);
+    ras_image_destroy(img);
+}
+
+/* Returns the exit status: 0 match, 1 mismatch or cannot compare. */
+static int compare_with_reference(const ras_app *app, const ras_image *expected,
+                                  const char *path) {
+    ras_error err = {{0}};
+    ras_compare_options opt = ras_compare_defaults(app->hooks->compare);
+    /* Edge-tolerant comparisons allow one sample's worth more with AA: a
+     * vertex 1/256 px elsewhere (another hw1's rounding) flips single
+     * samples along shallow edges. */
+    if (opt.kind == RAS_COMPARE_EDGE_TOLERANT && app->set.aa != RAS_AA_NONE)
+        opt.tolerance += 255 / app->set.samples;
+    ras_compare_result res;
+    if (!ras_compare_images(expected, app->image, &opt, &res, &err)) {
+        fprintf(stderr, "%s: cannot compare with %s: %s\n", app->hooks->program, path, err.msg);
+        return 1;
+    }
+    printf("compare %s: %s\n", path, res.summary);
+    printf("  PSNR %.2f dB, SSIM %.4f, %ld pixels off by more than %d/255\n", res.psnr_db,
+           res.ssim, res.bad_pixels, opt.tolerance);
+    save_beside(app, ras_compare_heatmap(expected, app->image, opt.kind, &err), "diff",
+                "difference image (black = same, blue..red = more different)", &err);
+    if (!res.pass)
+        save_beside(app,
+                    ras_compare_crop(expected, app->image, opt.kind, res.worst_col, res.worst_row,
+                                     &err),
+                    "worst", "worst region (expected | got | difference)", &err);
+    return res.pass ? 0 : 1;
+}
+
+static int run_headless(ras_app *app, const ras_image *expected, const char *reference_path) {
+    ras_error err = {{0}};
+    const char *output = app->cli.output;
+    if (!app->hooks->render(app, &err) || (output && !ras_image_save(app->image, output, &err))) {
+        fprintf(stderr, "%s: %s\n", app->hooks->program, err.msg);
+        return 1;
+    }
+    if (output && (app->hooks->options & RAS_OPT_SHADING))
+        fprintf(stderr, "wrote %s (%s shader, %s filter)\n", output,
+                ras_name_of(&ras_names_shader, (int)app->set.shader),
+                ras_name_of(&ras_names_filter, (int)app->set.filter));
+    else if (output)
+        fprintf(stderr, "wrote %s\n", output);
+    if (app->cli.stats && app->counters) {
+        char json[2048];
+        ras_counters_format_json(app->counters, json, sizeof json);
+        puts(json);
+    }
+    return expected ? compare_with_reference(app, expected, reference_path) : 0;
+}
+
+/* ---- the window ------------------------------------------------------------ */
+
+static int next_count(ras_pattern_kind kind, int count) {
+    static const int ordered[] = {4, 16, 64, 0}, standard[] = {2, 4, 8, 16, 0};
+    const int *list = kind == RAS_PATTERN_ORDERED ? ordered : standard;
+    for (int i = 0; list[i]; i++)
+        if (list[i] == count) return list[i + 1] ? list[i + 1] : list[0];
+    return 4; /* every pattern has 4 */
+}
+
+/* m: AA mode, s: sample count, p: pattern, e: edge functions. */
+static bool aa_key(ras_app_settings *s, int key) {
+    if (key == 'm') s->aa = s->aa == RAS_AA_NONE ? RAS_AA_MSAA
+                          : s->aa == RAS_AA_MSAA ? RAS_AA_SSAA
+                                                 : RAS_AA_NONE;
+    else if (key == 's' && s->aa == RAS_AA_NONE) s->aa = RAS_AA_MSAA;
+    else if (key == 's') s->samples = next_count(s->pattern_kind, s->samples);
+    else if (key == 'p')
+        s->pattern_kind = s->pattern_kind == RAS_PATTERN_ORDERED ? RAS_PATTERN_STANDARD
+                                                                 : RAS_PATTERN_ORDERED;
+    else if (key == 'e') s->edges = s->edges == RAS_EDGES_FIXED ? RAS_EDGES_FLOAT : RAS_EDGES_FIXED;
+    else return false;
+    if (!ras_sample_pattern_make(s->pattern_kind, s->samples, &s->pattern, NULL)) {
+        s->samples = 4; /* every pattern has 4 */
+        ras_sample_pattern_make(s->pattern_kind, s->samples, &s->pattern, NULL);
+    }
+    if (s->aa == RAS_AA_NONE) s->pattern = ras_sample_pattern_center();
+    return true;
+}
+
+/* The keys the shell handles for the program; true when the frame changed. */
+static bool shell_key(ras_app *app, int key) {
+    ras_app_settings *s = &app->set;
+    unsigned keys = app->hooks->keys;
+    if ((keys & RAS_APP_KEYS_ANGLE) && (key == 'a' || key == 'd')) {
+        s->angle += key == 'a' ? 10 : -10;
+        return true;
+    }
+    if ((keys & RAS_APP_KEYS_SHADING) && key >= '1' && key < '1' + RAS_SHADER_COUNT - 1) {
+        s->shader = (ras_scene_shader)(RAS_SHADER_NORMAL + key - '1');
+        return true;
+    }
+    if ((keys & RAS_APP_KEYS_SHADING) && key == 'f') {
+        s->filter = (ras_scene_filter)((s->filter + 1) % ras_names_filter.count);
+        return true;
+    }
+    if ((keys & RAS_APP_KEYS_AA) && aa_key(s, key)) return true;
+    return app->hooks->key && app->hooks->key(app, key);
+}
+
+/* The window's picture: the frame, with the inspector when the mouse is on it. */
+static ras_image *window_view(ras_app *app, const ras_viewer *viewer, int col, int row,
+                              char *status, size_t size) {
+    if (app->hooks->status) app->hooks->status(app, status, size);
+    if (!app->hooks->inspector) return app->image;
+    ras_image *view = ras_image_clone(app->image);
+    char info[160] = "move the mouse over the picture to inspect a pixel";
+    if (view && col >= 0 && app->pipeline && ras_viewer_showing_program(viewer))
+        ras_viewer_inspect(view, app->image, app->pipeline->fb, &app->pipeline->config.pattern,
+                           col, app->image->height - 1 - row, info, sizeof info);
+    size_t n = strlen(status);
+    snprintf(status + n, size - n, "\n%s", info);
+    return view;
+}
+
+static int run_window(ras_app *app) {
+    const char *title = app->hooks->program;
+    ras_error err = {{0}};
+    ras_viewer viewer;
+    ras_viewer_init(&viewer, title, app->argv0, app->hooks->reference_dir, app->hooks->compare);
+    bool dirty = true, redraw = true, ok = true;
+    int mouse_col = -1, mouse_row = -1;
+    while (ok) {
+        if (dirty) {
+            ras_viewer_frame_begin(&viewer);
+            if (!(ok = app->hooks->render(app, &err))) break;
+            ras_viewer_frame_end(&viewer);
+            char name[RAS_CATALOGUE_NAME];
+            bool found = ras_app_reference_name(app, name, sizeof name);
+            ras_viewer_set_reference(&viewer, found ? name : NULL, app->set.width, app->set.height);
+            dirty = false;
+            redraw = true;
+        }
+        if (redraw) {
+            char status[400];
+            ras_image *view = window_view(app, &viewer, mouse_col, mouse_row, status, sizeof status);
+            ok = view ? ras_viewer_show(&viewer, view, status, &err)
+                      : ras_error_set(&err, "out of memory");
+            if (view != app->image) ras_image_destroy(view);
+            redraw = false;
+        }
+        int key = ras_window_wait_key(title, 30);
+        if (key == RAS_KEY_ESC || key == 'q' || key == -2) {
+            ras_window_close(title);
+            break;
+        }
+        if (ras_viewer_key(&viewer, key)) redraw = true;
+        else if (key >= 0 && shell_key(app, key)) dirty = true;
+        int col, row;
+        if (ok && ras_window_mouse(title, &col, &row) && (col != mouse_col || row != mouse_row)) {
+            if (app->hooks->mouse && app->hooks->mouse(app, col, row)) dirty = true;
+            if (app->hooks->inspector && col >= 0 && row >= 0 && col < app->set.width &&
+                row < app->set.height)
+                mouse_col = col, mouse_row = row, redraw = true;
+        }
+    }
+    ras_viewer_release(&viewer);
+    if (ok) return 0;
+    fprintf(stderr, "%s: %s\n", title, err.msg);
+    return 1;
+}
+
+/* ---- the program ----------------------------------------------------------- */
+
+/* Parses; returns -1 to go on, or the exit status (help, version, error). */
+static int parse(ras_app *app, int argc, char **argv) {
+    const ras_app_hooks *h = app->hooks;
+    ras_error err = {{0}};
+    switch (ras_cli_parse(argc, argv, h->options, &app->cli, &err)) {
+    case RAS_CLI_HELP: {
+        char help[6144];
+        ras_cli_help(h->options, h->program, h->usage, help, sizeof help);
+        fputs(help, stdout);
+        return 0;
+    }
+    case RAS_CLI_VERSION: printf("%s (Raster101) %s\n", h->program, RAS_VERSION); return 0;
+    case RAS_CLI_ERROR: fprintf(stderr, "%s: %s\n", h->program, err.msg); return 2;
+    case RAS_CLI_RUN: break;
+    }
+    return -1;
+}
+
+/* The classic positional form (OUTPUT, and with positional_shader a SHADER)
+ * and the option pairs that cannot go together. */
+static bool check_arguments(ras_app *app, ras_error *err) {
+    ras_cli *cli = &app->cli;
+    const ras_app_hooks *h = app->hooks;
+    int n = cli->positional_count, max = h->positional_shader ? 2 : 1;
+    if (n > max || (n >= 1 && cli->output))
+        return ras_error_set(err, "unexpected argument '%s'; expected %s (e.g. %s %s)",
+                             cli->positional[n - 1],
+                             h->positional_shader ? "-o FILE, or OUTPUT.png [SHADER]"
+                                                  : "at most one output file",
+                             h->program, h->example);
+    if (n == 2 && cli->shader_set)
+        return ras_error_set(err, "the shader is given twice ('%s' and --shader %s); give one",
+                             cli->positional[1], ras_name_of(&ras_names_shader, cli->shader));
+    if (n == 2) {
+        cli->shader = ras_name_find(&ras_names_shader, cli->positional[1], RAS_SHADER_NORMAL);
+        char list[96];
+        if (cli->shader < 0)
+            return ras_error_set(err, "--shader expects %s; got '%s'",
+                                 ras_names_list(&ras_names_shader, RAS_SHADER_NORMAL, list,
+                                                sizeof list),
+                                 cli->positional[1]);
+        cli->shader_set = true;
+    }
+    if (n >= 1) cli->output = cli->positional[0];
+    if (cli->model && cli->scene)
+        return ras_error_set(err, "--model and --scene both name the scene; give one (a scene "
+                                  "file names its models itself)");
+    if (!cli->model && (cli->texture || cli->height_map || cli->fit))
+        return ras_error_set(err, "--texture, --height and --fit go with --model FILE; add "
+                                  "--model, or drop them");
+    /* A file that cannot be written is a usage error: say so before any work. */
+    if (cli->output && !ras_image_check_output(cli->output, err)) return false;
+    if (!cli->output && !cli->compare && !ras_window_available())
+        return ras_error_set(err, "no display to open a window on (DISPLAY is not set); render "
+                                  "to a file instead, e.g. %s %s", h->program, h->example);
+    return true;
+}
+
+/* Everything before the first frame; false with err when the input is bad
+ * (exit 2). */
+static bool set_up(ras_app *app, ras_image **expected, char *ref_path, size_t size,
+                   ras_error *err) {
+    const ras_app_hooks *h = app->hooks;
+    if (!check_arguments(app, err)) return false;
+    if (!app->cli.model) {
+        app->scene = ras_scene_load_or_builtin(app->cli.scene, h->scene, err);
+        if (!app->scene) return false;
+        if (h->load_assets && !(app->assets = ras_scene_load_assets(app->scene, err)))
+            return false;
+    }
+    if (!ras_app_resolve(h, &app->cli, app->scene, &app->set, err) ||
+        (h->prepare && !h->prepare(app, err)))
+        return false;
+    /* Too big a frame, or a reference that cannot be compared with, are
+     * usage errors too: found before anything is drawn or written. */
+    if (!ras_framebuffer_check_size(app->set.width, app->set.height,
+                                    app->set.aa != RAS_AA_NONE ? app->set.samples : 1, err))
+        return false;
+    return !app->cli.compare || (*expected = load_reference(app, ref_path, size, err));
+}
+
+int ras_app_main(int argc, char **argv, const ras_app_hooks *hooks, void *user) {
+    ras_cli_reuse_freed_memory(); /* fewer page faults: docs/startup.md */
+    ras_app app = {.hooks = hooks, .argv0 = argc > 0 ? argv[0] : hooks->program, .user = user};
+    int status = parse(&app, argc, argv);
+    if (status >= 0) return status;
+    ras_error err = {{0}};
+    ras_image *expected = NULL;
+    char ref_path[RAS_IO_MAX_PATH + 16] = "";
+    if (!set_up(&app, &expected, ref_path, sizeof ref_path, &err)) {
+        fprintf(stderr, "%s: %s\n", hooks->program, err.msg);
+        status = 2;
+    } else if (!(app.image = ras_image_create(app.set.width, app.set.height, &err))) {
+        fprintf(stderr, "%s: %s\n", hooks->program, err.msg);
+        status = 1;
+    } else if (app.cli.output || app.cli.compare) {
+        status = run_headless(&app, expected, ref_path);
+    } else {
+        status = run_window(&app);
+    }
+    ras_image_destroy(expected);
+    ras_image_destroy(app.image);
+    if (hooks->release) hooks->release(&app);
+    ras_pipeline_destroy(app.pipeline);
+    ras_scene_assets_destroy(app.assets);
+    ras_scene_destroy(app.scene);
+    return status;
+}

@@ -1,0 +1,127 @@
+/* ras_app.h — the program shell the three assignments share.
+ *
+ * Each main.c fills a ras_app_hooks (its name, options, built-in scene and
+ * the frame it draws) and calls ras_app_main, which does the rest the same
+ * way for every program:
+ *
+ *   1. parse the command line (ras_cli.h; --help, --version; exit 2 on a
+ *      bad option), the classic positional form (OUTPUT [SHADER]);
+ *   2. check -o and the option pairs, and that a window can open when one
+ *      is wanted (exit 2 before any work);
+ *   3. load the scene (--scene FILE or the built-in one; hw3's --model is
+ *      the program's own scene) and apply the flags over it with one set of
+ *      rules (ras_app_resolve below);
+ *   4. hooks.prepare (the program's own state), the frame-size budget, and
+ *      with --compare the reference image (exit 2 when there is none);
+ *   5. headless (-o or --compare): hooks.render once, write -o, --stats
+ *      as JSON on stdout, --compare; or the window (ras_viewer.h): hooks.render
+ *      on every change, keys, the reference and difference views.
+ *
+ * The reference image for the current settings is the catalogue entry
+ * (ras_catalogue.h) of this program whose arguments give the same settings
+ * on the built-in scene; --compare and the window's reference view use it.
+ * Exit status: 0 done (--compare: the images match), 1 the render or
+ * writing failed (--compare: they differ), 2 bad options or input.
+ */
+#ifndef RAS_APP_H
+#define RAS_APP_H
+
+#include "ras_cli.h"
+#include "ras_compare.h"
+#include "ras_counters.h"
+#include "ras_image.h"
+#include "ras_pipeline.h"
+#include "ras_scene.h"
+
+/* The settings a frame is drawn with: the scene's, with the flags over them
+ * (ras_app_resolve); the window's keys change them. */
+typedef struct ras_app_settings {
+    int width, height;
+    float angle;   /* the program's rotation in degrees (-r) */
+    bool axis_set; /* rotate about `axis` (get_rotation) instead of z */
+    vec3s axis;
+    ras_aa_mode aa;
+    int samples; /* used when aa != NONE */
+    ras_pattern_kind pattern_kind;
+    ras_sample_pattern pattern; /* made from the two above; the centre without AA */
+    ras_edge_mode edges;
+    ras_depth_format depth;
+    ras_cull_mode cull;
+    ras_scene_shader shader;
+    ras_scene_filter filter;
+    bool affine;        /* hw3's w = 1 pitfall (window key p) */
+    bool builtin_scene; /* no --scene, no --model: the scene the references show */
+} ras_app_settings;
+
+typedef struct ras_app ras_app;
+
+/* Window keys the shell handles for a program (ras_app_hooks.keys). */
+enum {
+    RAS_APP_KEYS_ANGLE = 1u << 0,   /* a/d: angle ±10° */
+    RAS_APP_KEYS_SHADING = 1u << 1, /* 1-5: shader, f: filter */
+    RAS_APP_KEYS_AA = 1u << 2,      /* m: AA mode, s: samples, p: pattern, e: edges */
+};
+
+typedef struct ras_app_hooks {
+    const char *program;     /* "hw2_rasterize": messages, window title, catalogue */
+    const char *usage;       /* --help's paragraph */
+    unsigned options;        /* RAS_OPT_* the program takes */
+    const char *scene;       /* the built-in scene: "hw2_classic" */
+    const char *example;     /* a headless example for messages: "--aa msaa -o out.png" */
+    const char *reference_dir; /* the reference images and catalogue.json: RAS_REFERENCE_DIR,
+                                * which the build gives each program (common names no tests/) */
+    bool positional_shader;  /* OUTPUT [SHADER]: the classic form takes a shader */
+    bool load_assets;        /* the shell loads the scene's meshes and textures */
+    bool spin_from_scene;    /* the scene's model_rotation is the starting angle */
+    ras_compare_kind compare; /* --compare's metric and the difference view's */
+    unsigned keys;           /* RAS_APP_KEYS_* */
+    bool inspector;          /* the window magnifies the pixel under the mouse */
+    /* The program's own state, once the settings are known (hw3: its scene,
+     * from --model or app->scene). false: bad input, err says why (exit 2). */
+    bool (*prepare)(ras_app *app, ras_error *err);
+    /* One frame with app->set into app->image; sets app->counters (and
+     * app->pipeline when it draws through one). false: the render failed. */
+    bool (*render)(ras_app *app, ras_error *err);
+    /* A window key the shell does not handle: true when it changed the frame. */
+    bool (*key)(ras_app *app, int key);
+    /* The mouse moved to (col, row): true when it changed the frame. */
+    bool (*mouse)(ras_app *app, int col, int row);
+    /* The status line under the viewer's: what is drawn and the keys. */
+    void (*status)(const ras_app *app, char *buf, size_t size);
+    void (*release)(ras_app *app); /* frees what prepare and render made */
+} ras_app_hooks;
+
+struct ras_app {
+    const ras_app_hooks *hooks;
+    const char *argv0;
+    ras_cli cli;
+    ras_scene *scene;         /* NULL with --model */
+    ras_scene_assets *assets; /* with hooks->load_assets */
+    ras_app_settings set;
+    ras_image *image;
+    const ras_counters *counters;   /* the last frame's, for --stats */
+    ras_pipeline *pipeline;         /* the program's, if it draws through one: the
+                                     * inspector reads its samples, the shell frees it */
+    void *user;                     /* the program's */
+};
+
+/* The whole program: returns main's exit status. */
+int ras_app_main(int argc, char **argv, const ras_app_hooks *hooks, void *user);
+
+/* The one set of rules that turns a scene and a command line into settings:
+ *   - every flag overrides the scene's value (--size, -r, --axis, --aa,
+ *     --samples, --pattern, --edges, --depth, --shader, --filter);
+ *   - --samples N (N > 1) alone means --aa msaa; --aa none with --samples
+ *     N > 1 is an error;
+ *   - without --pattern, a count the ordered grid lacks (2, 8) takes the
+ *     standard pattern;
+ *   - a count the pattern lacks is an error.
+ * `scene` may be NULL (hw3's --model: the defaults). */
+bool ras_app_resolve(const ras_app_hooks *hooks, const ras_cli *cli, const ras_scene *scene,
+                     ras_app_settings *set, ras_error *err);
+
+/* The catalogue's reference image for the current settings: its name
+ * ("hw2_msaa4") in buf, or false when none (another scene, size, ...). */
+bool ras_app_reference_name(const ras_app *app, char *buf, size_t size);
+
+#endif
