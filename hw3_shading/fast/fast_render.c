@@ -289,6 +289,7 @@ _Static_assert(offsetof(queued, pad) == offsetof(queued, bary) + 3 * sizeof(floa
                "queued.pad must follow bary");
 
 #define QUEUE 8
+#define DEPTH_PAD 8 /* floats past a tile's depth samples */
 
 typedef struct worker {
     frame *fr;
@@ -1068,6 +1069,72 @@ static bool block_outside(const frame *fr, const fast_tri *r, int bx0, int by0, 
     return false;
 }
 
+/* defer_fragment with the barycentrics in lanes 0-2 of bv (lane 3 is 0: the
+ * record's pad). */
+static inline void defer_fragment_v(worker *w, const fast_tri *r, vf4 bv, int base,
+                                    uint64_t mask) {
+    if (__builtin_expect(w->nfrag == w->frag_cap, 0)) {
+        vec3s b = {{bv[0], bv[1], bv[2]}};
+        defer_fragment(w, r, b, base, mask);
+        return;
+    }
+    int32_t i = (int32_t)w->nfrag++;
+    queued *f = &w->frags[i];
+    f->r = r;
+    memcpy(&f->bary, &bv, sizeof bv); /* bary and pad */
+    f->base = base;
+    f->mask = mask;
+    for (uint64_t m = mask; m; m &= m - 1)
+        w->owner[base + __builtin_ctzll(m)] = i;
+}
+
+#if defined(__SSE2__)
+#define BARY_X4 1
+/* ratio_to_float for four points at once: e (int32 lanes, exact: every
+ * caller's values fit) to double, times RN(1/area2), to float — the scalar
+ * steps lane by lane (cvtdq2pd, mulpd, cvtpd2ps round like cvtsi2sd, mulsd,
+ * cvtsd2ss). Returns the lanes whose product lies within 8 of a float
+ * rounding boundary (ratio_to_float divides there): the caller redoes them. */
+static inline unsigned ratios_x4(vi4 e, __m128d inv, vf4 *out) {
+    __m128i ei = (__m128i)e;
+    __m128d qlo = _mm_mul_pd(_mm_cvtepi32_pd(ei), inv);
+    __m128d qhi = _mm_mul_pd(_mm_cvtepi32_pd(_mm_shuffle_epi32(ei, _MM_SHUFFLE(3, 2, 3, 2))), inv);
+    *out = (vf4)_mm_movelh_ps(_mm_cvtpd_ps(qlo), _mm_cvtpd_ps(qhi));
+    /* the low 32 bits of each double (dwords 0 and 2): low29 − (2^28 − 8) */
+    __m128i m = _mm_set1_epi32(0x1FFFFFFF), c = _mm_set1_epi32(0x10000000 - 8);
+    __m128i vlo = _mm_sub_epi32(_mm_and_si128(_mm_castpd_si128(qlo), m), c);
+    __m128i vhi = _mm_sub_epi32(_mm_and_si128(_mm_castpd_si128(qhi), m), c);
+    vi4 v = (vi4)_mm_castps_si128(_mm_shuffle_ps(_mm_castsi128_ps(vlo), _mm_castsi128_ps(vhi),
+                                                 _MM_SHUFFLE(2, 0, 2, 0)));
+    return vi4_sign_bits((v > -1) & (v < 17)); /* (uint32)(low29 − …) <= 16 */
+}
+
+/* bary_of and depth_of for four points (lanes) whose edge values E are e[k]:
+ * the same floats, lane by lane. Lanes in the returned mask (near a rounding
+ * boundary) must be redone with bary_of. */
+static inline unsigned bary_depth_x4(const fast_tri *r, const vi4 e[3], v3x4 *b, vf4 *z) {
+    __m128d inv = _mm_set1_pd(r->inv_area2);
+    vf4 l0, l1, l2;
+    unsigned near = ratios_x4(e[0], inv, &l0);
+    near |= ratios_x4(e[1], inv, &l1);
+    near |= ratios_x4(e[2], inv, &l2);
+    *b = r->order[1] == 1 ? (v3x4){l0, l1, l2} : (v3x4){l0, l2, l1};
+    const vec4s *v = r->t.v;
+    *z = b->x * vf4_splat(v[0].z) + b->y * vf4_splat(v[1].z) + b->z * vf4_splat(v[2].z);
+    return near;
+}
+
+/* bits set in a 4-bit mask (no popcnt instruction in the x86-64 baseline:
+ * __builtin_popcount calls libgcc) */
+static inline int popcount4(unsigned m) { return (int)(0x4332322132212110ull >> (4 * m) & 0xF); }
+
+/* lane i all ones where bit i of m is set */
+static inline vi4 lanes_of(unsigned m) {
+    vi4 bits = {1, 2, 4, 8};
+    return (bits & (vi4){(int)m, (int)m, (int)m, (int)m}) != 0;
+}
+#endif
+
 static inline __attribute__((always_inline)) void
 draw_pixel_samples(worker *w, const fast_tri *r, int x, int y, int tx0, int ty0,
                    int64_t e[][3], const int n, uint64_t covered) {
@@ -1119,6 +1186,70 @@ draw_pixel_samples(worker *w, const fast_tri *r, int x, int y, int tx0, int ty0,
     }
     defer_fragment(w, r, bc, base, visible);
 }
+
+#if BARY_X4
+/* draw_pixel_samples for four samples (MSAA or SSAA 4x) whose E − thr are
+ * the lanes of ev[k], covered at the bits of `covered` (not 0), with the
+ * pixel centre's edge values ec: the samples' barycentrics and depths in
+ * lanes (bary_depth_x4), the depth test and write on the pixel's four
+ * depths at once, then draw_pixel_samples' choice of the shading point. */
+static inline void draw_pixel4_v(worker *w, const fast_tri *r, int x, int y, int tx0, int ty0,
+                                 const vi4 ev[3], unsigned covered, const int64_t ec[3]) {
+    const frame *fr = w->fr;
+    int base = ((y - ty0) * TILE + (x - tx0)) * 4;
+    vi4 E[3];
+    for (int k = 0; k < 3; k++) {
+        int t = (int)r->thr[k];
+        E[k] = ev[k] + (vi4){t, t, t, t};
+    }
+    v3x4 b;
+    vf4 z;
+    unsigned near = bary_depth_x4(r, E, &b, &z) & covered;
+    for (; near; near &= near - 1) { /* about once in 2^25 */
+        int i = __builtin_ctz(near);
+        int64_t ep[3] = {(int64_t)E[0][i], (int64_t)E[1][i], (int64_t)E[2][i]};
+        vec3s bb = bary_of(r, ep);
+        b.x[i] = bb.x, b.y[i] = bb.y, b.z[i] = bb.z;
+        z[i] = depth_of(&r->t, bb);
+    }
+    float *dp = &w->depth[base];
+    vf4 old = vf4_load(dp);
+    vi4 pass = (z < old) & lanes_of(covered);
+    unsigned visible = vi4_sign_bits(pass);
+    w->k.samples_covered += (uint64_t)popcount4(covered);
+    if (!visible) return;
+    w->k.depth_tests_passed += (uint64_t)popcount4(visible);
+    vf4 nz = vf4_select(pass, z, old);
+    memcpy(dp, &nz, sizeof nz);
+    vf4 bv[4] = {b.x, b.y, b.z, vf4_splat(0.0f)};
+    vf4_transpose(&bv[0], &bv[1], &bv[2], &bv[3]);
+    if (fr->ssaa) {
+        for (unsigned m = visible; m; m &= m - 1) {
+            int k = __builtin_ctz(m);
+            defer_fragment_v(w, r, bv[k], base + k, 1);
+        }
+        return;
+    }
+    if (fr->centre_sample >= 0 && (visible >> fr->centre_sample & 1)) {
+        defer_fragment_v(w, r, bv[fr->centre_sample], base, visible);
+    } else if (ec[0] >= r->thr[0] && ec[1] >= r->thr[1] && ec[2] >= r->thr[2]) {
+        defer_fragment(w, r, bary_of(r, ec), base, visible);
+    } else {
+        int best = -1;
+        float best_d2 = 0;
+        for (int k = 0; k < 4; k++) {
+            if (!(visible >> k & 1)) continue;
+            float dx = fr->pattern.offsets[k].x - 0.5f, dy = fr->pattern.offsets[k].y - 0.5f;
+            float d2 = dx * dx + dy * dy;
+            if (best < 0 || d2 < best_d2) {
+                best = k;
+                best_d2 = d2;
+            }
+        }
+        defer_fragment_v(w, r, bv[best], base, visible);
+    }
+}
+#endif
 
 /* `n` (samples per pixel) is a constant in each inlined copy: the loops over
  * samples unroll and the edge values stay in registers. */
@@ -1310,7 +1441,7 @@ static bool draw_in_tile_4x32(worker *w, const fast_tri *r, int tx0, int ty0, in
                 continue;
             for (int y = by0; y <= by1; y++) {
                 int64_t corner[3]; /* E at the corner of pixel (bx0, y) */
-                vi4 ev[3];         /* E - thr at the four samples */
+                vi4 ev[3] = {{0}};   /* E - thr at the four samples */
                 for (int i = 0; i < 3; i++) {
                     corner[i] = r->a[i] * ((int64_t)bx0 * SUBPIXEL_ONE) +
                                 r->b[i] * ((int64_t)y * SUBPIXEL_ONE) + r->c[i];
@@ -1318,6 +1449,16 @@ static bool draw_in_tile_4x32(worker *w, const fast_tri *r, int tx0, int ty0, in
                 }
                 for (int x = bx0; x <= bx1; x++) {
                     unsigned covered = ~vi4_sign_bits(ev[0] | ev[1] | ev[2]) & 0xFu;
+#if BARY_X4
+                    if (covered) {
+                        int64_t dx = (int64_t)(x - bx0);
+                        int64_t ec[3]; /* the centre (read when no visible sample is there) */
+                        for (int i = 0; i < 3; i++) ec[i] = corner[i] + dx * step[i] + off[n][i];
+                        draw_pixel4_v(w, r, x, y, tx0, ty0, ev, covered, ec);
+                    }
+                    for (int i = 0; i < 3; i++) ev[i] += vstep[i];
+                    continue;
+#endif
                     if (covered) {
                         int64_t e[RAS_MAX_SAMPLES + 1][3];
                         for (int k = 0; k < n; k++)
@@ -1735,8 +1876,12 @@ static bool fast_draw(const hw3_renderer *self, const hw3_frame *frame_in, ras_i
         worker *w = &workers[i];
         w->fr = &fr;
         w->color = malloc(tile_samples * sizeof *w->color);
-        w->depth = malloc(tile_samples * sizeof *w->depth);
+        /* DEPTH_PAD more: draw_in_tile_1x32 loads and stores four depths at
+         * a time, and a block row's last lanes may lie past the tile's last
+         * sample (they are read and written back unchanged) */
+        w->depth = malloc((tile_samples + DEPTH_PAD) * sizeof *w->depth);
         ok = w->color && w->depth;
+        for (int i = 0; ok && i < DEPTH_PAD; i++) w->depth[tile_samples + i] = INFINITY;
         {
             /* room for a tile's worth of fragments; defer_fragment grows it */
             w->frag_cap = (size_t)TILE * TILE;
