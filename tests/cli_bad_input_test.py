@@ -156,7 +156,10 @@ REF = path("ref.png")  # a small good image, for raster101-compare and --referen
 code, _, err = run("hw2_rasterize_ref", ["--size", "16x16", "-o", REF])
 if code != 0:
     failures.append(f"could not make {REF}: {err}")
-PROGRAMS = ["hw1_transform_ref", "hw2_rasterize_ref", "hw3_shading_ref"]
+# The programs: those of the reference catalogue (tests/reference/catalogue.json).
+PROGRAMS = [p + "_ref" for p in subprocess.run(
+    [os.path.join(BIN, "raster101-catalogue"), "programs"], capture_output=True, text=True,
+    check=True).stdout.split()]
 
 # ---- what every program shares (common/ras_cli.c, ras_image_check_output) ----
 # Each main checks -o, the display and the scene itself: those cases run on all
@@ -192,7 +195,7 @@ shared = [
       f"8192x8192, e.g. --size 700x700; got '{size}'")
      for size in ["0", "99999", "10x10junk"]]
 for k, (args, status, message) in enumerate(shared):
-    case(PROGRAMS[k % 3], args, status, message)
+    case(PROGRAMS[k % len(PROGRAMS)], args, status, message)
 
 # ---- hw1 ----
 H1 = "hw1_transform_ref"
@@ -216,6 +219,7 @@ case(H2, ["--depth", "reversed", "-o", OUT], 2, "--depth expects z01 or inverse_
 case(H2, ["--depth", "inverse_w", "--size", "16x16", "-o", OUT], 0, "wrote", absent=(),
      present=(OUT,))
 case(H2, ["--aa", "none", "--samples", "4", "-o", OUT], 2, "--aa none draws one sample")
+case(H2, ["--samples", "8", "--size", "16x16", "-o", OUT], 0, "wrote", absent=(), present=(OUT,))
 case(H2, ["--reference", CORRUPT_PNG, "-o", OUT], 2, "--reference FILE goes with --compare")
 case(H2, ["--compare", "--aa", "msaa", "--samples", "16", "-o", OUT], 2,
      "no reference image for these settings; hw2_rasterize's references")

@@ -7,7 +7,8 @@
 # Starts Xvfb on a free display (-displayfd), runs each program without -o,
 # sends keys with xdotool, captures the window with ImageMagick's `import`,
 # finds the 700x700 picture inside the window (the Qt toolbar moves it), and
-# compares it with the reference image for the same settings using
+# compares it with the reference image for the same settings (the entry of
+# tests/reference/catalogue.json with those arguments) using
 # raster101-compare --metric edge (2 levels, no bad pixel: the screen shows
 # the PNG exactly), the status-line rows masked. Checks:
 #   hw1_transform_ref  -r 0 = hw1_r0; a a → hw1_r20; v → the reference view
@@ -202,31 +203,45 @@ stop() { # Esc must close the window and end the program with status 0
 
 "$convert_cmd" -size "${SIDE}x${SIDE}" xc:black "$tmp/black.png"
 
+# The reference images come from the catalogue (tests/reference/catalogue.json):
+# ref_for PROGRAM ARGS... is the image that PROGRAM draws with exactly ARGS.
+if ! catalogue=$("$bin/raster101-catalogue" --catalogue "$ref/catalogue.json" list); then
+  echo "gui_test: FAIL: cannot list the catalogue with $bin/raster101-catalogue"; exit 1
+fi
+ref_for() {
+  local want="$1"$'\t'"${*:2}" name prog demo args
+  while IFS=$'\t' read -r name prog demo args; do
+    [[ "$prog"$'\t'"$args" == "$want" ]] && { echo "$ref/$name.png"; return 0; }
+  done <<<"$catalogue"
+  echo "gui_test: FAIL: tests/reference/catalogue.json has no image of '$*'" >&2
+  echo "$tmp/not-in-catalogue.png"
+}
+
 # ---- the checks ----------------------------------------------------------------
 if [[ -d "$src/hw1_transform/solution" ]]; then
   if start hw1_transform_ref -r 0; then
-    expect "r0" "$ref/hw1_r0.png"
-    keys a a && expect "a a → r20" "$ref/hw1_r20.png"
-    keys v && expect "v → reference view" "$ref/hw1_r20.png"
+    expect "r0" "$(ref_for hw1_transform -r 0)"
+    keys a a && expect "a a → r20" "$(ref_for hw1_transform -r 20)"
+    keys v && expect "v → reference view" "$(ref_for hw1_transform -r 20)"
     keys v && expect "v → difference view" "$tmp/black.png"
     stop
   fi
   if start hw2_rasterize_ref; then
-    expect "1x" "$ref/hw2_1x.png"
-    keys m && expect "m → msaa4" "$ref/hw2_msaa4.png"
+    expect "1x" "$(ref_for hw2_rasterize)"
+    keys m && expect "m → msaa4" "$(ref_for hw2_rasterize --aa msaa --samples 4)"
     keys v v && expect "v v → difference view" "$tmp/black.png"
     stop
   fi
   if start hw3_shading_ref; then
-    expect "normal" "$ref/hw3_normal.png"
-    keys 2 && expect "2 → phong" "$ref/hw3_phong.png"
+    expect "normal" "$(ref_for hw3_shading --shader normal)"
+    keys 2 && expect "2 → phong" "$(ref_for hw3_shading --shader phong)"
     keys v v && expect "v v → difference view" "$tmp/black.png"
     stop
   fi
 fi
 # The student program: the reference view does not depend on the student's code.
 if start hw1_transform -r 20; then
-  keys v && expect "v → reference view" "$ref/hw1_r20.png"
+  keys v && expect "v → reference view" "$(ref_for hw1_transform -r 20)"
   stop
 fi
 
