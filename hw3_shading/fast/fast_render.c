@@ -1193,15 +1193,12 @@ draw_pixel_samples(worker *w, const fast_tri *r, int x, int y, int tx0, int ty0,
  * pixel centre's edge values ec: the samples' barycentrics and depths in
  * lanes (bary_depth_x4), the depth test and write on the pixel's four
  * depths at once, then draw_pixel_samples' choice of the shading point. */
-static inline void draw_pixel4_v(worker *w, const fast_tri *r, int x, int y, int tx0, int ty0,
-                                 const vi4 ev[3], unsigned covered, const int64_t ec[3]) {
+static inline __attribute__((always_inline)) void
+draw_pixel4_v(worker *w, const fast_tri *r, int x, int y, int tx0, int ty0, const vi4 ev[3],
+              const vi4 thrv[3], unsigned covered, const int64_t ec[10]) {
     const frame *fr = w->fr;
     int base = ((y - ty0) * TILE + (x - tx0)) * 4;
-    vi4 E[3];
-    for (int k = 0; k < 3; k++) {
-        int t = (int)r->thr[k];
-        E[k] = ev[k] + (vi4){t, t, t, t};
-    }
+    vi4 E[3] = {ev[0] + thrv[0], ev[1] + thrv[1], ev[2] + thrv[2]};
     v3x4 b;
     vf4 z;
     unsigned near = bary_depth_x4(r, E, &b, &z) & covered;
@@ -1232,8 +1229,15 @@ static inline void draw_pixel4_v(worker *w, const fast_tri *r, int x, int y, int
     }
     if (fr->centre_sample >= 0 && (visible >> fr->centre_sample & 1)) {
         defer_fragment_v(w, r, bv[fr->centre_sample], base, visible);
-    } else if (ec[0] >= r->thr[0] && ec[1] >= r->thr[1] && ec[2] >= r->thr[2]) {
-        defer_fragment(w, r, bary_of(r, ec), base, visible);
+        return;
+    }
+    /* the centre's edge values: ec[0..2] at the pixel's corner, plus ec[3]
+     * times the step, plus the centre's offset ec[4..6] */
+    int64_t c0 = ec[0] + ec[3] * ec[7] + ec[4], c1 = ec[1] + ec[3] * ec[8] + ec[5],
+            c2 = ec[2] + ec[3] * ec[9] + ec[6];
+    if (c0 >= r->thr[0] && c1 >= r->thr[1] && c2 >= r->thr[2]) {
+        int64_t e3[3] = {c0, c1, c2};
+        defer_fragment(w, r, bary_of(r, e3), base, visible);
     } else {
         int best = -1;
         float best_d2 = 0;
@@ -1415,10 +1419,12 @@ static bool draw_in_tile_4x32(worker *w, const fast_tri *r, int tx0, int ty0, in
     const int n = 4;
     const int64_t omin_x = fr->omin_x, omax_x = fr->omax_x, omin_y = fr->omin_y,
                   omax_y = fr->omax_y;
-    /* x1 + 1: the lanes are stepped once past the last pixel */
+    /* x1 + 1, y1 + 1: the lanes are stepped once past the last pixel and
+     * past the last row */
     if (!edges_fit_31(r, (int64_t)x0 * SUBPIXEL_ONE + omin_x,
                       (int64_t)(x1 + 1) * SUBPIXEL_ONE + omax_x,
-                      (int64_t)y0 * SUBPIXEL_ONE + omin_y, (int64_t)y1 * SUBPIXEL_ONE + omax_y))
+                      (int64_t)y0 * SUBPIXEL_ONE + omin_y,
+                      (int64_t)(y1 + 1) * SUBPIXEL_ONE + omax_y))
         return false;
     const int64_t step[3] = {r->a[0] * SUBPIXEL_ONE, r->a[1] * SUBPIXEL_ONE,
                              r->a[2] * SUBPIXEL_ONE};
@@ -1431,6 +1437,19 @@ static bool draw_in_tile_4x32(worker *w, const fast_tri *r, int tx0, int ty0, in
         int st = (int)step[i];
         vstep[i] = (vi4){st, st, st, st};
     }
+#if BARY_X4
+    /* per edge: the samples' offsets from sample 0 (differences of two
+     * values in the box: they fit), a row's step, thr */
+    vi4 dlane[3], vstepy[3], thrv[3];
+    int64_t bstep[3];
+    for (int i = 0; i < 3; i++) {
+        for (int k = 0; k < n; k++) dlane[i][k] = (int)(off[k][i] - off[0][i]);
+        bstep[i] = r->b[i] * SUBPIXEL_ONE;
+        int sy = (int)bstep[i], t = (int)r->thr[i];
+        vstepy[i] = (vi4){sy, sy, sy, sy};
+        thrv[i] = (vi4){t, t, t, t};
+    }
+#endif
     bool small = (x1 - x0) < BLOCK && (y1 - y0) < BLOCK;
     for (int by0 = y0; by0 <= y1; by0 += BLOCK) {
         int by1 = by0 + BLOCK - 1 < y1 ? by0 + BLOCK - 1 : y1;
@@ -1439,6 +1458,37 @@ static bool draw_in_tile_4x32(worker *w, const fast_tri *r, int tx0, int ty0, in
             if (!small &&
                 block_outside(fr, r, bx0, by0, bx1, by1, omin_x, omax_x, omin_y, omax_y))
                 continue;
+#if BARY_X4
+            /* E − thr at the four samples of pixel (bx0, by0), then one
+             * vector addition per row and per pixel (exact: every value
+             * used lies in the checked box; the rows' corners in int64) */
+            int64_t ec[10]; /* draw_pixel4_v's centre: corner, dx, offset, step */
+            vi4 evrow[3];
+            for (int i = 0; i < 3; i++) {
+                ec[i] = r->a[i] * ((int64_t)bx0 * SUBPIXEL_ONE) +
+                        r->b[i] * ((int64_t)by0 * SUBPIXEL_ONE) + r->c[i];
+                int st = (int)(ec[i] + off[0][i] - r->thr[i]);
+                evrow[i] = (vi4){st, st, st, st} + dlane[i];
+                ec[4 + i] = off[n][i];
+                ec[7 + i] = step[i];
+            }
+            for (int y = by0; y <= by1; y++) {
+                vi4 ev[3] = {evrow[0], evrow[1], evrow[2]};
+                for (int x = bx0; x <= bx1; x++) {
+                    unsigned covered = ~vi4_sign_bits(ev[0] | ev[1] | ev[2]) & 0xFu;
+                    if (covered) {
+                        ec[3] = x - bx0;
+                        draw_pixel4_v(w, r, x, y, tx0, ty0, ev, thrv, covered, ec);
+                    }
+                    for (int i = 0; i < 3; i++) ev[i] += vstep[i];
+                }
+                for (int i = 0; i < 3; i++) {
+                    evrow[i] += vstepy[i];
+                    ec[i] += bstep[i];
+                }
+            }
+            continue;
+#endif
             for (int y = by0; y <= by1; y++) {
                 int64_t corner[3]; /* E at the corner of pixel (bx0, y) */
                 vi4 ev[3] = {{0}};   /* E - thr at the four samples */
@@ -1449,16 +1499,6 @@ static bool draw_in_tile_4x32(worker *w, const fast_tri *r, int tx0, int ty0, in
                 }
                 for (int x = bx0; x <= bx1; x++) {
                     unsigned covered = ~vi4_sign_bits(ev[0] | ev[1] | ev[2]) & 0xFu;
-#if BARY_X4
-                    if (covered) {
-                        int64_t dx = (int64_t)(x - bx0);
-                        int64_t ec[3]; /* the centre (read when no visible sample is there) */
-                        for (int i = 0; i < 3; i++) ec[i] = corner[i] + dx * step[i] + off[n][i];
-                        draw_pixel4_v(w, r, x, y, tx0, ty0, ev, covered, ec);
-                    }
-                    for (int i = 0; i < 3; i++) ev[i] += vstep[i];
-                    continue;
-#endif
                     if (covered) {
                         int64_t e[RAS_MAX_SAMPLES + 1][3];
                         for (int k = 0; k < n; k++)
