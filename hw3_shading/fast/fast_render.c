@@ -806,6 +806,18 @@ static void shade_prepare(worker *w, const queued *q, int lanes, lanes4 *S) {
 }
 
 
+/* Four copies of c at d: three vectors, rgbr gbrg brgb. */
+static inline void put4(vec3s *d, vec3s c) {
+#if defined(__SSE2__)
+    float *f = &d->x;
+    _mm_storeu_ps(f, _mm_setr_ps(c.x, c.y, c.z, c.x));
+    _mm_storeu_ps(f + 4, _mm_setr_ps(c.y, c.z, c.x, c.y));
+    _mm_storeu_ps(f + 8, _mm_setr_ps(c.z, c.x, c.y, c.z));
+#else
+    d[0] = d[1] = d[2] = d[3] = c;
+#endif
+}
+
 /* kd (the texture lookups), the sums in fast_blinn_phong's order, and the
  * colours into the tile. */
 static void shade_finish(worker *w, lanes4 *S) {
@@ -850,6 +862,10 @@ static void shade_finish(worker *w, lanes4 *S) {
     for (int i = 0; i < lanes; i++) {
         vec3s c = {{color.x[i], color.y[i], color.z[i]}};
         if (S->odd[i]) c = shade_silent(w, q[i].r, q[i].bary);
+        if (q[i].mask == 0xF && fr->n == 4) { /* a whole pixel of 4x */
+            put4(&w->color[q[i].base], c);
+            continue;
+        }
         for (uint64_t m = q[i].mask; m; m &= m - 1)
             w->color[q[i].base + __builtin_ctzll(m)] = c;
     }
@@ -976,10 +992,23 @@ static void shade_deferred(worker *w) {
     const bool batch = w->fr->batch != BATCH_NONE;
     for (size_t i = 0; i < w->nfrag; i++)
         w->frags[i].mask = 0;
-    for (int s = 0; s < TILE * TILE * n; s++) {
-        if (w->depth[s] == INFINITY) continue; /* no fragment passed here */
-        queued *f = &w->frags[w->owner[s]];
-        f->mask |= (uint64_t)1 << (s - f->base);
+    /* four samples at a time: none written (most of a tile around a
+     * model), or with 4x one pixel's four owned by one fragment */
+    const vf4 inf = vf4_splat(INFINITY);
+    for (int s0 = 0; s0 < TILE * TILE * n; s0 += 4) {
+        unsigned clear = vi4_sign_bits(vf4_load(&w->depth[s0]) == inf);
+        if (clear == 0xF) continue; /* no fragment passed here */
+        const int32_t *o = &w->owner[s0];
+        if (n == 4 && !clear && o[0] == o[1] && o[0] == o[2] && o[0] == o[3]) {
+            queued *f = &w->frags[o[0]];
+            f->mask |= (uint64_t)0xF << (s0 - f->base);
+            continue;
+        }
+        for (int k = 0; k < 4; k++) {
+            if (clear >> k & 1) continue;
+            queued *f = &w->frags[o[k]];
+            f->mask |= (uint64_t)1 << (s0 + k - f->base);
+        }
     }
     for (size_t i = 0; i < w->nfrag; i++) {
         const queued *f = &w->frags[i];
@@ -1579,6 +1608,18 @@ static void fill_row(vec3s *dst, vec3s c, int count) {
         dst[i] = c;
 }
 
+/* hw2's resolve_pixel (solution/rasterizer.c) for four samples, in lanes:
+ * ((((0 + c0) + c1) + c2) + c3) · (1/4), glms_vec3_add's and _scale's
+ * operations lane by lane. Stores 16 bytes at dst (the next pixel's x is
+ * rewritten after) and reads 16 at the last sample (the colour buffer has
+ * room). */
+static inline void resolve4(vec3s *dst, const vec3s *c) {
+    vf4 sum = vf4_splat(0.0f);
+    for (int s = 0; s < 4; s++) sum = sum + vf4_load(&c[s].x);
+    sum = sum * vf4_splat(1.0f / (float)4);
+    memcpy(dst, &sum, sizeof sum);
+}
+
 static void do_tile(worker *w, int tile) {
     frame *fr = w->fr;
     const int n = fr->n;
@@ -1647,9 +1688,13 @@ static void do_tile(worker *w, int tile) {
         } else {
             /* resolve_pixel reads screen pixel (x, y) of the view at row
              * TILE-1-y: hand it the mirrored row. */
-            _Alignas(16) vec3s row[TILE];
-            for (int x = tx0; x <= tx1; x++)
-                row[x - tx0] = resolve_pixel(&view, x - tx0, TILE - 1 - (y - ty0));
+            _Alignas(16) vec3s row[TILE + 1]; /* + 1: resolve4's last store */
+            if (n == 4)
+                for (int x = tx0; x <= tx1; x++)
+                    resolve4(&row[x - tx0], &w->color[((size_t)(y - ty0) * TILE + (size_t)(x - tx0)) * 4]);
+            else
+                for (int x = tx0; x <= tx1; x++)
+                    row[x - tx0] = resolve_pixel(&view, x - tx0, TILE - 1 - (y - ty0));
             put_row(&dst[tx0], row, tx1 - tx0 + 1);
         }
     }
@@ -1915,7 +1960,7 @@ static bool fast_draw(const hw3_renderer *self, const hw3_frame *frame_in, ras_i
     for (int i = 0; ok && i < threads; i++) {
         worker *w = &workers[i];
         w->fr = &fr;
-        w->color = malloc(tile_samples * sizeof *w->color);
+        w->color = malloc((tile_samples + 2) * sizeof *w->color); /* + 2: resolve4 */
         /* DEPTH_PAD more: draw_in_tile_1x32 loads and stores four depths at
          * a time, and a block row's last lanes may lie past the tile's last
          * sample (they are read and written back unchanged) */
