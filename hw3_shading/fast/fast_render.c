@@ -299,7 +299,7 @@ typedef struct worker {
     ras_counters k;
     ras_counters ks; /* setup's counters */
     pthread_t thread;
-    queued q[QUEUE];
+    const queued *q[QUEUE]; /* fragments of frags, queued for shading */
     int qn;
     /* Deferred shading (every shader): the tile's fragments in drawing
      * order, and for every sample the fragment that last passed its depth
@@ -660,7 +660,7 @@ static void count_heights(const fragment_shader_payload *pay, uint64_t lookups, 
 
 /* Four fragments between the two halves of their shading. */
 typedef struct lanes4 {
-    const queued *q;
+    const queued *const *q;
     int lanes;
     vi4 odd;
     v3x4 b, color;
@@ -675,9 +675,9 @@ typedef struct lanes4 {
  * the terms that do not involve kd. Then the texels the lookups will read are
  * prefetched, and shade_finish (called after the other half-queue's prepare)
  * finds them in cache. */
-static void shade_prepare(worker *w, const queued *q, int lanes, lanes4 *S) {
+static void shade_prepare(worker *w, const queued *const *q, int lanes, lanes4 *S) {
     const frame *fr = w->fr;
-    const fragment_shader_payload *pay = &w->pay[q[0].r->object];
+    const fragment_shader_payload *pay = &w->pay[q[0]->r->object];
     S->q = q;
     S->lanes = lanes;
     /* gather: four fragments' screen barycentrics and corner w, one record
@@ -685,7 +685,7 @@ static void shade_prepare(worker *w, const queued *q, int lanes, lanes4 *S) {
      * lane 0) */
     const queued *e[4];
     for (int i = 0; i < 4; i++)
-        e[i] = &q[i < lanes ? i : 0];
+        e[i] = q[i < lanes ? i : 0];
     v3x4 bs, wv;
     vf4 pad;
     bs.x = vf4_load(&e[0]->bary.x), bs.y = vf4_load(&e[1]->bary.x);
@@ -765,7 +765,7 @@ static void shade_prepare(worker *w, const queued *q, int lanes, lanes4 *S) {
         pay->counters->stages_run |= RAS_STAGE_LIGHTING;
         pay->counters->lighting_evaluations += (uint64_t)pay->light_count * (uint64_t)lanes;
     }
-    float spec_zero = fr->spec_zero[q[0].r->object];
+    float spec_zero = fr->spec_zero[q[0]->r->object];
     v3x4 n = v3_normalize(normal, &odd);
     v3x4 v = v3_normalize((v3x4){-point.x, -point.y, -point.z}, &odd);
     vf4 zero = vf4_splat(0.0f);
@@ -822,9 +822,9 @@ static inline void put4(vec3s *d, vec3s c) {
  * colours into the tile. */
 static void shade_finish(worker *w, lanes4 *S) {
     const frame *fr = w->fr;
-    const queued *q = S->q;
+    const queued *const *q = S->q;
     int lanes = S->lanes;
-    fragment_shader_payload *pay = &w->pay[q[0].r->object];
+    fragment_shader_payload *pay = &w->pay[q[0]->r->object];
     v3x4 color = S->color;
     if (fr->batch != BATCH_NORMAL && fr->batch != BATCH_BUMP) {
         v3x4 kd = v3_splat(pay->color);
@@ -861,13 +861,13 @@ static void shade_finish(worker *w, lanes4 *S) {
     }
     for (int i = 0; i < lanes; i++) {
         vec3s c = {{color.x[i], color.y[i], color.z[i]}};
-        if (S->odd[i]) c = shade_silent(w, q[i].r, q[i].bary);
-        if (q[i].mask == 0xF && fr->n == 4) { /* a whole pixel of 4x */
-            put4(&w->color[q[i].base], c);
+        if (S->odd[i]) c = shade_silent(w, q[i]->r, q[i]->bary);
+        if (q[i]->mask == 0xF && fr->n == 4) { /* a whole pixel of 4x */
+            put4(&w->color[q[i]->base], c);
             continue;
         }
-        for (uint64_t m = q[i].mask; m; m &= m - 1)
-            w->color[q[i].base + __builtin_ctzll(m)] = c;
+        for (uint64_t m = q[i]->mask; m; m &= m - 1)
+            w->color[q[i]->base + __builtin_ctzll(m)] = c;
     }
 }
 
@@ -886,11 +886,10 @@ static void flush_queue(worker *w) {
 
 /* Queue a fragment for shading: its colour goes to the samples `mask` of
  * tile sample index `base`. */
-static inline void queue_fragment(worker *w, const fast_tri *r, vec3s bary, int base,
-                                  uint64_t mask) {
+static inline void queue_fragment(worker *w, const queued *f) {
     /* one object's fragments (one material) per queue */
-    if (w->qn == QUEUE || (w->qn && w->q[0].r->object != r->object)) flush_queue(w);
-    w->q[w->qn++] = (queued){r, bary, 0.0f, base, mask};
+    if (w->qn == QUEUE || (w->qn && w->q[0]->r->object != f->r->object)) flush_queue(w);
+    w->q[w->qn++] = f;
     w->shaded++;
 }
 
@@ -1013,7 +1012,7 @@ static void shade_deferred(worker *w) {
     for (size_t i = 0; i < w->nfrag; i++) {
         const queued *f = &w->frags[i];
         if (batch && f->mask)
-            queue_fragment(w, f->r, f->bary, f->base, f->mask);
+            queue_fragment(w, f);
         else if (batch)
             count_unshaded(w, f);
         else if (f->mask)
@@ -1384,10 +1383,11 @@ static bool draw_in_tile_1x32(worker *w, const fast_tri *r, int tx0, int ty0, in
                               int x1, int y1) {
     const frame *fr = w->fr;
     const int64_t cx = fr->off_x[0], cy = fr->off_y[0];
-    /* x1 + 7: a block row's eight lanes may run past x1 */
+    /* x1 + 7: a block row's eight lanes may run past x1; y1 + 1: the
+     * lanes are stepped once past the last row */
     if (!edges_fit_31(r, (int64_t)x0 * SUBPIXEL_ONE + cx,
                       (int64_t)(x1 + BLOCK - 1) * SUBPIXEL_ONE + cx,
-                      (int64_t)y0 * SUBPIXEL_ONE + cy, (int64_t)y1 * SUBPIXEL_ONE + cy))
+                      (int64_t)y0 * SUBPIXEL_ONE + cy, (int64_t)(y1 + 1) * SUBPIXEL_ONE + cy))
         return false;
     const int64_t step[3] = {r->a[0] * SUBPIXEL_ONE, r->a[1] * SUBPIXEL_ONE,
                              r->a[2] * SUBPIXEL_ONE};
@@ -1397,6 +1397,13 @@ static bool draw_in_tile_1x32(worker *w, const fast_tri *r, int tx0, int ty0, in
             ramp_lo[k][i] = (int)(i * step[k]);
             ramp_hi[k][i] = (int)((i + 4) * step[k]);
         }
+    vi4 vstepy[3]; /* a row's step */
+    int64_t bstep[3];
+    for (int k = 0; k < 3; k++) {
+        bstep[k] = r->b[k] * SUBPIXEL_ONE;
+        int sy = (int)bstep[k];
+        vstepy[k] = (vi4){sy, sy, sy, sy};
+    }
     bool small = (x1 - x0) < BLOCK && (y1 - y0) < BLOCK;
     for (int by0 = y0; by0 <= y1; by0 += BLOCK) {
         int by1 = by0 + BLOCK - 1 < y1 ? by0 + BLOCK - 1 : y1;
@@ -1405,17 +1412,29 @@ static bool draw_in_tile_1x32(worker *w, const fast_tri *r, int tx0, int ty0, in
             if (!small && block_outside(fr, r, bx0, by0, bx1, by1, cx, cx, cy, cy)) continue;
             unsigned row_lanes = (1u << (bx1 - bx0 + 1)) - 1;
             int64_t px = (int64_t)bx0 * SUBPIXEL_ONE + cx;
+            int64_t py0 = (int64_t)by0 * SUBPIXEL_ONE + cy, e[3];
+            /* E − thr of the block row's eight pixels, per edge: at the
+             * block's first row, then one vector addition per row (exact:
+             * every value used lies in the checked box) */
+            vi4 elo[3], ehi[3];
+            for (int k = 0; k < 3; k++) {
+                e[k] = r->a[k] * px + r->b[k] * py0 + r->c[k];
+                int start = (int)(e[k] - r->thr[k]);
+                elo[k] = (vi4){start, start, start, start} + ramp_lo[k];
+                ehi[k] = (vi4){start, start, start, start} + ramp_hi[k];
+            }
             for (int y = by0; y <= by1; y++) {
-                int64_t py = (int64_t)y * SUBPIXEL_ONE + cy, e[3];
-                vi4 lo = {0, 0, 0, 0}, hi = {0, 0, 0, 0};
-                for (int k = 0; k < 3; k++) {
-                    e[k] = r->a[k] * px + r->b[k] * py + r->c[k];
-                    int start = (int)(e[k] - r->thr[k]);
-                    lo |= (vi4){start, start, start, start} + ramp_lo[k];
-                    hi |= (vi4){start, start, start, start} + ramp_hi[k];
-                }
+                vi4 lo = elo[0] | elo[1] | elo[2], hi = ehi[0] | ehi[1] | ehi[2];
                 /* covered: E − thr >= 0 on every edge, so the or is >= 0 */
                 unsigned covered = ~(vi4_sign_bits(lo) | vi4_sign_bits(hi) << 4) & row_lanes;
+                for (int k = 0; k < 3; k++) {
+                    elo[k] += vstepy[k];
+                    ehi[k] += vstepy[k];
+                }
+                if (!covered) {
+                    for (int k = 0; k < 3; k++) e[k] += bstep[k];
+                    continue;
+                }
                 int base_row = (y - ty0) * TILE + (bx0 - tx0);
                 for (; covered; covered &= covered - 1) {
                     int i = __builtin_ctz(covered);
@@ -1429,6 +1448,7 @@ static bool draw_in_tile_1x32(worker *w, const fast_tri *r, int tx0, int ty0, in
                     w->depth[base] = z;
                     defer_fragment(w, r, bary, base, 1);
                 }
+                for (int k = 0; k < 3; k++) e[k] += bstep[k];
             }
         }
     }
@@ -1682,8 +1702,15 @@ static void do_tile(worker *w, int tile) {
         if (n == 1) {
             vec3s *row = &w->color[(size_t)(y - ty0) * TILE];
             const float *depth = &w->depth[(size_t)(y - ty0) * TILE];
-            for (int x = 0; x <= tx1 - tx0; x++)
-                if (depth[x] == INFINITY) row[x] = clear;
+            const int count = tx1 - tx0 + 1;
+            const vf4 inf = vf4_splat(INFINITY);
+            for (int x = 0; x < count; x += 4) { /* four depths at a time (the row has 64) */
+                unsigned clear4 = vi4_sign_bits(vf4_load(&depth[x]) == inf);
+                for (; clear4; clear4 &= clear4 - 1) {
+                    int k = x + __builtin_ctz(clear4);
+                    if (k < count) row[k] = clear;
+                }
+            }
             put_row(&dst[tx0], src, tx1 - tx0 + 1);
         } else {
             /* resolve_pixel reads screen pixel (x, y) of the view at row
