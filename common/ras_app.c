@@ -168,8 +168,8 @@ static ras_image *load_reference(const ras_app *app, char *path, size_t size, ra
     } else if (!ras_app_reference_name(app, name, sizeof name)) {
         list_references(app, list, sizeof list);
         ras_error_set(err, "no reference image for these settings; %s's references "
-                           "(tests/reference/catalogue.json) are %s; use one of those settings, "
-                           "or pass --reference FILE for another", program, list);
+                           "(%s/catalogue.json) are %s; use one of those settings, or pass "
+                           "--reference FILE for another", program, app->hooks->reference_dir, list);
         return NULL;
     } else {
         snprintf(path, size, "%s/%s.png", app->hooks->reference_dir, name);

@@ -45,7 +45,7 @@ bool ras_catalogue_load(const char *path, ras_catalogue *out, ras_error *err) {
     bool ok = cJSON_IsArray(images) && cJSON_GetArraySize(images) <= RAS_CATALOGUE_MAX_ENTRIES;
     if (!ok)
         ras_error_set(err, "%s: expected a JSON object with an \"images\" array of at most %d "
-                           "entries; fix the file (tests/reference/catalogue.json in the source)",
+                           "entries; fix the file",
                       path, RAS_CATALOGUE_MAX_ENTRIES);
     const cJSON *item;
     const cJSON *list = ok ? images : NULL;

@@ -47,7 +47,8 @@ typedef struct option_row {
     int first;
     const char *value; /* what the value looks like: "needs a value: expected ..." */
     const char *arg;   /* its placeholder in --help ("FILE") */
-    const char *help;  /* the help text; '\n' starts an indented line */
+    const char *help;  /* the help text; '\n' starts an indented line; in a NAME
+                        * row, %s is the table's names ("none, msaa or ssaa") */
 } option_row;
 
 /* One row per option, in --help's order. */
@@ -62,7 +63,7 @@ static const option_row options[] = {
     {"axis", 0, RAS_OPT_ANGLE, AXIS, F(axis), F(axis_set), NULL, 0, "an axis X,Y,Z such as 0,1,0",
      "X,Y,Z", "rotate about this axis (bonus: get_rotation)"},
     {"aa", 0, RAS_OPT_AA, NAME, F(aa), F(aa_set), &ras_names_aa, 0, NULL, "MODE",
-     "anti-aliasing: none, msaa or ssaa"},
+     "anti-aliasing: %s"},
     {"samples", 0, RAS_OPT_AA, SAMPLES, F(samples), NO_FIELD, NULL, 0, "a sample count such as 4",
      "N", "samples per pixel (ordered: 4, 16, 64; standard: 2, 4, 8, 16);\nalone, it means "
           "--aa msaa"},
@@ -74,9 +75,9 @@ static const option_row options[] = {
      "depth format: z01 ((1-z)/2, default) or inverse_w\n(-near/w: reversed-z, precise far "
      "away; docs/accuracy.md)"},
     {"shader", 0, RAS_OPT_SHADING, NAME, F(shader), F(shader_set), &ras_names_shader,
-     RAS_SHADER_NORMAL, NULL, "NAME", "normal, phong, texture, bump or displacement"},
+     RAS_SHADER_NORMAL, NULL, "NAME", "%s"},
     {"filter", 0, RAS_OPT_SHADING, NAME, F(filter), F(filter_set), &ras_names_filter, 0, NULL,
-     "NAME", "texture filter: nearest, bilinear or trilinear"},
+     "NAME", "texture filter: %s"},
     {"model", 0, RAS_OPT_MODEL, FILE_ARG, F(model), NO_FIELD, NULL, 0,
      "a model FILE (OBJ, PLY, STL, glTF, ...)", "FILE", "a model file (OBJ, PLY, STL, glTF, ...)"},
     {"texture", 0, RAS_OPT_MODEL, FILE_ARG, F(texture), NO_FIELD, NULL, 0, "an image FILE",
@@ -89,8 +90,8 @@ static const option_row options[] = {
      "FILE", "the scene to draw (JSON, docs/scenes.md; default: the built-in\nscene of this "
              "assignment); the options here override it"},
     {"compare", 0, RAS_OPT_COMPARE, FLAG, F(compare), NO_FIELD, NULL, 0, NULL, NULL,
-     "render once, compare with the reference image for these settings\n(tests/reference/"
-     "catalogue.json) and write a difference image"},
+     "render once, compare with the reference for these settings\n(from catalogue.json), "
+     "write a difference image"},
     {"reference", 0, RAS_OPT_COMPARE, FILE_ARG, F(reference), NO_FIELD, NULL, 0, "an image FILE",
      "FILE", "with --compare: the reference image to compare with"},
     {"stats", 0, RAS_OPT_STATS, FLAG, F(stats), NO_FIELD, NULL, 0, NULL, NULL,
@@ -388,8 +389,13 @@ void ras_cli_help(unsigned accepted, const char *program, const char *usage, cha
         if (r->letter) snprintf(letter, sizeof letter, "-%c,", r->letter);
         snprintf(words, sizeof words, "--%s%s%s", r->name, r->arg ? " " : "", r->arg ? r->arg : "");
         ADD("  %-4s%-17s ", letter, words);
+        char text[256], list[128];
+        if (r->kind == NAME && strstr(r->help, "%s"))
+            snprintf(text, sizeof text, r->help, ras_names_list(r->names, r->first, list, sizeof list));
+        else
+            snprintf(text, sizeof text, "%s", r->help);
         /* The help text, each further line indented under the first. */
-        for (const char *line = r->help; line;) {
+        for (const char *line = text; line;) {
             const char *nl = strchr(line, '\n');
             ADD("%.*s\n", nl ? (int)(nl - line) : (int)strlen(line), line);
             line = nl ? nl + 1 : NULL;

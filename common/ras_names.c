@@ -31,6 +31,13 @@ TABLE(ras_names_wrap, "a wrap mode", [RAS_WRAP_REPEAT] = "repeat", [RAS_WRAP_CLA
 TABLE(ras_names_cull, "a cull mode", [RAS_CULL_NONE] = "none", [RAS_CULL_BACK] = "back",
       [RAS_CULL_FRONT] = "front");
 
+/* A table per enum, as long as the enum. */
+_Static_assert(sizeof ras_names_shader_list / sizeof ras_names_shader_list[0] == RAS_SHADER_COUNT,
+               "ras_names_shader: one name per ras_scene_shader");
+_Static_assert(sizeof ras_names_depth_list / sizeof ras_names_depth_list[0] ==
+                   RAS_DEPTH_FORMAT_COUNT,
+               "ras_names_depth: one name per ras_depth_format");
+
 const char *ras_name_of(const ras_names *t, int value) {
     return value >= 0 && value < t->count ? t->names[value] : "?";
 }

@@ -7,20 +7,10 @@
  * (interpolate the varyings the shader reads, perspective-correct) → your
  * fragment shader → resolve_pixel (hw2, with AA) → image.
  *
- *   hw3_shading                               window: 1-5 shader, f filter,
- *                                             p perspective-correct on/off,
- *                                             a/d or the mouse rotate, v: yours /
- *                                             reference / difference, Esc quits
- *   hw3_shading --shader phong -o out.png     render once, headless
- *   hw3_shading out.png phong                 the classic positional form
- *   hw3_shading --model spot.obj --texture spot_texture.png --shader texture -o spot.png
- *   hw3_shading --scene scenes/textured_teapot_trilinear.json -o teapot.png
- *
- * The scene comes from --scene FILE or, without it, from the built-in copy of
- * scenes/hw3_default.json (or, with --model, the classic GAMES101 model
- * scene); --shader, --filter, --aa, --samples, --pattern, --edges and --size
- * override the scene's values. Everything else (options, the window,
- * --compare, --stats) is the shell's: common/ras_app.h.
+ * The scene comes from --scene FILE, the built-in scenes/hw3_default.json, or
+ * --model FILE (the classic GAMES101 scene); the options override it. The rest
+ * (options, the window, --compare, --stats) is the shell's: common/ras_app.h.
+ * Examples: docs/hw3.md, or hw3_shading --help.
  */
 #include "ras_app.h"
 #include "scene.h"
