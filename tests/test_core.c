@@ -2,7 +2,9 @@
  * clipping, viewport, line drawing, the command-line parser, image files and
  * the wireframe pipeline. No assignment code is linked here.
  */
+#include "ras_app.h"
 #include "ras_cli.h"
+#include "ras_names.h"
 #include "ras_draw.h"
 #include "ras_image.h"
 #include "ras_pipeline.h"
@@ -207,6 +209,38 @@ static void test_cli_rejects_bad_input(void **state) {
     assert_int_equal(parse(&cli, &err, RAS_OPT_ANGLE, 2, help), RAS_CLI_HELP);
 }
 
+/* One set of rules for every program (ras_app_resolve): flags over the
+ * scene; --samples N alone is MSAA; 2 and 8 samples take the standard
+ * pattern without --pattern; --aa none with --samples N > 1 is an error;
+ * every name comes from ras_names. */
+static void test_app_resolve_one_rule_set(void **state) {
+    (void)state;
+    ras_app_hooks hooks = {.program = "p", .options = RAS_OPT_AA | RAS_OPT_SHADING};
+    ras_cli cli;
+    ras_error err;
+    ras_app_settings set;
+    const char *eight[] = {"p", "--samples", "8", "--shader", "bump", "--filter", "nearest"};
+    assert_int_equal(parse(&cli, &err, hooks.options, 7, eight), RAS_CLI_RUN);
+    assert_true(ras_app_resolve(&hooks, &cli, NULL, &set, &err));
+    assert_int_equal(set.aa, RAS_AA_MSAA);
+    assert_int_equal(set.pattern_kind, RAS_PATTERN_STANDARD);
+    assert_int_equal(set.pattern.count, 8);
+    assert_int_equal(set.shader, RAS_SHADER_BUMP);
+    assert_int_equal(set.filter, RAS_FILTER_NEAREST);
+    const char *none[] = {"p", "--aa", "none", "--samples", "4"};
+    assert_int_equal(parse(&cli, &err, hooks.options, 5, none), RAS_CLI_RUN);
+    assert_false(ras_app_resolve(&hooks, &cli, NULL, &set, &err));
+    assert_non_null(strstr(err.msg, "--aa none draws one sample"));
+    const char *flat[] = {"p", "--shader", "flat"}; /* hw2's colour is no --shader */
+    assert_int_equal(parse(&cli, &err, hooks.options, 3, flat), RAS_CLI_ERROR);
+    assert_non_null(strstr(err.msg, "--shader expects normal, phong, texture, bump or "
+                                    "displacement; got 'flat'"));
+    char list[64];
+    assert_string_equal(ras_names_list(&ras_names_aa, 0, list, sizeof list), "none, msaa or ssaa");
+    assert_int_equal(ras_name_find(&ras_names_depth, "inverse_w", 0), RAS_DEPTH_INV_W);
+    assert_string_equal(ras_name_of(&ras_names_cull, 99), "?");
+}
+
 /* PNG round trip is exact at 8 bits; a failed write leaves no file behind. */
 static void test_image_roundtrip_and_failed_write(void **state) {
     (void)state;
@@ -335,6 +369,7 @@ int main(void) {
         cmocka_unit_test(test_draw_line_clips_safely),
         cmocka_unit_test(test_cli_parses_values),
         cmocka_unit_test(test_cli_rejects_bad_input),
+        cmocka_unit_test(test_app_resolve_one_rule_set),
         cmocka_unit_test(test_image_roundtrip_and_failed_write),
         cmocka_unit_test(test_image_header_size_matches_decode),
         cmocka_unit_test(test_pipeline_wireframe_runs_only_its_stages),
