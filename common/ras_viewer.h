@@ -4,8 +4,9 @@
  * A program renders a frame between ras_viewer_frame_begin/end (the status
  * line shows how long it took), names the reference image for its current
  * settings (ras_viewer_set_reference: "hw2_msaa4" → hw2_msaa4.png in the
- * reference folder the program names; NULL when no reference exists for these settings), and
- * shows the frame with ras_viewer_show. The key `v` (ras_viewer_key) cycles
+ * reference folder the program names; NULL when no reference exists for
+ * these settings — the shell, ras_app.c, finds the name in the reference
+ * catalogue, ras_catalogue.h), and shows the frame with ras_viewer_show. The key `v` (ras_viewer_key) cycles
  * what the window shows:
  *
  *   program     what this program rendered (your code, or the reference
