@@ -111,6 +111,10 @@ static void test_projection_matches_hand_worked_matrix(void **state) {
                "NEGATIVE z of the planes, n = -z_near, f = -z_far";
     else if (ras_mat4_near(positive_w(got), flipped_n, 1e-4f))
         hint = "n and f have the wrong sign";
+    else if (fabsf(ras_mat4_at(got, 0, 0)) < 1e-3f && fabsf(ras_mat4_at(got, 1, 1)) < 1e-3f &&
+             fabsf(fabsf(ras_mat4_at(got, 3, 2)) - 1) < 1e-4f)
+        hint = "x and y are squashed to 0 at fov 90: the whole field of view was used, and "
+               "tan(90 deg) is infinite; the top of the near plane is t = |n| tan(fov / 2)";
     expect_matrix(positive_w(got), expected, 1e-4f,
                   "get_projection_matrix(90, 1, 1, 3), compared up to overall sign", hint);
 }
@@ -164,6 +168,10 @@ static void test_rotation_about_z_matches_model_matrix(void **state) {
                       "get_rotation((0,0,1), angle) vs the z rotation",
                       ras_mat4_near(got, glms_mat4_identity(), 0) && angles[i] != 0
                           ? "still the identity: get_rotation is not written yet"
+                      : ras_mat4_near(got, rot_z_rad(-ras_deg_to_rad(angles[i])), 1e-5f)
+                          ? "it turns the other way: the sin term of Rodrigues (sin a N) has the "
+                            "wrong sign, or the cross-product matrix N is transposed (N = [[0, "
+                            "-nz, ny], [nz, 0, -nx], [-ny, nx, 0]])"
                           : "Rodrigues: R = cos a I + (1-cos a) n nT + sin a N");
     }
 }

@@ -284,6 +284,43 @@ static void check_exactly_once(const char *what, const ras_triangle *tris, int n
             if (shown < 0) px_expect[y * w + x] = px_count[y * w + x];
         }
     if (bad_x >= 0) {
+        /* Two mistakes of the loop, not of the edge rule, recognised from the
+         * whole pattern: every sample stored upside down (the y-flip), or the
+         * only misses in the last column or row of their triangle's box. */
+        bool flipped = true, box_edge = true, any_miss = false, any_extra = false;
+        for (int y = 0; y < h; y++)
+            for (int x = 0; x < w; x++)
+                for (int s = 0; s < S; s++) {
+                    double sx = x + pat.offsets[s].x, sy = y + pat.offsets[s].y;
+                    int e = expect(sx, sy, user), got = counts[(y * w + x) * S + s];
+                    int mirrored = counts[((h - 1 - y) * w + x) * S + s];
+                    if ((e == 1 && mirrored != 1) || (e == 0 && mirrored != 0)) flipped = false;
+                    if (e == 0 && got > 0) any_extra = true;
+                    if (e != 1 || got != 0) continue;
+                    any_miss = true;
+                    bool at_edge = false;
+                    for (int i = 0; i < ntris && !at_edge; i++) {
+                        const vec4s *v = tris[i].v;
+                        double e0 = edge_exact(v[0].x, v[0].y, v[1].x, v[1].y, sx, sy),
+                               e1 = edge_exact(v[1].x, v[1].y, v[2].x, v[2].y, sx, sy),
+                               e2 = edge_exact(v[2].x, v[2].y, v[0].x, v[0].y, sx, sy);
+                        bool inside = (e0 >= 0 && e1 >= 0 && e2 >= 0) ||
+                                      (e0 <= 0 && e1 <= 0 && e2 <= 0);
+                        double mx = fmax(fmax(v[0].x, v[1].x), v[2].x),
+                               my = fmax(fmax(v[0].y, v[1].y), v[2].y);
+                        at_edge = inside && (x == (int)floor(mx) || y == (int)floor(my));
+                    }
+                    box_edge = box_edge && at_edge;
+                }
+        const char *loop = NULL;
+        if (flipped)
+            loop = "the whole coverage is upside down: the rows are stored without the y-flip "
+                   "(ras_fb_sample_index flips for you: pass it the screen y, not height-1-y, "
+                   "and do not flip again)";
+        else if (any_miss && !any_extra && box_edge)
+            loop = "every missed sample is in the last column or row of its triangle's bounding "
+                   "box: the bounding box's maximum used as an exclusive loop bound (x < x_max) "
+                   "— the box holds its maximum, loop with <=";
         char art[2600];
         ascii_raster(px_count, px_expect, w, h, art, sizeof art);
         fail_msg("%s: sample %d of pixel (%d, %d) at (%g, %g) was covered %d times; expected %s. "
@@ -293,11 +330,12 @@ static void check_exactly_once(const char *what, const ras_triangle *tris, int n
                  bad_exp == 1   ? "exactly once (it is inside the shape)"
                  : bad_exp == 0 ? "never (it is outside the shape)"
                                 : "at most once",
-                 bad_got > 1 ? "a sample exactly on a shared edge counted by both triangles — "
-                               "apply the top-left rule (docs/hw2.md 3.3): E == 0 counts only "
-                               "on a top or left edge"
-                             : "a sample exactly on a shared edge rejected by both triangles "
-                               "(strict > 0 on every edge), or a winding handled wrongly",
+                 loop          ? loop
+                 : bad_got > 1 ? "a sample exactly on a shared edge counted by both triangles — "
+                                 "apply the top-left rule (docs/hw2.md 3.3): E == 0 counts only "
+                                 "on a top or left edge"
+                               : "a sample exactly on a shared edge rejected by both triangles "
+                                 "(strict > 0 on every edge), or a winding handled wrongly",
                  ASCII_LEGEND, art);
     }
     free(counts);

@@ -152,12 +152,16 @@ static void test_interp_tilted_plane_exact(void **state) {
             vec2s with_z = interpolate_vec2(&t_z, bary, t.uv, true);
             (void)t_w1;
             const char *hint = "check b_i = λ_i / w_i and the division by their sum";
-            if (fabsf(got.x - with_z.x) < 1e-4f && fabsf(got.y - with_z.y) < 1e-4f)
-                hint = "you divided by the screen depth v[i].z; the correction needs the clip "
-                       "w kept in v[i].w";
-            else if (fabsf(got.x - affine.x) < 1e-5f && fabsf(got.y - affine.y) < 1e-5f)
+            /* The affine value first: it is known exactly, while the "divided by
+             * z" probe runs the student's own function, which ignores w
+             * altogether in the affine mistake and so matches it too. */
+            bool is_affine = fabsf(got.x - affine.x) < 1e-5f && fabsf(got.y - affine.y) < 1e-5f;
+            if (is_affine)
                 hint = "this is the AFFINE value: the 1/w correction is missing (w forced to 1, "
                        "or `perspective` ignored) — the w = 1 pitfall, docs/hw3.md section 1";
+            else if (fabsf(got.x - with_z.x) < 1e-4f && fabsf(got.y - with_z.y) < 1e-4f)
+                hint = "you divided by the screen depth v[i].z; the correction needs the clip "
+                       "w kept in v[i].w";
             fail_msg("interpolate_vec2 on the tilted plane at screen (%.2f, %.2f): expected uv "
                      "(%.6f, %.6f) (ray-plane intersection), got (%.6f, %.6f). Likely mistake: %s",
                      x, y, s, tt, (double)got.x, (double)got.y, hint);
