@@ -70,8 +70,10 @@ bench-accuracy: configure
 	@cmake --build $(BUILD) -j $(JOBS) --target bench_accuracy
 	@$(BUILD)/bin/bench_accuracy --out docs
 
-# The tests are tested: known student mistakes (tests/mutants/) injected into
-# the reference, each must lose points and be named (docs/mutants.md).
+# The tests are tested and the grades fair: the classic solution gets full
+# marks; known student mistakes (tests/mutants/) injected into the reference
+# each lose points in their own assignment first and are named first
+# (docs/mutants.md; 15-30 minutes, tests/run-mutants --own-only is faster).
 .PHONY: mutants
 mutants: configure
 	@tests/run-mutants --build $(BUILD)
