@@ -282,6 +282,7 @@ typedef struct queued {
     vec3s bary;
     float pad; /* 0: bary is loaded as four floats (shade_prepare) */
     int base;
+    int object; /* r->object, at hand for queue_fragment */
     uint64_t mask; /* RAS_MAX_SAMPLES is 64 */
 } queued;
 /* shade_prepare loads bary and pad as one four-float vector */
@@ -888,7 +889,7 @@ static void flush_queue(worker *w) {
  * tile sample index `base`. */
 static inline void queue_fragment(worker *w, const queued *f) {
     /* one object's fragments (one material) per queue */
-    if (w->qn == QUEUE || (w->qn && w->q[0]->r->object != f->r->object)) flush_queue(w);
+    if (w->qn == QUEUE || (w->qn && w->q[0]->object != f->object)) flush_queue(w);
     w->q[w->qn++] = f;
     w->shaded++;
 }
@@ -911,7 +912,7 @@ static inline void defer_fragment(worker *w, const fast_tri *r, vec3s bary, int 
         w->frag_cap = cap;
     }
     int32_t i = (int32_t)w->nfrag++;
-    w->frags[i] = (queued){r, bary, 0.0f, base, mask};
+    w->frags[i] = (queued){r, bary, 0.0f, base, r->object, mask};
     for (uint64_t m = mask; m; m &= m - 1)
         w->owner[base + __builtin_ctzll(m)] = i;
 }
@@ -989,12 +990,16 @@ static void count_unshaded_scalar(worker *w, const queued *f) {
 static void shade_deferred(worker *w) {
     const int n = w->fr->n;
     const bool batch = w->fr->batch != BATCH_NONE;
-    for (size_t i = 0; i < w->nfrag; i++)
-        w->frags[i].mask = 0;
-    /* four samples at a time: none written (most of a tile around a
-     * model), or with 4x one pixel's four owned by one fragment */
+    /* With one sample a fragment (mask 1) still owns its sample when it is
+     * the sample's owner: checked in the loop below. Otherwise the owners
+     * give each fragment its samples, four samples at a time: none written
+     * (most of a tile around a model), or with 4x one pixel's four owned by
+     * one fragment. */
+    if (n > 1)
+        for (size_t i = 0; i < w->nfrag; i++)
+            w->frags[i].mask = 0;
     const vf4 inf = vf4_splat(INFINITY);
-    for (int s0 = 0; s0 < TILE * TILE * n; s0 += 4) {
+    for (int s0 = 0; n > 1 && s0 < TILE * TILE * n; s0 += 4) {
         unsigned clear = vi4_sign_bits(vf4_load(&w->depth[s0]) == inf);
         if (clear == 0xF) continue; /* no fragment passed here */
         const int32_t *o = &w->owner[s0];
@@ -1010,7 +1015,8 @@ static void shade_deferred(worker *w) {
         }
     }
     for (size_t i = 0; i < w->nfrag; i++) {
-        const queued *f = &w->frags[i];
+        queued *f = &w->frags[i];
+        if (n == 1 && w->owner[f->base] != (int32_t)i) f->mask = 0;
         if (batch && f->mask)
             queue_fragment(w, f);
         else if (batch)
@@ -1111,6 +1117,7 @@ static inline void defer_fragment_v(worker *w, const fast_tri *r, vf4 bv, int ba
     f->r = r;
     memcpy(&f->bary, &bv, sizeof bv); /* bary and pad */
     f->base = base;
+    f->object = r->object;
     f->mask = mask;
     for (uint64_t m = mask; m; m &= m - 1)
         w->owner[base + __builtin_ctzll(m)] = i;
