@@ -32,9 +32,11 @@ static pthread_once_t load_once = PTHREAD_ONCE_INIT;
 /* Opens one candidate; appends why not to load_error. */
 static bool try_open(const char *path) {
     if (!path || !*path) return false;
-    /* RTLD_LOCAL: OpenCV's symbols stay the module's; RTLD_NOW: a missing
-     * library fails here, not in the middle of a call. */
-    void *h = dlopen(path, RTLD_NOW | RTLD_LOCAL);
+    /* RTLD_LOCAL: OpenCV's symbols stay the module's. RTLD_LAZY: functions
+     * are bound when first called, as at start-up; binding all of the ~150
+     * libraries' functions now (RTLD_NOW) cost 40 M instructions more when a
+     * JPEG is written (docs/startup.md). A missing library still fails here. */
+    void *h = dlopen(path, RTLD_LAZY | RTLD_LOCAL);
     const char *why = NULL;
     if (h) {
         union {

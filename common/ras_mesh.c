@@ -766,7 +766,7 @@ static void *assimp_symbol(void *lib, const char *name) {
 }
 
 static void open_assimp(void) {
-    void *lib = dlopen(RAS_ASSIMP_LIBRARY, RTLD_NOW | RTLD_LOCAL);
+    void *lib = dlopen(RAS_ASSIMP_LIBRARY, RTLD_LAZY | RTLD_LOCAL); /* as at start-up */
     if (!lib) {
         const char *why = dlerror();
         snprintf(assimp.error, sizeof assimp.error, "%s", why ? why : RAS_ASSIMP_LIBRARY);
