@@ -56,7 +56,8 @@
 /* ---- triangle records ------------------------------------------------------ */
 
 typedef struct fast_tri {
-    ras_triangle t;
+    /* What rasterizing reads first, together (three cache lines; do_tile
+     * prefetches them): */
     /* E_k(P) = a[k]·Px + b[k]·Py + c[k] (sub-pixel units) for the edge
      * opposite corner k of the CCW-ordered triangle; covered when
      * E_k >= thr[k] (thr = -bias: 0 on top-left edges, 1 elsewhere). */
@@ -65,12 +66,14 @@ typedef struct fast_tri {
     int order[3]; /* original vertex index of corner k */
     int x0, x1, y0, y1; /* pixel bounding box, clamped, inclusive */
     int object;
+    float z[3]; /* t.v[i].z: depth_of's operands */
     /* The batched shaders' inputs, packed so that four fragments are
      * gathered with a few vector loads and transposes (shade_prepare):
      * the corners' clip w (and a 0), and per corner normal xyz, view
      * position xyz and uv — copies of t's floats, in t's vertex order. */
     _Alignas(16) float w3[4];
     _Alignas(16) float attr[3][8];
+    ras_triangle t; /* the whole triangle: the scalar shaders' */
 } fast_tri;
 
 static int64_t floor_div(int64_t a, int64_t b) { /* b > 0 */
@@ -222,6 +225,7 @@ static bool setup_triangle(tri_list *L, const ras_clip_vertex *a, const ras_clip
         r->object = object;
         for (int v = 0; v < 3; v++) {
             r->w3[v] = r->t.v[v].w;
+            r->z[v] = r->t.v[v].z;
             float *a = r->attr[v];
             a[0] = r->t.normal[v].x, a[1] = r->t.normal[v].y, a[2] = r->t.normal[v].z;
             a[3] = r->t.view_pos[v].x, a[4] = r->t.view_pos[v].y, a[5] = r->t.view_pos[v].z;
@@ -1081,8 +1085,8 @@ static inline vec3s bary_of(const fast_tri *r, const int64_t e[3]) {
     return r->order[1] == 1 ? (vec3s){{l0, l1, l2}} : (vec3s){{l0, l2, l1}};
 }
 
-static inline float depth_of(const ras_triangle *t, vec3s b) {
-    return b.x * t->v[0].z + b.y * t->v[1].z + b.z * t->v[2].z;
+static inline float depth_of(const fast_tri *r, vec3s b) {
+    return b.x * r->z[0] + b.y * r->z[1] + b.z * r->z[2];
 }
 
 /* Is the whole block [bx0, bx1] × [by0, by1] of pixels outside one edge for
@@ -1154,8 +1158,7 @@ static inline unsigned bary_depth_x4(const fast_tri *r, const vi4 e[3], v3x4 *b,
     near |= ratios_x4(e[1], inv, &l1);
     near |= ratios_x4(e[2], inv, &l2);
     *b = r->order[1] == 1 ? (v3x4){l0, l1, l2} : (v3x4){l0, l2, l1};
-    const vec4s *v = r->t.v;
-    *z = b->x * vf4_splat(v[0].z) + b->y * vf4_splat(v[1].z) + b->z * vf4_splat(v[2].z);
+    *z = b->x * vf4_splat(r->z[0]) + b->y * vf4_splat(r->z[1]) + b->z * vf4_splat(r->z[2]);
     return near;
 }
 
@@ -1185,7 +1188,7 @@ draw_pixel_samples(worker *w, const fast_tri *r, int x, int y, int tx0, int ty0,
             continue;
         w->k.samples_covered++;
         bary[k] = bary_of(r, e[k]);
-        z[k] = depth_of(&r->t, bary[k]);
+        z[k] = depth_of(r, bary[k]);
         if (!(z[k] < w->depth[base + k])) continue;
         w->k.depth_tests_passed++;
         w->depth[base + k] = z[k];
@@ -1242,7 +1245,7 @@ draw_pixel4_v(worker *w, const fast_tri *r, int x, int y, int tx0, int ty0, cons
         int64_t ep[3] = {(int64_t)E[0][i], (int64_t)E[1][i], (int64_t)E[2][i]};
         vec3s bb = bary_of(r, ep);
         b.x[i] = bb.x, b.y[i] = bb.y, b.z[i] = bb.z;
-        z[i] = depth_of(&r->t, bb);
+        z[i] = depth_of(r, bb);
     }
     float *dp = &w->depth[base];
     vf4 old = vf4_load(dp);
@@ -1449,7 +1452,7 @@ static bool draw_in_tile_1x32(worker *w, const fast_tri *r, int tx0, int ty0, in
                     int base = base_row + i;
                     w->k.samples_covered++;
                     vec3s bary = bary_of(r, ep);
-                    float z = depth_of(&r->t, bary);
+                    float z = depth_of(r, bary);
                     if (!(z < w->depth[base])) continue;
                     w->k.depth_tests_passed++;
                     w->depth[base] = z;
