@@ -36,20 +36,21 @@ static const char *const fast_copies[HW3_SHADER_COUNT] = {
                            "blinn_phong_lighting and texture_fragment_shader, or "
                            "bilinear_x4_footprint/bilinear_x4_blend, its copy of "
                            "texture_sample_bilinear",
-    [HW3_SHADER_BUMP] = "persp_bary and interp3/interp2 in shade (" FAST_C "), its copies of "
-                        "perspective_correct_barycentric and interpolate_vec3/interpolate_vec2 "
-                        "(it calls bump_fragment_shader itself)",
-    [HW3_SHADER_DISPLACEMENT] = "persp_bary and interp3/interp2 in shade (" FAST_C "), its copies "
-                                "of perspective_correct_barycentric and "
-                                "interpolate_vec3/interpolate_vec2 (it calls "
-                                "displacement_fragment_shader itself)",
+    [HW3_SHADER_BUMP] = "bump_normal_x4 and the bump lanes of shade_prepare (" FAST_C "), its "
+                        "copies of bump_normal, tangent_frame, height_sample and "
+                        "bump_fragment_shader, or axis_x4/footprint_of/bilinear_x4_blend, its "
+                        "copy of texture_sample_bilinear",
+    [HW3_SHADER_DISPLACEMENT] = "bump_normal_x4, the displacement lanes of shade_prepare and "
+                                "fast_blinn_phong's four-lane form (" FAST_C "), its copies of "
+                                "displacement_fragment_shader, bump_normal, height_sample and "
+                                "blinn_phong_lighting",
 };
 /* What every shader shares. The normal shader is checked first: when it
  * differs, these may be the cause; when a later shader differs, they are not. */
 #define FAST_SHARED                                                                         \
     "; or, if the other shaders differ too, the shared copies: setup_fixed and draw_in_tile " \
-    "(" FAST_C ") of rasterize_triangle (hw2_rasterize/solution/rasterizer.c), persp_bary "   \
-    "of perspective_correct_barycentric"
+    "(" FAST_C ") of rasterize_triangle (hw2_rasterize/solution/rasterizer.c), resolve4 of "  \
+    "resolve_pixel, persp_bary of perspective_correct_barycentric"
 
 static hw3_scene *scene;
 static ras_image *teaching_img, *fast_img;

@@ -20,8 +20,8 @@
  *      blocks wholly outside an edge skipped — records the fragments that pass
  *      the depth test and, per sample, the last one to pass; then shades only
  *      the fragments that still own a sample (four at a time in vector lanes
- *      for the Normal, Blinn-Phong and texture shaders), and resolves the tile
- *      straight into the image.
+ *      for all five shaders; trilinear texturing and unlit shading one at a
+ *      time), and resolves the tile straight into the image.
  * A tile's pixels depend only on the tile's triangles in submission order, so
  * the image is the same for any thread count and any tile schedule.
  * No full-screen framebuffer exists: memory is the image plus, per worker,
@@ -422,14 +422,14 @@ static vec3s shade(worker *w, const fast_tri *r, vec3s bary) {
 
 /* ---- batched shading: four fragments at a time ----------------------------- */
 
-/* The Normal, Blinn-Phong and texture shaders are straight-line float
- * arithmetic, so visible fragments are queued (in drawing order) and shaded
+/* The Normal, Blinn-Phong, texture, bump and displacement shaders are
+ * straight-line float arithmetic, so visible fragments are queued (in drawing order) and shaded
  * four at a time by the same operations in vector lanes (fast_simd.h says why
  * that is bit-exact). Colours are written when the queue is flushed; the
  * fragments shade_deferred queues own disjoint samples, so the order of the
  * writes does not matter (depth was tested and written when each fragment
  * was drawn). A queue
- * holds one object's fragments (one material). powf, the texture lookup and the
+ * holds one object's fragments (one material). powf, nearest lookups and the
  * rare lanes with a near-zero vector to normalise (see v3_normalize) are done
  * per lane with the scalar functions. */
 

@@ -19,7 +19,7 @@ typedef struct hw3_fast_settings {
     /* Not NULL: the number of fragments the fast path shaded for their
      * colour. It shades only those still visible when their screen tile is
      * drawn (the others' colours would be overwritten; the shaders it cannot
-     * batch — bump, displacement, trilinear, or no lights — may also shade
+     * batch — trilinear texturing, or no lights — may also shade
      * one hidden fragment per object and worker to learn its counts, not
      * included here), while the counters report the teaching pipeline's
      * work, which shades every fragment that passes a depth test
