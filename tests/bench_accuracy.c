@@ -10,8 +10,10 @@
  *           2x/4x/8x/16x) on thin triangles at random angles and on the hw2
  *           scene; truth: exact pixel coverage by clipping each triangle to each
  *           pixel square (the hw2 scene: the far triangle minus the near one)
- *   edges   float vs fixed-point edge functions: per-sample coverage counts on
- *           a sliver fan and a jittered grid (0 inside = crack, ≥ 2 = double hit)
+ *   edges   the reference's exact fixed-point coverage vs float edge functions
+ *           (bench_float_edges.c: this benchmark's own rasterizer, not a mode of
+ *           the reference): per-sample coverage counts on a sliver fan and a
+ *           jittered grid (0 inside = crack, ≥ 2 = double hit)
  *   interp  affine vs perspective-correct UV on a receding plane, against the
  *           analytic ray–plane mapping, at depth ratios w1/w0 = 1.1, 2, 4, 8
  *   filter  nearest / bilinear / trilinear on a receding floor, against 16×16
@@ -29,6 +31,7 @@
  *     --out DIR where the report goes (default: docs)
  * Progress goes to stderr, the tables to stdout at the end.
  */
+#include "bench_float_edges.h" /* the float-edge rasterizer, this benchmark's own */
 #include "bench_plot.h"
 #include "ras_io.h" /* ras_io_report: the reports are written atomically */
 #include "ras_pipeline.h"
@@ -181,12 +184,12 @@ static const mat4s *identity(void) {
 
 /* A pipeline with the reference hooks; exits on failure (a bug in the bench). */
 static ras_pipeline *make_pipeline(int w, int h, ras_aa_mode aa, ras_pattern_kind kind, int count,
-                                   ras_edge_mode edges, unsigned varyings, ras_shade_fn shade,
+                                   ras_rasterize_fn rasterize, unsigned varyings, ras_shade_fn shade,
                                    void *user, vec3s clear) {
     ras_error err = {{0}};
     ras_pipeline_config cfg = {.width = w, .height = h, .clear_color = clear, .aa = aa,
-                               .edges = edges, .varyings = varyings,
-                               .rasterize = rasterize_triangle, .resolve = resolve_pixel,
+                               .varyings = varyings,
+                               .rasterize = rasterize, .resolve = resolve_pixel,
                                .shade = shade, .shade_user = user};
     cfg.pattern = ras_sample_pattern_center();
     if (aa != RAS_AA_NONE && !ras_sample_pattern_make(kind, count, &cfg.pattern, &err)) {
@@ -417,7 +420,7 @@ static void run_aa_options(const char *scene, ras_mesh *const *meshes, int mesh_
     timed t[AA_OPTION_COUNT];
     for (int i = 0; i < AA_OPTION_COUNT; i++) {
         const aa_option *o = &AA_OPTIONS[i];
-        t[i].f = (mesh_frame){.p = make_pipeline(w, h, o->aa, o->kind, o->count, RAS_EDGES_FIXED,
+        t[i].f = (mesh_frame){.p = make_pipeline(w, h, o->aa, o->kind, o->count, rasterize_triangle,
                                                  varyings, NULL, NULL, (vec3s){{0, 0, 0}}),
                               .meshes = meshes, .mesh_count = mesh_count, .view = view,
                               .projection = projection, .img = img};
@@ -577,8 +580,9 @@ static bool inside_box(double x, double y, const void *shape) {
 
 static void run_edge_modes(const char *scene, ras_mesh *m, int size, inside_fn inside,
                            const void *shape) {
-    static const char *names[2] = {"fixed 24.8, top-left (int64)", "float, >= 0 test"};
-    static const ras_edge_mode modes[2] = {RAS_EDGES_FIXED, RAS_EDGES_FLOAT};
+    static const char *names[2] = {"fixed 24.8, top-left (reference)", "float, >= 0 test"};
+    /* The reference, and the float-edge rasterizer kept for this comparison. */
+    static const ras_rasterize_fn modes[2] = {rasterize_triangle, bench_rasterize_float_edges};
     ras_image *img = ras_image_create(size, size, NULL);
     die_oom(img);
     /* Time: one sample per pixel, plain vertex colour — coverage dominates. */
@@ -791,7 +795,7 @@ static void interpolation(void) {
                                              .varyings = RAS_VARYING_UV, .perspective = persp,
                                              .base = {.texture = tex, .filter = FILTER_BILINEAR}};
             t[persp].f = (mesh_frame){.p = make_pipeline(size, size, RAS_AA_NONE,
-                                                         RAS_PATTERN_ORDERED, 1, RAS_EDGES_FIXED,
+                                                         RAS_PATTERN_ORDERED, 1, rasterize_triangle,
                                                          RAS_VARYING_UV, hw3_shade_fragment,
                                                          &ts[persp], (vec3s){{0, 0, 0}}),
                                       .meshes = &m, .mesh_count = 1, .view = *identity(),
@@ -808,7 +812,7 @@ static void interpolation(void) {
             /* Error: the interpolated UV itself, against the ray-plane hit. */
             hw3_fragment_stage us = {.shader = shader_uv, .varyings = RAS_VARYING_UV,
                                      .perspective = persp};
-            f.p = make_pipeline(size, size, RAS_AA_NONE, RAS_PATTERN_ORDERED, 1, RAS_EDGES_FIXED,
+            f.p = make_pipeline(size, size, RAS_AA_NONE, RAS_PATTERN_ORDERED, 1, rasterize_triangle,
                                 RAS_VARYING_UV, hw3_shade_fragment, &us, (vec3s){{0, 0, 0}});
             draw_mesh_frame(&f);
             double v_max = 0, uv_max = 0, sum2 = 0;
@@ -899,7 +903,7 @@ static void filtering(void) {
                                           .varyings = RAS_VARYING_UV, .perspective = true,
                                           .base = {.texture = tex, .filter = filters[fi]}};
             t[fi].f = (mesh_frame){.p = make_pipeline(size, size, RAS_AA_NONE, RAS_PATTERN_ORDERED,
-                                                      1, RAS_EDGES_FIXED, RAS_VARYING_UV,
+                                                      1, rasterize_triangle, RAS_VARYING_UV,
                                                       hw3_shade_fragment, &st[fi],
                                                       (vec3s){{0, 0, 0}}),
                                    .meshes = &m, .mesh_count = 1, .view = *identity(),
@@ -996,7 +1000,7 @@ static void depth_precision(void) {
         timed t[DEPTH_PIPELINE_COUNT];
         for (int e = 0; e < DEPTH_PIPELINE_COUNT; e++) {
             ras_pipeline *p =
-                make_pipeline(size, size, RAS_AA_NONE, RAS_PATTERN_ORDERED, 1, RAS_EDGES_FIXED,
+                make_pipeline(size, size, RAS_AA_NONE, RAS_PATTERN_ORDERED, 1, rasterize_triangle,
                               RAS_VARYING_COLOR, NULL, NULL, (vec3s){{0, 0, 0}});
             /* make_pipeline builds z01; the format is a field of the config
              * that ras_pipeline_create copies, so rebuild with it set. */
@@ -1565,7 +1569,7 @@ static bool write_markdown(const char *path, const char *machine_name, const cha
                "shader, where coverage dominates.\n\n");
     table_edges(f);
     if (n >= 1) {
-        row *fx = find_row("edges", sc[0], "fixed 24.8, top-left (int64)");
+        row *fx = find_row("edges", sc[0], "fixed 24.8, top-left (reference)");
         row *fl = find_row("edges", sc[0], "float, >= 0 test");
         fprintf(f, "\n**What it means.** The float edge function evaluates a shared edge twice, "
                    "once from each triangle, with different rounding: on the fan that gives "
@@ -1573,15 +1577,18 @@ static bool write_markdown(const char *path, const char *machine_name, const cha
                    "~240–370 on its 3000-sliver fan; the count grows with the number of samples "
                    "that lie within rounding distance of a shared edge, so it depends on the "
                    "image size, the sample count and where the fan sits; a > 0 test would turn "
-                   "the double hits into cracks). Snapping vertices to 1/256 px and "
-                   "evaluating the edge functions exactly in int64 with the top-left rule makes "
-                   "every shared-edge sample belong to exactly one triangle: 0 and 0, on both "
-                   "meshes. DESIGN.md expects the fixed-point path to cost 1.1–1.4× a float loop; "
-                   "in this reference it takes %.2f× the float path's time, because the "
-                   "reference's float path is not the fast one: it recomputes each edge function "
-                   "from the vertices in float for every sample, while the fixed path evaluates a "
-                   "precomputed a·x + b·y + c in integers. Either way watertightness is not "
-                   "where the time goes.\n",
+                   "the double hits into cracks). The float rows are drawn by the benchmark's "
+                   "own float-edge rasterizer (`tests/bench_float_edges.c`, the way a first "
+                   "rasterizer is written); the reference has no float mode. The reference snaps "
+                   "the vertices to 1/256 px before its `inside_triangle` and "
+                   "`compute_barycentric_2d` see them: every edge function is then a whole number "
+                   "of 1/65536 px², computed exactly (in double), and the top-left rule gives "
+                   "each sample exactly on an edge to one triangle: 0 and 0, on both meshes. "
+                   "DESIGN.md expects exact coverage to cost 1.1–1.4× a float loop; here the "
+                   "reference takes %.2f× the float rasterizer's time — both evaluate the three "
+                   "edge functions from the vertices at every sample, the reference with the "
+                   "triangle's area worked out once. Either way watertightness is not where the "
+                   "time goes.\n",
                 fl ? fl->doubles : NAN, fl ? fl->cracks : NAN, S.quick ? 256 : 512,
                 S.quick ? 256 : 512, fx && fl ? fx->med / fl->med : NAN);
     }

@@ -1,7 +1,8 @@
 /* fuzz_pipeline.c — the triangle pipeline fed arbitrary floats.
  *
  * Input: byte 0 = configuration (bits 0-1 anti-aliasing none/MSAA/SSAA,
- * bit 2 ordered/standard pattern, bits 3-4 culling, bit 5 float edges,
+ * bit 2 ordered/standard pattern, bits 3-4 culling, bit 5 unused (it chose
+ * float edge functions, which the reference no longer offers),
  * bit 6 a perspective-correct hw3 shader instead of vertex colours, bit 7
  * the inverse_w depth format instead of z01); then
  * triangles of 3 clip-space vertices, each 15 raw floats: p_clip (4), colour
@@ -40,7 +41,6 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
         .width = W,
         .height = H,
         .aa = (ras_aa_mode)((cfg_bits & 3) % 3),
-        .edges = (cfg_bits & 32) ? RAS_EDGES_FLOAT : RAS_EDGES_FIXED,
         .cull = (ras_cull_mode)(((cfg_bits >> 3) & 3) % 3),
         .varyings = RAS_VARYING_COLOR | RAS_VARYING_NORMAL | RAS_VARYING_UV,
         .rasterize = rasterize_triangle,
@@ -79,19 +79,14 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
         float z = fb->depth[i];
         /* Each format's range (stage3_setup.h), or the +inf of a cleared
          * sample. Vertices are clamped to the range; a sample's depth is their
-         * barycentric mix. With fixed-point edges the barycentrics are exact
-         * integer ratios rounded to float, so they sum to 1 within a few ulp:
-         * 1e-6 slack at the ends (fuzz_pipeline found -1.00000012 with
-         * inverse_w). Float edge functions cancel catastrophically on thin
-         * triangles and their barycentrics need not sum to 1 at all (found:
-         * -1.0000013; docs/accuracy.md §2 shows why fixed point exists), so
-         * there only a finite depth is required. */
+         * barycentric mix. The reference's edge functions are exact (fixed
+         * point: vertices snapped to 1/256 px), so the barycentrics are exact
+         * ratios rounded to float and sum to 1 within a few ulp: 1e-6 slack
+         * at the ends (fuzz_pipeline found -1.00000012 with inverse_w). */
         float lo = cfg.depth == RAS_DEPTH_INV_W ? -1.0f - 1e-6f : 0.0f;
         float hi = cfg.depth == RAS_DEPTH_INV_W ? 0.0f : 1.0f + 1e-6f;
-        bool in_range = cfg.edges == RAS_EDGES_FLOAT ? isfinite(z) : (z >= lo && z <= hi);
-        fuzz_check((isinf(z) && z > 0) || in_range, "depth %.9g stored at %zu (%s, %s edges)",
-                   (double)z, i, ras_depth_format_name(cfg.depth),
-                   cfg.edges == RAS_EDGES_FLOAT ? "float" : "fixed");
+        fuzz_check((isinf(z) && z > 0) || (z >= lo && z <= hi), "depth %.9g stored at %zu (%s)",
+                   (double)z, i, ras_depth_format_name(cfg.depth));
     }
     ras_image *img = ras_image_create(W, H, NULL);
     if (img) {
