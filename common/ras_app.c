@@ -1,6 +1,8 @@
 /* ras_app.c — see ras_app.h. */
 #include "ras_app.h"
 
+#include "ras_dump.h"
+
 #include "ras_builtin_scenes.h" /* ras_scene_load_or_builtin */
 #include "ras_catalogue.h"
 #include "ras_io.h"     /* RAS_IO_MAX_PATH */
@@ -245,6 +247,15 @@ static int run_headless(ras_app *app, const ras_image *expected, const char *ref
                 ras_name_of(&ras_names_filter, (int)app->set.filter));
     else if (output)
         fprintf(stderr, "wrote %s\n", output);
+    if (app->cli.dump) {
+        /* what the program did not write itself: the pipeline's buffers */
+        int written = 0;
+        if (app->pipeline && !ras_pipeline_dump(app->pipeline, app->cli.dump, &written, &err)) {
+            fprintf(stderr, "%s: --dump: %s\n", app->hooks->program, err.msg);
+            return 1;
+        }
+        fprintf(stderr, "wrote the frame's buffers into %s/ (docs/debugging.md)\n", app->cli.dump);
+    }
     if (app->cli.stats && app->counters) {
         char json[2048];
         ras_counters_format_json(app->counters, json, sizeof json);
@@ -419,6 +430,11 @@ static bool check_arguments(ras_app *app, ras_error *err) {
                                   "--model, or drop them");
     /* A file that cannot be written is a usage error: say so before any work. */
     if (cli->output && !ras_image_check_output(cli->output, err)) return false;
+    if (cli->dump && !cli->output && !cli->compare)
+        return ras_error_set(err, "--dump DIR writes the buffers of one headless frame; add -o "
+                                  "FILE (e.g. %s %s --dump buffers)",
+                             h->program, h->example);
+    if (cli->dump && !ras_dump_prepare_dir(cli->dump, err)) return false;
     if (!cli->output && !cli->compare && !ras_window_available())
         return ras_error_set(err, "no display to open a window on (DISPLAY is not set); render "
                                   "to a file instead, e.g. %s %s", h->program, h->example);

@@ -59,6 +59,7 @@ typedef struct ras_cli {
     const char *scene;
     bool stats;
     const char *renderer; /* NULL: the program's default */
+    const char *dump;     /* --dump DIR: the frame's buffers go there (ras_dump.h) */
     const char *positional[RAS_CLI_MAX_POSITIONAL];
     int positional_count;
 } ras_cli;

@@ -36,6 +36,10 @@ static void turbo(double x, uint8_t rgb[3]) {
         rgb[k] = (uint8_t)lround(255.0 * (c[k] < 0 ? 0 : c[k] > 1 ? 1 : c[k]));
 }
 
+/* The part of turbo a value range is drawn with: its ends are near black
+ * (the darkest blue, the darkest red), and black means "empty" here. */
+static void scalar_colour(double t, uint8_t rgb[3]) { turbo(0.1 + 0.85 * t, rgb); }
+
 static bool is_empty(const ras_dump_buffer *b, const float *v) {
     if (!b->has_empty) return false;
     for (int k = 0; k < b->channels; k++)
@@ -104,7 +108,7 @@ static void paint(const ras_dump_buffer *b, const stats *s, uint8_t *rgb) {
             }
             if (b->style == RAS_DUMP_SCALAR) {
                 double span = s->hi[0] - s->lo[0];
-                turbo(span > 0 ? (sum[0] / n - s->lo[0]) / span : 0.5, p);
+                scalar_colour(span > 0 ? (sum[0] / n - s->lo[0]) / span : 0.5, p);
             } else {
                 for (int c = 0; c < 3; c++) {
                     double v = c < ch ? sum[c] / n : 0;
@@ -125,7 +129,7 @@ static void legend(const ras_dump_buffer *b, const stats *s, uint8_t *rgb) {
     if (b->style == RAS_DUMP_SCALAR) {
         for (int x = 4; x < w - 4; x++)
             for (int y = b->height + 3; y < b->height + 11; y++)
-                turbo((double)(x - 4) / (w > 9 ? w - 9 : 1), rgb + ((size_t)y * w + x) * 3);
+                scalar_colour((double)(x - 4) / (w > 9 ? w - 9 : 1), rgb + ((size_t)y * w + x) * 3);
         if (s->lo[0] <= s->hi[0])
             snprintf(text, sizeof text, "%s: %.6g (blue) .. %.6g (red); black: empty", b->name,
                      s->lo[0], s->hi[0]);
@@ -436,8 +440,8 @@ static cJSON *numbers(const float *v, int n) {
     return a;
 }
 
-bool ras_dump_vertices(const char *dir, const ras_mesh *mesh, mat4s model, mat4s view,
-                       mat4s projection, int width, int height, ras_error *err) {
+bool ras_dump_vertices(const char *dir, const char *stem, const ras_mesh *mesh, mat4s model,
+                       mat4s view, mat4s projection, int width, int height, ras_error *err) {
     cJSON *j = cJSON_CreateObject();
     cJSON_AddStringToObject(j, "buffer", "vertices");
     cJSON_AddStringToObject(
@@ -473,9 +477,9 @@ bool ras_dump_vertices(const char *dir, const ras_mesh *mesh, mat4s model, mat4s
         cJSON_AddNumberToObject(j, "vertices_left_out", (double)(mesh->vertex_count - n));
     char *text = cJSON_Print(j);
     cJSON_Delete(j);
-    if (!text) return ras_error_set(err, "out of memory writing vertices.json");
+    if (!text) return ras_error_set(err, "out of memory writing %s.json", stem);
     char path[RAS_IO_MAX_PATH + 64];
-    snprintf(path, sizeof path, "%s/vertices.json", dir);
+    snprintf(path, sizeof path, "%s/%s.json", dir, stem);
     size_t len = strlen(text);
     text[len] = '\n';
     bool ok = ras_io_write_atomic(path, "vertex dump", text, len + 1, NULL, NULL, err);

@@ -93,12 +93,14 @@ void ras_dump_difference_text(const char *name, const ras_dump_difference *d, ch
 
 /* hw1's buffer is its vertices: vertices.json holds, for each vertex of the
  * mesh (at most the first 4096), its position at every step of the vertex
- * stage — object, world (model), eye (view), clip (projection), NDC (the
+ * stage (into STEM.json: "vertices", or "vertices_1" for a scene's second
+ * object) — object, world (model), eye (view), clip (projection), NDC (the
  * divide by w) and screen (the viewport, y up, pixel centres at +0.5) — so
  * a wrong matrix shows at the step where the numbers go wrong. */
 struct ras_mesh;
-bool ras_dump_vertices(const char *dir, const struct ras_mesh *mesh, mat4s model, mat4s view,
-                       mat4s projection, int width, int height, ras_error *err);
+bool ras_dump_vertices(const char *dir, const char *stem, const struct ras_mesh *mesh,
+                       mat4s model, mat4s view, mat4s projection, int width, int height,
+                       ras_error *err);
 
 /* The folder for --dump: created if missing (one level), refused when it is
  * a file; false with err set. */

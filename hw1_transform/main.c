@@ -19,6 +19,7 @@
  * the window, --stats) is the shell's: common/ras_app.h.
  */
 #include "ras_app.h"
+#include "ras_dump.h"
 #include "transform.h"
 
 #include <stdio.h> /* snprintf */
@@ -48,9 +49,16 @@ static bool render(ras_app *app, ras_error *err) {
     mat4s view = ras_scene_view_matrix(s), spin = spin_matrix(&app->set);
     for (int i = 0; i < s->object_count; i++) {
         app->pipeline->config.wire_color = s->objects[i].material.color;
-        if (!ras_pipeline_draw_mesh(app->pipeline, app->assets->meshes[i],
-                                    ras_scene_model_matrix(&s->objects[i], spin), view, projection,
-                                    err))
+        mat4s model = ras_scene_model_matrix(&s->objects[i], spin);
+        if (!ras_pipeline_draw_mesh(app->pipeline, app->assets->meshes[i], model, view,
+                                    projection, err))
+            return false;
+        /* --dump: hw1's buffer is its vertices, at every step of the transform */
+        char stem[32];
+        snprintf(stem, sizeof stem, i ? "vertices_%d" : "vertices", i);
+        if (app->cli.dump && !ras_dump_vertices(app->cli.dump, stem, app->assets->meshes[i], model,
+                                                view, projection, app->set.width,
+                                                app->set.height, err))
             return false;
     }
     ras_pipeline_end_frame(app->pipeline, app->image);

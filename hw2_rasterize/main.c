@@ -61,7 +61,8 @@ static bool render(ras_app *app, ras_error *err) {
                                .z_near = s->camera.z_near,
                                .varyings = RAS_VARYING_COLOR,
                                .rasterize = rasterize_triangle,
-                               .resolve = resolve_pixel};
+                               .resolve = resolve_pixel,
+                               .dump = app->cli.dump != NULL};
     ras_pipeline *p = ras_pipeline_create(&cfg, err);
     if (!p) return false;
     ras_pipeline_destroy(app->pipeline); /* the settings may have changed: a new one */

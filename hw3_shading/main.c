@@ -62,6 +62,7 @@ static bool render(ras_app *app, ras_error *err) {
     h->opt.depth = s->depth;
     h->opt.angle_deg = s->angle;
     h->opt.affine = s->affine;
+    h->opt.dump_dir = app->cli.dump;
     app->counters = &h->stats;
     return hw3_render(h->scene, &h->opt, app->image, &h->stats, err);
 }

@@ -173,6 +173,16 @@ for p in PROGRAMS:
     case(p, ["-o", path("out.txt")], 2, "expected an image extension", absent=(path("out.txt"),))
     case(p, ["--scene", MISSING_MODEL_SCENE, "-o", OUT], 2, "no-such-model.obj")
     case(p, ["--size", "16x16", "-o", OUT], 0, "wrote", absent=(), present=(OUT,))
+# --dump (common/ras_dump.h): only with a headless frame, only into a folder;
+# each program writes its own buffers (hw1 its vertices).
+case(PROGRAMS[0], ["--dump", path("dump-none")], 2,
+     "--dump DIR writes the buffers of one headless frame", absent=(path("dump-none"),))
+case(PROGRAMS[1 % len(PROGRAMS)], ["-o", OUT, "--dump", REF], 2,
+     "--dump expects a folder", keep=REF)
+for p, first in zip(PROGRAMS, ["vertices.json", "depth.pfm", "normal.json"]):
+    dump = path("dump-" + p)
+    case(p, ["--size", "32x24", "-o", OUT, "--dump", dump], 0, "wrote the frame's buffers",
+         absent=(), present=(OUT, os.path.join(dump, first)))
 shared = [
     (["--bogus", "-o", OUT], 2, "unknown option '--bogus'"),
     (["-q", "-o", OUT], 2, "unknown option '-q'"),

@@ -444,7 +444,8 @@ static void test_dump_vertices_hand_worked(void **state) {
     mat4s proj = glms_mat4_zero();
     proj.m00 = 0.5f, proj.m11 = 1, proj.m22 = 1, proj.m33 = 2; /* m[column][row] */
     ras_error err = {{0}};
-    CHECK(ras_dump_vertices(dir, m, model, glms_mat4_identity(), proj, W, H, &err), "dump: %s",
+    CHECK(ras_dump_vertices(dir, "vertices", m, model, glms_mat4_identity(), proj, W, H, &err),
+          "dump: %s",
           err.msg);
     ras_mesh_destroy(m);
     char path[160];
