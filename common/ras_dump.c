@@ -346,7 +346,7 @@ bool ras_dump_compare(const char *ref_dir, const char *got_dir, const char *name
         for (int x = 0; x < w; x++) {
             const float *a = ref + ((size_t)row * w + x) * per,
                         *b = got + ((size_t)row * w + x) * per;
-            bool differs = false, one_empty = false;
+            bool differs = false, one_empty = false, larger = false, signed_once = false;
             for (int k = 0; k < per; k++) {
                 bool ea = isinf(a[k]) && a[k] > 0, eb = isinf(b[k]) && b[k] > 0;
                 if (ea != eb) {
@@ -362,12 +362,16 @@ bool ras_dump_compare(const char *ref_dir, const char *got_dir, const char *name
                 double diff = fabs((double)a[k] - b[k]);
                 double limit = relative ? tol * fmax(1.0, fabs((double)a[k])) : tol;
                 if (diff > d->max_abs && isfinite(diff)) d->max_abs = diff;
-                if (diff > limit || !isfinite(diff)) differs = true;
+                if (diff > limit || !isfinite(diff)) {
+                    differs = true;
+                    if (!signed_once) larger = b[k] > a[k], signed_once = true;
+                }
             }
             if (!differs) continue;
             bad[(size_t)row * w + x] = 1;
             d->pixels_differ++;
             d->drawn_in_one += one_empty;
+            d->larger += larger;
             if (d->first_col < 0) d->first_col = x, d->first_row = row;
         }
     free(ref);

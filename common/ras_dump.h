@@ -68,6 +68,7 @@ typedef struct ras_dump_difference {
     long pixels_differ; /* pixels with any entry beyond the tolerance */
     long drawn_in_one;  /* pixels empty in one dump and not in the other */
     long isolated;      /* differing pixels with at most 2 differing neighbours */
+    long larger;        /* differing pixels where got's first differing value is the larger */
     int line;           /* a row (or column) wrong along it while its neighbours are
                          * not: its index; -1 when there is none */
     bool line_is_column;

@@ -1431,7 +1431,8 @@ static bool image_options(const cJSON *img, ras_compare_kind *kind, ras_compare_
 
 /* What a buffer's first difference most likely means, by buffer and
  * pattern; "" when nothing specific can be said. */
-static const char *buffer_hint(const char *name, const char *pattern) {
+static const char *buffer_hint(const char *name, const ras_dump_difference *d) {
+    const char *pattern = d->pattern;
     bool speckle = !strcmp(pattern, "in speckles"), line = !strncmp(pattern, "along", 5),
          one = !strcmp(pattern, "where only one drew");
     if (!strcmp(name, "depth")) {
@@ -1443,6 +1444,9 @@ static const char *buffer_hint(const char *name, const char *pattern) {
         if (one)
             return "pixels drawn in one frame and not the other: coverage (the bounding box, "
                    "the inside test, the top-left rule) or the depth test's direction";
+        if (d->larger * 10 >= d->pixels_differ * 9)
+            return "your depth buffer keeps the FARTHER surface where triangles overlap: the "
+                   "depth comparison is reversed (smaller is closer; the buffer starts at +INF)";
         return "depths interpolated differently: v[i].z with the screen barycentrics, nothing "
                "else (not the course's w_reciprocal snippet), or a reversed depth test";
     }
@@ -1540,7 +1544,7 @@ static void buffer_evidence(const grader *g, item *it, sbuf *o, const cJSON *img
         if (d.pixels_differ == 0) continue;
         char line[600];
         ras_dump_difference_text(buf, &d, line, sizeof line);
-        const char *hint = buffer_hint(buf, d.pattern);
+        const char *hint = buffer_hint(buf, &d);
         sb_printf(o, "buffers: the first that differs is %s%s%s\n", line,
                   *hint ? "; likely: " : "", hint);
         if (own) return; /* sealed: words only */
