@@ -294,10 +294,108 @@ static bool aa_key(ras_app_settings *s, int key) {
     return true;
 }
 
+/* ---- the step view and the buffer view ---------------------------------------- */
+
+bool ras_app_capturing(const ras_app *app) {
+    return app->hooks->step && (app->step.on || app->step.buffer != RAS_APP_BUFFER_COLOUR);
+}
+
+static const char *const buffer_names[RAS_APP_BUFFER_COUNT] = {"colour",   "depth",  "coverage",
+                                                               "overdraw", "normal", "uv"};
+
+/* Buffer k of the last frame (not colour): the pipeline's, then the
+ * program's. *owned: what to free. */
+static bool frame_buffer(const ras_app *app, int k, ras_dump_buffer *b, float **owned) {
+    *owned = NULL;
+    if (k == RAS_APP_BUFFER_COLOUR) return false;
+    if (app->pipeline && ras_pipeline_buffer(app->pipeline, buffer_names[k], b, owned)) return true;
+    return app->hooks->buffer && app->hooks->buffer(app, buffer_names[k], b);
+}
+
+static bool frame_has_buffer(const ras_app *app, int k) {
+    ras_dump_buffer b;
+    float *owned = NULL;
+    bool has = frame_buffer(app, k, &b, &owned);
+    free(owned);
+    return has;
+}
+
+/* After a frame: the count the status line shows, and the buffer shown moved
+ * on past those the frame does not produce (no AA: no coverage; the normal
+ * shader: no uv). */
+static void step_after_frame(ras_app *app) {
+    ras_app_step *st = &app->step;
+    const ras_pipeline *p = app->pipeline;
+    st->total = !p ? 0 : st->on ? p->step_reached : (long)p->counters.triangles_rasterized;
+    if (st->limit > st->total) st->limit = st->total;
+    while (st->buffer != RAS_APP_BUFFER_COLOUR && !frame_has_buffer(app, st->buffer))
+        st->buffer = (ras_app_buffer)((st->buffer + 1) % RAS_APP_BUFFER_COUNT);
+}
+
+/* t, n/space, N, 0-9 (in step mode), b; true when the frame changed. */
+static bool step_key(ras_app *app, int key) {
+    ras_app_step *st = &app->step;
+    if (key == 't') {
+        st->on = !st->on;
+        st->limit = 0;
+    } else if (key == 'n' || key == ' ') {
+        st->limit = st->on ? st->limit + 1 : 1;
+        st->on = true;
+    } else if (key == 'N' && st->on) {
+        st->limit = st->limit > 0 ? st->limit - 1 : 0;
+    } else if (st->on && key >= '0' && key <= '9') {
+        long jump = 1;
+        for (int k = 1; k < key - '0'; k++) jump *= 10;
+        st->limit = key == '0' ? 0 : st->limit + jump; /* clamped after the frame */
+    } else if (key == 'b') {
+        st->buffer = (ras_app_buffer)((st->buffer + 1) % RAS_APP_BUFFER_COUNT);
+    } else {
+        return false;
+    }
+    return true;
+}
+
+/* The buffer shown, painted as --dump paints it (ras_dump_paint); NULL when
+ * the frame has none or memory runs out. */
+static ras_image *buffer_picture(const ras_app *app, char *legend, size_t size) {
+    ras_dump_buffer b;
+    float *owned = NULL;
+    if (!frame_buffer(app, app->step.buffer, &b, &owned)) return NULL;
+    ras_image *img = NULL;
+    uint8_t *rgb = b.width == app->image->width && b.height == app->image->height
+                       ? malloc((size_t)b.width * b.height * 3)
+                       : NULL;
+    if (rgb) img = ras_image_create(b.width, b.height, NULL);
+    if (img) {
+        ras_dump_paint(&b, rgb, legend, size);
+        for (long i = 0, n = (long)b.width * b.height; i < n; i++)
+            img->pixels[i] = (vec3s){{rgb[3 * i] / 255.0f, rgb[3 * i + 1] / 255.0f,
+                                      rgb[3 * i + 2] / 255.0f}};
+    }
+    free(rgb);
+    free(owned);
+    return img;
+}
+
+/* The step view's status lines: "STEP: triangle 12 of 968   buffer: depth (b)"
+ * and the keys, each short enough to stay left of the magnified pixels. */
+static void step_status(const ras_app *app, char *buf, size_t size) {
+    const ras_app_step *st = &app->step;
+    const char *next = buffer_names[(st->buffer + 1) % RAS_APP_BUFFER_COUNT];
+    if (st->on)
+        snprintf(buf, size, "STEP: triangle %ld of %ld   buffer: %s (b)\n"
+                            "n/space +1  N -1  1-9 +1,10,100..  0 none  t off",
+                 st->limit, st->total, buffer_names[st->buffer]);
+    else
+        snprintf(buf, size, "buffer: %s (b: %s...)  t: step",
+                 buffer_names[st->buffer], next);
+}
+
 /* The keys the shell handles for the program; true when the frame changed. */
 static bool shell_key(ras_app *app, int key) {
     ras_app_settings *s = &app->set;
     unsigned keys = app->hooks->keys;
+    if (app->hooks->step && step_key(app, key)) return true; /* before 1-5: digits step */
     if ((keys & RAS_APP_KEYS_ANGLE) && (key == 'a' || key == 'd')) {
         s->angle += key == 'a' ? 10 : -10;
         return true;
@@ -314,16 +412,40 @@ static bool shell_key(ras_app *app, int key) {
     return app->hooks->key && app->hooks->key(app, key);
 }
 
-/* The window's picture: the frame, with the inspector when the mouse is on it. */
+/* The window's picture: the frame or the buffer shown, with the inspector
+ * when the mouse is on it (hw2, and every program in step mode). */
 static ras_image *window_view(ras_app *app, const ras_viewer *viewer, int col, int row,
                               char *status, size_t size) {
     if (app->hooks->status) app->hooks->status(app, status, size);
-    if (!app->hooks->inspector) return app->image;
-    ras_image *view = ras_image_clone(app->image);
-    char info[160] = "move the mouse over the picture to inspect a pixel";
-    if (view && col >= 0 && app->pipeline && ras_viewer_showing_program(viewer))
-        ras_viewer_inspect(view, app->image, app->pipeline->fb, &app->pipeline->config.pattern,
-                           col, app->image->height - 1 - row, info, sizeof info);
+    bool program = ras_viewer_showing_program(viewer);
+    ras_image *picture = NULL; /* the buffer shown, when not colour */
+    if (app->hooks->step && ras_app_capturing(app)) {
+        char line[200], legend[200] = "";
+        if (program && app->step.buffer != RAS_APP_BUFFER_COLOUR)
+            picture = buffer_picture(app, legend, sizeof legend);
+        step_status(app, line, sizeof line);
+        size_t n = strlen(status);
+        snprintf(status + n, size - n, "\n%s%s%s", line, *legend ? "\n" : "", legend);
+    }
+    bool inspect = app->hooks->inspector || (app->hooks->step && app->step.on);
+    const ras_image *shown = picture ? picture : app->image;
+    if (!inspect) return picture ? picture : app->image;
+    ras_image *view = ras_image_clone(shown);
+    char info[400] = "move the mouse over the picture to inspect a pixel";
+    if (view && col >= 0 && app->pipeline && program) {
+        int y = app->image->height - 1 - row;
+        ras_viewer_inspect(view, shown, app->pipeline->fb, &app->pipeline->config.pattern, col, y,
+                           info, sizeof info);
+        size_t n = strlen(info);
+        if (app->step.on && app->pipeline->has_last) {
+            snprintf(info + n, sizeof info - n, "\n");
+            ras_viewer_inspect_triangle(&app->pipeline->last_triangle, col, y, info + n + 1,
+                                        sizeof info - n - 1);
+        } else if (app->step.on) {
+            snprintf(info + n, sizeof info - n, "\nno triangle drawn yet: n draws the first");
+        }
+    }
+    ras_image_destroy(picture);
     size_t n = strlen(status);
     snprintf(status + n, size - n, "\n%s", info);
     return view;
@@ -341,6 +463,7 @@ static int run_window(ras_app *app) {
             ras_viewer_frame_begin(&viewer);
             if (!(ok = app->hooks->render(app, &err))) break;
             ras_viewer_frame_end(&viewer);
+            if (app->hooks->step) step_after_frame(app);
             char name[RAS_CATALOGUE_NAME];
             bool found = ras_app_reference_name(app, name, sizeof name);
             ras_viewer_set_reference(&viewer, found ? name : NULL, app->set.width, app->set.height);
@@ -348,7 +471,7 @@ static int run_window(ras_app *app) {
             redraw = true;
         }
         if (redraw) {
-            char status[400];
+            char status[1200];
             ras_image *view = window_view(app, &viewer, mouse_col, mouse_row, status, sizeof status);
             ok = view ? ras_viewer_show(&viewer, view, status, &err)
                       : ras_error_set(&err, "out of memory");
@@ -365,7 +488,8 @@ static int run_window(ras_app *app) {
         int col, row;
         if (ok && ras_window_mouse(title, &col, &row) && (col != mouse_col || row != mouse_row)) {
             if (app->hooks->mouse && app->hooks->mouse(app, col, row)) dirty = true;
-            if (app->hooks->inspector && col >= 0 && row >= 0 && col < app->set.width &&
+            bool inspect = app->hooks->inspector || (app->hooks->step && app->step.on);
+            if (inspect && col >= 0 && row >= 0 && col < app->set.width &&
                 row < app->set.height)
                 mouse_col = col, mouse_row = row, redraw = true;
         }

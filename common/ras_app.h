@@ -33,6 +33,8 @@
 #include "ras_pipeline.h"
 #include "ras_scene.h"
 
+struct ras_dump_buffer;
+
 /* The settings a frame is drawn with: the scene's, with the flags over them
  * (ras_app_resolve); the window's keys change them. */
 typedef struct ras_app_settings {
@@ -55,6 +57,31 @@ typedef struct ras_app_settings {
 
 typedef struct ras_app ras_app;
 
+/* The window's step view and buffer view (hooks.step; docs/hw2.md "Step
+ * through a frame"). Keys: t step mode on/off; n or space one triangle more,
+ * N one less; in step mode 1-9 forward 1, 10, 100, ... (10^(k-1)) triangles
+ * and 0 back to none; b the buffer shown: colour -> depth -> coverage (AA
+ * only) -> overdraw -> normal -> uv (hw3, when the shader reads them),
+ * skipping what the frame does not produce. The program's render reads
+ * `on` and `limit` (ras_pipeline_config.step, step_triangles) and keeps its
+ * buffers while ras_app_capturing. */
+typedef enum ras_app_buffer {
+    RAS_APP_BUFFER_COLOUR,
+    RAS_APP_BUFFER_DEPTH,
+    RAS_APP_BUFFER_COVERAGE,
+    RAS_APP_BUFFER_OVERDRAW,
+    RAS_APP_BUFFER_NORMAL,
+    RAS_APP_BUFFER_UV,
+    RAS_APP_BUFFER_COUNT
+} ras_app_buffer;
+
+typedef struct ras_app_step {
+    bool on;               /* draw only the first `limit` triangles */
+    long limit;            /* triangles drawn in step mode */
+    long total;            /* triangles the whole frame rasterizes (after clipping, culling) */
+    ras_app_buffer buffer; /* what the window shows */
+} ras_app_step;
+
 /* Window keys the shell handles for a program (ras_app_hooks.keys). */
 enum {
     RAS_APP_KEYS_ANGLE = 1u << 0,   /* a/d: angle ±10° */
@@ -76,6 +103,8 @@ typedef struct ras_app_hooks {
     ras_compare_kind compare; /* --compare's metric and the difference view's */
     unsigned keys;           /* RAS_APP_KEYS_* */
     bool inspector;          /* the window magnifies the pixel under the mouse */
+    bool step;               /* the step and buffer views (ras_app_step; the inspector
+                              * is on in step mode) */
     /* The program's own state, once the settings are known (hw3: its scene,
      * from --model or app->scene). false: bad input, err says why (exit 2). */
     bool (*prepare)(ras_app *app, ras_error *err);
@@ -89,6 +118,9 @@ typedef struct ras_app_hooks {
     /* The status line under the viewer's: what is drawn and the keys. */
     void (*status)(const ras_app *app, char *buf, size_t size);
     void (*release)(ras_app *app); /* frees what prepare and render made */
+    /* The buffer view's buffers the pipeline does not hold ("normal", "uv":
+     * hw3's fragment stage): false when the last frame has none. */
+    bool (*buffer)(const ras_app *app, const char *name, struct ras_dump_buffer *out);
 } ras_app_hooks;
 
 struct ras_app {
@@ -103,7 +135,13 @@ struct ras_app {
     ras_pipeline *pipeline;         /* the program's, if it draws through one: the
                                      * inspector reads its samples, the shell frees it */
     void *user;                     /* the program's */
+    ras_app_step step;              /* the window's step and buffer views */
 };
+
+/* Whether the frame must keep its buffers for the window (step mode, or a
+ * buffer other than colour shown): the render draws with config.step and
+ * config.dump then. Never during a headless frame. */
+bool ras_app_capturing(const ras_app *app);
 
 /* The whole program: returns main's exit status. */
 int ras_app_main(int argc, char **argv, const ras_app_hooks *hooks, void *user);

@@ -122,28 +122,35 @@ static void paint(const ras_dump_buffer *b, const stats *s, uint8_t *rgb) {
         }
 }
 
+static void legend_text(const ras_dump_buffer *b, const stats *s, char *text, size_t size) {
+    if (b->style == RAS_DUMP_SCALAR && s->lo[0] <= s->hi[0])
+        snprintf(text, size, "%s: %.6g (blue) .. %.6g (red); black: empty", b->name, s->lo[0],
+                 s->hi[0]);
+    else if (b->style == RAS_DUMP_SCALAR)
+        snprintf(text, size, "%s: every entry empty", b->name);
+    else if (b->style == RAS_DUMP_VECTOR)
+        snprintf(text, size, "%s: x y z as red green blue (0.5 + 0.5 v); black: empty", b->name);
+    else
+        snprintf(text, size, "%s: u v as red green (outside 0..1: the fraction); black: empty",
+                 b->name);
+}
+
 static void legend(const ras_dump_buffer *b, const stats *s, uint8_t *rgb) {
     int w = b->width, h = b->height + LEGEND_ROWS;
     memset(rgb + (size_t)b->height * w * 3, 40, (size_t)LEGEND_ROWS * w * 3);
     char text[160];
-    if (b->style == RAS_DUMP_SCALAR) {
+    if (b->style == RAS_DUMP_SCALAR)
         for (int x = 4; x < w - 4; x++)
             for (int y = b->height + 3; y < b->height + 11; y++)
                 scalar_colour((double)(x - 4) / (w > 9 ? w - 9 : 1), rgb + ((size_t)y * w + x) * 3);
-        if (s->lo[0] <= s->hi[0])
-            snprintf(text, sizeof text, "%s: %.6g (blue) .. %.6g (red); black: empty", b->name,
-                     s->lo[0], s->hi[0]);
-        else
-            snprintf(text, sizeof text, "%s: every entry empty", b->name);
-    } else if (b->style == RAS_DUMP_VECTOR)
-        snprintf(text, sizeof text, "%s: x y z as red green blue (0.5 + 0.5 v); black: empty",
-                 b->name);
-    else
-        snprintf(text, sizeof text,
-                 "%s: u v as red green (outside 0..1: the fraction); black: "
-                 "empty",
-                 b->name);
+    legend_text(b, s, text, sizeof text);
     cv_bridge_draw_text(rgb, w, h, 4, b->height + 28, text, 0.4);
+}
+
+void ras_dump_paint(const ras_dump_buffer *b, uint8_t *rgb, char *text, size_t size) {
+    stats s = buffer_stats(b);
+    paint(b, &s, rgb);
+    if (text && size) legend_text(b, &s, text, size);
 }
 
 static bool same_floats(const void *data, size_t len, void *ctx, ras_error *err) {

@@ -30,6 +30,7 @@
 
 #include <stdbool.h>
 #include <stddef.h>
+#include <stdint.h>
 
 typedef enum ras_dump_style {
     RAS_DUMP_SCALAR, /* one channel, false colour over its finite range */
@@ -53,6 +54,12 @@ typedef struct ras_dump_buffer {
 
 /* Writes NAME.png, NAME.pfm and NAME.json into dir (which must exist). */
 bool ras_dump_write(const char *dir, const ras_dump_buffer *b, ras_error *err);
+
+/* The buffer's picture without the legend, as NAME.png draws it: width x
+ * height 8-bit RGB, top row first (the window's buffer view). `legend`
+ * (may be NULL) gets the legend's sentence, e.g. "depth: 0.41 (blue) ..
+ * 0.93 (red); black: empty". */
+void ras_dump_paint(const ras_dump_buffer *b, uint8_t *rgb, char *legend, size_t size);
 
 /* Reads an exact float file back: malloc'd floats (free them), its size and
  * channels. At most max_bytes are read. */

@@ -9,6 +9,7 @@
 
 #include <math.h>   /* isfinite */
 #include <stdlib.h> /* calloc, realloc, free */
+#include <string.h> /* strcmp */
 
 /* --dump's overdraw count: every fragment the rasterizer hands over is
  * counted at its pixel, then shaded by the real shader (or the vertex
@@ -94,6 +95,8 @@ void ras_pipeline_destroy(ras_pipeline *p) {
 void ras_pipeline_begin_frame(ras_pipeline *p) {
     ras_framebuffer_clear(p->fb, p->config.clear_color);
     p->counters = (ras_counters){.buffer_bytes = p->fb->bytes};
+    p->step_reached = 0;
+    p->has_last = false;
     if (p->overdraw)
         for (long i = 0, n = (long)p->fb->width * p->fb->height; i < n; i++)
             p->overdraw[i] = 0;
@@ -121,6 +124,11 @@ static void raster_one(ras_pipeline *p, const ras_clip_vertex *a, const ras_clip
         (p->config.cull == RAS_CULL_FRONT && area2 > 0)) {
         p->counters.triangles_culled++;
         return;
+    }
+    if (p->config.step) { /* the step view: the first step_triangles only */
+        if (p->step_reached++ >= p->config.step_triangles) return;
+        p->last_triangle = t;
+        p->has_last = true;
     }
     p->counters.triangles_rasterized++;
     p->config.rasterize(&t, &p->raster);
@@ -202,9 +210,10 @@ void ras_pipeline_end_frame(ras_pipeline *p, ras_image *out) {
     p->counters.ms_total += dt;
 }
 
-bool ras_pipeline_dump(const ras_pipeline *p, const char *dir, int *written, ras_error *err) {
-    if (written) *written = 0;
-    if (p->config.wireframe) return true; /* lines only: no depth, no coverage */
+bool ras_pipeline_buffer(const ras_pipeline *p, const char *name, ras_dump_buffer *out,
+                         float **owned) {
+    *owned = NULL;
+    if (p->config.wireframe) return false; /* lines only: no depth, no coverage */
     const ras_framebuffer *fb = p->fb;
     static const char *const depth_units[] = {
         [RAS_DEPTH_Z01] = "depth format z01: 0 at the near plane, 1 at the far plane; smaller is "
@@ -212,34 +221,36 @@ bool ras_pipeline_dump(const ras_pipeline *p, const char *dir, int *written, ras
         [RAS_DEPTH_INV_W] = "depth format inverse_w: -near/w, -1 at the near plane towards 0 far "
                             "away; smaller is closer",
     };
-    ras_dump_buffer depth = {
-        .name = "depth",
-        .what = fb->samples > 1 ? "the depth buffer, one value per sample: what the depth test "
-                                  "compared against at the end of the frame"
-                                : "the depth buffer: what the depth test compared against at the "
-                                  "end of the frame",
-        .units = (unsigned)p->config.depth < RAS_DEPTH_FORMAT_COUNT
-                     ? depth_units[p->config.depth]
-                     : "depth",
-        .width = fb->width,
-        .height = fb->height,
-        .samples = fb->samples,
-        .channels = 1,
-        .data = fb->depth,
-        .style = RAS_DUMP_SCALAR,
-        .empty = INFINITY,
-        .has_empty = true};
-    if (!ras_dump_write(dir, &depth, err)) return false;
-    if (written) (*written)++;
-    if (fb->samples > 1) {
+    if (!strcmp(name, "depth")) {
+        *out = (ras_dump_buffer){
+            .name = "depth",
+            .what = fb->samples > 1 ? "the depth buffer, one value per sample: what the depth "
+                                      "test compared against at the end of the frame"
+                                    : "the depth buffer: what the depth test compared against "
+                                      "at the end of the frame",
+            .units = (unsigned)p->config.depth < RAS_DEPTH_FORMAT_COUNT
+                         ? depth_units[p->config.depth]
+                         : "depth",
+            .width = fb->width,
+            .height = fb->height,
+            .samples = fb->samples,
+            .channels = 1,
+            .data = fb->depth,
+            .style = RAS_DUMP_SCALAR,
+            .empty = INFINITY,
+            .has_empty = true};
+        return true;
+    }
+    if (!strcmp(name, "coverage") && fb->samples > 1) {
         /* covered = a fragment was stored there: its depth is no longer the
          * cleared +INF */
         size_t n = (size_t)fb->width * fb->height * fb->samples;
         float *cov = malloc(n * sizeof *cov);
-        if (!cov) return ras_error_set(err, "out of memory for the coverage buffer of --dump");
+        if (!cov) return false;
         for (size_t i = 0; i < n; i++)
             cov[i] = fb->depth[i] != INFINITY ? 1.0f : 0.0f;
-        ras_dump_buffer coverage = {
+        *owned = cov;
+        *out = (ras_dump_buffer){
             .name = "coverage",
             .what = "which samples some triangle covered (1) or none did (0); the picture "
                     "shows the covered fraction of each pixel",
@@ -250,13 +261,10 @@ bool ras_pipeline_dump(const ras_pipeline *p, const char *dir, int *written, ras
             .channels = 1,
             .data = cov,
             .style = RAS_DUMP_SCALAR};
-        bool ok = ras_dump_write(dir, &coverage, err);
-        free(cov);
-        if (!ok) return false;
-        if (written) (*written)++;
+        return true;
     }
-    if (p->overdraw) {
-        ras_dump_buffer overdraw = {
+    if (!strcmp(name, "overdraw") && p->overdraw) {
+        *out = (ras_dump_buffer){
             .name = "overdraw",
             .what = "how many fragments were shaded at each pixel (every triangle that passed "
                     "the depth test there, in drawing order, counts once; per sample with "
@@ -270,7 +278,25 @@ bool ras_pipeline_dump(const ras_pipeline *p, const char *dir, int *written, ras
             .style = RAS_DUMP_SCALAR,
             .empty = 0.0f,
             .has_empty = true};
-        if (!ras_dump_write(dir, &overdraw, err)) return false;
+        return true;
+    }
+    return false;
+}
+
+bool ras_pipeline_dump(const ras_pipeline *p, const char *dir, int *written, ras_error *err) {
+    if (written) *written = 0;
+    static const char *const names[] = {"depth", "coverage", "overdraw"};
+    for (int k = 0; k < 3; k++) {
+        ras_dump_buffer b;
+        float *owned = NULL;
+        if (!ras_pipeline_buffer(p, names[k], &b, &owned)) {
+            if (k == 1 && !p->config.wireframe && p->fb->samples > 1)
+                return ras_error_set(err, "out of memory for the coverage buffer of --dump");
+            continue;
+        }
+        bool ok = ras_dump_write(dir, &b, err);
+        free(owned);
+        if (!ok) return false;
         if (written) (*written)++;
     }
     return true;

@@ -40,9 +40,17 @@ typedef struct ras_pipeline_config {
     ras_resolve_fn resolve;     /* required when the pattern has > 1 sample */
     ras_shade_fn shade;         /* NULL: interpolated vertex colour */
     void *shade_user;
-    /* --dump: also count the fragments shaded at each pixel (the overdraw
-     * buffer of ras_pipeline_dump). Off, nothing is counted or allocated. */
+    /* --dump (and the window's buffer view): also count the fragments shaded
+     * at each pixel (the overdraw buffer of ras_pipeline_dump). Off, nothing
+     * is counted or allocated. */
     bool dump;
+    /* The window's step view: rasterize only the first step_triangles
+     * triangles of the frame, counted as triangles_rasterized counts them
+     * (after clipping — each piece of the fan is one — and culling), and keep
+     * the last one drawn (ras_pipeline.last_triangle). Off (false), the frame
+     * is drawn whole and nothing is kept: one compare per triangle. */
+    bool step;
+    long step_triangles;
 } ras_pipeline_config;
 
 typedef struct ras_pipeline {
@@ -53,6 +61,12 @@ typedef struct ras_pipeline {
     ras_clip_vertex *clip_vertices; /* scratch, grows to the largest mesh */
     size_t clip_capacity;
     float *overdraw; /* config.dump: fragments shaded per pixel, else NULL */
+    /* config.step: the triangles that reached the rasterizer this frame, drawn
+     * or not (the whole frame's count), and the last one drawn (the step
+     * view's "current triangle"; has_last false before the first). */
+    long step_reached;
+    bool has_last;
+    ras_triangle last_triangle;
 } ras_pipeline;
 
 /* Checks the configuration (hooks present, sizes, sample counts) and
@@ -79,5 +93,14 @@ void ras_pipeline_end_frame(ras_pipeline *p, ras_image *out);
  * with config.dump). A wireframe frame has none of them: it writes nothing.
  * `written` (may be NULL) gets how many buffers were written. */
 bool ras_pipeline_dump(const ras_pipeline *p, const char *dir, int *written, ras_error *err);
+
+/* One of the frame's buffers as ras_dump_write and ras_dump_paint take it:
+ * "depth", "coverage" (only with more than one sample) or "overdraw" (only
+ * with config.dump). False when the frame has no such buffer (a wireframe
+ * has none). Coverage is computed: *owned gets the array to free (NULL for
+ * the others); false with *owned NULL also when memory runs out. */
+struct ras_dump_buffer;
+bool ras_pipeline_buffer(const ras_pipeline *p, const char *name, struct ras_dump_buffer *out,
+                         float **owned);
 
 #endif

@@ -4,6 +4,7 @@
 #include "cv_bridge.h" /* Required for: cv_bridge_draw_text, cv_bridge_window_show */
 #include "ras_framebuffer.h"    /* the inspector reads the samples */
 #include "ras_sample_pattern.h"
+#include "ras_triangle.h"      /* the step view's current triangle */
 
 #include <math.h>   /* isinf */
 #include <stdio.h>  /* snprintf */
@@ -171,4 +172,33 @@ void ras_viewer_inspect(ras_image *view, const ras_image *image, const ras_frame
                        : snprintf(info + n, size - (size_t)n, " %.4f", fb->depth[i]);
     }
     if (pat->count > 8 && n > 0 && (size_t)n < size) snprintf(info + n, size - (size_t)n, " ...");
+}
+
+void ras_viewer_inspect_triangle(const ras_triangle *t, int x, int y, char *info, size_t size) {
+    double px = x + 0.5, py = y + 0.5;
+    const vec4s *v = t->v;
+    /* E_ab(p) = (b.x - a.x)(p.y - a.y) - (b.y - a.y)(p.x - a.x), in double:
+     * the numbers a float rasterizer should come close to */
+#define EDGE(a, b)                                                                        \
+    (((double)v[b].x - v[a].x) * (py - v[a].y) - ((double)v[b].y - v[a].y) * (px - v[a].x))
+    double e01 = EDGE(0, 1), e12 = EDGE(1, 2), e20 = EDGE(2, 0);
+    double area2 = ((double)v[1].x - v[0].x) * ((double)v[2].y - v[0].y) -
+                   ((double)v[2].x - v[0].x) * ((double)v[1].y - v[0].y);
+#undef EDGE
+    int n = snprintf(info, size, "last triangle (%.1f,%.1f) (%.1f,%.1f) (%.1f,%.1f) A %.1f\n"
+                                 "at (%.1f,%.1f): E01 %.2f  E12 %.2f  E20 %.2f",
+                     v[0].x, v[0].y, v[1].x, v[1].y, v[2].x, v[2].y, area2, px, py, e01, e12,
+                     e20);
+    if (n < 0 || (size_t)n >= size) return;
+    if (area2 == 0) {
+        snprintf(info + n, size - (size_t)n, "\ndegenerate (A = 0): no barycentrics, covers nothing");
+        return;
+    }
+    double a = e12 / area2, b = e20 / area2, c = e01 / area2;
+    double depth = a * v[0].z + b * v[1].z + c * v[2].z;
+    const char *where = a < 0 || b < 0 || c < 0    ? "OUTSIDE"
+                        : a == 0 || b == 0 || c == 0 ? "on an edge (top-left rule)"
+                                                     : "inside";
+    snprintf(info + n, size - (size_t)n, "\nbary %.4f %.4f %.4f  depth %.5f  centre %s", a, b, c,
+             depth, where);
 }

@@ -94,6 +94,17 @@ void ras_viewer_inspect(ras_image *view, const ras_image *image, const struct ra
                         const struct ras_sample_pattern *pattern, int x, int y, char *info,
                         size_t size);
 
+/* The step view's inspector: what the current (last drawn) triangle `t`
+ * gives at the centre (x + 0.5, y + 0.5) of screen pixel (x, y) (y up):
+ * its three edge functions E01, E12, E20 (docs/hw2.md section 1), the
+ * barycentrics alpha = E12/A, beta = E20/A, gamma = E01/A (A = E01(v2),
+ * twice the area), the depth alpha z0 + beta z1 + gamma z2, and whether the
+ * centre is inside (all three of the area's sign; exactly 0: on an edge,
+ * the top-left rule decides). Two lines into info. */
+struct ras_triangle;
+void ras_viewer_inspect_triangle(const struct ras_triangle *t, int x, int y, char *info,
+                                 size_t size);
+
 /* Shows the current view of `img` (the program's frame) with the status
  * lines. False and err when the window cannot be shown or memory runs out. */
 bool ras_viewer_show(ras_viewer *v, const ras_image *img, const char *status, ras_error *err);

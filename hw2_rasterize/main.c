@@ -9,7 +9,9 @@
  *   hw2_rasterize                          window: m AA mode, s samples,
  *                                          p pattern, e edges; the pixel under
  *                                          the mouse is magnified with its samples;
- *                                          v: yours / reference / difference
+ *                                          v: yours / reference / difference;
+ *                                          t step one triangle at a time (n, 1-9),
+ *                                          b the buffer shown (depth, overdraw, ...)
  *   hw2_rasterize -o out.png               render once, headless
  *   hw2_rasterize --aa msaa --samples 4 -o out.png
  *   hw2_rasterize --aa msaa --compare      compare with tests/reference/hw2_msaa4.png
@@ -62,7 +64,9 @@ static bool render(ras_app *app, ras_error *err) {
                                .varyings = RAS_VARYING_COLOR,
                                .rasterize = rasterize_triangle,
                                .resolve = resolve_pixel,
-                               .dump = app->cli.dump != NULL};
+                               .dump = app->cli.dump != NULL || ras_app_capturing(app),
+                               .step = app->step.on,
+                               .step_triangles = app->step.limit};
     ras_pipeline *p = ras_pipeline_create(&cfg, err);
     if (!p) return false;
     ras_pipeline_destroy(app->pipeline); /* the settings may have changed: a new one */
@@ -87,7 +91,8 @@ static void status(const ras_app *app, char *buf, size_t size) {
     if (s->aa != RAS_AA_NONE)
         snprintf(mode, sizeof mode, "%s %dx %s", ras_aa_mode_name(s->aa), s->samples,
                  ras_pattern_kind_name(s->pattern_kind));
-    snprintf(buf, size, "%s, %s edges\nm aa  s samples  p pattern  e edges  Esc", mode,
+    snprintf(buf, size, "%s, %s edges\nm aa  s samples  p pattern  e edges  t step  b buffer  Esc",
+             mode,
              s->edges == RAS_EDGES_FIXED ? "fixed" : "float");
 }
 
@@ -99,11 +104,16 @@ int main(int argc, char **argv) {
                  "renders once, headless; without, a window opens:\n  m AA mode, s sample "
                  "count, p sample pattern, e edge functions,\n  v your picture / the reference "
                  "/ the difference, Esc quits;\n  the pixel under the mouse is magnified with "
-                 "its samples and their depths.\n--compare writes the difference beside -o "
+                 "its samples and their depths.\nStep view: t steps the frame one triangle at a "
+                 "time (n or space +1, N -1,\n  1-9 +1, 10, 100, ... triangles, 0 none), b "
+                 "cycles the buffer shown (colour,\n  depth, coverage with AA, overdraw); the "
+                 "inspector then also shows the last\n  triangle's edge functions, barycentrics "
+                 "and depth at the pixel.\n--compare writes the difference beside -o "
                  "FILE (FILE_diff.png), or without\n  -o as <reference>_diff.png in the current "
                  "folder.\n",
         .options = RAS_OPT_AA | RAS_OPT_COMPARE | RAS_OPT_SCENE | RAS_OPT_STATS,
-        .keys = RAS_APP_KEYS_AA, .inspector = true, .compare = RAS_COMPARE_EDGE_TOLERANT,
+        .keys = RAS_APP_KEYS_AA, .inspector = true, .step = true,
+        .compare = RAS_COMPARE_EDGE_TOLERANT,
         .scene = "hw2_classic", .load_assets = true, .spin_from_scene = true,
         .example = "--aa msaa -o out.png", .reference_dir = RAS_REFERENCE_DIR,
         .prepare = prepare, .render = render, .status = status,

@@ -15,13 +15,18 @@
 #include "ras_app.h"
 #include "scene.h"
 
-#include <stdio.h> /* fprintf, snprintf */
+#include "ras_dump.h" /* ras_dump_buffer: the buffer view */
+
+#include <math.h>   /* INFINITY */
+#include <stdio.h>  /* fprintf, snprintf */
+#include <string.h> /* strcmp */
 
 typedef struct hw3 {
     hw3_scene *scene;
     hw3_render_options opt;
     ras_counters stats;
     int last_col; /* the mouse's column, -1 before it moved */
+    hw3_capture capture; /* the window's step and buffer views: the fragment buffers */
 } hw3;
 
 /* The hw3 scene (from --model, or the scene file) and the options the
@@ -63,8 +68,34 @@ static bool render(ras_app *app, ras_error *err) {
     h->opt.angle_deg = s->angle;
     h->opt.affine = s->affine;
     h->opt.dump_dir = app->cli.dump;
+    h->opt.step = app->step.on;
+    h->opt.step_triangles = app->step.limit;
+    /* the window's step and buffer views keep the frame's pipeline (the
+     * shell's app->pipeline: the inspector and the depth, coverage and
+     * overdraw views) and its fragment buffers (normal, uv) */
+    ras_pipeline_destroy(app->pipeline);
+    app->pipeline = NULL;
+    h->opt.capture = ras_app_capturing(app) ? &h->capture : NULL;
     app->counters = &h->stats;
-    return hw3_render(h->scene, &h->opt, app->image, &h->stats, err);
+    bool ok = hw3_render(h->scene, &h->opt, app->image, &h->stats, err);
+    app->pipeline = h->capture.pipeline;
+    h->capture.pipeline = NULL;
+    return ok;
+}
+
+/* The buffer view's normal and uv: what the last frame's fragment stage
+ * handed each pixel's shader. */
+static bool buffer(const ras_app *app, const char *name, ras_dump_buffer *out) {
+    const hw3 *h = app->user;
+    const hw3_gbuffer *g = &h->capture.gbuffer;
+    bool normal = !strcmp(name, "normal");
+    const float *data = normal ? g->normal : !strcmp(name, "uv") ? g->uv : NULL;
+    if (!data) return false;
+    *out = (ras_dump_buffer){.name = name, .width = g->width, .height = g->height, .samples = 1,
+                             .channels = 3, .data = data,
+                             .style = normal ? RAS_DUMP_VECTOR : RAS_DUMP_UNIT,
+                             .empty = INFINITY, .has_empty = true};
+    return true;
 }
 
 /* p: the w = 1 pitfall (affine interpolation) on and off. */
@@ -78,6 +109,10 @@ static bool key(ras_app *app, int k) {
 static bool mouse(ras_app *app, int col, int row) {
     hw3 *h = app->user;
     (void)row;
+    if (app->step.on) { /* in step mode the mouse inspects: it does not turn */
+        h->last_col = col;
+        return false;
+    }
     bool turned = h->last_col >= 0 && col != h->last_col;
     if (turned) app->set.angle += 360.0f * (float)(col - h->last_col) / (float)app->set.width;
     h->last_col = col;
@@ -85,13 +120,16 @@ static bool mouse(ras_app *app, int col, int row) {
 }
 
 static void status(const ras_app *app, char *buf, size_t size) {
-    snprintf(buf, size, "%s  filter %s  %s  angle %.0f\n1-5 shader  f filter  p persp  a/d rotate",
+    snprintf(buf, size, "%s  filter %s  %s  angle %.0f\n%s",
              ras_scene_shader_name(app->set.shader), ras_scene_filter_name(app->set.filter),
-             app->set.affine ? "AFFINE (w=1 pitfall)" : "persp-correct", app->set.angle);
+             app->set.affine ? "AFFINE (w=1 pitfall)" : "persp-correct", app->set.angle,
+             app->step.on ? "f filter  p persp  a/d rotate  (1-5 shader: leave step mode, t)"
+                          : "1-5 shader  f filter  p persp  a/d rotate  t step  b buffer");
 }
 
 static void release(ras_app *app) {
     hw3 *h = app->user;
+    hw3_capture_release(&h->capture);
     hw3_scene_destroy(h->scene);
 }
 
@@ -103,6 +141,11 @@ int main(int argc, char **argv) {
             "once and writes a PNG; without it, a window opens (1-5: shader, f: filter,\n"
             "p: perspective-correct on/off, a/d or mouse: rotate, v: yours/reference/\n"
             "difference, Esc quits).\n"
+            "Step view: t steps the frame one triangle at a time (n or space +1, N -1,\n"
+            "  1-9 +1, 10, 100, ... triangles, 0 none; the digits pick shaders again after\n"
+            "  t), b cycles the buffer shown (colour, depth, coverage with AA, overdraw,\n"
+            "  normal, uv); in step mode the mouse inspects the pixel (the last triangle's\n"
+            "  edge functions, barycentrics and depth) instead of turning the model.\n"
             "Default scene: scenes/hw3_default.json (built in): a sphere, torus, cube and\n"
             "  teapot on a floor, no files needed; --scene FILE draws another.\n"
             "Classic form: hw3_shading OUTPUT.png [normal|phong|texture|bump|displacement]\n"
@@ -118,8 +161,9 @@ int main(int argc, char **argv) {
         .scene = "hw3_default", .positional_shader = true, .compare = RAS_COMPARE_PSNR,
         .example = "--shader phong -o out.png", .reference_dir = RAS_REFERENCE_DIR,
         .keys = RAS_APP_KEYS_ANGLE | RAS_APP_KEYS_SHADING,
+        .step = true,
         .prepare = prepare, .render = render, .key = key, .mouse = mouse, .status = status,
-        .release = release};
+        .release = release, .buffer = buffer};
     hw3 h = {.last_col = -1};
     return ras_app_main(argc, argv, &hooks, &h);
 }

@@ -505,6 +505,13 @@ static void gbuffer_destroy(hw3_gbuffer *g) {
     free(g->view_depth);
 }
 
+void hw3_capture_release(hw3_capture *capture) {
+    if (!capture) return;
+    ras_pipeline_destroy(capture->pipeline);
+    gbuffer_destroy(&capture->gbuffer);
+    *capture = (hw3_capture){0};
+}
+
 static bool gbuffer_dump(const hw3_gbuffer *g, const char *dir, ras_error *err) {
     const ras_dump_buffer buffers[3] = {
         {.name = "normal",
@@ -568,7 +575,7 @@ bool hw3_render(hw3_scene *scene, const hw3_render_options *opt, ras_image *out,
         scene->fov_deg, (float)scene->width / (float)scene->height, scene->z_near, scene->z_far);
     /* The renderer hook: another renderer draws the frame when it accepts it. */
     const hw3_renderer *r = opt->renderer;
-    if (r && !opt->dump_dir && r->accepts(r, opt)) {
+    if (r && !opt->dump_dir && !opt->capture && !opt->step && r->accepts(r, opt)) {
         mat4s models[HW3_MAX_OBJECTS];
         for (int i = 0; i < scene->object_count; i++)
             models[i] = object_model(&scene->objects[i], opt->angle_deg);
@@ -594,9 +601,12 @@ bool hw3_render(hw3_scene *scene, const hw3_render_options *opt, ras_image *out,
                                .resolve = resolve_pixel,
                                .shade = hw3_shade_fragment,
                                .shade_user = &stage,
-                               .dump = opt->dump_dir != NULL};
+                               .dump = opt->dump_dir != NULL || opt->capture != NULL,
+                               .step = opt->step,
+                               .step_triangles = opt->step_triangles};
     hw3_gbuffer gbuffer = {0};
-    if (opt->dump_dir) {
+    hw3_capture_release(opt->capture);
+    if (opt->dump_dir || opt->capture) {
         if (!gbuffer_create(&gbuffer, scene->width, scene->height, stage.varyings)) {
             gbuffer_destroy(&gbuffer);
             return ras_error_set(err, "out of memory for the buffers of --dump");
@@ -631,6 +641,11 @@ bool hw3_render(hw3_scene *scene, const hw3_render_options *opt, ras_image *out,
         ok = ras_pipeline_dump(p, opt->dump_dir, NULL, err) &&
              gbuffer_dump(&gbuffer, opt->dump_dir, err);
     if (stats) *stats = p->counters;
+    if (ok && opt->capture) {
+        opt->capture->pipeline = p; /* the window's views read them */
+        opt->capture->gbuffer = gbuffer;
+        return true;
+    }
     ras_pipeline_destroy(p);
     gbuffer_destroy(&gbuffer);
     return ok;

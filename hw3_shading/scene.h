@@ -163,7 +163,25 @@ typedef struct hw3_render_options {
      * view_depth where the shader reads them); the teaching pipeline draws
      * such a frame. NULL: nothing is dumped or kept. */
     const char *dump_dir;
+    /* The window's step view: only the first step_triangles triangles
+     * (ras_pipeline_config.step); the teaching pipeline draws such a frame. */
+    bool step;
+    long step_triangles;
+    /* The window's step and buffer views: the frame's pipeline and fragment
+     * buffers are handed over here (the previous ones released first); the
+     * teaching pipeline draws such a frame. NULL: nothing is kept. */
+    struct hw3_capture *capture;
 } hw3_render_options;
+
+/* What hw3_render keeps for the window: its pipeline (depth, coverage,
+ * overdraw, the last triangle drawn) and the fragment stage's buffers (normal
+ * and uv where the shader reads them). The caller may take `pipeline` (set
+ * it to NULL); hw3_capture_release frees what is left (NULL-safe). */
+typedef struct hw3_capture {
+    ras_pipeline *pipeline;
+    hw3_gbuffer gbuffer;
+} hw3_capture;
+void hw3_capture_release(hw3_capture *capture);
 
 /* One frame as hw3_render has set it up for the teaching loop: the scene,
  * its options, the fragment stage (shader, varyings, per-scene payload
