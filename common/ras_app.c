@@ -31,7 +31,6 @@ static ras_app_settings scene_settings(const ras_app_hooks *h, const ras_scene *
     s.aa = sc->aa;
     s.samples = sc->aa != RAS_AA_NONE ? sc->samples : 4;
     s.pattern_kind = sc->pattern_kind;
-    s.edges = sc->edges;
     s.depth = sc->depth;
     s.cull = sc->cull;
     s.shader = sc->shader;
@@ -48,7 +47,6 @@ bool ras_app_resolve(const ras_app_hooks *h, const ras_cli *cli, const ras_scene
     if (cli->axis_set) s.axis_set = true, s.axis = cli->axis;
     if (cli->shader_set) s.shader = (ras_scene_shader)cli->shader;
     if (cli->filter_set) s.filter = (ras_scene_filter)cli->filter;
-    if (cli->edges_set) s.edges = cli->edges;
     if (cli->depth_set) s.depth = cli->depth;
     if (cli->aa_set && cli->aa == RAS_AA_NONE && cli->samples > 1)
         return ras_error_set(err, "--aa none draws one sample per pixel, but --samples %d asks for "
@@ -284,7 +282,6 @@ static bool aa_key(ras_app_settings *s, int key) {
     else if (key == 'p')
         s->pattern_kind = s->pattern_kind == RAS_PATTERN_ORDERED ? RAS_PATTERN_STANDARD
                                                                  : RAS_PATTERN_ORDERED;
-    else if (key == 'e') s->edges = s->edges == RAS_EDGES_FIXED ? RAS_EDGES_FLOAT : RAS_EDGES_FIXED;
     else return false;
     if (!ras_sample_pattern_make(s->pattern_kind, s->samples, &s->pattern, NULL)) {
         s->samples = 4; /* every pattern has 4 */

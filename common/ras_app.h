@@ -46,7 +46,6 @@ typedef struct ras_app_settings {
     int samples; /* used when aa != NONE */
     ras_pattern_kind pattern_kind;
     ras_sample_pattern pattern; /* made from the two above; the centre without AA */
-    ras_edge_mode edges;
     ras_depth_format depth;
     ras_cull_mode cull;
     ras_scene_shader shader;
@@ -86,7 +85,7 @@ typedef struct ras_app_step {
 enum {
     RAS_APP_KEYS_ANGLE = 1u << 0,   /* a/d: angle ±10° */
     RAS_APP_KEYS_SHADING = 1u << 1, /* 1-5: shader, f: filter */
-    RAS_APP_KEYS_AA = 1u << 2,      /* m: AA mode, s: samples, p: pattern, e: edges */
+    RAS_APP_KEYS_AA = 1u << 2,      /* m: AA mode, s: samples, p: pattern */
 };
 
 typedef struct ras_app_hooks {
@@ -148,7 +147,7 @@ int ras_app_main(int argc, char **argv, const ras_app_hooks *hooks, void *user);
 
 /* The one set of rules that turns a scene and a command line into settings:
  *   - every flag overrides the scene's value (--size, -r, --axis, --aa,
- *     --samples, --pattern, --edges, --depth, --shader, --filter);
+ *     --samples, --pattern, --depth, --shader, --filter);
  *   - --samples N (N > 1) alone means --aa msaa; --aa none with --samples
  *     N > 1 is an error;
  *   - without --pattern, a count the ordered grid lacks (2, 8) takes the

@@ -69,8 +69,6 @@ static const option_row options[] = {
           "--aa msaa"},
     {"pattern", 0, RAS_OPT_AA, NAME, F(pattern), F(pattern_set), &ras_names_pattern, 0, NULL, "P",
      "sample positions: ordered (grid) or standard (D3D/Vulkan)"},
-    {"edges", 0, RAS_OPT_AA, NAME, F(edges), F(edges_set), &ras_names_edges, 0, NULL, "E",
-     "reference edge functions: fixed (watertight) or float"},
     {"depth", 0, RAS_OPT_AA, NAME, F(depth), F(depth_set), &ras_names_depth, 0, NULL, "F",
      "depth format: z01 ((1-z)/2, default) or inverse_w\n(-near/w: reversed-z, precise far "
      "away; docs/accuracy.md)"},

@@ -21,7 +21,7 @@
 
 enum {
     RAS_OPT_ANGLE = 1u << 0,   /* -r/--angle DEG, --axis X,Y,Z */
-    RAS_OPT_AA = 1u << 1,      /* --aa, --samples, --pattern, --edges, --depth */
+    RAS_OPT_AA = 1u << 1,      /* --aa, --samples, --pattern, --depth */
     RAS_OPT_COMPARE = 1u << 2, /* --compare [--reference FILE] */
     RAS_OPT_SHADING = 1u << 3, /* --shader, --filter */
     RAS_OPT_MODEL = 1u << 4,   /* --model, --texture, --height, --fit */
@@ -44,8 +44,6 @@ typedef struct ras_cli {
     int samples; /* 0 = the mode's default */
     ras_pattern_kind pattern;
     bool pattern_set;
-    ras_edge_mode edges;
-    bool edges_set;
     ras_depth_format depth; /* --depth z01|inverse_w */
     bool depth_set;
     bool compare;

@@ -6,7 +6,7 @@
 #include "ras_scene.h"          /* ras_scene_shader, ras_scene_filter */
 #include "ras_texture.h"        /* ras_wrap */
 #include "stage3_setup.h"       /* ras_depth_format */
-#include "stage4_raster.h"      /* ras_aa_mode, ras_edge_mode */
+#include "stage4_raster.h"      /* ras_aa_mode */
 
 #include <stdio.h>  /* snprintf */
 #include <string.h> /* strcmp */
@@ -20,8 +20,6 @@ TABLE(ras_names_aa, "an anti-aliasing mode", [RAS_AA_NONE] = "none", [RAS_AA_MSA
 TABLE(ras_names_pattern, "a sample pattern", [RAS_PATTERN_ORDERED] = "ordered",
       [RAS_PATTERN_STANDARD] = "standard");
 TABLE(ras_names_depth, "a depth format", [RAS_DEPTH_Z01] = "z01", [RAS_DEPTH_INV_W] = "inverse_w");
-TABLE(ras_names_edges, "an edge-function mode", [RAS_EDGES_FIXED] = "fixed",
-      [RAS_EDGES_FLOAT] = "float");
 TABLE(ras_names_shader, "a shader", [RAS_SHADER_FLAT] = "flat", [RAS_SHADER_NORMAL] = "normal",
       [RAS_SHADER_PHONG] = "phong", [RAS_SHADER_TEXTURE] = "texture",
       [RAS_SHADER_BUMP] = "bump", [RAS_SHADER_DISPLACEMENT] = "displacement");

@@ -66,7 +66,6 @@ ras_pipeline *ras_pipeline_create(const ras_pipeline_config *config, ras_error *
     p->raster = (ras_raster_ctx){.fb = p->fb,
                                  .aa = cfg.aa,
                                  .pattern = cfg.pattern,
-                                 .edges = cfg.edges,
                                  .shade = cfg.shade,
                                  .shade_user = cfg.shade_user,
                                  .counters = &p->counters};

@@ -28,7 +28,6 @@ typedef struct ras_pipeline_config {
     vec3s wire_color;
     ras_aa_mode aa;
     ras_sample_pattern pattern; /* ignored for RAS_AA_NONE (one centre sample) */
-    ras_edge_mode edges;
     ras_cull_mode cull; /* front faces are counter-clockwise on screen */
     /* What the depth buffer holds (stage3_setup.h): the rasterizer compares
      * "smaller is closer" either way. RAS_DEPTH_INV_W needs z_near, the

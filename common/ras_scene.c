@@ -1031,8 +1031,8 @@ static bool parse_aa(ctx *c, const cJSON *v, ras_scene *s) {
 static bool parse_root(ctx *c, const cJSON *root, ras_scene *s) {
     static const char *const keys[] = {"description", "image",       "camera",   "model_rotation",
                                        "objects",     "lights",      "ambient",  "aa",
-                                       "shader",      "filter",      "cull",     "edges",
-                                       "depth",       "clear_color", "wireframe"};
+                                       "shader",      "filter",      "cull",     "depth",
+                                       "clear_color", "wireframe"};
     if (!cJSON_IsObject(root)) return fail_type(c, "the top level", "an object {...}", root);
     if (!check_keys(c, root, "", keys, COUNT(keys), NULL, NULL)) return false;
     const cJSON *v;
@@ -1047,18 +1047,16 @@ static bool parse_root(ctx *c, const cJSON *root, ras_scene *s) {
     if ((v = member(root, "lights")) && !parse_lights(c, v, s)) return false;
     if (!opt_vec3_or_scalar(c, root, "", "ambient", R_NONNEG, &s->ambient)) return false;
     if ((v = member(root, "aa")) && !parse_aa(c, v, s)) return false;
-    int shader = 0, filter = RAS_FILTER_BILINEAR, cull = 0, edges = 0, depth = 0;
+    int shader = 0, filter = RAS_FILTER_BILINEAR, cull = 0, depth = 0;
     if (!opt_enum(c, root, "", "shader", NAMES(ras_names_shader), &shader) ||
         !opt_enum(c, root, "", "filter", NAMES(ras_names_filter), &filter) ||
         !opt_enum(c, root, "", "cull", NAMES(ras_names_cull), &cull) ||
-        !opt_enum(c, root, "", "edges", NAMES(ras_names_edges), &edges) ||
         !opt_enum(c, root, "", "depth", NAMES(ras_names_depth), &depth) ||
         !opt_color(c, root, "", "clear_color", &s->clear_color))
         return false;
     s->shader = (ras_scene_shader)shader;
     s->filter = (ras_scene_filter)filter;
     s->cull = (ras_cull_mode)cull;
-    s->edges = (ras_edge_mode)edges;
     s->depth = (ras_depth_format)depth;
     if ((v = member(root, "wireframe"))) {
         if (!cJSON_IsBool(v)) return fail_type(c, "wireframe", "true or false", v);
@@ -1085,7 +1083,6 @@ static void scene_defaults(ras_scene *s) {
     s->shader = RAS_SHADER_FLAT;
     s->filter = RAS_FILTER_BILINEAR;
     s->cull = RAS_CULL_NONE;
-    s->edges = RAS_EDGES_FIXED;
     s->depth = RAS_DEPTH_Z01;
 }
 

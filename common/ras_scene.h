@@ -35,7 +35,7 @@
  *   transform: identity; material: colour white, no texture, no height map,
  *   ka 0.005, kd = the colour (or texel), ks 0.7937, p 150, kh 0.2, kn 0.1,
  *   uv_scale 1; lights: none; ambient 10; aa none (samples 4, pattern ordered
- *   when a mode is set); shader flat; filter bilinear; cull none; edges fixed;
+ *   when a mode is set); shader flat; filter bilinear; cull none;
  *   depth z01; clear_color black; wireframe false.
  *
  * Units and spaces: world units; angles in degrees; colours in [0,1];
@@ -55,7 +55,7 @@
 #include "ras_error.h"
 #include "ras_math.h"
 #include "ras_mesh.h"
-#include "ras_pipeline.h" /* ras_cull_mode, ras_aa_mode, ras_edge_mode, ras_depth_format */
+#include "ras_pipeline.h" /* ras_cull_mode, ras_aa_mode, ras_depth_format */
 #include "ras_sample_pattern.h"
 #include "ras_texture.h"
 
@@ -200,7 +200,6 @@ typedef struct ras_scene {
     ras_scene_shader shader;
     ras_scene_filter filter;
     ras_cull_mode cull;
-    ras_edge_mode edges;
     ras_depth_format depth; /* "depth": "z01" | "inverse_w" (uses camera.z_near) */
     vec3s clear_color;
     bool wireframe;

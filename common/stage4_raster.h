@@ -29,17 +29,10 @@ typedef enum ras_aa_mode {
     RAS_AA_SSAA, /* everything per sample */
 } ras_aa_mode;
 
-/* How the reference evaluates edge functions (an accuracy option; students
- * write floats). FIXED: 8 sub-pixel bits, int64, top-left rule — watertight.
- * FLOAT: plain float edge functions with a >= 0 test — cracks and double hits
- * on shared edges, kept to measure the difference. */
-typedef enum ras_edge_mode { RAS_EDGES_FIXED, RAS_EDGES_FLOAT } ras_edge_mode;
-
 typedef struct ras_raster_ctx {
     ras_framebuffer *fb;
     ras_aa_mode aa;
     ras_sample_pattern pattern; /* pattern.count == fb->samples */
-    ras_edge_mode edges;
     ras_shade_fn shade; /* NULL: interpolated vertex colour */
     void *shade_user;
     ras_counters *counters; /* may be NULL */
