@@ -60,6 +60,11 @@ static bool try_open(const char *path) {
 }
 
 static void load(void) {
+    /* OpenCV reads its decoder limit once, when libopencv_imgcodecs loads:
+     * with the module opened here, after main, the program can finally set
+     * it — to RAS_IMAGE_MAX_SIDE squared (2^28 pixels) unless the user chose
+     * one. ras_image's header checks stay the first line of defence. */
+    setenv("OPENCV_IO_MAX_IMAGE_PIXELS", "268435456", 0);
     if (try_open(getenv("RAS_CV_BRIDGE"))) return;
     char exe[4096];
     ssize_t n = readlink("/proc/self/exe", exe, sizeof exe - sizeof MODULE_NAME - 1);

@@ -16,12 +16,12 @@
  * Never above what the process's address-space limit (RLIMIT_AS, ulimit -v)
  * leaves after the libraries: 3/4 of (RLIMIT_AS - 320 MiB).
  *
- * OpenCV's own decoder limit, OPENCV_IO_MAX_IMAGE_PIXELS, cannot be set from
- * here: OpenCV 4.6 reads it into a static when libopencv_imgcodecs is loaded,
- * before main (and glibc re-reads the environment after a .preinit_array
- * function could set it). ras_image reads the size from the header of every
- * format OpenCV 4.6 decodes (ras_image_peek_size) instead; a user may still
- * export OPENCV_IO_MAX_IMAGE_PIXELS, and its refusal is reported as such.
+ * OpenCV's own decoder limit, OPENCV_IO_MAX_IMAGE_PIXELS, is read once when
+ * libopencv_imgcodecs loads; OpenCV is now a module opened on first use
+ * (cv_bridge_load.c), which sets it to 2^28 pixels first unless the user
+ * exported another. ras_image also reads the size from the header of every
+ * format OpenCV 4.6 decodes (ras_image_peek_size), and PNG goes through
+ * libpng (ras_png.c) under the same limit.
  */
 #ifndef RAS_MEMORY_H
 #define RAS_MEMORY_H
