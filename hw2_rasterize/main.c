@@ -7,8 +7,8 @@
  * viewport → rasterize_triangle (coverage, depth) → resolve_pixel → image.
  *
  *   hw2_rasterize                          window: m AA mode, s samples,
- *                                          p pattern, e edges; the pixel under
- *                                          the mouse is magnified with its samples;
+ *                                          p pattern; the pixel under the mouse
+ *                                          is magnified with its samples;
  *                                          v: yours / reference / difference;
  *                                          t step one triangle at a time (n, 1-9),
  *                                          b the buffer shown (depth, overdraw, ...)
@@ -19,7 +19,7 @@
  *   hw2_rasterize --scene scenes/msaa_thin_triangles.json -o fan.png
  *
  * The scene comes from --scene FILE or, without it, from the built-in copy of
- * scenes/hw2_classic.json; --aa, --samples, --pattern, --edges and --size
+ * scenes/hw2_classic.json; --aa, --samples, --pattern and --size
  * override its values. hw2 draws flat colours (material × vertex colour):
  * a scene's hw3 shader, textures and lights are not used here. Everything
  * else (options, the window and its pixel inspector, --compare, --stats) is
@@ -58,7 +58,6 @@ static bool render(ras_app *app, ras_error *err) {
                                .cull = s->cull,
                                .aa = set->aa,
                                .pattern = set->pattern,
-                               .edges = set->edges,
                                .depth = set->depth,
                                .z_near = s->camera.z_near,
                                .varyings = RAS_VARYING_COLOR,
@@ -91,9 +90,7 @@ static void status(const ras_app *app, char *buf, size_t size) {
     if (s->aa != RAS_AA_NONE)
         snprintf(mode, sizeof mode, "%s %dx %s", ras_aa_mode_name(s->aa), s->samples,
                  ras_pattern_kind_name(s->pattern_kind));
-    snprintf(buf, size, "%s, %s edges\nm aa  s samples  p pattern  e edges  t step  b buffer  Esc",
-             mode,
-             s->edges == RAS_EDGES_FIXED ? "fixed" : "float");
+    snprintf(buf, size, "%s\nm aa  s samples  p pattern  t step  b buffer  Esc", mode);
 }
 
 int main(int argc, char **argv) {
@@ -102,7 +99,7 @@ int main(int argc, char **argv) {
         .usage = "Draws the hw2 scene (default: the two classic triangles) with your "
                  "rasterizer\n(coverage, z-buffer, anti-aliasing).\nWith -o or --compare it "
                  "renders once, headless; without, a window opens:\n  m AA mode, s sample "
-                 "count, p sample pattern, e edge functions,\n  v your picture / the reference "
+                 "count, p sample pattern,\n  v your picture / the reference "
                  "/ the difference, Esc quits;\n  the pixel under the mouse is magnified with "
                  "its samples and their depths.\nStep view: t steps the frame one triangle at a "
                  "time (n or space +1, N -1,\n  1-9 +1, 10, 100, ... triangles, 0 none), b "

@@ -63,7 +63,6 @@ static bool render(ras_app *app, ras_error *err) {
     h->opt.filter = (texture_filter)s->filter;
     h->opt.aa = s->aa;
     h->opt.pattern = s->pattern;
-    h->opt.edges = s->edges;
     h->opt.depth = s->depth;
     h->opt.angle_deg = s->angle;
     h->opt.affine = s->affine;

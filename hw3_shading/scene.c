@@ -408,7 +408,6 @@ hw3_render_options hw3_render_defaults(void) {
                                 .aa = RAS_AA_NONE,
                                 .pattern = ras_sample_pattern_center(),
                                 .cull = RAS_CULL_NONE,
-                                .edges = RAS_EDGES_FIXED,
                                 .depth = RAS_DEPTH_Z01};
 }
 
@@ -429,7 +428,6 @@ hw3_render_options hw3_render_options_from_ras(const ras_scene *rs) {
     opt.pattern = rs->aa == RAS_AA_NONE ? ras_sample_pattern_center() : rs->pattern;
     opt.cull = rs->cull;
     opt.depth = rs->depth;
-    opt.edges = rs->edges;
     return opt;
 }
 
@@ -592,7 +590,6 @@ bool hw3_render(hw3_scene *scene, const hw3_render_options *opt, ras_image *out,
                                .clear_color = scene->clear_color,
                                .aa = opt->aa,
                                .pattern = opt->pattern,
-                               .edges = opt->edges,
                                .cull = opt->cull,
                                .depth = opt->depth,
                                .z_near = scene->z_near,

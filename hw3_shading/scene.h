@@ -156,7 +156,6 @@ typedef struct hw3_render_options {
      * it faster, but must draw the same picture and counters bit for bit. */
     const struct hw3_renderer *renderer;
     ras_cull_mode cull;  /* default none */
-    ras_edge_mode edges; /* default fixed */
     ras_depth_format depth; /* default z01 (inverse_w: with the scene's z_near, stage3_setup.h) */
     /* --dump DIR: the frame's buffers are written there (ras_dump.h: depth,
      * coverage with AA, overdraw, and the fragment stage's normal, uv and

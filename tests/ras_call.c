@@ -581,7 +581,6 @@ WRAP(void, rasterize_triangle, const ras_triangle *t, const ras_raster_ctx *ctx)
     call c = {.n = 0};
     if (ctx) {
         HASH(h, ctx->aa);
-        HASH(h, ctx->edges);
         HASH(h, ctx->pattern.count);
         if (ctx->fb) {
             const ras_framebuffer *fb = ctx->fb;

@@ -80,7 +80,7 @@ static ras_framebuffer *make_fb(int w, int h, int samples) {
 }
 
 static ras_raster_ctx make_ctx(ras_framebuffer *fb, ras_aa_mode aa, ras_sample_pattern pat) {
-    return (ras_raster_ctx){.fb = fb, .aa = aa, .pattern = pat, .edges = RAS_EDGES_FIXED};
+    return (ras_raster_ctx){.fb = fb, .aa = aa, .pattern = pat};
 }
 
 static ras_raster_ctx ctx_none(ras_framebuffer *fb) {

@@ -257,7 +257,6 @@ static void test_scene_defaults(void **state) {
     assert_int_equal(s->shader, RAS_SHADER_FLAT);
     assert_int_equal(s->filter, RAS_FILTER_BILINEAR);
     assert_int_equal(s->cull, RAS_CULL_NONE);
-    assert_int_equal(s->edges, RAS_EDGES_FIXED);
     assert_int_equal(s->depth, RAS_DEPTH_Z01);
     assert_vec3_near(s->clear_color, 0, 0, 0, 0);
     assert_false(s->wireframe);
@@ -349,8 +348,7 @@ static void test_scene_values_read(void **state) {
         "\"space\": \"world\"}],"
         "\"ambient\": [1, 2, 3], \"aa\": {\"mode\": \"ssaa\", \"samples\": 8, \"pattern\": "
         "\"standard\"},"
-        "\"shader\": \"phong\", \"filter\": \"trilinear\", \"cull\": \"back\", \"edges\": "
-        "\"float\","
+        "\"shader\": \"phong\", \"filter\": \"trilinear\", \"cull\": \"back\","
         "\"clear_color\": [0.1, 0.2, 0.3], \"wireframe\": true,"
         "\"model_rotation\": {\"angle_deg\": 20, \"axis\": [0, 1, 0]}, \"description\": \"d\"}");
     const ras_scene_material *m = &s->objects[0].material;
@@ -379,7 +377,6 @@ static void test_scene_values_read(void **state) {
     assert_int_equal(s->shader, RAS_SHADER_PHONG);
     assert_int_equal(s->filter, RAS_FILTER_TRILINEAR);
     assert_int_equal(s->cull, RAS_CULL_BACK);
-    assert_int_equal(s->edges, RAS_EDGES_FLOAT);
     assert_true(s->wireframe);
     assert_true(s->model_rotation_deg == 20 && s->model_rotation_axis_set);
     assert_string_equal(s->description, "d");

@@ -1868,11 +1868,10 @@ static void *worker_main(void *arg) {
 
 /* ---- the frame ------------------------------------------------------------- */
 
-/* What the fast path draws: fixed edges, no culling, z01 depth. */
+/* What the fast path draws: no culling, z01 depth. */
 static bool fast_accepts(const hw3_renderer *self, const hw3_render_options *opt) {
     (void)self;
-    return opt->cull == RAS_CULL_NONE && opt->edges == RAS_EDGES_FIXED &&
-           opt->depth == RAS_DEPTH_Z01;
+    return opt->cull == RAS_CULL_NONE && opt->depth == RAS_DEPTH_Z01;
 }
 
 static int thread_count(const hw3_fast_settings *s) {
