@@ -338,7 +338,7 @@ static bool step_key(ras_app *app, int key) {
     } else if (key == 'n' || key == ' ') {
         st->limit = st->on ? st->limit + 1 : 1;
         st->on = true;
-    } else if (key == 'N' && st->on) {
+    } else if (key == '-' && st->on) {
         st->limit = st->limit > 0 ? st->limit - 1 : 0;
     } else if (st->on && key >= '0' && key <= '9') {
         long jump = 1;
@@ -381,7 +381,7 @@ static void step_status(const ras_app *app, char *buf, size_t size) {
     const char *next = buffer_names[(st->buffer + 1) % RAS_APP_BUFFER_COUNT];
     if (st->on)
         snprintf(buf, size, "STEP: triangle %ld of %ld   buffer: %s (b)\n"
-                            "n/space +1  N -1  1-9 +1,10,100..  0 none  t off",
+                            "n/space +1  - back 1  1-9 +1,10,100..  0 none  t off",
                  st->limit, st->total, buffer_names[st->buffer]);
     else
         snprintf(buf, size, "buffer: %s (b: %s...)  t: step",

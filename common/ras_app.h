@@ -58,8 +58,9 @@ typedef struct ras_app ras_app;
 
 /* The window's step view and buffer view (hooks.step; docs/hw2.md "Step
  * through a frame"). Keys: t step mode on/off; n or space one triangle more,
- * N one less; in step mode 1-9 forward 1, 10, 100, ... (10^(k-1)) triangles
- * and 0 back to none; b the buffer shown: colour -> depth -> coverage (AA
+ * - (minus) one less (not N: OpenCV's Qt window reports shift+n as n); in
+ * step mode 1-9 forward 1, 10, 100, ... (10^(k-1)) triangles and 0 back to
+ * none; b the buffer shown: colour -> depth -> coverage (AA
  * only) -> overdraw -> normal -> uv (hw3, when the shader reads them),
  * skipping what the frame does not produce. The program's render reads
  * `on` and `limit` (ras_pipeline_config.step, step_triangles) and keeps its

@@ -199,6 +199,6 @@ void ras_viewer_inspect_triangle(const ras_triangle *t, int x, int y, char *info
     const char *where = a < 0 || b < 0 || c < 0    ? "OUTSIDE"
                         : a == 0 || b == 0 || c == 0 ? "on an edge (top-left rule)"
                                                      : "inside";
-    snprintf(info + n, size - (size_t)n, "\nbary %.4f %.4f %.4f  depth %.5f  centre %s", a, b, c,
+    snprintf(info + n, size - (size_t)n, "\nbary %.4f %.4f %.4f  depth %.5f  %s", a, b, c,
              depth, where);
 }

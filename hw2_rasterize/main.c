@@ -102,7 +102,7 @@ int main(int argc, char **argv) {
                  "count, p sample pattern,\n  v your picture / the reference "
                  "/ the difference, Esc quits;\n  the pixel under the mouse is magnified with "
                  "its samples and their depths.\nStep view: t steps the frame one triangle at a "
-                 "time (n or space +1, N -1,\n  1-9 +1, 10, 100, ... triangles, 0 none), b "
+                 "time (n or space +1, - one back,\n  1-9 +1, 10, 100, ... triangles, 0 none), b "
                  "cycles the buffer shown (colour,\n  depth, coverage with AA, overdraw); the "
                  "inspector then also shows the last\n  triangle's edge functions, barycentrics "
                  "and depth at the pixel.\n--compare writes the difference beside -o "

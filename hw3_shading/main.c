@@ -122,7 +122,7 @@ static void status(const ras_app *app, char *buf, size_t size) {
     snprintf(buf, size, "%s  filter %s  %s  angle %.0f\n%s",
              ras_scene_shader_name(app->set.shader), ras_scene_filter_name(app->set.filter),
              app->set.affine ? "AFFINE (w=1 pitfall)" : "persp-correct", app->set.angle,
-             app->step.on ? "f filter  p persp  a/d rotate  (1-5 shader: leave step mode, t)"
+             app->step.on ? "f filter  p persp  a/d rotate  (1-5 shader: after t)"
                           : "1-5 shader  f filter  p persp  a/d rotate  t step  b buffer");
 }
 
@@ -140,7 +140,7 @@ int main(int argc, char **argv) {
             "once and writes a PNG; without it, a window opens (1-5: shader, f: filter,\n"
             "p: perspective-correct on/off, a/d or mouse: rotate, v: yours/reference/\n"
             "difference, Esc quits).\n"
-            "Step view: t steps the frame one triangle at a time (n or space +1, N -1,\n"
+            "Step view: t steps the frame one triangle at a time (n or space +1, - back,\n"
             "  1-9 +1, 10, 100, ... triangles, 0 none; the digits pick shaders again after\n"
             "  t), b cycles the buffer shown (colour, depth, coverage with AA, overdraw,\n"
             "  normal, uv); in step mode the mouse inspects the pixel (the last triangle's\n"

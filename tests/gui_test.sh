@@ -15,6 +15,17 @@
 #                      (hw1_r20); v → the difference view (black); Esc quits
 #   hw2_rasterize_ref  = hw2_1x; m → MSAA 4x = hw2_msaa4; v v → black
 #   hw3_shading_ref    = hw3_normal; 2 → hw3_phong; v v → black
+#   step view (common/ras_app.h; pixels counted below the status rows, STEP_MASK):
+#   hw2_rasterize_ref  t → nothing drawn; n → one triangle: fewer pixels than
+#                      the whole frame; 9 → the whole frame again; - → the one
+#                      triangle again; b → depth: other colours on the same
+#                      pixels; b → overdraw: other colours, the same pixels; b → colour
+#                      (no coverage without AA, no normal or uv in hw2);
+#                      t → the whole frame = hw2_1x
+#   hw3_shading_ref    t → nothing drawn; 4 4 → 2000 triangles: fewer pixels;
+#                      b → depth: other colours; b b b → colour (uv skipped:
+#                      the normal shader reads none); 3 → 100 triangles more
+#                      (a step, not the texture shader); t → hw3_normal
 #   hw1_transform      (your code) v → the reference view shows hw1_r20,
 #                      whatever your code draws
 # The *_ref checks need the solutions (not in the student edition).
@@ -27,6 +38,7 @@ src=${2:?usage: gui_test.sh BIN_DIR SOURCE_DIR [OUT_DIR]}
 out=${3:-$bin/../gui-test}
 ref=$src/tests/reference
 MASK=84   # status-line rows at the top of the picture, not compared
+STEP_MASK=140 # the same in step mode (more status lines), not counted
 SIDE=700  # the programs' default frame
 
 convert_cmd=$(command -v convert-im6.q16 || command -v convert || true)
@@ -185,6 +197,72 @@ expect() {
   return 1
 }
 
+# ---- the step view: pictures measured, not compared with a reference ------------
+grab() { # grab OUT.ppm: the window's picture, at the offset the last expect found
+  timeout 5 import -window "$wid" -depth 8 "ppm:$tmp/shot.ppm" 2>/dev/null &&
+    "$convert_cmd" "$tmp/shot.ppm" -crop "${SIDE}x${SIDE}+$ox+$oy" +repage -depth 8 "ppm:$1"
+}
+
+pixels_differ() { # pixels_differ A.ppm B.ppm|-: pixels (rows >= STEP_MASK) off by > 8 levels
+  python3 - "$1" "$2" "$STEP_MASK" <<'EOF'
+import sys
+def ppm(path):
+    d = open(path, 'rb').read()
+    fields, i = [], 0
+    while len(fields) < 4:
+        while d[i:i+1].isspace(): i += 1
+        j = i
+        while not d[j:j+1].isspace(): j += 1
+        fields.append(d[i:j]); i = j
+    w, h = int(fields[1]), int(fields[2])
+    return w, h, d[i+1:i+1+w*h*3]
+w, h, A = ppm(sys.argv[1]); mask = int(sys.argv[3])
+if sys.argv[2] == '-':  # against A's bottom-left pixel: is the picture one colour?
+    k = (h - 1) * w * 3
+    B = A[k:k+3] * (w * h)
+else:
+    B = ppm(sys.argv[2])[2]
+n = 0
+for r in range(mask, h):
+    a, b = A[r*w*3:(r+1)*w*3], B[r*w*3:(r+1)*w*3]
+    if a == b: continue  # most rows: the same bytes
+    n += sum(1 for k in range(0, w*3, 3)
+             if max(abs(a[k] - b[k]), abs(a[k+1] - b[k+1]), abs(a[k+2] - b[k+2])) > 8)
+print(n)
+EOF
+}
+
+# differ_from OTHER.ppm|- OP N [OP N]...: the window's picture ($tmp/view.ppm)
+# differs from OTHER in a number of pixels that is OP N (-eq, -gt, -lt).
+differ_from() {
+  local other=$1 count; shift
+  count=$(pixels_differ "$tmp/view.ppm" "$other") || return 1
+  why="$count pixels differ from $( [[ $other == - ]] && echo 'one colour' || basename "$other")"
+  while (($# >= 2)); do
+    [ "$count" "$1" "$2" ] || return 1
+    shift 2
+  done
+}
+
+# until_view LABEL TEST...: waits (20 s at most) until the window's picture,
+# grabbed into $tmp/view.ppm, passes TEST.
+until_view() {
+  local label=$1 deadline=$((SECONDS + 20)); shift
+  why=''
+  while ((SECONDS < deadline)); do
+    if grab "$tmp/view.ppm" && "$@"; then
+      echo "gui_test: ok   $name: $label ($why)"
+      return 0
+    fi
+    sleep 0.2
+  done
+  local shot="$out/${name}_${label//[^a-z0-9]/_}.png"
+  "$convert_cmd" "$tmp/view.ppm" "$shot" 2>/dev/null
+  echo "gui_test: FAIL $name: $label: $why (window picture: $shot)"
+  failures=$((failures + 1))
+  return 1
+}
+
 stop() { # Esc must close the window and end the program with status 0
   keys Escape
   local deadline=$((SECONDS + 5))
@@ -236,6 +314,54 @@ if [[ -d "$src/hw1_transform/solution" ]]; then
     expect "normal" "$(ref_for hw3_shading --shader normal)"
     keys 2 && expect "2 → phong" "$(ref_for hw3_shading --shader phong)"
     keys v v && expect "v v → difference view" "$tmp/black.png"
+    stop
+  fi
+  # The step view: t, n, -, 0-9, b (common/ras_app.h). Each check needs the
+  # one before it: the first failure ends the program's chain.
+  if start hw2_rasterize_ref; then
+    expect "1x, before stepping" "$(ref_for hw2_rasterize)" && grab "$tmp/full.ppm" &&
+      keys t && until_view "t → step mode, nothing drawn" differ_from - -eq 0 &&
+      cp "$tmp/view.ppm" "$tmp/empty.ppm" &&
+      full=$(pixels_differ "$tmp/full.ppm" "$tmp/empty.ppm") &&
+      keys n && until_view "n → 1 triangle, fewer pixels than the frame's $full" \
+        differ_from "$tmp/empty.ppm" -gt 1000 -lt "$((full - 1000))" &&
+      cp "$tmp/view.ppm" "$tmp/one.ppm" &&
+      one=$(pixels_differ "$tmp/one.ppm" "$tmp/empty.ppm") &&
+      keys 9 && until_view "9 → the whole frame again" differ_from "$tmp/full.ppm" -eq 0 &&
+      keys minus && until_view "- → the first triangle again" differ_from "$tmp/one.ppm" -eq 0 &&
+      keys b && until_view "b → depth: other colours" \
+        differ_from "$tmp/one.ppm" -gt "$((one / 2))" &&
+      until_view "b → depth: the same $one pixels drawn" \
+        differ_from "$tmp/empty.ppm" -eq "$one" &&
+      cp "$tmp/view.ppm" "$tmp/depth.ppm" &&
+      "$convert_cmd" "$tmp/shot.ppm" "$out/${name}_step_depth.png" &&
+      keys b && until_view "b → overdraw: other colours than depth" \
+        differ_from "$tmp/depth.ppm" -gt 1000 &&
+      until_view "b → overdraw: the same $one pixels drawn" \
+        differ_from "$tmp/empty.ppm" -eq "$one" &&
+      keys b && until_view "b → colour (no coverage, normal or uv in hw2)" \
+        differ_from "$tmp/one.ppm" -eq 0 &&
+      keys t && expect "t → step mode off: the whole frame" "$(ref_for hw2_rasterize)"
+    stop
+  fi
+  if start hw3_shading_ref; then
+    expect "normal, before stepping" "$(ref_for hw3_shading --shader normal)" &&
+      grab "$tmp/full.ppm" &&
+      keys t && until_view "t → step mode, nothing drawn" differ_from - -eq 0 &&
+      cp "$tmp/view.ppm" "$tmp/empty.ppm" &&
+      full=$(pixels_differ "$tmp/full.ppm" "$tmp/empty.ppm") &&
+      keys 4 4 && until_view "4 4 → 2000 triangles, fewer pixels than the frame's $full" \
+        differ_from "$tmp/empty.ppm" -gt 1000 -lt "$((full / 2))" &&
+      cp "$tmp/view.ppm" "$tmp/some.ppm" &&
+      some=$(pixels_differ "$tmp/some.ppm" "$tmp/empty.ppm") &&
+      keys b && until_view "b → depth: other colours" \
+        differ_from "$tmp/some.ppm" -gt "$((some / 2))" &&
+      "$convert_cmd" "$tmp/shot.ppm" "$out/${name}_step_depth.png" &&
+      keys b b b && until_view "b b b → overdraw, normal, colour (no uv with the normal shader)" \
+        differ_from "$tmp/some.ppm" -eq 0 &&
+      keys 3 && until_view "3 → 100 triangles more (a step: digits do not pick shaders here)" \
+        differ_from "$tmp/empty.ppm" -gt "$some" -lt "$((full / 2))" &&
+      keys t && expect "t → step mode off: the whole frame" "$(ref_for hw3_shading --shader normal)"
     stop
   fi
 fi
