@@ -186,7 +186,7 @@ void ras_viewer_inspect_triangle(const ras_triangle *t, int x, int y, char *info
                    ((double)v[2].x - v[0].x) * ((double)v[1].y - v[0].y);
 #undef EDGE
     int n = snprintf(info, size, "last triangle (%.1f,%.1f) (%.1f,%.1f) (%.1f,%.1f) A %.1f\n"
-                                 "at (%.1f,%.1f): E01 %.2f  E12 %.2f  E20 %.2f",
+                                 "at (%.1f,%.1f): E01 %.1f  E12 %.1f  E20 %.1f",
                      v[0].x, v[0].y, v[1].x, v[1].y, v[2].x, v[2].y, area2, px, py, e01, e12,
                      e20);
     if (n < 0 || (size_t)n >= size) return;

@@ -74,6 +74,7 @@ static bool render(ras_app *app, ras_error *err) {
      * overdraw views) and its fragment buffers (normal, uv) */
     ras_pipeline_destroy(app->pipeline);
     app->pipeline = NULL;
+    hw3_capture_release(&h->capture); /* no stale buffers when nothing is kept */
     h->opt.capture = ras_app_capturing(app) ? &h->capture : NULL;
     app->counters = &h->stats;
     bool ok = hw3_render(h->scene, &h->opt, app->image, &h->stats, err);
