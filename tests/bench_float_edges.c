@@ -35,8 +35,10 @@ void bench_rasterize_float_edges(const ras_triangle *t, const ras_raster_ctx *ct
     float miny = fminf(fminf(v[0].y, v[1].y), v[2].y), maxy = fmaxf(fmaxf(v[0].y, v[1].y), v[2].y);
     float w = (float)fb->width, h = (float)fb->height;
     if (maxx < 0 || minx >= w || maxy < 0 || miny >= h) return; /* wholly off one side */
-    int x0 = (int)floorf(fminf(fmaxf(minx, 0), w - 1)), x1 = (int)floorf(fminf(fmaxf(maxx, 0), w - 1));
-    int y0 = (int)floorf(fminf(fmaxf(miny, 0), h - 1)), y1 = (int)floorf(fminf(fmaxf(maxy, 0), h - 1));
+    int x0 = (int)floorf(fminf(fmaxf(minx, 0), w - 1));
+    int x1 = (int)floorf(fminf(fmaxf(maxx, 0), w - 1));
+    int y0 = (int)floorf(fminf(fmaxf(miny, 0), h - 1));
+    int y1 = (int)floorf(fminf(fmaxf(maxy, 0), h - 1));
 
     ras_shade_fn shade = ctx->shade ? ctx->shade : ras_shade_vertex_color;
     uint64_t tested = 0, covered = 0, passed = 0, shaded = 0;

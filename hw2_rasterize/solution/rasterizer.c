@@ -110,7 +110,7 @@ typedef struct setup {
     ras_triangle g; /* t with x and y snapped: for coverage and barycentrics only */
     /* The D3D top-left rule, per edge opposite vertex i (v[i+1] → v[i+2]). */
     bool top_left[3];
-    int x0, x1, y0, y1; /* pixel bounding box on screen, inclusive both ends */
+    int x0, x1, y0, y1;             /* pixel bounding box on screen, inclusive both ends */
     vec2s off[RAS_MAX_SAMPLES + 1]; /* snapped sample offsets, then the centre */
 } setup;
 
