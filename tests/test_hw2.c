@@ -312,8 +312,30 @@ static void check_exactly_once(const char *what, const ras_triangle *tris, int n
                     }
                     box_edge = box_edge && at_edge;
                 }
+        /* Samples taken at the ordered 2x2 grid's points whatever the
+         * pattern: the coverage is what the grid's positions would give. */
+        bool grid = S == 4;
+        if (grid) {
+            ras_sample_pattern ordered = pattern(RAS_PATTERN_ORDERED, 4);
+            bool same_pattern = true;
+            for (int k = 0; k < 4; k++)
+                same_pattern = same_pattern && ordered.offsets[k].x == pat.offsets[k].x &&
+                               ordered.offsets[k].y == pat.offsets[k].y;
+            grid = !same_pattern;
+            for (int y = 0; y < h && grid; y++)
+                for (int x = 0; x < w && grid; x++)
+                    for (int k = 0; k < 4 && grid; k++) {
+                        int e = expect(x + ordered.offsets[k].x, y + ordered.offsets[k].y, user);
+                        int got = counts[(y * w + x) * S + k];
+                        if ((e == 1 && got != 1) || (e == 0 && got != 0)) grid = false;
+                    }
+        }
         const char *loop = NULL;
-        if (flipped)
+        if (grid)
+            loop = "the coverage is what the ordered 2x2 grid's points (0.25, 0.75) give, but "
+                   "this pattern's samples are elsewhere: sample positions written into the "
+                   "rasterizer — read ctx->pattern.offsets[k] for k < ctx->pattern.count";
+        else if (flipped)
             loop = "the whole coverage is upside down: the rows are stored without the y-flip "
                    "(ras_fb_sample_index flips for you: pass it the screen y, not height-1-y, "
                    "and do not flip again)";
