@@ -15,6 +15,8 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h> /* close */
+#include <zlib.h>   /* the reference buffers ship as .pfm.gz */
 
 /* Rows under the picture for the legend. */
 enum { LEGEND_ROWS = 34 };
@@ -242,10 +244,58 @@ bool ras_dump_write(const char *dir, const ras_dump_buffer *b, ras_error *err) {
     return write_json(path, b, &s, err);
 }
 
+/* A .pfm.gz whole into memory, at most `limit` bytes once inflated (a
+ * decompression bomb stops there); NULL with err set. */
+static uint8_t *gunzip_file(const char *path, size_t limit, size_t *len, ras_error *err) {
+    char why[256];
+    int fd = ras_io_open_input(path, why, sizeof why);
+    if (fd < 0) return ras_error_set(err, "cannot read the buffer file '%s': %s", path, why), NULL;
+    gzFile gz = gzdopen(fd, "rb");
+    if (!gz) {
+        close(fd);
+        return ras_error_set(err, "cannot read the buffer file '%s': out of memory", path), NULL;
+    }
+    size_t cap = 1 << 20, n = 0;
+    uint8_t *buf = malloc(cap);
+    int got = 0;
+    while (buf && (got = gzread(gz, buf + n, (unsigned)(cap - n))) > 0) {
+        n += (size_t)got;
+        if (n < cap) continue;
+        if (cap >= limit) {
+            free(buf);
+            gzclose(gz);
+            return ras_error_set(err, "the buffer file '%s' inflates to more than %zu MiB", path,
+                                 limit >> 20),
+                   NULL;
+        }
+        size_t grow = cap * 2 > limit ? limit : cap * 2;
+        uint8_t *grown = realloc(buf, grow);
+        if (!grown) free(buf);
+        buf = grown;
+        cap = grow;
+    }
+    bool bad = got < 0;
+    gzclose(gz);
+    if (!buf) return ras_error_set(err, "out of memory reading '%s'", path), NULL;
+    if (bad) {
+        free(buf);
+        return ras_error_set(err, "the buffer file '%s' is not a whole gzip file", path), NULL;
+    }
+    *len = n;
+    return buf;
+}
+
+static bool ends_with(const char *s, const char *tail) {
+    size_t a = strlen(s), b = strlen(tail);
+    return a >= b && !strcmp(s + a - b, tail);
+}
+
 float *ras_dump_read_pfm(const char *path, int *width, int *height, int *channels, ras_error *err) {
     size_t len = 0;
     /* PFM is uncompressed: the file's size bounds what decoding allocates */
-    uint8_t *data = ras_io_read_file(path, "buffer file", (size_t)1 << 30, &len, err);
+    uint8_t *data = ends_with(path, ".gz")
+                        ? gunzip_file(path, (size_t)256 << 20, &len, err)
+                        : ras_io_read_file(path, "buffer file", (size_t)1 << 30, &len, err);
     if (!data) return NULL;
     char msg[256] = "";
     float *f = cv_bridge_decode_f32(data, len, width, height, channels, msg, sizeof msg);
@@ -288,6 +338,9 @@ static float *read_dump(const char *dir, const char *name, long max_bytes, int *
     char path[RAS_IO_MAX_PATH + 64];
     snprintf(path, sizeof path, "%s/%s.pfm", dir, name);
     struct stat st;
+    /* the shipped reference buffers are compressed */
+    if (max_bytes < 0 && lstat(path, &st) != 0)
+        snprintf(path, sizeof path, "%s/%s.pfm.gz", dir, name);
     if (lstat(path, &st) != 0 || !S_ISREG(st.st_mode))
         return ras_error_set(err, "%s: no buffer file (expected a regular file)", path), NULL;
     if (max_bytes >= 0 && st.st_size > max_bytes)
@@ -305,7 +358,9 @@ bool ras_dump_compare(const char *ref_dir, const char *got_dir, const char *name
     long rbytes = 0, gbytes = 0;
     float *ref = read_dump(ref_dir, name, -1, &rw, &rh, &rc, &rbytes, err);
     if (!ref) return false;
-    float *got = read_dump(got_dir, name, rbytes + 4096, &gw, &gh, &gc, &gbytes, err);
+    /* the reference's size once decoded bounds what is read of the other */
+    rbytes = (long)rw * rh * rc * (long)sizeof(float) + 4096;
+    float *got = read_dump(got_dir, name, rbytes, &gw, &gh, &gc, &gbytes, err);
     if (!got) {
         free(ref);
         return false;
@@ -496,4 +551,74 @@ bool ras_dump_vertices(const char *dir, const char *stem, const ras_mesh *mesh, 
     bool ok = ras_io_write_atomic(path, "vertex dump", text, len + 1, NULL, NULL, err);
     free(text);
     return ok;
+}
+
+static cJSON *read_json(const char *path, char *text, size_t size) {
+    ras_error err = {{0}};
+    size_t len = 0;
+    char *data = ras_io_read_file(path, "vertex dump", 16u << 20, &len, &err);
+    if (!data) {
+        snprintf(text, size, "%s", err.msg);
+        return NULL;
+    }
+    cJSON *j = cJSON_ParseWithLength(data, len);
+    free(data);
+    if (!j) snprintf(text, size, "%s is not JSON", path);
+    return j;
+}
+
+int ras_dump_compare_vertices(const char *ref_path, const char *got_path, char *text, size_t size) {
+    cJSON *a = read_json(ref_path, text, size), *b = a ? read_json(got_path, text, size) : NULL;
+    const cJSON *va = cJSON_GetObjectItemCaseSensitive(a, "vertices");
+    const cJSON *vb = cJSON_GetObjectItemCaseSensitive(b, "vertices");
+    int result = -1;
+    if (a && b && (!cJSON_IsArray(va) || !cJSON_IsArray(vb)))
+        snprintf(text, size, "not a vertex dump (no \"vertices\" list)");
+    else if (a && b && cJSON_GetArraySize(va) != cJSON_GetArraySize(vb))
+        snprintf(text, size, "vertices: %d in the reference, %d here", cJSON_GetArraySize(va),
+                 cJSON_GetArraySize(vb));
+    else if (a && b) {
+        static const char *const steps[] = {"object", "world", "eye", "clip", "ndc", "screen"};
+        result = 0;
+        snprintf(text, size, "vertices: the same at every step");
+        for (int i = 0; i < cJSON_GetArraySize(va) && !result; i++)
+            for (int s = 0; s < 6 && !result; s++) {
+                const cJSON *x =
+                    cJSON_GetObjectItemCaseSensitive(cJSON_GetArrayItem(va, i), steps[s]);
+                const cJSON *y =
+                    cJSON_GetObjectItemCaseSensitive(cJSON_GetArrayItem(vb, i), steps[s]);
+                int n = cJSON_GetArraySize(x);
+                bool same = cJSON_GetArraySize(y) == n;
+                for (int k = 0; k < n && same; k++) {
+                    const cJSON *p = cJSON_GetArrayItem(x, k), *q = cJSON_GetArrayItem(y, k);
+                    if (cJSON_IsNull(p) || cJSON_IsNull(q)) {
+                        same = cJSON_IsNull(p) == cJSON_IsNull(q);
+                        continue;
+                    }
+                    double u = p->valuedouble, v = q->valuedouble;
+                    same = fabs(u - v) <= 1e-5 * fmax(1.0, fabs(u));
+                }
+                if (same) continue;
+                result = 1;
+                char want[160] = "", got[160] = "";
+                for (int k = 0; k < n; k++) {
+                    const cJSON *p = cJSON_GetArrayItem(x, k), *q = cJSON_GetArrayItem(y, k);
+                    size_t lw = strlen(want), lg = strlen(got);
+                    snprintf(want + lw, sizeof want - lw, "%s%.4g", k ? ", " : "",
+                             cJSON_IsNumber(p) ? p->valuedouble : NAN);
+                    snprintf(got + lg, sizeof got - lg, "%s%.4g", k ? ", " : "",
+                             cJSON_IsNumber(q) ? q->valuedouble : NAN);
+                }
+                static const char *const matrix[] = {"the mesh itself", "the model matrix",
+                                                     "the view matrix", "the projection matrix",
+                                                     "the divide by w", "the viewport"};
+                snprintf(text, size,
+                         "vertices differ first at vertex %d, step %s: expected (%s), got (%s); "
+                         "look at %s",
+                         i, steps[s], want, got, matrix[s]);
+            }
+    }
+    cJSON_Delete(a);
+    cJSON_Delete(b);
+    return result;
 }

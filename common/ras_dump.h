@@ -62,7 +62,8 @@ bool ras_dump_write(const char *dir, const ras_dump_buffer *b, ras_error *err);
 void ras_dump_paint(const ras_dump_buffer *b, uint8_t *rgb, char *legend, size_t size);
 
 /* Reads an exact float file back: malloc'd floats (free them), its size and
- * channels. At most max_bytes are read. */
+ * channels. A path ending in .gz is gunzipped first (the reference buffers
+ * ship compressed), at most 256 MiB of it. */
 float *ras_dump_read_pfm(const char *path, int *width, int *height, int *channels, ras_error *err);
 
 /* The buffers a dump may hold, in the order a frame makes them (NULL-ended):
@@ -109,6 +110,14 @@ struct ras_mesh;
 bool ras_dump_vertices(const char *dir, const char *stem, const struct ras_mesh *mesh,
                        mat4s model, mat4s view, mat4s projection, int width, int height,
                        ras_error *err);
+
+/* Compares two vertices.json (ras_dump_vertices) step by step: 0 the same
+ * (within 1e-5, relative above 1), 1 they differ — `text` says at which
+ * vertex and step first ("vertex 0: world differs: expected (1.88, 0.68,
+ * -2), got ...": the matrix of that step is the one to look at) — and -1
+ * when a file is missing or not a vertex dump (text says why). */
+int ras_dump_compare_vertices(const char *ref_path, const char *got_path, char *text,
+                              size_t size);
 
 /* The folder for --dump: created if missing (one level), refused when it is
  * a file; false with err set. */

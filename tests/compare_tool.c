@@ -80,12 +80,38 @@ static bool same_file(const char *a, const char *b) {
 /* --buffers: each buffer of the reference's dump against the same of GOT. */
 static int compare_buffers(const char *ref_dir, const char *got_dir) {
     int differing = 0, compared = 0;
+    /* hw1's buffer: its vertices, step by step */
+    char rv[4200], gv[4200];
+    snprintf(rv, sizeof rv, "%s/vertices.json", ref_dir);
+    snprintf(gv, sizeof gv, "%s/vertices.json", got_dir);
+    if (access(rv, F_OK) == 0 || access(gv, F_OK) == 0) {
+        char line[600];
+        int r = ras_dump_compare_vertices(rv, gv, line, sizeof line);
+        if (r < 0) {
+            fprintf(stderr, "raster101-compare: %s\n", line);
+            return 2;
+        }
+        printf("%s\n", line);
+        compared++;
+        if (r && differing++ == 0) printf("first differing buffer: vertices\n");
+    }
     for (int i = 0; ras_dump_buffer_names[i]; i++) {
         const char *name = ras_dump_buffer_names[i];
         char ref_json[4096], got_json[4096];
         snprintf(ref_json, sizeof ref_json, "%s/%s.pfm", ref_dir, name);
         snprintf(got_json, sizeof got_json, "%s/%s.pfm", got_dir, name);
-        bool in_ref = access(ref_json, F_OK) == 0, in_got = access(got_json, F_OK) == 0;
+        char ref_gz[4200], ref_desc[4200];
+        snprintf(ref_gz, sizeof ref_gz, "%s/%s.pfm.gz", ref_dir, name);
+        snprintf(ref_desc, sizeof ref_desc, "%s/%s.json", ref_dir, name);
+        bool in_ref = access(ref_json, F_OK) == 0 || access(ref_gz, F_OK) == 0,
+             in_got = access(got_json, F_OK) == 0;
+        if (!in_ref && in_got && access(ref_desc, F_OK) == 0) {
+            /* the shipped references keep some buffers as pictures only */
+            printf("%s: the reference has its picture only (%s/%s.png): compare by eye\n", name,
+                   ref_dir, name);
+            compared++;
+            continue;
+        }
         if (!in_ref && !in_got) continue;
         compared++;
         if (in_ref != in_got) {
