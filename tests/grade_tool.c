@@ -867,6 +867,35 @@ static bool sanitizer_finding(const char *out, const cJSON *assignments, char *b
     return true;
 }
 
+/* One sandboxed chunk of a test worker (tests/ras_test_main.h, RAS_EACH_*):
+ * names[first, last) of `bin`, each test in a forked child with `per_test`
+ * seconds, recording into the run's own folder, which also gets the list;
+ * `own` is bound read-only too ("": none), `extra` adds to the environment
+ * (at most 4). */
+static void worker_job(const grader *g, job *w, const char *bin, const char *own,
+                       const name_list *names, int first, int last, double per_test,
+                       const char *const extra[]) {
+    char each[4][4300];
+    fmt(each[0], sizeof each[0], "RAS_EACH_NAMES=%s/runs/%d/names", g->work, g->runs);
+    fmt(each[1], sizeof each[1], "RAS_EACH_OUT=%s/runs/%d", g->work, g->runs);
+    fmt(each[2], sizeof each[2], "RAS_EACH_CALLS=%s/runs/%d", g->work, g->runs);
+    fmt(each[3], sizeof each[3], "RAS_EACH_LIMIT=%.0f", per_test);
+    const char *env[11] = {each[0], each[1], each[2], each[3], "RAS_EACH_MODE=record",
+                           "RAS_RECORD_CAP_MB=256"};
+    for (int i = 0; extra && extra[i] && i < 4; i++)
+        env[6 + i] = extra[i];
+    fmt(w->extra_ro, sizeof w->extra_ro, "%s", own);
+    int k = sandbox_job(g, w, (last - first) * (per_test + 1) + 20, env);
+    w->argv[k++] = (char *)bin;
+    w->argv[k] = NULL;
+    char list_path[4200];
+    fmt(list_path, sizeof list_path, "%s/names", w->rw);
+    FILE *lf = fopen(list_path, "w");
+    for (int i = first; i < last && lf; i++)
+        fprintf(lf, "%s\n", names->v[i]);
+    if (lf) fclose(lf);
+}
+
 /* grade --sanitize: the tests once more, on the student's code built with
  * AddressSanitizer and UBSan, only to say where memory or arithmetic goes
  * wrong: the verdicts stay the replay's. The finding is added to its test's
@@ -881,30 +910,16 @@ static void sanitizer_pass(const grader *g, assignment_result *a, const cJSON *a
     job *jobs = calloc((size_t)chunks, sizeof *jobs);
     if (!jobs) abort();
     int per = (n + chunks - 1) / chunks;
+    static const char *const sanitizers[] = {
+        "ASAN_OPTIONS=detect_leaks=0:halt_on_error=1:abort_on_error=0",
+        "UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1", NULL};
     for (int c = 0; c < chunks; c++) {
         job *w = &jobs[c];
-        char each[4][4300];
-        fmt(each[0], sizeof each[0], "RAS_EACH_NAMES=%s/runs/%d/names", g->work, g->runs);
-        fmt(each[1], sizeof each[1], "RAS_EACH_OUT=%s/runs/%d", g->work, g->runs);
-        fmt(each[2], sizeof each[2], "RAS_EACH_CALLS=%s/runs/%d", g->work, g->runs);
-        fmt(each[3], sizeof each[3], "RAS_EACH_LIMIT=%.0f", 3 * g->test_limit);
-        const char *env[] = {each[0], each[1], each[2], each[3], "RAS_EACH_MODE=record",
-                             "RAS_RECORD_CAP_MB=256",
-                             "ASAN_OPTIONS=detect_leaks=0:halt_on_error=1:abort_on_error=0",
-                             "UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1", NULL};
         int first = c * per, last = first + per > n ? n : first + per;
-        int k = sandbox_job(g, w, (last - first) * (3 * g->test_limit + 1) + 30, env);
+        worker_job(g, w, worker, "", names, first, last, 3 * g->test_limit, sanitizers);
         w->env[0] = "RAS_SANDBOX_NO_AS=1"; /* ASan reserves terabytes of address space */
         w->env[1] = NULL;
-        w->argv[k++] = worker;
-        w->argv[k] = NULL;
         fmt(w->out_path, sizeof w->out_path, "%s/runs/sanitized-%s-%d.out", g->work, a->id, c);
-        char list_path[4200];
-        fmt(list_path, sizeof list_path, "%s/names", w->rw);
-        FILE *lf = fopen(list_path, "w");
-        for (int i = first; i < last && lf; i++)
-            fprintf(lf, "%s\n", names->v[i]);
-        if (lf) fclose(lf);
     }
     run_jobs(jobs, chunks, g->jobs);
     (void)asg;
@@ -987,34 +1002,17 @@ static void grade_tests(const grader *g, assignment_result *a, const cJSON *asg,
         /* 1. the student's code, in the sandbox: each test records what each
          * call of the student's functions returned */
         job *w = &workers[c];
-        char each[4][4300];
-        fmt(each[0], sizeof each[0], "RAS_EACH_NAMES=%s/runs/%d/names", g->work, g->runs);
-        fmt(each[1], sizeof each[1], "RAS_EACH_OUT=%s/runs/%d", g->work, g->runs);
-        fmt(each[2], sizeof each[2], "RAS_EACH_CALLS=%s/runs/%d", g->work, g->runs);
-        fmt(each[3], sizeof each[3], "RAS_EACH_LIMIT=%.0f", g->test_limit);
-        const char *env[] = {each[0], each[1], each[2], each[3], "RAS_EACH_MODE=record",
-                             "RAS_RECORD_CAP_MB=256", NULL};
         int per = (n + chunks - 1) / chunks, first = c * per, last = first + per;
         if (last > n) last = n;
-        double limit = (last - first) * (g->test_limit + 1) + 20;
-        fmt(w->extra_ro, sizeof w->extra_ro, "%s", own);
-        int k = sandbox_job(g, w, limit, env);
-        w->argv[k++] = worker_bin;
-        w->argv[k] = NULL;
+        worker_job(g, w, worker_bin, own, &names, first, last, g->test_limit, NULL);
         fmt(w->out_path, sizeof w->out_path, "%s/worker%d.out", xml_dir, c);
-        char list_path[4200];
-        fmt(list_path, sizeof list_path, "%s/names", w->rw);
-        FILE *lf = fopen(list_path, "w");
-        for (int i = first; i < last; i++) {
+        for (int i = first; i < last; i++)
             chunk_of[i] = c;
-            if (lf) fprintf(lf, "%s\n", names.v[i]);
-        }
-        if (lf) fclose(lf);
         /* 2. the verdicts: the same tests, trusted, on the recorded outputs
          * (the trusted copy of the list: the worker could rewrite its own) */
         job *r = &replays[c];
         fmt(r->store[0], sizeof r->store[0], "%s/names%d", xml_dir, c);
-        lf = fopen(r->store[0], "w");
+        FILE *lf = fopen(r->store[0], "w");
         for (int i = first; i < last; i++)
             if (lf) fprintf(lf, "%s\n", names.v[i]);
         if (lf) fclose(lf);

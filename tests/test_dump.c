@@ -114,6 +114,20 @@ static void draw_scene(ras_pipeline *p, bool near_first) {
     if (!near_first) ras_pipeline_draw_clip_triangle(p, &t[0], &t[1], &t[2]);
 }
 
+/* A JSON file of a dump, parsed (the test fails when it is missing or bad). */
+static cJSON *read_json(const char *dir, const char *file) {
+    char path[512];
+    snprintf(path, sizeof path, "%s/%s", dir, file);
+    ras_error err = {{0}};
+    size_t len = 0;
+    char *text = ras_io_read_file(path, "dump description", 1 << 20, &len, &err);
+    CHECK(text, "%s: %s", file, err.msg);
+    cJSON *j = cJSON_ParseWithLength(text, len);
+    free(text);
+    CHECK(j, "%s is not JSON", file);
+    return j;
+}
+
 static float *read_back(const char *dir, const char *name, int *w, int *h, int *ch) {
     char path[512];
     snprintf(path, sizeof path, "%s/%s.pfm", dir, name);
@@ -164,17 +178,8 @@ static void test_dump_depth_exact_and_overdraw(void **state) {
         free(over);
         /* the sidecar: sizes, the range and the empty count, computed here */
         char path[512];
-        snprintf(path, sizeof path, "%s/depth.json", dir);
         ras_error e2 = {{0}};
-        size_t len = 0;
-        char *text = ras_io_read_file(path, "sidecar", 1 << 20, &len, &e2);
-        CHECK(text, "depth.json: %s", e2.msg);
-        char *z = realloc(text, len + 1);
-        assert_non_null(z);
-        z[len] = '\0';
-        cJSON *j = cJSON_Parse(z);
-        free(z);
-        assert_non_null(j);
+        cJSON *j = read_json(dir, "depth.json");
         double lo = INFINITY, hi = -INFINITY;
         long empty = 0;
         for (int i = 0; i < W * H; i++) {
@@ -448,17 +453,7 @@ static void test_dump_vertices_hand_worked(void **state) {
           "dump: %s",
           err.msg);
     ras_mesh_destroy(m);
-    char path[160];
-    snprintf(path, sizeof path, "%s/vertices.json", dir);
-    size_t len = 0;
-    char *text = ras_io_read_file(path, "vertices", 1 << 20, &len, &err);
-    CHECK(text, "vertices.json: %s", err.msg);
-    char *z = realloc(text, len + 1);
-    assert_non_null(z);
-    z[len] = '\0';
-    cJSON *j = cJSON_Parse(z);
-    free(z);
-    assert_non_null(j);
+    cJSON *j = read_json(dir, "vertices.json");
     const cJSON *v = cJSON_GetArrayItem(cJSON_GetObjectItem(j, "vertices"), 0);
     /* (1, 2, 3) moved by (1, 0, -5): world (2, 2, -2); the view is the
      * identity; clip = (1, 2, -2, 2); NDC = (0.5, 1, -1); screen x =
