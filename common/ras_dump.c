@@ -83,7 +83,15 @@ static stats buffer_stats(const ras_dump_buffer *b) {
 /* The picture: each pixel's mean over its non-empty finite samples, in the
  * buffer's style; black where every sample is empty, magenta where only
  * non-finite values are (a NaN is a mistake worth seeing). */
-static void paint(const ras_dump_buffer *b, const stats *s, uint8_t *rgb) {
+/* The range a scalar is drawn over: its own, or the one it is given. */
+static stats drawn_range(const ras_dump_buffer *b, stats s) {
+    if (b->range && b->style == RAS_DUMP_SCALAR) s.lo[0] = b->range[0], s.hi[0] = b->range[1];
+    return s;
+}
+
+static void paint(const ras_dump_buffer *b, const stats *s_own, uint8_t *rgb) {
+    stats drawn = drawn_range(b, *s_own);
+    const stats *s = &drawn;
     int spp = b->samples, ch = b->channels;
     for (int row = 0; row < b->height; row++)
         for (int x = 0; x < b->width; x++) {
@@ -124,7 +132,9 @@ static void paint(const ras_dump_buffer *b, const stats *s, uint8_t *rgb) {
         }
 }
 
-static void legend_text(const ras_dump_buffer *b, const stats *s, char *text, size_t size) {
+static void legend_text(const ras_dump_buffer *b, const stats *s_own, char *text, size_t size) {
+    stats drawn = drawn_range(b, *s_own);
+    const stats *s = &drawn;
     if (b->style == RAS_DUMP_SCALAR && s->lo[0] <= s->hi[0])
         snprintf(text, size, "%s: %.6g (blue) .. %.6g (red); black: empty", b->name, s->lo[0],
                  s->hi[0]);
@@ -621,4 +631,75 @@ int ras_dump_compare_vertices(const char *ref_path, const char *got_path, char *
     cJSON_Delete(a);
     cJSON_Delete(b);
     return result;
+}
+
+/* One buffer of a dump with its sidecar's samples per pixel (1 when it
+ * does not say); the floats are malloc'd. */
+static float *load_for_pictures(const char *dir, const char *name, long max_bytes, int *w,
+                                int *h, int *ch, int *samples, ras_error *err) {
+    long bytes = 0;
+    float *f = read_dump(dir, name, max_bytes, w, h, ch, &bytes, err);
+    *samples = 1;
+    if (!f) return NULL;
+    char path[RAS_IO_MAX_PATH + 64];
+    snprintf(path, sizeof path, "%s/%s.json", dir, name);
+    size_t len = 0;
+    char *json = ras_io_read_file(path, "buffer description", 1 << 20, &len, NULL);
+    cJSON *j = json ? cJSON_ParseWithLength(json, len) : NULL;
+    const cJSON *sj = cJSON_GetObjectItemCaseSensitive(j, "samples");
+    if (cJSON_IsNumber(sj) && sj->valueint >= 1 && *w % sj->valueint == 0) *samples = sj->valueint;
+    cJSON_Delete(j);
+    free(json);
+    return f;
+}
+
+bool ras_dump_compare_pictures(const char *ref_dir, const char *got_dir, const char *name,
+                               const char *out_dir, ras_error *err) {
+    int w, h, ch, samples, gw, gh, gch, gs;
+    float *ref = load_for_pictures(ref_dir, name, -1, &w, &h, &ch, &samples, err);
+    if (!ref) return false;
+    float *got = load_for_pictures(got_dir, name, (long)w * h * ch * (long)sizeof(float) + 4096,
+                                   &gw, &gh, &gch, &gs, err);
+    if (!got || gw != w || gh != h || gch != ch) {
+        free(ref);
+        free(got);
+        return got ? ras_error_set(err, "%s: the two dumps' sizes differ", name) : false;
+    }
+    size_t n = (size_t)w * h;
+    float *diff = malloc(n * sizeof *diff);
+    if (!diff) {
+        free(ref);
+        free(got);
+        return ras_error_set(err, "out of memory drawing the %s buffers", name);
+    }
+    for (size_t i = 0; i < n; i++) {
+        double m = 0;
+        for (int c = 0; c < ch; c++) {
+            float a = ref[i * ch + c], b = got[i * ch + c];
+            double e = (isinf(a) && isinf(b) && a == b) ? 0 : fabs((double)a - b);
+            m = fmax(m, isfinite(e) ? e : 1);
+        }
+        diff[i] = (float)m;
+    }
+    ras_dump_buffer ref_b = {.name = "reference", .what = name, .units = "",
+                             .width = w / samples, .height = h, .samples = samples,
+                             .channels = ch, .data = ref, .empty = INFINITY, .has_empty = true};
+    ref_b.style = ch == 1 ? RAS_DUMP_SCALAR
+                  : !strcmp(name, "normal") ? RAS_DUMP_VECTOR
+                                            : RAS_DUMP_UNIT;
+    stats rs = buffer_stats(&ref_b);
+    double range[2] = {rs.lo[0], rs.hi[0]};
+    ras_dump_buffer got_b = ref_b;
+    got_b.name = "yours", got_b.data = got;
+    if (ch == 1 && rs.lo[0] <= rs.hi[0]) got_b.range = range;
+    ras_dump_buffer diff_b = {.name = "difference", .what = name, .units = "|reference - yours|",
+                              .width = w / samples, .height = h, .samples = samples,
+                              .channels = 1, .data = diff, .style = RAS_DUMP_SCALAR,
+                              .empty = 0.0f, .has_empty = true};
+    bool ok = ras_dump_write(out_dir, &ref_b, err) && ras_dump_write(out_dir, &got_b, err) &&
+              ras_dump_write(out_dir, &diff_b, err);
+    free(ref);
+    free(got);
+    free(diff);
+    return ok;
 }

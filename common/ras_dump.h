@@ -50,6 +50,9 @@ typedef struct ras_dump_buffer {
      * the range, counted in the sidecar */
     float empty;
     bool has_empty;
+    /* a scalar's colours over [range[0], range[1]] instead of its own range
+     * (two buffers drawn comparably); NULL: its own */
+    const double *range;
 } ras_dump_buffer;
 
 /* Writes NAME.png, NAME.pfm and NAME.json into dir (which must exist). */
@@ -110,6 +113,14 @@ struct ras_mesh;
 bool ras_dump_vertices(const char *dir, const char *stem, const struct ras_mesh *mesh,
                        mat4s model, mat4s view, mat4s projection, int width, int height,
                        ras_error *err);
+
+/* The pictures of one buffer of two dumps, drawn to be compared, into
+ * out_dir: reference.png and yours.png (a scalar on the reference's range),
+ * difference.png (the largest difference of each pixel's entries; 1 where
+ * one is empty and the other not), each with its .pfm and .json. got_dir's
+ * file is read under ras_dump_compare's rules. */
+bool ras_dump_compare_pictures(const char *ref_dir, const char *got_dir, const char *name,
+                               const char *out_dir, ras_error *err);
 
 /* Compares two vertices.json (ras_dump_vertices) step by step: 0 the same
  * (within 1e-5, relative above 1), 1 they differ — `text` says at which

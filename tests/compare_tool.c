@@ -4,12 +4,14 @@
  *   raster101-compare --metric exact|edge|psnr|ssim EXPECTED.png GOT.png
  *                     [--tolerance N] [--max-bad F] [--min-psnr DB] [--min-ssim S]
  *                     [--diff HEATMAP.png] [--crop CROP.png] [--mask]
- *   raster101-compare --buffers REFERENCE_DIR GOT_DIR
+ *   raster101-compare --buffers REFERENCE_DIR GOT_DIR [--pictures OUT_DIR]
  *
  * --buffers compares two --dump folders buffer by buffer, in the order a frame
  * makes them (depth, coverage, overdraw, normal, uv, view_depth), each with
  * its kind's tolerance (common/ras_dump.h), and names the first that differs:
  * where a picture is wrong, the first wrong buffer says which stage made it.
+ * --pictures OUT_DIR draws that buffer for both, on the reference's range,
+ * and their difference (reference.png, yours.png, difference.png).
  *
  * Prints the one-line summary of ras_compare_result (and, with --mask, the
  * ASCII coverage window around the worst pixel, background black). Exit
@@ -37,7 +39,7 @@ static void usage(FILE *out) {
           "Compares GOT (the image under test) with EXPECTED (the reference).\n"
           "--memory-limit MB (or RAS_MEMORY_LIMIT_MB): refuse images estimated to need\n"
           "more (default: half of physical memory, at most 2048).\n"
-          "       raster101-compare --buffers REFERENCE_DIR GOT_DIR\n"
+          "       raster101-compare --buffers REFERENCE_DIR GOT_DIR [--pictures OUT_DIR]\n"
           "Compares two --dump folders buffer by buffer and names the first that differs.\n"
           "Exit status: 0 match, 1 mismatch, 2 error.\n",
           out);
@@ -78,7 +80,7 @@ static bool same_file(const char *a, const char *b) {
 }
 
 /* --buffers: each buffer of the reference's dump against the same of GOT. */
-static int compare_buffers(const char *ref_dir, const char *got_dir) {
+static int compare_buffers(const char *ref_dir, const char *got_dir, const char *pictures) {
     int differing = 0, compared = 0;
     /* hw1's buffer: its vertices, step by step */
     char rv[4200], gv[4200];
@@ -130,7 +132,15 @@ static int compare_buffers(const char *ref_dir, const char *got_dir) {
         char line[512];
         ras_dump_difference_text(name, &d, line, sizeof line);
         printf("%s\n", line);
-        if (d.pixels_differ && differing++ == 0) printf("first differing buffer: %s\n", name);
+        if (d.pixels_differ && differing++ == 0) {
+            printf("first differing buffer: %s\n", name);
+            if (pictures && !(ras_dump_prepare_dir(pictures, &err) &&
+                              ras_dump_compare_pictures(ref_dir, got_dir, name, pictures, &err))) {
+                fprintf(stderr, "raster101-compare: --pictures: %s\n", err.msg);
+                return 2;
+            }
+            if (pictures) printf("wrote %s/reference.png, yours.png, difference.png\n", pictures);
+        }
     }
     if (compared == 0) {
         fprintf(stderr,
@@ -144,15 +154,17 @@ static int compare_buffers(const char *ref_dir, const char *got_dir) {
 
 int main(int argc, char **argv) {
     if (argc >= 2 && !strcmp(argv[1], "--buffers")) {
-        if (argc != 4) {
+        bool with_pictures = argc == 6 && !strcmp(argv[4], "--pictures");
+        if (argc != 4 && !with_pictures) {
             fprintf(stderr,
                     "raster101-compare: --buffers expects two folders (the reference's "
-                    "--dump, then yours); got %d argument(s)\n",
+                    "--dump, then yours), then optionally --pictures OUT_DIR; got %d "
+                    "argument(s)\n",
                     argc - 2);
             usage(stderr);
             return 2;
         }
-        return compare_buffers(argv[2], argv[3]);
+        return compare_buffers(argv[2], argv[3], with_pictures ? argv[5] : NULL);
     }
     enum { OPT_TOL = 256, OPT_MAXBAD, OPT_PSNR, OPT_SSIM, OPT_MASK, OPT_MEMORY };
     static const struct option longopts[] = {{"metric", required_argument, NULL, 'm'},

@@ -1548,78 +1548,19 @@ static void buffer_evidence(const grader *g, item *it, sbuf *o, const cJSON *img
                   *hint ? "; likely: " : "", hint);
         if (own) return; /* sealed: words only */
         /* the pictures, redrawn from the exact files */
-        int w, h, ch;
-        char path[4400];
-        fmt(path, sizeof path, "%s/%s.pfm", dj.store[13], buf);
-        float *got = ras_dump_read_pfm(path, &w, &h, &ch, &err);
-        float *ref = got ? ras_dump_read_pfm(rf, &w, &h, &ch, &err) : NULL;
-        if (got && ref) {
-            char out_dir[4400];
-            fmt(out_dir, sizeof out_dir, "%s/%s.buffers", dir, name);
-            mkdirs(out_dir);
-            int samples = 1;
-            /* the sidecar of the reference says how many samples per pixel */
-            char jp[4400];
-            fmt(jp, sizeof jp, "%s/%s.json", ref_dir, buf);
-            char *json = read_small_file(jp, 1 << 20);
-            cJSON *j = json ? cJSON_Parse(json) : NULL;
-            const cJSON *sj = cJSON_GetObjectItemCaseSensitive(j, "samples");
-            if (cJSON_IsNumber(sj) && sj->valueint >= 1 && w % sj->valueint == 0)
-                samples = sj->valueint;
-            cJSON_Delete(j);
-            free(json);
-            size_t count = (size_t)w * h * ch;
-            float *diff = malloc((size_t)w * h * sizeof *diff);
-            if (diff) {
-                for (size_t i = 0; i < (size_t)w * h; i++) {
-                    double m = 0;
-                    for (int c = 0; c < ch; c++) {
-                        float a = ref[i * ch + c], bb = got[i * ch + c];
-                        double e = (isinf(a) && isinf(bb) && a == bb) ? 0 : fabs((double)a - bb);
-                        if (!isfinite(e)) e = 1;
-                        m = e > m ? e : m;
-                    }
-                    diff[i] = (float)m;
-                }
-            }
-            (void)count;
-            ras_dump_buffer views[3] = {
-                {.name = "reference", .data = ref, .channels = ch},
-                {.name = "yours", .data = got, .channels = ch},
-                {.name = "difference", .data = diff, .channels = 1},
-            };
-            char *rels[3] = {NULL, NULL, NULL};
-            for (int v = 0; v < 3 && views[v].data; v++) {
-                ras_dump_buffer bv = views[v];
-                bv.what = buf;
-                bv.units = "";
-                bv.width = w / samples, bv.height = h, bv.samples = samples;
-                if (v == 2) bv.samples = samples, bv.width = w / samples;
-                bv.style = ch == 3 && v < 2 ? (!strcmp(buf, "normal") ? RAS_DUMP_VECTOR
-                                                                      : RAS_DUMP_UNIT)
-                                            : RAS_DUMP_SCALAR;
-                bv.empty = v < 2 ? INFINITY : 0.0f;
-                bv.has_empty = true;
-                char sub[4500];
-                fmt(sub, sizeof sub, "%s/%s", out_dir, buf);
-                mkdirs(sub);
-                char vname[64];
-                fmt(vname, sizeof vname, "%s", views[v].name);
-                bv.name = vname;
-                if (ras_dump_write(sub, &bv, &err)) {
-                    char rel[4600];
-                    fmt(rel, sizeof rel, "%s/%s.buffers/%s/%s.png", reldir, name, buf, vname);
-                    rels[v] = xstrdup(rel);
-                }
-            }
-            free(diff);
+        char out_dir[4400];
+        fmt(out_dir, sizeof out_dir, "%s/%s.buffers/%s", dir, name, buf);
+        mkdirs(out_dir);
+        if (ras_dump_compare_pictures(ref_dir, dj.store[13], buf, out_dir, &err)) {
+            char rel[4600];
             it->buf_name = xstrdup(buf);
-            it->buf_ref = rels[0];
-            it->buf_got = rels[1];
-            it->buf_diff = rels[2];
+            fmt(rel, sizeof rel, "%s/%s.buffers/%s/reference.png", reldir, name, buf);
+            it->buf_ref = xstrdup(rel);
+            fmt(rel, sizeof rel, "%s/%s.buffers/%s/yours.png", reldir, name, buf);
+            it->buf_got = xstrdup(rel);
+            fmt(rel, sizeof rel, "%s/%s.buffers/%s/difference.png", reldir, name, buf);
+            it->buf_diff = xstrdup(rel);
         }
-        free(got);
-        free(ref);
         return;
     }
     sb_add(o, "buffers: every buffer matches the reference's: the difference is in the "
