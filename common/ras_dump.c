@@ -361,6 +361,53 @@ static float *read_dump(const char *dir, const char *name, long max_bytes, int *
     return ras_dump_read_pfm(path, w, h, ch, err);
 }
 
+/* The pattern of the differing pixels (`bad`, w x h): isolated pixels, a
+ * row or column wrong while its neighbours are not, pixels only one side
+ * drew, or regions. False when out of memory. */
+static bool classify(ras_dump_difference *d, const unsigned char *bad, int w, int h) {
+    int *rows = calloc((size_t)h, sizeof *rows), *cols = calloc((size_t)w, sizeof *cols);
+    if (!rows || !cols) {
+        free(rows), free(cols);
+        return false;
+    }
+    for (int row = 0; row < h; row++)
+        for (int x = 0; x < w; x++) {
+            if (!bad[(size_t)row * w + x]) continue;
+            rows[row]++, cols[x]++;
+            int around = 0;
+            for (int dy = -1; dy <= 1; dy++)
+                for (int dx = -1; dx <= 1; dx++)
+                    if ((dx || dy) && row + dy >= 0 && row + dy < h && x + dx >= 0 && x + dx < w)
+                        around += bad[(size_t)(row + dy) * w + x + dx];
+            d->isolated += around <= 2;
+        }
+    for (int pass = 0; pass < 2 && d->line < 0; pass++) {
+        const int *line = pass ? cols : rows;
+        int n = pass ? w : h;
+        for (int i = 0; i < n; i++) {
+            int beside = 0;
+            if (i > 0 && line[i - 1] > beside) beside = line[i - 1];
+            if (i < n - 1 && line[i + 1] > beside) beside = line[i + 1];
+            if (line[i] >= 24 && line[i] >= 4 * (beside + 1) && line[i] * 2 >= d->pixels_differ) {
+                d->line = i, d->line_is_column = pass == 1;
+                break;
+            }
+        }
+    }
+    free(rows), free(cols);
+    if (d->pixels_differ == 0)
+        d->pattern = "";
+    else if (d->line >= 0)
+        d->pattern = d->line_is_column ? "along a column" : "along a row";
+    else if (d->isolated * 2 >= d->pixels_differ)
+        d->pattern = "in speckles";
+    else if (d->drawn_in_one * 2 >= d->pixels_differ)
+        d->pattern = "where only one drew";
+    else
+        d->pattern = "in regions";
+    return true;
+}
+
 bool ras_dump_compare(const char *ref_dir, const char *got_dir, const char *name,
                       ras_dump_difference *d, ras_error *err) {
     *d = (ras_dump_difference){.line = -1, .first_col = -1, .first_row = -1, .pattern = ""};
@@ -448,47 +495,9 @@ bool ras_dump_compare(const char *ref_dir, const char *got_dir, const char *name
         }
     free(ref);
     free(got);
-    /* the pattern: isolated pixels, a line, or regions */
-    int *rows = calloc((size_t)h, sizeof *rows), *cols = calloc((size_t)w, sizeof *cols);
-    if (!rows || !cols) {
-        free(bad), free(rows), free(cols);
-        return ras_error_set(err, "out of memory comparing the %s buffers", name);
-    }
-    for (int row = 0; row < h; row++)
-        for (int x = 0; x < w; x++) {
-            if (!bad[(size_t)row * w + x]) continue;
-            rows[row]++, cols[x]++;
-            int around = 0;
-            for (int dy = -1; dy <= 1; dy++)
-                for (int dx = -1; dx <= 1; dx++)
-                    if ((dx || dy) && row + dy >= 0 && row + dy < h && x + dx >= 0 && x + dx < w)
-                        around += bad[(size_t)(row + dy) * w + x + dx];
-            d->isolated += around <= 2;
-        }
-    for (int pass = 0; pass < 2 && d->line < 0; pass++) {
-        const int *line = pass ? cols : rows;
-        int n = pass ? w : h;
-        for (int i = 0; i < n; i++) {
-            int beside = 0;
-            if (i > 0 && line[i - 1] > beside) beside = line[i - 1];
-            if (i < n - 1 && line[i + 1] > beside) beside = line[i + 1];
-            if (line[i] >= 24 && line[i] >= 4 * (beside + 1) && line[i] * 2 >= d->pixels_differ) {
-                d->line = i, d->line_is_column = pass == 1;
-                break;
-            }
-        }
-    }
-    free(bad), free(rows), free(cols);
-    if (d->pixels_differ == 0)
-        d->pattern = "";
-    else if (d->line >= 0)
-        d->pattern = d->line_is_column ? "along a column" : "along a row";
-    else if (d->isolated * 2 >= d->pixels_differ)
-        d->pattern = "in speckles";
-    else if (d->drawn_in_one * 2 >= d->pixels_differ)
-        d->pattern = "where only one drew";
-    else
-        d->pattern = "in regions";
+    bool classified = classify(d, bad, w, h);
+    free(bad);
+    if (!classified) return ras_error_set(err, "out of memory comparing the %s buffers", name);
     return true;
 }
 
