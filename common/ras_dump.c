@@ -644,8 +644,8 @@ int ras_dump_compare_vertices(const char *ref_path, const char *got_path, char *
 
 /* One buffer of a dump with its sidecar's samples per pixel (1 when it
  * does not say); the floats are malloc'd. */
-static float *load_for_pictures(const char *dir, const char *name, long max_bytes, int *w,
-                                int *h, int *ch, int *samples, ras_error *err) {
+static float *load_for_pictures(const char *dir, const char *name, long max_bytes, int *w, int *h,
+                                int *ch, int *samples, ras_error *err) {
     long bytes = 0;
     float *f = read_dump(dir, name, max_bytes, w, h, ch, &bytes, err);
     *samples = 1;
@@ -690,10 +690,17 @@ bool ras_dump_compare_pictures(const char *ref_dir, const char *got_dir, const c
         }
         diff[i] = (float)m;
     }
-    ras_dump_buffer ref_b = {.name = "reference", .what = name, .units = "",
-                             .width = w / samples, .height = h, .samples = samples,
-                             .channels = ch, .data = ref, .empty = INFINITY, .has_empty = true};
-    ref_b.style = ch == 1 ? RAS_DUMP_SCALAR
+    ras_dump_buffer ref_b = {.name = "reference",
+                             .what = name,
+                             .units = "",
+                             .width = w / samples,
+                             .height = h,
+                             .samples = samples,
+                             .channels = ch,
+                             .data = ref,
+                             .empty = INFINITY,
+                             .has_empty = true};
+    ref_b.style = ch == 1                   ? RAS_DUMP_SCALAR
                   : !strcmp(name, "normal") ? RAS_DUMP_VECTOR
                                             : RAS_DUMP_UNIT;
     stats rs = buffer_stats(&ref_b);
@@ -701,10 +708,17 @@ bool ras_dump_compare_pictures(const char *ref_dir, const char *got_dir, const c
     ras_dump_buffer got_b = ref_b;
     got_b.name = "yours", got_b.data = got;
     if (ch == 1 && rs.lo[0] <= rs.hi[0]) got_b.range = range;
-    ras_dump_buffer diff_b = {.name = "difference", .what = name, .units = "|reference - yours|",
-                              .width = w / samples, .height = h, .samples = samples,
-                              .channels = 1, .data = diff, .style = RAS_DUMP_SCALAR,
-                              .empty = 0.0f, .has_empty = true};
+    ras_dump_buffer diff_b = {.name = "difference",
+                              .what = name,
+                              .units = "|reference - yours|",
+                              .width = w / samples,
+                              .height = h,
+                              .samples = samples,
+                              .channels = 1,
+                              .data = diff,
+                              .style = RAS_DUMP_SCALAR,
+                              .empty = 0.0f,
+                              .has_empty = true};
     bool ok = ras_dump_write(out_dir, &ref_b, err) && ras_dump_write(out_dir, &got_b, err) &&
               ras_dump_write(out_dir, &diff_b, err);
     free(ref);
