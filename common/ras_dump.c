@@ -343,22 +343,86 @@ static double tolerance_of(const char *name, bool *relative) {
     return 0; /* coverage, overdraw: counts */
 }
 
-static float *read_dump(const char *dir, const char *name, long max_bytes, int *w, int *h, int *ch,
-                        long *bytes, ras_error *err) {
-    char path[RAS_IO_MAX_PATH + 64];
-    snprintf(path, sizeof path, "%s/%s.pfm", dir, name);
+/* The exact file of buffer `name` in dir: NAME.pfm, or NAME.pfm.gz (the
+ * shipped reference buffers are compressed); false, with path the .pfm,
+ * when there is neither. */
+static bool exact_path(const char *dir, const char *name, char *path, size_t size) {
     struct stat st;
-    /* the shipped reference buffers are compressed */
-    if (max_bytes < 0 && lstat(path, &st) != 0)
-        snprintf(path, sizeof path, "%s/%s.pfm.gz", dir, name);
+    snprintf(path, size, "%s/%s.pfm", dir, name);
+    if (lstat(path, &st) == 0) return true;
+    snprintf(path, size, "%s/%s.pfm.gz", dir, name);
+    if (lstat(path, &st) == 0) return true;
+    snprintf(path, size, "%s/%s.pfm", dir, name);
+    return false;
+}
+
+bool ras_dump_has_exact(const char *dir, const char *name) {
+    char path[RAS_IO_MAX_PATH + 64];
+    return exact_path(dir, name, path, sizeof path);
+}
+
+/* max_bytes < 0: a reference, which may be compressed; else the file must
+ * be an uncompressed .pfm of at most max_bytes. */
+static float *read_dump(const char *dir, const char *name, long max_bytes, int *w, int *h, int *ch,
+                        ras_error *err) {
+    char path[RAS_IO_MAX_PATH + 64];
+    struct stat st;
+    if (max_bytes < 0)
+        exact_path(dir, name, path, sizeof path);
+    else
+        snprintf(path, sizeof path, "%s/%s.pfm", dir, name);
     if (lstat(path, &st) != 0 || !S_ISREG(st.st_mode))
         return ras_error_set(err, "%s: no buffer file (expected a regular file)", path), NULL;
     if (max_bytes >= 0 && st.st_size > max_bytes)
         return ras_error_set(err, "%s: %lld bytes, more than the reference's %ld", path,
                              (long long)st.st_size, max_bytes),
                NULL;
-    *bytes = (long)st.st_size;
     return ras_dump_read_pfm(path, w, h, ch, err);
+}
+
+/* The samples per pixel a dump's sidecar gives buffer `name` (1 when it
+ * says nothing usable: the buffers a frame makes are width*samples wide,
+ * and only depth and coverage have more than one). */
+static int sidecar_samples(const char *dir, const char *name, int pfm_width) {
+    char path[RAS_IO_MAX_PATH + 64];
+    snprintf(path, sizeof path, "%s/%s.json", dir, name);
+    size_t len = 0;
+    char *json = ras_io_read_file(path, "buffer description", 1 << 20, &len, NULL);
+    cJSON *j = json ? cJSON_ParseWithLength(json, len) : NULL;
+    const cJSON *s = cJSON_GetObjectItemCaseSensitive(j, "samples");
+    int samples =
+        cJSON_IsNumber(s) && s->valueint >= 1 && pfm_width % s->valueint == 0 ? s->valueint : 1;
+    cJSON_Delete(j);
+    free(json);
+    return samples;
+}
+
+/* Buffer `name` of two dumps, read to be compared: the reference's (a
+ * shipped one may be .pfm.gz), then the other's, read only if no larger
+ * than the reference's decoded size and then required to have its size;
+ * `w` is the files' width (pixels times samples), `samples` the
+ * reference's. Both malloc'd; false with err set (nothing to free). */
+static bool load_pair(const char *ref_dir, const char *got_dir, const char *name, float **ref,
+                      float **got, int *w, int *h, int *ch, int *samples, ras_error *err) {
+    int gw, gh, gc;
+    *got = NULL;
+    *ref = read_dump(ref_dir, name, -1, w, h, ch, err);
+    if (!*ref) return false;
+    long limit = (long)*w * *h * *ch * (long)sizeof(float) + 4096;
+    *got = read_dump(got_dir, name, limit, &gw, &gh, &gc, err);
+    if (*got && (gw != *w || gh != *h || gc != *ch))
+        ras_error_set(err,
+                      "%s: expected %dx%d with %d channel(s) like the reference, got %dx%d "
+                      "with %d",
+                      name, *w, *h, *ch, gw, gh, gc);
+    if (!*got || gw != *w || gh != *h || gc != *ch) {
+        free(*ref);
+        free(*got);
+        *ref = *got = NULL;
+        return false;
+    }
+    *samples = sidecar_samples(ref_dir, name, *w);
+    return true;
 }
 
 /* The pattern of the differing pixels (`bad`, w x h): isolated pixels, a
@@ -411,46 +475,9 @@ static bool classify(ras_dump_difference *d, const unsigned char *bad, int w, in
 bool ras_dump_compare(const char *ref_dir, const char *got_dir, const char *name,
                       ras_dump_difference *d, ras_error *err) {
     *d = (ras_dump_difference){.line = -1, .first_col = -1, .first_row = -1, .pattern = ""};
-    int rw, rh, rc, gw, gh, gc;
-    long rbytes = 0, gbytes = 0;
-    float *ref = read_dump(ref_dir, name, -1, &rw, &rh, &rc, &rbytes, err);
-    if (!ref) return false;
-    /* the reference's size once decoded bounds what is read of the other */
-    rbytes = (long)rw * rh * rc * (long)sizeof(float) + 4096;
-    float *got = read_dump(got_dir, name, rbytes, &gw, &gh, &gc, &gbytes, err);
-    if (!got) {
-        free(ref);
-        return false;
-    }
-    if (gw != rw || gh != rh || gc != rc) {
-        free(ref);
-        free(got);
-        return ras_error_set(err,
-                             "%s: expected %dx%d with %d channel(s) like the reference, got "
-                             "%dx%d with %d",
-                             name, rw, rh, rc, gw, gh, gc);
-    }
-    /* Samples per pixel: the reference's sidecar would say; the buffers a
-     * frame makes are width*samples wide with samples in 1..64, and only
-     * depth and coverage have them. Read the reference sidecar's "samples". */
-    int samples = 1;
-    char path[RAS_IO_MAX_PATH + 64];
-    snprintf(path, sizeof path, "%s/%s.json", ref_dir, name);
-    size_t jlen = 0;
-    char *json = ras_io_read_file(path, "buffer description", 1 << 20, &jlen, NULL);
-    if (json) {
-        char *z = realloc(json, jlen + 1);
-        if (z) {
-            z[jlen] = '\0';
-            cJSON *j = cJSON_Parse(z);
-            const cJSON *s = cJSON_GetObjectItemCaseSensitive(j, "samples");
-            if (cJSON_IsNumber(s) && s->valueint >= 1 && rw % s->valueint == 0)
-                samples = s->valueint;
-            cJSON_Delete(j);
-            json = z;
-        }
-        free(json);
-    }
+    int rw, rh, rc, samples;
+    float *ref, *got;
+    if (!load_pair(ref_dir, got_dir, name, &ref, &got, &rw, &rh, &rc, &samples, err)) return false;
     int w = rw / samples, h = rh, per = samples * rc;
     bool relative;
     double tol = tolerance_of(name, &relative);
@@ -642,38 +669,11 @@ int ras_dump_compare_vertices(const char *ref_path, const char *got_path, char *
     return result;
 }
 
-/* One buffer of a dump with its sidecar's samples per pixel (1 when it
- * does not say); the floats are malloc'd. */
-static float *load_for_pictures(const char *dir, const char *name, long max_bytes, int *w, int *h,
-                                int *ch, int *samples, ras_error *err) {
-    long bytes = 0;
-    float *f = read_dump(dir, name, max_bytes, w, h, ch, &bytes, err);
-    *samples = 1;
-    if (!f) return NULL;
-    char path[RAS_IO_MAX_PATH + 64];
-    snprintf(path, sizeof path, "%s/%s.json", dir, name);
-    size_t len = 0;
-    char *json = ras_io_read_file(path, "buffer description", 1 << 20, &len, NULL);
-    cJSON *j = json ? cJSON_ParseWithLength(json, len) : NULL;
-    const cJSON *sj = cJSON_GetObjectItemCaseSensitive(j, "samples");
-    if (cJSON_IsNumber(sj) && sj->valueint >= 1 && *w % sj->valueint == 0) *samples = sj->valueint;
-    cJSON_Delete(j);
-    free(json);
-    return f;
-}
-
 bool ras_dump_compare_pictures(const char *ref_dir, const char *got_dir, const char *name,
                                const char *out_dir, ras_error *err) {
-    int w, h, ch, samples, gw, gh, gch, gs;
-    float *ref = load_for_pictures(ref_dir, name, -1, &w, &h, &ch, &samples, err);
-    if (!ref) return false;
-    float *got = load_for_pictures(got_dir, name, (long)w * h * ch * (long)sizeof(float) + 4096,
-                                   &gw, &gh, &gch, &gs, err);
-    if (!got || gw != w || gh != h || gch != ch) {
-        free(ref);
-        free(got);
-        return got ? ras_error_set(err, "%s: the two dumps' sizes differ", name) : false;
-    }
+    int w, h, ch, samples;
+    float *ref, *got;
+    if (!load_pair(ref_dir, got_dir, name, &ref, &got, &w, &h, &ch, &samples, err)) return false;
     size_t n = (size_t)w * h;
     float *diff = malloc(n * sizeof *diff);
     if (!diff) {
@@ -708,17 +708,9 @@ bool ras_dump_compare_pictures(const char *ref_dir, const char *got_dir, const c
     ras_dump_buffer got_b = ref_b;
     got_b.name = "yours", got_b.data = got;
     if (ch == 1 && rs.lo[0] <= rs.hi[0]) got_b.range = range;
-    ras_dump_buffer diff_b = {.name = "difference",
-                              .what = name,
-                              .units = "|reference - yours|",
-                              .width = w / samples,
-                              .height = h,
-                              .samples = samples,
-                              .channels = 1,
-                              .data = diff,
-                              .style = RAS_DUMP_SCALAR,
-                              .empty = 0.0f,
-                              .has_empty = true};
+    ras_dump_buffer diff_b = ref_b;
+    diff_b.name = "difference", diff_b.units = "|reference - yours|", diff_b.channels = 1;
+    diff_b.data = diff, diff_b.style = RAS_DUMP_SCALAR, diff_b.empty = 0.0f;
     bool ok = ras_dump_write(out_dir, &ref_b, err) && ras_dump_write(out_dir, &got_b, err) &&
               ras_dump_write(out_dir, &diff_b, err);
     free(ref);

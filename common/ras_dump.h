@@ -73,6 +73,10 @@ float *ras_dump_read_pfm(const char *path, int *width, int *height, int *channel
  * the first one that differs from the reference is where to look first. */
 extern const char *const ras_dump_buffer_names[];
 
+/* Whether a dump in dir holds buffer `name` exactly (NAME.pfm, or the
+ * shipped references' NAME.pfm.gz): what ras_dump_compare can read. */
+bool ras_dump_has_exact(const char *dir, const char *name);
+
 /* How buffer NAME of one dump differs from another's (ras_dump_compare). */
 typedef struct ras_dump_difference {
     long entries;       /* floats compared (all channels and samples) */
