@@ -808,6 +808,15 @@ static bool sanitizer_finding(const char *out, const cJSON *assignments, char *b
     const char *asan = strstr(out, "ERROR: AddressSanitizer: ");
     const char *ub = strstr(out, ": runtime error: ");
     if (!asan && !ub) return false;
+    /* every assignment's student files, the names a frame or a path is
+     * recognised by */
+    const char *files[32];
+    int n_files = 0;
+    for (const cJSON *as = assignments ? assignments->child : NULL; as; as = as->next) {
+        const cJSON *list = cJSON_GetObjectItemCaseSensitive(as, "student_files");
+        for (const cJSON *sf = list ? list->child : NULL; sf && n_files < 32; sf = sf->next)
+            if (cJSON_IsString(sf) && *sf->valuestring) files[n_files++] = sf->valuestring;
+    }
     char kind[200] = "", access[120] = "", where[400] = "";
     if (asan) {
         sscanf(asan + 25, "%199[^ \n]", kind);
@@ -816,29 +825,20 @@ static bool sanitizer_finding(const char *out, const cJSON *assignments, char *b
         if (acc) sscanf(acc + 1, "%119[^\n]", access);
         char *t = strstr(access, " at 0x");
         if (t) *t = '\0';
-        /* the first frame in a student file */
+        /* the first frame in a student file: "#N 0x... in FUNC PATH/FILE:LINE" */
         for (const char *f = strstr(asan, "    #"); f && !*where; f = strstr(f + 1, "    #")) {
             const char *eol = strchr(f, '\n');
-            size_t len = eol ? (size_t)(eol - f) : strlen(f);
-            for (const cJSON *as = assignments ? assignments->child : NULL; as && !*where; as = as->next)
-            for (const cJSON *sf = cJSON_GetObjectItemCaseSensitive(as, "student_files")
-                                       ? cJSON_GetObjectItemCaseSensitive(as, "student_files")->child
-                                       : NULL;
-                 sf; sf = sf->next) {
-                const char *file = cJSON_IsString(sf) ? sf->valuestring : "";
-                const char *in = strstr(f, " in ");
-                const char *hit = strstr(f, file);
-                if (*file && in && hit && hit < f + len) {
-                    const char *end = hit;
-                    while (end < f + len && *end != ' ' && *end != '\n')
-                        end++;
-                    const char *name = in + 4, *name_end = name;
-                    while (name_end < hit && *name_end != ' ')
-                        name_end++;
-                    fmt(where, sizeof where, "in %.*s (%.*s)", (int)(name_end - name), name,
-                        (int)(end - hit), hit);
-                    break;
-                }
+            const char *stop = eol ? eol : f + strlen(f), *in = strstr(f, " in ");
+            for (int i = 0; i < n_files && in && in < stop && !*where; i++) {
+                const char *hit = strstr(f, files[i]);
+                if (!hit || hit >= stop) continue;
+                const char *end = hit, *name = in + 4, *name_end = name;
+                while (end < stop && *end != ' ')
+                    end++;
+                while (name_end < hit && *name_end != ' ')
+                    name_end++;
+                fmt(where, sizeof where, "in %.*s (%.*s)", (int)(name_end - name), name,
+                    (int)(end - hit), hit);
             }
         }
         fmt(buf, size, "AddressSanitizer: %s%s%s%s%s", kind, *access ? ", a " : "", access,
@@ -848,18 +848,13 @@ static bool sanitizer_finding(const char *out, const cJSON *assignments, char *b
         while (line > out && line[-1] != '\n')
             line--;
         const char *eol = strchr(ub, '\n');
-        fmt(buf, size, "UndefinedBehaviorSanitizer: %.*s", (int)((eol ? eol : ub + strlen(ub)) - line),
-            line);
+        fmt(buf, size, "UndefinedBehaviorSanitizer: %.*s",
+            (int)((eol ? eol : ub + strlen(ub)) - line), line);
     }
     /* the sandbox's paths mean nothing to the student: keep from the
      * assignment folder on */
-    for (const cJSON *as = assignments ? assignments->child : NULL; as; as = as->next)
-    for (const cJSON *sf = cJSON_GetObjectItemCaseSensitive(as, "student_files")
-                               ? cJSON_GetObjectItemCaseSensitive(as, "student_files")->child
-                               : NULL;
-         sf; sf = sf->next) {
-        if (!cJSON_IsString(sf)) continue;
-        char *hit = strstr(buf, sf->valuestring), *start = hit;
+    for (int i = 0; i < n_files; i++) {
+        char *hit = strstr(buf, files[i]), *start = hit;
         while (start && start > buf && start[-1] != '(' && start[-1] != ' ')
             start--;
         if (hit && start < hit) memmove(start, hit, strlen(hit) + 1);
@@ -1428,6 +1423,24 @@ static bool image_options(const cJSON *img, ras_compare_kind *kind, ras_compare_
     return true;
 }
 
+/* The trusted reference program, outside the sandbox: `args` as drawn for
+ * this grading, -o out_png, and --dump dump_dir unless NULL. */
+static run_result reference_render(const grader *g, const char *program, const cJSON *args,
+                                   const char *out_png, const char *dump_dir, const char *log) {
+    char *argv[120] = {(char *)program};
+    int n = 1;
+    for (const cJSON *v = args ? args->child : NULL; v && n < 110; v = v->next)
+        if (cJSON_IsString(v)) argv[n++] = v->valuestring;
+    argv[n++] = "-o";
+    argv[n++] = (char *)out_png;
+    if (dump_dir) {
+        argv[n++] = "--dump";
+        argv[n++] = (char *)dump_dir;
+    }
+    argv[n] = NULL;
+    return run_limited(argv, NULL, log, g->render_limit, g->mem_mb);
+}
+
 /* What a buffer's first difference most likely means, by buffer and
  * pattern; "" when nothing specific can be said. */
 static const char *buffer_hint(const char *name, const ras_dump_difference *d) {
@@ -1490,16 +1503,7 @@ static void buffer_evidence(const grader *g, item *it, sbuf *o, const cJSON *img
     char ref_png[4400];
     fmt(ref_png, sizeof ref_png, "%s/frame.png", ref_dir);
     fmt(log, sizeof log, "%s/log.txt", ref_dir);
-    char *argv[120] = {ref_prog};
-    int n = 1;
-    for (const cJSON *v = graded->args ? graded->args->child : NULL; v && n < 110; v = v->next)
-        if (cJSON_IsString(v)) argv[n++] = v->valuestring;
-    argv[n++] = "-o";
-    argv[n++] = ref_png;
-    argv[n++] = "--dump";
-    argv[n++] = ref_dir;
-    argv[n] = NULL;
-    run_result rr = run_limited(argv, NULL, log, g->render_limit, g->mem_mb);
+    run_result rr = reference_render(g, ref_prog, graded->args, ref_png, ref_dir, log);
     if (rr.kind != RUN_EXITED || rr.code != 0) return; /* no --dump here */
     /* the student's run, as the graded one but with --dump */
     job dj;
@@ -1600,17 +1604,10 @@ static bool grade_image(const grader *g, assignment_result *a, const cJSON *img,
         fmt(ref_prog_path, sizeof ref_prog_path, "%s/bin/%s", g->build, ref_program);
         fmt(ref_path, sizeof ref_path, "%s/%s.expected.png", dir, name);
         fmt(ref_log, sizeof ref_log, "%s/%s.reference.log", dir, name);
-        char *argv[120] = {ref_prog_path};
-        int n = 1;
-        for (const cJSON *v = j->args ? j->args->child : NULL; v && n < 110; v = v->next)
-            if (cJSON_IsString(v)) argv[n++] = v->valuestring;
-        argv[n++] = "-o";
-        argv[n++] = ref_path;
-        argv[n] = NULL;
         if (whole && file_exists(ref_path)) goto reference_ready;
         unlink(ref_path);
         run_result ref_rr = file_exists(ref_prog_path)
-                                ? run_limited(argv, NULL, ref_log, g->render_limit, g->mem_mb)
+                                ? reference_render(g, ref_prog_path, j->args, ref_path, NULL, ref_log)
                                 : (run_result){RUN_NOT_STARTED, 0, 0};
         if (ref_rr.kind != RUN_EXITED || ref_rr.code != 0 || !file_exists(ref_path)) {
             it->counted = false;
