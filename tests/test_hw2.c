@@ -99,6 +99,16 @@ static double edge_exact(double ax, double ay, double bx, double by, double px, 
     return (bx - ax) * (py - ay) - (by - ay) * (px - ax);
 }
 
+/* The exact (double) screen barycentrics of (px, py) in t: each
+ * sub-triangle's edge function over the whole's. */
+static void exact_bary(const ras_triangle *t, double px, double py, double b[3]) {
+    const vec4s *v = t->v;
+    double area = edge_exact(v[0].x, v[0].y, v[1].x, v[1].y, v[2].x, v[2].y);
+    b[0] = edge_exact(v[1].x, v[1].y, v[2].x, v[2].y, px, py) / area;
+    b[1] = edge_exact(v[2].x, v[2].y, v[0].x, v[0].y, px, py) / area;
+    b[2] = edge_exact(v[0].x, v[0].y, v[1].x, v[1].y, px, py) / area;
+}
+
 /* ---- ASCII rasters ----------------------------------------------------------- */
 
 /* One character per pixel, top row first: counts[pixel] as '.', '#', '2'..'9';
@@ -618,14 +628,11 @@ static void test_bary_at_pixel_centre(void **state) {
     for (int i = 0; i < rec.calls && i < 256; i++) {
         const ras_fragment *f = &rec.frag[i];
         double cx = f->x + 0.5, cy = f->y + 0.5;
-        double area = edge_exact(t.v[0].x, t.v[0].y, t.v[1].x, t.v[1].y, t.v[2].x, t.v[2].y);
-        vec3s want = {{(float)(edge_exact(t.v[1].x, t.v[1].y, t.v[2].x, t.v[2].y, cx, cy) / area),
-                       (float)(edge_exact(t.v[2].x, t.v[2].y, t.v[0].x, t.v[0].y, cx, cy) / area),
-                       (float)(edge_exact(t.v[0].x, t.v[0].y, t.v[1].x, t.v[1].y, cx, cy) / area)}};
-        vec3s corner = {
-            {(float)(edge_exact(t.v[1].x, t.v[1].y, t.v[2].x, t.v[2].y, f->x, f->y) / area),
-             (float)(edge_exact(t.v[2].x, t.v[2].y, t.v[0].x, t.v[0].y, f->x, f->y) / area),
-             (float)(edge_exact(t.v[0].x, t.v[0].y, t.v[1].x, t.v[1].y, f->x, f->y) / area)}};
+        double bc[3], bk[3];
+        exact_bary(&t, cx, cy, bc);
+        exact_bary(&t, f->x, f->y, bk);
+        vec3s want = {{(float)bc[0], (float)bc[1], (float)bc[2]}};
+        vec3s corner = {{(float)bk[0], (float)bk[1], (float)bk[2]}};
         CHECK(near3(f->bary, want, 1e-4f),
               "fragment of pixel (%d, %d): expected the barycentrics of its centre (%g, %g) = "
               "(%.4f, %.4f, %.4f), got (%.4f, %.4f, %.4f). Likely mistake: %s",
@@ -670,13 +677,10 @@ static void test_raster_depth_with_different_w(void **state) {
           "rasterize_triangle of a triangle whose vertices have w = 1, 2, 4: expected fragments, "
           "got none. Likely mistake: the triangle rejected because w is not 1 (w is the clip w, "
           "any positive value), or nothing is drawn yet.");
-    double area = edge_exact(t.v[0].x, t.v[0].y, t.v[1].x, t.v[1].y, t.v[2].x, t.v[2].y);
     for (int i = 0; i < rec.calls && i < 256; i++) {
         const ras_fragment *f = &rec.frag[i];
-        double cx = f->x + 0.5, cy = f->y + 0.5;
-        double b[3] = {edge_exact(t.v[1].x, t.v[1].y, t.v[2].x, t.v[2].y, cx, cy) / area,
-                       edge_exact(t.v[2].x, t.v[2].y, t.v[0].x, t.v[0].y, cx, cy) / area,
-                       edge_exact(t.v[0].x, t.v[0].y, t.v[1].x, t.v[1].y, cx, cy) / area};
+        double b[3];
+        exact_bary(&t, f->x + 0.5, f->y + 0.5, b);
         double want = b[0] * z[0] + b[1] * z[1] + b[2] * z[2];
         /* the course's snippet: (Σ b·z/w) / (Σ b/w) */
         double snippet = (b[0] * z[0] / w[0] + b[1] * z[1] / w[1] + b[2] * z[2] / w[2]) /
