@@ -180,6 +180,18 @@ static bool same_floats(const void *data, size_t len, void *ctx, ras_error *err)
     return true;
 }
 
+/* j printed into `path` atomically, ending in a newline; j is freed. */
+static bool write_json_file(const char *path, const char *what, cJSON *j, ras_error *err) {
+    char *text = cJSON_Print(j);
+    cJSON_Delete(j);
+    if (!text) return ras_error_set(err, "out of memory writing '%s'", path);
+    size_t len = strlen(text);
+    text[len] = '\n'; /* cJSON's terminator becomes the last newline */
+    bool ok = ras_io_write_atomic(path, what, text, len + 1, NULL, NULL, err);
+    free(text);
+    return ok;
+}
+
 static bool write_json(const char *path, const ras_dump_buffer *b, const stats *s, ras_error *err) {
     cJSON *j = cJSON_CreateObject();
     cJSON_AddStringToObject(j, "buffer", b->name);
@@ -216,14 +228,7 @@ static bool write_json(const char *path, const ras_dump_buffer *b, const stats *
     cJSON_AddNumberToObject(j, "entries", (double)s->entries);
     cJSON_AddNumberToObject(j, "empty_entries", (double)s->empty);
     cJSON_AddNumberToObject(j, "non_finite_entries", (double)s->nonfinite);
-    char *text = cJSON_Print(j);
-    cJSON_Delete(j);
-    if (!text) return ras_error_set(err, "out of memory writing '%s'", path);
-    size_t len = strlen(text);
-    text[len] = '\n'; /* cJSON's terminator becomes the last newline */
-    bool ok = ras_io_write_atomic(path, "buffer description", text, len + 1, NULL, NULL, err);
-    free(text);
-    return ok;
+    return write_json_file(path, "buffer description", j, err);
 }
 
 bool ras_dump_write(const char *dir, const ras_dump_buffer *b, ras_error *err) {
@@ -587,16 +592,9 @@ bool ras_dump_vertices(const char *dir, const char *stem, const ras_mesh *mesh, 
     }
     if (n < mesh->vertex_count)
         cJSON_AddNumberToObject(j, "vertices_left_out", (double)(mesh->vertex_count - n));
-    char *text = cJSON_Print(j);
-    cJSON_Delete(j);
-    if (!text) return ras_error_set(err, "out of memory writing %s.json", stem);
     char path[RAS_IO_MAX_PATH + 64];
     snprintf(path, sizeof path, "%s/%s.json", dir, stem);
-    size_t len = strlen(text);
-    text[len] = '\n';
-    bool ok = ras_io_write_atomic(path, "vertex dump", text, len + 1, NULL, NULL, err);
-    free(text);
-    return ok;
+    return write_json_file(path, "vertex dump", j, err);
 }
 
 static cJSON *read_json(const char *path, char *text, size_t size) {
