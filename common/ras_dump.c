@@ -385,20 +385,33 @@ static float *read_dump(const char *dir, const char *name, long max_bytes, int *
     return ras_dump_read_pfm(path, w, h, ch, err);
 }
 
+/* A JSON file (`what`, at most `limit` bytes) parsed; NULL with the reason
+ * in text. */
+static cJSON *read_json(const char *path, const char *what, size_t limit, char *text, size_t size) {
+    ras_error err = {{0}};
+    size_t len = 0;
+    char *data = ras_io_read_file(path, what, limit, &len, &err);
+    if (!data) {
+        snprintf(text, size, "%s", err.msg);
+        return NULL;
+    }
+    cJSON *j = cJSON_ParseWithLength(data, len);
+    free(data);
+    if (!j) snprintf(text, size, "%s is not JSON", path);
+    return j;
+}
+
 /* The samples per pixel a dump's sidecar gives buffer `name` (1 when it
  * says nothing usable: the buffers a frame makes are width*samples wide,
  * and only depth and coverage have more than one). */
 static int sidecar_samples(const char *dir, const char *name, int pfm_width) {
-    char path[RAS_IO_MAX_PATH + 64];
+    char path[RAS_IO_MAX_PATH + 64], why[256];
     snprintf(path, sizeof path, "%s/%s.json", dir, name);
-    size_t len = 0;
-    char *json = ras_io_read_file(path, "buffer description", 1 << 20, &len, NULL);
-    cJSON *j = json ? cJSON_ParseWithLength(json, len) : NULL;
+    cJSON *j = read_json(path, "buffer description", 1u << 20, why, sizeof why);
     const cJSON *s = cJSON_GetObjectItemCaseSensitive(j, "samples");
     int samples =
         cJSON_IsNumber(s) && s->valueint >= 1 && pfm_width % s->valueint == 0 ? s->valueint : 1;
     cJSON_Delete(j);
-    free(json);
     return samples;
 }
 
@@ -597,22 +610,9 @@ bool ras_dump_vertices(const char *dir, const char *stem, const ras_mesh *mesh, 
     return write_json_file(path, "vertex dump", j, err);
 }
 
-static cJSON *read_json(const char *path, char *text, size_t size) {
-    ras_error err = {{0}};
-    size_t len = 0;
-    char *data = ras_io_read_file(path, "vertex dump", 16u << 20, &len, &err);
-    if (!data) {
-        snprintf(text, size, "%s", err.msg);
-        return NULL;
-    }
-    cJSON *j = cJSON_ParseWithLength(data, len);
-    free(data);
-    if (!j) snprintf(text, size, "%s is not JSON", path);
-    return j;
-}
-
 int ras_dump_compare_vertices(const char *ref_path, const char *got_path, char *text, size_t size) {
-    cJSON *a = read_json(ref_path, text, size), *b = a ? read_json(got_path, text, size) : NULL;
+    cJSON *a = read_json(ref_path, "vertex dump", 16u << 20, text, size),
+          *b = a ? read_json(got_path, "vertex dump", 16u << 20, text, size) : NULL;
     const cJSON *va = cJSON_GetObjectItemCaseSensitive(a, "vertices");
     const cJSON *vb = cJSON_GetObjectItemCaseSensitive(b, "vertices");
     int result = -1;
