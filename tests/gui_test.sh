@@ -23,7 +23,7 @@
 #                      (no coverage without AA, no normal or uv in hw2);
 #                      t → the whole frame = hw2_1x
 #   hw3_shading_ref    t → nothing drawn; 4 4 → 2000 triangles: fewer pixels;
-#                      b → depth: other colours; b b b → colour (uv skipped:
+#                      b → depth: other colours; b, b, b → overdraw, normal, colour (uv skipped:
 #                      the normal shader reads none); 3 → 100 triangles more
 #                      (a step, not the texture shader); t → hw3_normal
 #   hw1_transform      (your code) v → the reference view shows hw1_r20,
@@ -357,7 +357,15 @@ if [[ -d "$src/hw1_transform/solution" ]]; then
       keys b && until_view "b → depth: other colours" \
         differ_from "$tmp/some.ppm" -gt "$((some / 2))" &&
       "$convert_cmd" "$tmp/shot.ppm" "$out/${name}_step_depth.png" &&
-      keys b b b && until_view "b b b → overdraw, normal, colour (no uv with the normal shader)" \
+      cp "$tmp/view.ppm" "$tmp/depth.ppm" &&
+      # one key at a time, each seen drawn: three keys at once were lost under
+      # the sanitizers, where a frame takes a second
+      keys b && until_view "b → overdraw: other colours than depth" \
+        differ_from "$tmp/depth.ppm" -gt 0 &&
+      cp "$tmp/view.ppm" "$tmp/overdraw.ppm" &&
+      keys b && until_view "b → normal: other colours than overdraw" \
+        differ_from "$tmp/overdraw.ppm" -gt 0 &&
+      keys b && until_view "b → colour (no uv with the normal shader)" \
         differ_from "$tmp/some.ppm" -eq 0 &&
       keys 3 && until_view "3 → 100 triangles more (a step: digits do not pick shaders here)" \
         differ_from "$tmp/empty.ppm" -gt "$some" -lt "$((full / 2))" &&
