@@ -89,23 +89,27 @@ static void bary_gradients(const ras_triangle *t, vec3s *d_dx, vec3s *d_dy) {
 }
 
 vec3s hw3_shade_fragment(const ras_triangle *t, const ras_fragment *f, void *user) {
-    const hw3_fragment_stage *stage = user;
-    fragment_shader_payload payload = stage->base;
+    /* The varyings are written into the stage's own payload, in place: the
+     * per-object fields around them stay as set, and copying the whole
+     * payload (its lights included) for every fragment cost more than the
+     * normal shader itself. */
+    hw3_fragment_stage *stage = user;
+    fragment_shader_payload *payload = &stage->base;
     bool persp = stage->perspective;
     uint64_t interpolated = 0;
     if (stage->varyings & RAS_VARYING_NORMAL) {
         /* Interpolated unit normals are shorter than 1 between the vertices. */
-        payload.normal = glms_vec3_normalize(interpolate_vec3(t, f->bary, t->normal, persp));
+        payload->normal = glms_vec3_normalize(interpolate_vec3(t, f->bary, t->normal, persp));
         interpolated++;
     }
     if (stage->varyings & RAS_VARYING_VIEW_POS) {
-        payload.view_pos = interpolate_vec3(t, f->bary, t->view_pos, persp);
+        payload->view_pos = interpolate_vec3(t, f->bary, t->view_pos, persp);
         interpolated++;
     }
     if (stage->varyings & RAS_VARYING_UV) {
-        payload.uv = interpolate_vec2(t, f->bary, t->uv, persp);
+        payload->uv = interpolate_vec2(t, f->bary, t->uv, persp);
         interpolated++;
-        if (payload.filter == FILTER_TRILINEAR) {
+        if (payload->filter == FILTER_TRILINEAR) {
             /* The UV one pixel to the right and one pixel up, from the same
              * triangle's (extrapolated) barycentrics: a finite difference of
              * the perspective-correct UV, like a GPU's 2×2 quad. */
@@ -113,25 +117,25 @@ vec3s hw3_shade_fragment(const ras_triangle *t, const ras_fragment *f, void *use
             bary_gradients(t, &d_dx, &d_dy);
             vec2s uv_x = interpolate_vec2(t, glms_vec3_add(f->bary, d_dx), t->uv, persp);
             vec2s uv_y = interpolate_vec2(t, glms_vec3_add(f->bary, d_dy), t->uv, persp);
-            payload.duv_dx = glms_vec2_sub(uv_x, payload.uv);
-            payload.duv_dy = glms_vec2_sub(uv_y, payload.uv);
+            payload->duv_dx = glms_vec2_sub(uv_x, payload->uv);
+            payload->duv_dy = glms_vec2_sub(uv_y, payload->uv);
         }
     }
-    if (payload.counters) payload.counters->varyings_interpolated += interpolated;
+    if (payload->counters) payload->counters->varyings_interpolated += interpolated;
     hw3_gbuffer *g = stage->gbuffer;
     if (g && f->x >= 0 && f->x < g->width && f->y >= 0 && f->y < g->height) {
         size_t i = (size_t)(g->height - 1 - f->y) * (size_t)g->width + (size_t)f->x;
         if (g->normal)
             for (int k = 0; k < 3; k++)
-                g->normal[3 * i + k] = payload.normal.raw[k];
+                g->normal[3 * i + k] = payload->normal.raw[k];
         if (g->uv) {
-            g->uv[3 * i] = payload.uv.x;
-            g->uv[3 * i + 1] = payload.uv.y;
+            g->uv[3 * i] = payload->uv.x;
+            g->uv[3 * i + 1] = payload->uv.y;
             g->uv[3 * i + 2] = 0.0f;
         }
-        if (g->view_depth) g->view_depth[i] = -payload.view_pos.z;
+        if (g->view_depth) g->view_depth[i] = -payload->view_pos.z;
     }
-    return stage->shader(&payload);
+    return stage->shader(payload);
 }
 
 /* ---- scenes --------------------------------------------------------------- */

@@ -62,7 +62,8 @@ typedef struct hw3_gbuffer {
 } hw3_gbuffer;
 
 /* The fragment stage's state: the pipeline's shade_user. `base` holds the
- * per-scene and per-object fields; the varyings are filled per fragment. */
+ * per-scene and per-object fields; hw3_shade_fragment writes the varyings
+ * into it in place, fragment by fragment (so one stage serves one thread). */
 typedef struct hw3_fragment_stage {
     fragment_shader_fn shader;
     unsigned varyings;
