@@ -57,7 +57,8 @@ vec3s ras_texture_sample_nearest(const ras_texture *tex, float u, float v);
  * calls, and as a call each cost more than the arithmetic it wraps. */
 static inline int ras_texture_wrap_index(ras_wrap wrap, int i, int n) {
     assert(n > 0);
-    if (wrap == RAS_WRAP_CLAMP) return i < 0 ? 0 : i >= n ? n - 1 : i;
+    if ((unsigned)i < (unsigned)n) return i; /* already inside: most calls */
+    if (wrap == RAS_WRAP_CLAMP) return i < 0 ? 0 : n - 1;
     /* C's % truncates toward zero, so -1 % n is -1: shift negatives up. */
     int r = i % n;
     return r < 0 ? r + n : r;

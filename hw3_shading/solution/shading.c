@@ -124,21 +124,22 @@ vec3s displacement_fragment_shader(const fragment_shader_payload *payload) {
  * truncation went up (negative non-integers). The same value as floorf —
  * which without SSE4.1 is a call-free but 20-instruction sequence, run four
  * times a lookup. */
-static int floor_small(float x) {
+static inline int floor_small(float x) {
     int i = (int)x;
     return (float)i > x ? i - 1 : i;
 }
 
 /* A texture coordinate made safe for integer conversion: NaN/±Inf read like
  * 0; repeat keeps the fraction; clamp keeps [0, 1] (clamp-to-edge). */
-static float safe_coord(float u, ras_wrap wrap) {
-    if (!isfinite(u)) return 0.0f;
+static inline float safe_coord(float u, ras_wrap wrap) {
     if (wrap == RAS_WRAP_REPEAT) {
         /* From 2^23 on every float is a whole number: its fraction is 0
-         * (1e30 → 0), and below that floor_small may be used. */
+         * (1e30 → 0; NaN and ±Inf fail the test too), and below that
+         * floor_small may be used. */
         if (!(fabsf(u) < 0x1p23f)) return 0.0f;
         return u - (float)floor_small(u); /* [0, 1] */
     }
+    if (!isfinite(u)) return 0.0f;
     return fminf(fmaxf(u, 0.0f), 1.0f);
 }
 
