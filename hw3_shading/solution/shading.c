@@ -148,7 +148,7 @@ static vec3s lerp3(vec3s a, vec3s b, float s) {
 }
 
 /* Bilinear lookup in one mip level. */
-static vec3s bilinear_level(const ras_texture *tex, int level, float u, float v) {
+static inline vec3s bilinear_level(const ras_texture *tex, int level, float u, float v) {
     int w = tex->level_width[level], h = tex->level_height[level];
     /* Texel i's centre is at u_img = i: shift by half a texel. */
     float x = safe_coord(u, tex->wrap) * (float)w - 0.5f;
