@@ -45,6 +45,8 @@ static bool prepare(ras_app *app, ras_error *err) {
     if (cli->model && maps && !app->assets->meshes[0]->has_uv)
         fprintf(stderr, "hw3_shading: note: %s has no texture coordinates; the %s shader reads "
                         "one texel everywhere\n", cli->model, ras_scene_shader_name(app->set.shader));
+    /* hw3_render draws at the scene's size: --size (the settings) replaces
+     * the file's. The settings were resolved already, so this changes no rule. */
     app->scene->width = app->set.width;
     app->scene->height = app->set.height;
     return true;
