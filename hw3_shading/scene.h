@@ -136,7 +136,9 @@ void hw3_capture_release(hw3_capture *capture);
 
 /* One frame as hw3_render has set it up for the teaching loop: the scene,
  * its options, the fragment stage (shader, varyings, per-scene payload
- * fields) and every object's matrices (models[i] is object i's). */
+ * fields: the filter, the lights in view space, the ambient light; a renderer
+ * sets each object's own with hw3_object_material) and every object's
+ * matrices (models[i] is object i's). */
 typedef struct hw3_frame {
     const ras_scene *scene;
     const ras_scene_assets *assets; /* the scene's meshes and textures */
