@@ -265,7 +265,17 @@ vec3s ras_texture_texel(const ras_texture *tex, int level, int i, int j) {
  * (fmod is exact), so the int conversion below only sees values in range. */
 static int coord_to_index(ras_wrap wrap, float t, int n) {
     /* float * int (<= 2^14) is exact in double's 53-bit mantissa. */
-    double x = floor((double)t * (double)n);
+    double p = (double)t * (double)n;
+    if (fabs(p) < 0x1p30) {
+        /* The usual case, in ints: floor by truncation (a step down for a
+         * negative non-integer), then wrap — the same index as below
+         * without floor's and fmod's library calls. */
+        int i = (int)p;
+        if ((double)i > p) i--;
+        if (wrap == RAS_WRAP_CLAMP) return i < 0 ? 0 : i > n - 1 ? n - 1 : i;
+        return ras_texture_wrap_index(wrap, i, n);
+    }
+    double x = floor(p);
     if (isnan(x)) return 0;
     if (wrap == RAS_WRAP_CLAMP) {
         if (x < 0.0) return 0;

@@ -40,6 +40,10 @@ vec3s normal_fragment_shader(const fragment_shader_payload *payload) {
     return glms_vec3_scale(glms_vec3_adds(n, 1.0f), 0.5f);
 }
 
+/* fmaxf(0, x) — NaN gives 0 too — without fmaxf's library call: GCC
+ * cannot inline fmaxf at -O2, and Blinn-Phong takes two a light. */
+static inline float max0(float x) { return x > 0.0f ? x : 0.0f; }
+
 vec3s blinn_phong_lighting(const fragment_shader_payload *payload, vec3s kd, vec3s point,
                            vec3s normal) {
     if (payload->counters && payload->light_count > 0) { /* ambient alone is no lighting work */
@@ -57,8 +61,8 @@ vec3s blinn_phong_lighting(const fragment_shader_payload *payload, vec3s kd, vec
         vec3s l = glms_vec3_normalize(to_light);
         vec3s h = glms_vec3_normalize(glms_vec3_add(l, v));
         vec3s irradiance = glms_vec3_divs(L->intensity, r2); /* I / r² */
-        float diffuse = fmaxf(0.0f, glms_vec3_dot(n, l));
-        float specular = powf(fmaxf(0.0f, glms_vec3_dot(n, h)), payload->p);
+        float diffuse = max0(glms_vec3_dot(n, l));
+        float specular = powf(max0(glms_vec3_dot(n, h)), payload->p);
         color = glms_vec3_add(color, glms_vec3_scale(glms_vec3_mul(kd, irradiance), diffuse));
         color = glms_vec3_add(color,
                               glms_vec3_scale(glms_vec3_mul(payload->ks, irradiance), specular));
