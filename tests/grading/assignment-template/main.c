@@ -31,15 +31,15 @@ static bool render(ras_app *app, ras_error *err) {
         if (!(app->pipeline = ras_pipeline_create(&cfg, err))) return false;
     }
     ras_pipeline_begin_frame(app->pipeline);
-    mat4s projection = get_projection_matrix(
-        s->camera.fov_deg, (float)app->set.width / (float)app->set.height, s->camera.z_near,
-        s->camera.z_far);
+    mat4s projection =
+        get_projection_matrix(s->camera.fov_deg, (float)app->set.width / (float)app->set.height,
+                              s->camera.z_near, s->camera.z_far);
     mat4s view = ras_scene_view_matrix(s), scale = get_scale_matrix(0.5f);
     for (int i = 0; i < s->object_count; i++) {
         app->pipeline->config.wire_color = s->objects[i].material.color;
         mat4s model = ras_scene_model_matrix(&s->objects[i], scale);
-        if (!ras_pipeline_draw_mesh(app->pipeline, app->assets->meshes[i], model, view,
-                                    projection, err))
+        if (!ras_pipeline_draw_mesh(app->pipeline, app->assets->meshes[i], model, view, projection,
+                                    err))
             return false;
     }
     ras_pipeline_end_frame(app->pipeline, app->image);
@@ -54,12 +54,17 @@ static void status(const ras_app *app, char *buf, size_t size) {
 
 int main(int argc, char **argv) {
     static const ras_app_hooks hooks = {
-        .program = "hwX_template", .scene = "hw1_classic", .reference_dir = RAS_REFERENCE_DIR,
+        .program = "hwX_template",
+        .scene = "hw1_classic",
+        .reference_dir = RAS_REFERENCE_DIR,
         .options = RAS_OPT_COMPARE | RAS_OPT_SCENE | RAS_OPT_STATS,
         .usage = "Draws the hw1 scene at half size as a wireframe. With -o it renders once and\n"
                  "writes a PNG; without it, a window opens (v: yours/reference/difference, Esc\n"
                  "quits).\n",
-        .example = "-o out.png", .compare = RAS_COMPARE_EDGE_TOLERANT,
-        .load_assets = true, .render = render, .status = status};
+        .example = "-o out.png",
+        .compare = RAS_COMPARE_EDGE_TOLERANT,
+        .load_assets = true,
+        .render = render,
+        .status = status};
     return ras_app_main(argc, argv, &hooks, NULL);
 }
