@@ -3,13 +3,14 @@
 
 #include "ras_dump.h"
 
-#include "ras_builtin_scenes.h" /* ras_scene_load_or_builtin */
+#include "ras_builtin_scenes.h" /* ras_scene_load_or_builtin, ras_builtin_scene_with_model */
 #include "ras_catalogue.h"
 #include "ras_io.h"     /* RAS_IO_MAX_PATH */
 #include "ras_names.h"
 #include "ras_viewer.h"
 #include "ras_window.h"
 
+#include <assert.h> /* assert */
 #include <math.h>   /* fabsf, floorf, sqrtf */
 #include <stdio.h>  /* fprintf, printf, snprintf */
 #include <stdlib.h> /* malloc, free */
@@ -20,7 +21,7 @@
 static ras_app_settings scene_settings(const ras_app_hooks *h, const ras_scene *sc) {
     ras_app_settings s = {.samples = 4, .shader = RAS_SHADER_NORMAL,
                           .filter = RAS_FILTER_BILINEAR, .axis = {{0, 0, 1}}};
-    if (!sc) return s; /* hw3's --model: the defaults */
+    if (!sc) return s;
     s.width = sc->width;
     s.height = sc->height;
     if (h->spin_from_scene) {
@@ -568,12 +569,13 @@ static bool set_up(ras_app *app, ras_image **expected, char *ref_path, size_t si
                    ras_error *err) {
     const ras_app_hooks *h = app->hooks;
     if (!check_arguments(app, err)) return false;
-    if (!app->cli.model) {
-        app->scene = ras_scene_load_or_builtin(app->cli.scene, h->scene, err);
-        if (!app->scene) return false;
-        if (h->load_assets && !(app->assets = ras_scene_load_assets(app->scene, err)))
-            return false;
-    }
+    const ras_cli *cli = &app->cli;
+    assert(!cli->model || h->model_scene); /* RAS_OPT_MODEL comes with a model scene */
+    app->scene = cli->model ? ras_builtin_scene_with_model(h->model_scene, cli->model, cli->texture,
+                                                           cli->height_map, cli->fit, err)
+                            : ras_scene_load_or_builtin(cli->scene, h->scene, err);
+    if (!app->scene) return false;
+    if (h->load_assets && !(app->assets = ras_scene_load_assets(app->scene, err))) return false;
     if (!ras_app_resolve(h, &app->cli, app->scene, &app->set, err) ||
         (h->prepare && !h->prepare(app, err)))
         return false;

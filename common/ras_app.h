@@ -8,9 +8,9 @@
  *      bad option), the classic positional form (OUTPUT [SHADER]);
  *   2. check -o and the option pairs, and that a window can open when one
  *      is wanted (exit 2 before any work);
- *   3. load the scene (--scene FILE or the built-in one; hw3's --model is
- *      the program's own scene) and apply the flags over it with one set of
- *      rules (ras_app_resolve below);
+ *   3. load the scene (--scene FILE, the built-in one, or with --model the
+ *      built-in model scene around that file) and apply the flags over it
+ *      with one set of rules (ras_app_resolve below);
  *   4. hooks.prepare (the program's own state), the frame-size budget, and
  *      with --compare the reference image (exit 2 when there is none);
  *   5. headless (-o or --compare): hooks.render once, write -o, --stats
@@ -94,6 +94,8 @@ typedef struct ras_app_hooks {
     const char *usage;       /* --help's paragraph */
     unsigned options;        /* RAS_OPT_* the program takes */
     const char *scene;       /* the built-in scene: "hw2_classic" */
+    const char *model_scene; /* with RAS_OPT_MODEL: the built-in scene --model FILE puts
+                              * the file into (ras_builtin_scene_with_model) */
     const char *example;     /* a headless example for messages: "--aa msaa -o out.png" */
     const char *reference_dir; /* the reference images and catalogue.json: RAS_REFERENCE_DIR,
                                 * which the build gives each program (common names no tests/) */
@@ -105,8 +107,8 @@ typedef struct ras_app_hooks {
     bool inspector;          /* the window magnifies the pixel under the mouse */
     bool step;               /* the step and buffer views (ras_app_step; the inspector
                               * is on in step mode) */
-    /* The program's own state, once the settings are known (hw3: its scene,
-     * from --model or app->scene). false: bad input, err says why (exit 2). */
+    /* The program's own state, once the settings are known. false: bad
+     * input, err says why (exit 2). */
     bool (*prepare)(ras_app *app, ras_error *err);
     /* One frame with app->set into app->image; sets app->counters (and
      * app->pipeline when it draws through one). false: the render failed. */
@@ -127,7 +129,7 @@ struct ras_app {
     const ras_app_hooks *hooks;
     const char *argv0;
     ras_cli cli;
-    ras_scene *scene;         /* NULL with --model */
+    ras_scene *scene;         /* the scene drawn (--scene, --model or the built-in one) */
     ras_scene_assets *assets; /* with hooks->load_assets */
     ras_app_settings set;
     ras_image *image;
@@ -154,7 +156,7 @@ int ras_app_main(int argc, char **argv, const ras_app_hooks *hooks, void *user);
  *   - without --pattern, a count the ordered grid lacks (2, 8) takes the
  *     standard pattern;
  *   - a count the pattern lacks is an error.
- * `scene` may be NULL (hw3's --model: the defaults). */
+ * `scene` may be NULL (the defaults). */
 bool ras_app_resolve(const ras_app_hooks *hooks, const ras_cli *cli, const ras_scene *scene,
                      ras_app_settings *set, ras_error *err);
 

@@ -39,8 +39,3 @@ void ras_mat4_format(mat4s m, char *buf, int size) {
                       m.raw[0][r], m.raw[1][r], m.raw[2][r], m.raw[3][r]);
 }
 
-bool ras_vec4_finite(vec4s v) {
-    return isfinite(v.x) && isfinite(v.y) && isfinite(v.z) && isfinite(v.w);
-}
-bool ras_vec3_finite(vec3s v) { return isfinite(v.x) && isfinite(v.y) && isfinite(v.z); }
-bool ras_vec2_finite(vec2s v) { return isfinite(v.x) && isfinite(v.y); }

@@ -15,6 +15,7 @@
 #ifndef RAS_MATH_H
 #define RAS_MATH_H
 
+#include <math.h> /* isfinite */
 #include <cglm/struct.h> /* vec3s, mat4s, glms_* */
 #include <stdbool.h>
 
@@ -40,9 +41,14 @@ float ras_mat4_max_diff(mat4s a, mat4s b);
 /* Writes the matrix in reading order, one row per line, into buf. */
 void ras_mat4_format(mat4s m, char *buf, int size);
 
-/* True when all components are finite (no NaN, no Inf). */
-bool ras_vec4_finite(vec4s v);
-bool ras_vec3_finite(vec3s v);
-bool ras_vec2_finite(vec2s v);
+/* True when all components are finite (no NaN, no Inf). Inline: the
+ * pipeline asks for every vertex and the bump shader for every fragment. */
+static inline bool ras_vec4_finite(vec4s v) {
+    return isfinite(v.x) && isfinite(v.y) && isfinite(v.z) && isfinite(v.w);
+}
+static inline bool ras_vec3_finite(vec3s v) {
+    return isfinite(v.x) && isfinite(v.y) && isfinite(v.z);
+}
+static inline bool ras_vec2_finite(vec2s v) { return isfinite(v.x) && isfinite(v.y); }
 
 #endif

@@ -2,7 +2,7 @@
  *
  * Each enum the programs, scene files, --stats and the docs spell out has
  * exactly one table here, in enum order: the command line (ras_cli.c), the
- * scene loader (ras_scene.c), the viewer's status lines, hw3's shader names
+ * scene loader (ras_scene_schema.c), the viewer's status lines, hw3's shader names
  * and the docs generators all read these, so a new value is added in one
  * place. A table is indexed by the enum's value.
  */

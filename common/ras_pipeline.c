@@ -23,6 +23,16 @@ static vec3s shade_counting(const ras_triangle *t, const ras_fragment *f, void *
     return shade(t, f, p->config.shade_user);
 }
 
+/* Everything of begin_frame but the clear. */
+static void reset_frame_state(ras_pipeline *p) {
+    p->counters = (ras_counters){.buffer_bytes = p->fb->bytes};
+    p->step_reached = 0;
+    p->has_last = false;
+    if (p->overdraw)
+        for (long i = 0, n = (long)p->fb->width * p->fb->height; i < n; i++)
+            p->overdraw[i] = 0;
+}
+
 ras_pipeline *ras_pipeline_create(const ras_pipeline_config *config, ras_error *err) {
     ras_pipeline_config cfg = *config;
     if (cfg.wireframe || cfg.aa == RAS_AA_NONE) cfg.pattern = ras_sample_pattern_center();
@@ -79,7 +89,13 @@ ras_pipeline *ras_pipeline_create(const ras_pipeline_config *config, ras_error *
         p->raster.shade = shade_counting;
         p->raster.shade_user = p;
     }
-    ras_pipeline_begin_frame(p);
+    /* ras_framebuffer_create cleared to black: a second pass over the
+     * whole buffer (a program makes one pipeline per frame) only for another
+     * clear colour. */
+    static const vec3s black = {{0, 0, 0}};
+    if (memcmp(&cfg.clear_color, &black, sizeof black) != 0) /* -0.0f too: bits, not values */
+        ras_framebuffer_clear(p->fb, cfg.clear_color);
+    reset_frame_state(p);
     return p;
 }
 
@@ -93,12 +109,7 @@ void ras_pipeline_destroy(ras_pipeline *p) {
 
 void ras_pipeline_begin_frame(ras_pipeline *p) {
     ras_framebuffer_clear(p->fb, p->config.clear_color);
-    p->counters = (ras_counters){.buffer_bytes = p->fb->bytes};
-    p->step_reached = 0;
-    p->has_last = false;
-    if (p->overdraw)
-        for (long i = 0, n = (long)p->fb->width * p->fb->height; i < n; i++)
-            p->overdraw[i] = 0;
+    reset_frame_state(p);
 }
 
 static void draw_wire_polygon(ras_pipeline *p, const ras_clip_vertex *poly, int n) {

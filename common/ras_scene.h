@@ -47,7 +47,9 @@
  * ras_scene_assets_destroy (both NULL-safe). The assets do not point into the
  * scene; either may be destroyed first.
  *
- * Dependencies: cJSON (parsing, in ras_scene.c only), cglm through ras_math.h.
+ * Dependencies: cJSON (in ras_scene*.c only: the reader, ras_scene.c, is split by
+ * job into ras_scene_syntax.c, ras_scene_schema.c, ras_scene_json.c and
+ * ras_scene_assets.c), cglm through ras_math.h.
  */
 #ifndef RAS_SCENE_H
 #define RAS_SCENE_H

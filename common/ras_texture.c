@@ -247,14 +247,6 @@ bool ras_texture_build_mips(ras_texture *tex) {
 /* ------------------------------------------------------------------------ */
 /* Addressing                                                                */
 
-int ras_texture_wrap_index(ras_wrap wrap, int i, int n) {
-    assert(n > 0);
-    if (wrap == RAS_WRAP_CLAMP) return i < 0 ? 0 : i >= n ? n - 1 : i;
-    /* C's % truncates toward zero, so -1 % n is -1: shift negatives up. */
-    int r = i % n;
-    return r < 0 ? r + n : r;
-}
-
 vec3s ras_texture_texel(const ras_texture *tex, int level, int i, int j) {
     assert(tex);
     if (level < 0) level = 0;

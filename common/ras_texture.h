@@ -14,6 +14,8 @@
 #ifndef RAS_TEXTURE_H
 #define RAS_TEXTURE_H
 
+#include <assert.h>
+
 #include "ras_error.h"
 #include "ras_image.h"
 
@@ -50,7 +52,16 @@ vec3s ras_texture_texel(const ras_texture *tex, int level, int i, int j);
 /* Nearest-texel lookup (given to students as the worked example). */
 vec3s ras_texture_sample_nearest(const ras_texture *tex, float u, float v);
 
-/* Wraps an integer texel index into [0, n) by the texture's wrap mode. */
-int ras_texture_wrap_index(ras_wrap wrap, int i, int n);
+/* Wraps an integer texel index into [0, n) by the texture's wrap mode.
+ * Defined here so that it inlines: a bilinear lookup makes four of these
+ * calls, and as a call each cost more than the arithmetic it wraps. */
+static inline int ras_texture_wrap_index(ras_wrap wrap, int i, int n) {
+    assert(n > 0);
+    if ((unsigned)i < (unsigned)n) return i; /* already inside: most calls */
+    if (wrap == RAS_WRAP_CLAMP) return i < 0 ? 0 : n - 1;
+    /* C's % truncates toward zero, so -1 % n is -1: shift negatives up. */
+    int r = i % n;
+    return r < 0 ? r + n : r;
+}
 
 #endif

@@ -6,7 +6,7 @@
 #define PLANE_COUNT 7
 
 /* Signed distance to plane k: >= 0 is inside. */
-static float plane_distance(int k, vec4s p) {
+static inline float plane_distance(int k, vec4s p) {
     switch (k) {
     case 0: return p.w - RAS_CLIP_W_EPSILON;
     case 1: return p.w - p.z; /* z <= w */

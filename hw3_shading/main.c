@@ -8,8 +8,10 @@
  * fragment shader → resolve_pixel (hw2, with AA) → image.
  *
  * The scene comes from --scene FILE, the built-in scenes/hw3_default.json, or
- * --model FILE (the classic GAMES101 scene); the options override it. The rest
- * (options, the window, --compare, --stats) is the shell's: common/ras_app.h.
+ * --model FILE (put into the built-in scenes/hw3_model.json, the classic
+ * GAMES101 scene); the options override it. The shell (common/ras_app.h)
+ * loads it and its meshes and textures, and does the rest (options, the
+ * window, --compare, --stats).
  * Examples: docs/hw3.md, or hw3_shading --help.
  */
 #include "ras_app.h"
@@ -22,36 +24,31 @@
 #include <string.h> /* strcmp */
 
 typedef struct hw3 {
-    hw3_scene *scene;
     hw3_render_options opt;
     ras_counters stats;
     int last_col; /* the mouse's column, -1 before it moved */
     hw3_capture capture; /* the window's step and buffer views: the fragment buffers */
 } hw3;
 
-/* The hw3 scene (from --model, or the scene file) and the options the
- * settings do not carry; notes once it has loaded. */
+/* The options the settings do not carry; notes once the scene has loaded. */
 static bool prepare(ras_app *app, ras_error *err) {
     hw3 *h = app->user;
     const ras_cli *cli = &app->cli;
-    h->opt = app->scene ? hw3_render_options_from_ras(app->scene) : hw3_render_defaults();
+    h->opt = hw3_render_options_from_ras(app->scene);
     if (cli->renderer && !hw3_renderer_parse(cli->renderer, &h->opt.renderer, err)) return false;
-    h->scene = cli->model
-                   ? hw3_scene_create_model(cli->model, cli->texture, cli->height_map, cli->fit, err)
-                   : hw3_scene_from_ras(app->scene, err);
-    if (!h->scene) return false; /* a model, texture or scene file that does not load */
     if (app->set.shader == RAS_SHADER_FLAT) {
         app->set.shader = RAS_SHADER_NORMAL;
         fprintf(stderr, "hw3_shading: note: the scene's shader \"flat\" is hw2's unlit colour; "
                         "drawing with normal (choose with --shader)\n");
     }
     bool maps = app->set.shader >= RAS_SHADER_TEXTURE;
-    if (cli->model && maps && !h->scene->objects[0].mesh->has_uv)
+    if (cli->model && maps && !app->assets->meshes[0]->has_uv)
         fprintf(stderr, "hw3_shading: note: %s has no texture coordinates; the %s shader reads "
                         "one texel everywhere\n", cli->model, ras_scene_shader_name(app->set.shader));
-    if (!app->set.width) app->set.width = h->scene->width, app->set.height = h->scene->height;
-    h->scene->width = app->set.width;
-    h->scene->height = app->set.height;
+    /* hw3_render draws at the scene's size: --size (the settings) replaces
+     * the file's. The settings were resolved already, so this changes no rule. */
+    app->scene->width = app->set.width;
+    app->scene->height = app->set.height;
     return true;
 }
 
@@ -77,7 +74,7 @@ static bool render(ras_app *app, ras_error *err) {
     hw3_capture_release(&h->capture); /* no stale buffers when nothing is kept */
     h->opt.capture = ras_app_capturing(app) ? &h->capture : NULL;
     app->counters = &h->stats;
-    bool ok = hw3_render(h->scene, &h->opt, app->image, &h->stats, err);
+    bool ok = hw3_render(app->scene, app->assets, &h->opt, app->image, &h->stats, err);
     app->pipeline = h->capture.pipeline;
     h->capture.pipeline = NULL;
     return ok;
@@ -130,7 +127,6 @@ static void status(const ras_app *app, char *buf, size_t size) {
 static void release(ras_app *app) {
     hw3 *h = app->user;
     hw3_capture_release(&h->capture);
-    hw3_scene_destroy(h->scene);
 }
 
 int main(int argc, char **argv) {
@@ -158,7 +154,8 @@ int main(int argc, char **argv) {
             "  picture drawn in screen tiles on threads (docs/performance.md).\n",
         .options = RAS_OPT_SHADING | RAS_OPT_MODEL | RAS_OPT_AA | RAS_OPT_SCENE | RAS_OPT_STATS |
                    RAS_OPT_COMPARE | RAS_OPT_RENDERER,
-        .scene = "hw3_default", .positional_shader = true, .compare = RAS_COMPARE_PSNR,
+        .scene = "hw3_default", .model_scene = "hw3_model", .load_assets = true,
+        .positional_shader = true, .compare = RAS_COMPARE_PSNR,
         .example = "--shader phong -o out.png", .reference_dir = RAS_REFERENCE_DIR,
         .keys = RAS_APP_KEYS_ANGLE | RAS_APP_KEYS_SHADING,
         .step = true,

@@ -89,23 +89,27 @@ static void bary_gradients(const ras_triangle *t, vec3s *d_dx, vec3s *d_dy) {
 }
 
 vec3s hw3_shade_fragment(const ras_triangle *t, const ras_fragment *f, void *user) {
-    const hw3_fragment_stage *stage = user;
-    fragment_shader_payload payload = stage->base;
+    /* The varyings are written into the stage's own payload, in place: the
+     * per-object fields around them stay as set, and copying the whole
+     * payload (its lights included) for every fragment cost more than the
+     * normal shader itself. */
+    hw3_fragment_stage *stage = user;
+    fragment_shader_payload *payload = &stage->base;
     bool persp = stage->perspective;
     uint64_t interpolated = 0;
     if (stage->varyings & RAS_VARYING_NORMAL) {
         /* Interpolated unit normals are shorter than 1 between the vertices. */
-        payload.normal = glms_vec3_normalize(interpolate_vec3(t, f->bary, t->normal, persp));
+        payload->normal = glms_vec3_normalize(interpolate_vec3(t, f->bary, t->normal, persp));
         interpolated++;
     }
     if (stage->varyings & RAS_VARYING_VIEW_POS) {
-        payload.view_pos = interpolate_vec3(t, f->bary, t->view_pos, persp);
+        payload->view_pos = interpolate_vec3(t, f->bary, t->view_pos, persp);
         interpolated++;
     }
     if (stage->varyings & RAS_VARYING_UV) {
-        payload.uv = interpolate_vec2(t, f->bary, t->uv, persp);
+        payload->uv = interpolate_vec2(t, f->bary, t->uv, persp);
         interpolated++;
-        if (payload.filter == FILTER_TRILINEAR) {
+        if (payload->filter == FILTER_TRILINEAR) {
             /* The UV one pixel to the right and one pixel up, from the same
              * triangle's (extrapolated) barycentrics: a finite difference of
              * the perspective-correct UV, like a GPU's 2×2 quad. */
@@ -113,28 +117,28 @@ vec3s hw3_shade_fragment(const ras_triangle *t, const ras_fragment *f, void *use
             bary_gradients(t, &d_dx, &d_dy);
             vec2s uv_x = interpolate_vec2(t, glms_vec3_add(f->bary, d_dx), t->uv, persp);
             vec2s uv_y = interpolate_vec2(t, glms_vec3_add(f->bary, d_dy), t->uv, persp);
-            payload.duv_dx = glms_vec2_sub(uv_x, payload.uv);
-            payload.duv_dy = glms_vec2_sub(uv_y, payload.uv);
+            payload->duv_dx = glms_vec2_sub(uv_x, payload->uv);
+            payload->duv_dy = glms_vec2_sub(uv_y, payload->uv);
         }
     }
-    if (payload.counters) payload.counters->varyings_interpolated += interpolated;
+    if (payload->counters) payload->counters->varyings_interpolated += interpolated;
     hw3_gbuffer *g = stage->gbuffer;
     if (g && f->x >= 0 && f->x < g->width && f->y >= 0 && f->y < g->height) {
         size_t i = (size_t)(g->height - 1 - f->y) * (size_t)g->width + (size_t)f->x;
         if (g->normal)
             for (int k = 0; k < 3; k++)
-                g->normal[3 * i + k] = payload.normal.raw[k];
+                g->normal[3 * i + k] = payload->normal.raw[k];
         if (g->uv) {
-            g->uv[3 * i] = payload.uv.x;
-            g->uv[3 * i + 1] = payload.uv.y;
+            g->uv[3 * i] = payload->uv.x;
+            g->uv[3 * i + 1] = payload->uv.y;
             g->uv[3 * i + 2] = 0.0f;
         }
-        if (g->view_depth) g->view_depth[i] = -payload.view_pos.z;
+        if (g->view_depth) g->view_depth[i] = -payload->view_pos.z;
     }
-    return stage->shader(&payload);
+    return stage->shader(payload);
 }
 
-/* ---- scenes --------------------------------------------------------------- */
+/* ---- the scene's objects, as the shaders see them -------------------------- */
 
 static mat4s rotate_y(float deg) {
     float a = ras_deg_to_rad(deg), c = cosf(a), s = sinf(a);
@@ -152,163 +156,14 @@ static mat4s rotate_x(float deg) {
                          0, 0, 0, 1);
 }
 
-static mat4s scale(float k) {
-    return ras_mat4_rows(k, 0, 0, 0, 0, k, 0, 0, 0, 0, k, 0, 0, 0, 0, 1);
-}
-
 static mat4s translate(float x, float y, float z) {
     return ras_mat4_rows(1, 0, 0, x, 0, 1, 0, y, 0, 0, 1, z, 0, 0, 0, 1);
 }
 
-/* The classic numbers of GAMES101 assignment 3. */
-static void classic_camera_and_lights(hw3_scene *s) {
-    s->width = s->height = 700;
-    s->eye = (vec3s){{0, 0, 10}};
-    s->fov_deg = 45;
-    s->z_near = 0.1f;
-    s->z_far = 50;
-    s->lights[0] = (light){{{20, 20, 20}}, {{500, 500, 500}}};
-    s->lights[1] = (light){{{-20, 20, 0}}, {{500, 500, 500}}};
-    s->light_count = 2;
-    s->ambient_intensity = (vec3s){{10, 10, 10}};
-    s->ka = (vec3s){{0.005f, 0.005f, 0.005f}};
-    s->ks = (vec3s){{0.7937f, 0.7937f, 0.7937f}};
-    s->p = 150;
-}
-
-static ras_mesh *keep_mesh(hw3_scene *s, ras_mesh *m) {
-    if (m) s->meshes[s->mesh_count++] = m;
-    return m;
-}
-
-static ras_texture *keep_texture(hw3_scene *s, ras_texture *t) {
-    if (t) s->textures[s->texture_count++] = t;
-    return t;
-}
-
-static hw3_object *add_object(hw3_scene *s, const ras_mesh *mesh, vec3s color) {
-    hw3_object *o = &s->objects[s->object_count++];
-    *o = (hw3_object){.mesh = mesh,
-                      .place = glms_mat4_identity(),
-                      .orient = glms_mat4_identity(),
-                      .color = color,
-                      .kh = 0.2f,
-                      .kn = 0.1f,
-                      .ka = s->ka,
-                      .ks = s->ks,
-                      .p = s->p};
-    return o;
-}
-
-hw3_scene *hw3_scene_create_default(ras_error *err) {
-    hw3_scene *s = calloc(1, sizeof *s);
-    if (!s) {
-        ras_error_set(err, "out of memory creating the default scene");
-        return NULL;
-    }
-    classic_camera_and_lights(s);
-    s->clear_color = (vec3s){{0.08f, 0.09f, 0.12f}};
-    ras_mesh *sphere = keep_mesh(s, ras_mesh_create_uv_sphere(1.2f, 32, 64));
-    ras_mesh *torus = keep_mesh(s, ras_mesh_create_torus(1.0f, 0.42f, 64, 32));
-    ras_mesh *cube = keep_mesh(s, ras_mesh_create_cube(1.55f));
-    ras_mesh *teapot = keep_mesh(s, ras_mesh_create_teapot(8));
-    /* Few, large floor triangles: affine interpolation bends them visibly. */
-    ras_mesh *floor = keep_mesh(s, ras_mesh_create_plane(40.0f, 2));
-    ras_texture *checker = keep_texture(
-        s, ras_texture_create_checker(256, 8, (vec3s){{0.92f, 0.9f, 0.85f}},
-                                      (vec3s){{0.75f, 0.22f, 0.16f}}));
-    ras_texture *floor_checker = keep_texture(
-        s, ras_texture_create_checker(256, 2, (vec3s){{0.85f, 0.85f, 0.85f}},
-                                      (vec3s){{0.2f, 0.25f, 0.35f}}));
-    ras_texture *brick = keep_texture(s, ras_texture_create_brick(256));
-    ras_texture *bumps = keep_texture(s, ras_texture_create_bumps(256, 8));
-    if (s->mesh_count != 5 || s->texture_count != 4) {
-        hw3_scene_destroy(s);
-        ras_error_set(err, "out of memory building the default scene's meshes and textures");
-        return NULL;
-    }
-    for (int i = 0; i < s->texture_count; i++) s->textures[i]->wrap = RAS_WRAP_REPEAT;
-    /* 12 checker periods across the floor (the texture repeats). */
-    for (size_t i = 0; i < floor->vertex_count; i++)
-        floor->uvs[i] = glms_vec2_scale(floor->uvs[i], 12.0f);
-
-    /* Heights in the course's units reach 255·√3 ≈ 441: kn = 0.1 would move
-     * points by up to 44 units. The default scene keeps kh·kn = 0.02 (the
-     * course's bump strength) and displaces by at most ~0.2 units. */
-    const float kh = 40.0f, kn = 0.0005f;
-    hw3_object *o;
-    o = add_object(s, sphere, (vec3s){{0.9f, 0.5f, 0.2f}});
-    o->place = translate(-1.9f, 1.75f, 0);
-    o->texture = checker;
-    o = add_object(s, torus, (vec3s){{0.2f, 0.65f, 0.6f}});
-    o->place = translate(1.9f, 1.75f, 0);
-    o->orient = rotate_x(60);
-    o->texture = brick;
-    o = add_object(s, cube, (vec3s){{0.55f, 0.55f, 0.85f}});
-    o->place = translate(-1.9f, -1.75f, 0);
-    o->orient = rotate_x(25);
-    o->yaw_deg = 35;
-    o->texture = brick;
-    o = add_object(s, teapot, (vec3s){{148 / 255.0f, 121 / 255.0f, 92 / 255.0f}});
-    o->place = translate(1.9f, -2.0f, 0);
-    o->orient = scale(1.6f);
-    o->yaw_deg = -30;
-    o->texture = checker;
-    o = add_object(s, floor, (vec3s){{0.7f, 0.7f, 0.7f}});
-    o->place = translate(0, -3.3f, -14.0f);
-    o->texture = floor_checker;
-    for (int i = 0; i < s->object_count; i++) {
-        s->objects[i].height_map = bumps;
-        s->objects[i].kh = kh;
-        s->objects[i].kn = kn;
-    }
-    return s;
-}
-
-hw3_scene *hw3_scene_create_model(const char *model_path, const char *texture_path,
-                                  const char *height_path, bool fit, ras_error *err) {
-    hw3_scene *s = calloc(1, sizeof *s);
-    if (!s) {
-        ras_error_set(err, "out of memory creating the model scene");
-        return NULL;
-    }
-    classic_camera_and_lights(s);
-    s->clear_color = (vec3s){{0, 0, 0}};
-    ras_mesh *mesh = keep_mesh(s, ras_mesh_load(model_path, err));
-    if (!mesh) goto fail;
-    ras_texture *tex = texture_path ? ras_texture_load(texture_path, RAS_WRAP_REPEAT, err)
-                                    : ras_texture_create_checker(256, 8, (vec3s){{0.9f, 0.9f, 0.9f}},
-                                                                 (vec3s){{0.3f, 0.3f, 0.3f}});
-    if (!keep_texture(s, tex)) {
-        if (!texture_path) ras_error_set(err, "out of memory creating the checker texture");
-        goto fail;
-    }
-    ras_texture *hmap = tex;
-    if (height_path) {
-        hmap = keep_texture(s, ras_texture_load(height_path, RAS_WRAP_REPEAT, err));
-        if (!hmap) goto fail;
-    } else if (!texture_path) {
-        hmap = keep_texture(s, ras_texture_create_bumps(256, 8));
-        if (!hmap) {
-            ras_error_set(err, "out of memory creating the bumps texture");
-            goto fail;
-        }
-    }
-    hw3_object *o = add_object(s, mesh, (vec3s){{148 / 255.0f, 121 / 255.0f, 92 / 255.0f}});
-    o->yaw_deg = 140;
-    o->orient = fit ? ras_mesh_fit_matrix(mesh, 5.0f) : scale(2.5f);
-    o->texture = tex;
-    o->height_map = hmap;
-    return s;
-fail:
-    hw3_scene_destroy(s);
-    return NULL;
-}
-
-/* A rotation with hw3's own matrices about x and y (the ones the built-in
- * default scene uses, so its scene file draws the same bits), and
- * glms_rotate_make about any other axis (no z matrix written out here: that
- * is hw1's exercise, and this file is in the student handout). */
+/* A rotation with hw3's own matrices about x and y (the reference images
+ * were drawn with them, so they stay), and glms_rotate_make about any other
+ * axis (no z matrix written out here: that is hw1's exercise, and this file
+ * is in the student handout). */
 static mat4s rotation(const ras_scene_rotation *r) {
     vec3s a = r->axis;
     if (a.y == 0 && a.z == 0 && a.x > 0) return rotate_x(r->deg);
@@ -316,88 +171,41 @@ static mat4s rotation(const ras_scene_rotation *r) {
     return glms_rotate_make(ras_deg_to_rad(r->deg), a);
 }
 
-/* The object's transform as place · R_y(yaw + angle) · orient (object_model):
- * place = T, and a last rotation about ±y becomes yaw_deg — the program's
- * turn about y and that rotation commute, so T · spin · R · S is kept. */
-static void object_transform(const ras_scene_object *so, hw3_object *o) {
-    o->place = translate(so->translate.x, so->translate.y, so->translate.z);
+mat4s hw3_object_model(const ras_scene_object *so, float angle_deg) {
+    /* T · R_y(yaw + angle) · orient: a last rotation about ±y becomes yaw —
+     * the program's turn about y and that rotation commute, so T · spin · R
+     * · S is kept. */
+    mat4s place = translate(so->translate.x, so->translate.y, so->translate.z);
+    float yaw_deg = 0;
     int n = so->rotation_count;
     const ras_scene_rotation *last = n > 0 ? &so->rotations[n - 1] : NULL;
     if (last && last->axis.x == 0 && last->axis.z == 0 && last->axis.y != 0) {
-        o->yaw_deg = last->axis.y > 0 ? last->deg : -last->deg;
+        yaw_deg = last->axis.y > 0 ? last->deg : -last->deg;
         n--;
     }
-    /* R(rotations[n-1]) ⋯ R(rotations[0]) · S, skipping identity factors so
-     * the built-in default scene's matrices come out bit for bit. */
+    /* orient = R(rotations[n-1]) ⋯ R(rotations[0]) · S, skipping identity
+     * factors: the reference images were drawn with exactly these products
+     * (a product with the identity can still turn a -0 into +0). */
     mat4s orient = glms_mat4_identity();
     for (int i = 0; i < n; i++)
         orient = i == 0 ? rotation(&so->rotations[0])
                         : glms_mat4_mul(rotation(&so->rotations[i]), orient);
     vec3s k = so->scale;
     if (k.x != 1 || k.y != 1 || k.z != 1) orient = glms_mat4_mul(orient, glms_scale_make(k));
-    o->orient = orient;
+    return glms_mat4_mul(glms_mat4_mul(place, rotate_y(yaw_deg + angle_deg)), orient);
 }
 
-hw3_scene *hw3_scene_from_ras(const ras_scene *rs, ras_error *err) {
-    if (rs->object_count > HW3_MAX_OBJECTS) {
-        ras_error_set(err, "%s: objects: hw3_shading draws at most %d objects, the scene has %d",
-                      rs->path, HW3_MAX_OBJECTS, rs->object_count);
-        return NULL;
-    }
-    /* Every scene file's lights fit (RAS_SCENE_MAX_LIGHTS). */
-    _Static_assert(HW3_MAX_LIGHTS >= RAS_SCENE_MAX_LIGHTS, "hw3 must take every scene's lights");
-    hw3_scene *s = calloc(1, sizeof *s);
-    if (!s) {
-        ras_error_set(err, "%s: out of memory creating the scene", rs->path);
-        return NULL;
-    }
-    s->assets = ras_scene_load_assets(rs, err);
-    if (!s->assets) {
-        free(s);
-        return NULL;
-    }
-    s->width = rs->width;
-    s->height = rs->height;
-    s->eye = rs->camera.eye;
-    s->look_at = rs->camera.view == RAS_SCENE_VIEW_LOOK_AT;
-    s->view = ras_scene_view_matrix(rs);
-    s->fov_deg = rs->camera.fov_deg;
-    s->z_near = rs->camera.z_near;
-    s->z_far = rs->camera.z_far;
-    s->clear_color = rs->clear_color;
-    s->ambient_intensity = rs->ambient;
-    s->light_count = rs->light_count;
-    for (int i = 0; i < rs->light_count; i++) {
-        const ras_scene_light *l = &rs->lights[i];
-        /* The shaders work in view space (shading.h): world lights move there. */
-        vec3s pos = l->in_world ? glms_mat4_mulv3(s->view, l->position, 1.0f) : l->position;
-        s->lights[i] = (light){pos, l->intensity};
-    }
-    for (int i = 0; i < rs->object_count; i++) {
-        const ras_scene_object *so = &rs->objects[i];
-        const ras_scene_material *m = &so->material;
-        hw3_object *o = &s->objects[s->object_count++];
-        /* kd is the base colour of phong and displacement (the texel's for texture). */
-        *o = (hw3_object){.mesh = s->assets->meshes[i],
-                          .color = m->kd_set ? m->kd : m->color,
-                          .texture = s->assets->textures[i],
-                          .height_map = s->assets->height_maps[i],
-                          .kh = m->kh,
-                          .kn = m->kn,
-                          .ka = m->ka,
-                          .ks = m->ks,
-                          .p = m->p};
-        object_transform(so, o);
-    }
-    return s;
-}
-
-void hw3_scene_destroy(hw3_scene *scene) {
-    if (!scene) return;
-    ras_scene_assets_destroy(scene->assets);
-    for (int i = 0; i < scene->mesh_count; i++) ras_mesh_destroy(scene->meshes[i]);
-    for (int i = 0; i < scene->texture_count; i++) ras_texture_destroy(scene->textures[i]);
-    free(scene);
+void hw3_object_material(const ras_scene *scene, const ras_scene_assets *assets, int i,
+                         fragment_shader_payload *payload) {
+    const ras_scene_material *m = &scene->objects[i].material;
+    payload->color = m->kd_set ? m->kd : m->color;
+    payload->texture = assets->textures[i];
+    payload->height_map = assets->height_maps[i];
+    payload->kh = m->kh;
+    payload->kn = m->kn;
+    payload->ka = m->ka;
+    payload->ks = m->ks;
+    payload->p = m->p;
 }
 
 /* ---- one frame -------------------------------------------------------------- */
@@ -431,12 +239,13 @@ hw3_render_options hw3_render_options_from_ras(const ras_scene *rs) {
     return opt;
 }
 
-unsigned hw3_frame_varyings(const hw3_scene *scene, hw3_shader shader) {
+unsigned hw3_frame_varyings(const ras_scene *scene, const ras_scene_assets *assets,
+                             hw3_shader shader) {
     unsigned v = hw3_shader_varyings(shader);
     bool maps = false; /* does any object have a map this shader reads? */
     for (int i = 0; i < scene->object_count; i++)
-        maps |= shader == HW3_SHADER_TEXTURE ? scene->objects[i].texture != NULL
-                                             : scene->objects[i].height_map != NULL;
+        maps |= shader == HW3_SHADER_TEXTURE ? assets->textures[i] != NULL
+                                             : assets->height_maps[i] != NULL;
     if (!maps) v &= ~(unsigned)RAS_VARYING_UV;
     /* The view position only places the shaded point relative to the lights
      * (with none, Blinn-Phong is the ambient term alone). */
@@ -471,11 +280,6 @@ bool hw3_renderer_parse(const char *name, const hw3_renderer **out, ras_error *e
         snprintf(names + len, sizeof names - len, ", %s", renderers[i]->name);
     }
     return ras_error_set(err, "unknown renderer '%s'; this program has: %s", name, names);
-}
-
-/* The object's model matrix: place · spin about y · orient. */
-static mat4s object_model(const hw3_object *o, float angle_deg) {
-    return glms_mat4_mul(glms_mat4_mul(o->place, rotate_y(o->yaw_deg + angle_deg)), o->orient);
 }
 
 /* --dump's fragment-stage buffers, for the varyings this frame interpolates;
@@ -547,13 +351,37 @@ static bool shader_reads_texture(hw3_shader shader) {
     return shader == HW3_SHADER_TEXTURE;
 }
 
-bool hw3_render(hw3_scene *scene, const hw3_render_options *opt, ras_image *out,
-                ras_counters *stats, ras_error *err) {
+/* The renderer hook: `r` draws the frame when it accepts it. 1 drawn, 0
+ * failed (err set), -1 declined or no memory for the matrices (hw3_render
+ * draws it the teaching way then). */
+static int render_with(const hw3_renderer *r, const ras_scene *scene,
+                       const ras_scene_assets *assets, const hw3_render_options *opt,
+                       const hw3_fragment_stage *stage, mat4s view, mat4s projection,
+                       uint64_t mip_levels, ras_image *out, ras_counters *stats, ras_error *err) {
+    mat4s *models = malloc((size_t)scene->object_count * sizeof *models);
+    if (!models) return -1;
+    for (int i = 0; i < scene->object_count; i++)
+        models[i] = hw3_object_model(&scene->objects[i], opt->angle_deg);
+    hw3_frame frame = {.scene = scene, .assets = assets, .opt = opt, .stage = stage,
+                       .models = models, .view = view, .projection = projection};
+    int drawn = -1;
+    if (r->accepts(r, &frame)) {
+        ras_counters k = {.mip_levels_built = mip_levels,
+                          .stages_run = mip_levels ? RAS_STAGE_MIPMAP : 0u};
+        drawn = r->draw(r, &frame, out, &k, err);
+        if (stats) *stats = k;
+    }
+    free(models);
+    return drawn;
+}
+
+bool hw3_render(const ras_scene *scene, ras_scene_assets *assets, const hw3_render_options *opt,
+                ras_image *out, ras_counters *stats, ras_error *err) {
     uint64_t mip_levels = 0;
     /* Mip levels only when trilinear filtering reads a colour map, once. */
     if (opt->filter == FILTER_TRILINEAR && shader_reads_texture(opt->shader)) {
         for (int i = 0; i < scene->object_count; i++) {
-            ras_texture *tex = (ras_texture *)scene->objects[i].texture;
+            ras_texture *tex = assets->textures[i];
             if (!tex || tex->level_count > 1) continue;
             if (!ras_texture_build_mips(tex))
                 return ras_error_set(err, "out of memory building mip levels");
@@ -561,29 +389,30 @@ bool hw3_render(hw3_scene *scene, const hw3_render_options *opt, ras_image *out,
         }
     }
     hw3_fragment_stage stage = {.shader = hw3_shader_function(opt->shader),
-                                .varyings = hw3_frame_varyings(scene, opt->shader),
+                                .varyings = hw3_frame_varyings(scene, assets, opt->shader),
                                 .perspective = !opt->affine};
     fragment_shader_payload *b = &stage.base;
     b->filter = opt->filter; /* the material (ka, ks, p, ...) is set per object below */
+    mat4s view = ras_scene_view_matrix(scene);
+    /* Every scene file's lights fit (RAS_SCENE_MAX_LIGHTS). */
+    _Static_assert(HW3_MAX_LIGHTS >= RAS_SCENE_MAX_LIGHTS, "hw3 must take every scene's lights");
     b->light_count = scene->light_count;
-    for (int i = 0; i < scene->light_count; i++) b->lights[i] = scene->lights[i];
-    b->ambient_intensity = scene->ambient_intensity;
-    mat4s view = scene->look_at ? scene->view : ras_view_matrix_eye(scene->eye);
+    for (int i = 0; i < scene->light_count; i++) {
+        const ras_scene_light *l = &scene->lights[i];
+        /* The shaders work in view space (shading.h): world lights move there. */
+        vec3s pos = l->in_world ? glms_mat4_mulv3(view, l->position, 1.0f) : l->position;
+        b->lights[i] = (light){pos, l->intensity};
+    }
+    b->ambient_intensity = scene->ambient;
+    const ras_scene_camera *cam = &scene->camera;
     mat4s projection = (opt->projection ? opt->projection : get_projection_matrix)(
-        scene->fov_deg, (float)scene->width / (float)scene->height, scene->z_near, scene->z_far);
+        cam->fov_deg, (float)scene->width / (float)scene->height, cam->z_near, cam->z_far);
     /* The renderer hook: another renderer draws the frame when it accepts it. */
     const hw3_renderer *r = opt->renderer;
-    if (r && !opt->dump_dir && !opt->capture && !opt->step && r->accepts(r, opt)) {
-        mat4s models[HW3_MAX_OBJECTS];
-        for (int i = 0; i < scene->object_count; i++)
-            models[i] = object_model(&scene->objects[i], opt->angle_deg);
-        hw3_frame frame = {.scene = scene, .opt = opt, .stage = &stage, .models = models,
-                           .view = view, .projection = projection};
-        ras_counters k = {.mip_levels_built = mip_levels,
-                          .stages_run = mip_levels ? RAS_STAGE_MIPMAP : 0u};
-        bool drawn = r->draw(r, &frame, out, &k, err);
-        if (stats) *stats = k;
-        return drawn;
+    if (r && !opt->dump_dir && !opt->capture && !opt->step) {
+        int drawn = render_with(r, scene, assets, opt, &stage, view, projection, mip_levels, out,
+                                stats, err);
+        if (drawn >= 0) return drawn;
     }
     ras_pipeline_config cfg = {.width = scene->width,
                                .height = scene->height,
@@ -592,7 +421,7 @@ bool hw3_render(hw3_scene *scene, const hw3_render_options *opt, ras_image *out,
                                .pattern = opt->pattern,
                                .cull = opt->cull,
                                .depth = opt->depth,
-                               .z_near = scene->z_near,
+                               .z_near = cam->z_near,
                                .varyings = stage.varyings,
                                .rasterize = rasterize_triangle,
                                .resolve = resolve_pixel,
@@ -621,17 +450,10 @@ bool hw3_render(hw3_scene *scene, const hw3_render_options *opt, ras_image *out,
 
     bool ok = true;
     for (int i = 0; i < scene->object_count && ok; i++) {
-        const hw3_object *o = &scene->objects[i];
-        b->color = o->color;
-        b->texture = o->texture;
-        b->height_map = o->height_map;
-        b->kh = o->kh;
-        b->kn = o->kn;
-        b->ka = o->ka;
-        b->ks = o->ks;
-        b->p = o->p;
-        ok = ras_pipeline_draw_mesh(p, o->mesh, object_model(o, opt->angle_deg), view, projection,
-                                    err);
+        hw3_object_material(scene, assets, i, b);
+        ok = ras_pipeline_draw_mesh(p, assets->meshes[i],
+                                    hw3_object_model(&scene->objects[i], opt->angle_deg), view,
+                                    projection, err);
     }
     if (ok) ras_pipeline_end_frame(p, out);
     if (ok && opt->dump_dir)

@@ -1,4 +1,4 @@
-/* scene.h — hw3: the scenes, and the fragment stage that feeds your shaders.
+/* scene.h — hw3: the fragment stage that feeds your shaders, and one frame.
  *
  * Not a TODO file: it is the glue between the pipeline (common/) and
  * shading.h, shared by the program (main.c), the tests and the figures.
@@ -7,19 +7,23 @@
  *                        exactly the varyings the chosen shader reads
  *                        (perspective-correct, with your interpolate_*),
  *                        fills a fragment_shader_payload, runs the shader
- *   hw3_scene_*          the default scene (built-in meshes and textures, no
- *                        files), the classic GAMES101 model scene, and any
- *                        scene file (hw3_scene_from_ras: scenes/, ras_scene.h)
  *   hw3_render           one frame of a scene with a shader and a filter
  *   hw3_renderer         the renderer hook: another way through a frame that
  *                        draws the same picture (hw3_render_options.renderer;
  *                        NULL, the default, is the teaching pipeline)
  *
+ * The scene is the core's (ras_scene.h): a scene file, or a built-in one from
+ * scenes/ (ras_builtin_scenes.h: hw3_default.json, and hw3_model.json for
+ * --model), with the meshes and textures ras_scene_load_assets made for it.
+ * hw3 keeps no copy of it; what it adds is how the scene reaches the shaders:
+ * each object's material as payload fields (hw3_object_material), its model
+ * matrix with the program's turn about y (hw3_object_model), and the lights
+ * moved into view space (hw3_render).
+ *
  * Conventions: view space as in shading.h (lights are given in VIEW space,
  * the camera looks down -z from the view-space origin); the view matrix is
- * the GAMES101 one, a translation by -eye.
- * Ownership: hw3_scene_create_* / hw3_scene_destroy (NULL-safe); a scene owns
- * its meshes and textures.
+ * ras_scene_view_matrix's (the GAMES101 one, a translation by -eye, unless
+ * the scene's camera looks at a point).
  */
 #ifndef HW3_SCENE_H
 #define HW3_SCENE_H
@@ -62,7 +66,8 @@ typedef struct hw3_gbuffer {
 } hw3_gbuffer;
 
 /* The fragment stage's state: the pipeline's shade_user. `base` holds the
- * per-scene and per-object fields; the varyings are filled per fragment. */
+ * per-scene and per-object fields; hw3_shade_fragment writes the varyings
+ * into it in place, fragment by fragment (so one stage serves one thread). */
 typedef struct hw3_fragment_stage {
     fragment_shader_fn shader;
     unsigned varyings;
@@ -74,71 +79,19 @@ typedef struct hw3_fragment_stage {
 /* ras_shade_fn: user is a hw3_fragment_stage. */
 vec3s hw3_shade_fragment(const ras_triangle *t, const ras_fragment *f, void *user);
 
-#define HW3_MAX_OBJECTS 64
+/* Object i's material as payload fields: colour (kd when the scene gives
+ * kd, else the colour: the base colour of phong and displacement, and the
+ * texel's stand-in for texture), colour map, height map, ka, ks, p, kh, kn.
+ * The teaching loop and a renderer set them the same way through this. */
+void hw3_object_material(const ras_scene *scene, const ras_scene_assets *assets, int i,
+                         fragment_shader_payload *payload);
 
-typedef struct hw3_object {
-    const ras_mesh *mesh;
-    mat4s place;  /* translation after the spin */
-    mat4s orient; /* scale and tilt before the spin about y */
-    float yaw_deg; /* spin about y; the program's angle is added */
-    vec3s color;
-    const ras_texture *texture, *height_map;
-    float kh, kn;
-    vec3s ka, ks; /* the material: per object (scene files give each its own) */
-    float p;
-} hw3_object;
-
-typedef struct hw3_scene {
-    int width, height;
-    vec3s eye;
-    bool look_at; /* false: the GAMES101 view, a translation by -eye */
-    mat4s view;   /* with look_at: the scene file's camera */
-    float fov_deg, z_near, z_far;
-    vec3s clear_color;
-    light lights[HW3_MAX_LIGHTS]; /* view space */
-    int light_count;
-    vec3s ambient_intensity;
-    vec3s ka, ks; /* the built-in scenes' material numbers, copied into each object */
-    float p;
-    hw3_object objects[HW3_MAX_OBJECTS];
-    int object_count;
-    /* owned */
-    ras_mesh *meshes[HW3_MAX_OBJECTS];
-    int mesh_count;
-    ras_texture *textures[HW3_MAX_OBJECTS];
-    int texture_count;
-    ras_scene_assets *assets; /* hw3_scene_from_ras: the meshes and textures */
-} hw3_scene;
-
-/* The default scene, 700×700: a UV sphere, a torus, a cube and the Utah
- * teapot on a checkered floor, with procedural checker/brick colour maps and
- * a bumps height map; the classic camera, lights and material numbers. */
-hw3_scene *hw3_scene_create_default(ras_error *err);
-
-/* The classic GAMES101 scene around a model file: eye (0,0,10), model
- * R_y(140°)·S(2.5) (with `fit`: R_y(140°) · scale-to-fit · centre), fov 45,
- * near 0.1, far 50, 700×700, lights (20,20,20) and (-20,20,0) of intensity
- * 500, ambient 10, ka 0.005, ks 0.7937, p 150, kh 0.2, kn 0.1, base colour
- * (148,121,92)/255. texture_path: colour map (NULL: a built-in checker);
- * height_path: height map (NULL: texture_path, as the course loads hmap.jpg as
- * "the texture"; both NULL: built-in bumps). NULL and err on a missing or
- * malformed file. */
-hw3_scene *hw3_scene_create_model(const char *model_path, const char *texture_path,
-                                  const char *height_path, bool fit, ras_error *err);
-
-/* A scene file's scene (ras_scene_load, then this): its meshes and textures
- * are created here (ras_scene_load_assets) and owned by the result. Each
- * object's model matrix is T · R · S as in the file, with the program's angle
- * as a turn about y inserted after R (ras_scene_model_matrix); a last rotation
- * about +y or -y joins that turn (yaw_deg), as in the built-in default scene.
- * Lights with "space": "world" are moved into view space; the material
- * (colour or kd, ka, ks, p, kh, kn, maps) is per object. NULL and err (naming
- * the scene file and the key) when an asset does not load or the scene has
- * more objects than HW3_MAX_OBJECTS. The scene's shader, filter, AA and
- * culling are options: see hw3_render_options_from_ras. */
-hw3_scene *hw3_scene_from_ras(const ras_scene *rs, ras_error *err);
-
-void hw3_scene_destroy(hw3_scene *scene);
+/* The object's model matrix with the program's turn about y: T · R_y(angle)
+ * · R · S (ras_scene_model_matrix's order). A last rotation about +y or -y
+ * joins the turn (one R_y of the summed angle), and rotations about x and y
+ * use hw3's own matrices, so a scene's matrices come out bit for bit the
+ * same on every run of every renderer. */
+mat4s hw3_object_model(const ras_scene_object *object, float angle_deg);
 
 typedef struct hw3_render_options {
     hw3_shader shader;
@@ -184,9 +137,12 @@ void hw3_capture_release(hw3_capture *capture);
 
 /* One frame as hw3_render has set it up for the teaching loop: the scene,
  * its options, the fragment stage (shader, varyings, per-scene payload
- * fields) and every object's matrices (models[i] is object i's). */
+ * fields: the filter, the lights in view space, the ambient light; a renderer
+ * sets each object's own with hw3_object_material) and every object's
+ * matrices (models[i] is object i's). */
 typedef struct hw3_frame {
-    const hw3_scene *scene;
+    const ras_scene *scene;
+    const ras_scene_assets *assets; /* the scene's meshes and textures */
     const hw3_render_options *opt;
     const hw3_fragment_stage *stage;
     const mat4s *models;
@@ -196,14 +152,15 @@ typedef struct hw3_frame {
 /* The renderer hook: another way through a frame, for speed only. The
  * teaching pipeline is the reference; a renderer must give the same image
  * and the same work counters (all but the ms_* timings and buffer_bytes).
- *   accepts  may it draw this frame? false: hw3_render draws it the teaching way
+ *   accepts  may it draw this frame (its options, its scene)? false: hw3_render
+ *            draws it the teaching way
  *   draw     the frame into `out`, its counters added to *k (never NULL; it
  *            holds the mip levels this frame built); false and err on bad
  *            sizes or out of memory
  *   user     the renderer's own settings */
 typedef struct hw3_renderer {
     const char *name; /* as --renderer spells it */
-    bool (*accepts)(const struct hw3_renderer *self, const hw3_render_options *opt);
+    bool (*accepts)(const struct hw3_renderer *self, const hw3_frame *frame);
     bool (*draw)(const struct hw3_renderer *self, const hw3_frame *frame, ras_image *out,
                  ras_counters *k, ras_error *err);
     void *user;
@@ -228,13 +185,16 @@ hw3_render_options hw3_render_options_from_ras(const ras_scene *rs);
  * those no object of the scene uses — no UVs when no object has a map the
  * shader reads (a colour map for texture, a height map for bump and
  * displacement), no view position when there are no lights to light it with. */
-unsigned hw3_frame_varyings(const hw3_scene *scene, hw3_shader shader);
+unsigned hw3_frame_varyings(const ras_scene *scene, const ras_scene_assets *assets,
+                             hw3_shader shader);
 
-/* Renders one frame into `out` (the scene's size). Trilinear builds the mip
+/* Renders one frame of `scene` into `out` (the scene's size), its meshes and
+ * textures from `assets` (ras_scene_load_assets of that scene). Lights with
+ * "space": "world" are moved into view space here. Trilinear builds the mip
  * levels of the scene's colour maps the first time (ras_texture_build_mips,
- * hence the non-const scene). `stats` (may be NULL) receives the counters.
+ * hence the non-const assets). `stats` (may be NULL) receives the counters.
  * False and err on a bad configuration or out of memory. */
-bool hw3_render(hw3_scene *scene, const hw3_render_options *opt, ras_image *out,
-                ras_counters *stats, ras_error *err);
+bool hw3_render(const ras_scene *scene, ras_scene_assets *assets, const hw3_render_options *opt,
+                ras_image *out, ras_counters *stats, ras_error *err);
 
 #endif

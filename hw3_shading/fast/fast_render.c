@@ -49,6 +49,10 @@
 #define TILE 64         /* pixels per tile side */
 #define BLOCK 8         /* pixels per rejection block side */
 #define MAX_THREADS 64
+/* Objects a frame may have: the per-object payloads and counters are kept in
+ * fixed arrays (a worker's); fast_accepts declines larger scenes, which the
+ * teaching pipeline draws. */
+#define FAST_MAX_OBJECTS 64
 #define SUBPIXEL_BITS 8 /* as hw2_rasterize/solution/rasterizer.c */
 #define SUBPIXEL_ONE (1 << SUBPIXEL_BITS)
 #define FIXED_LIMIT_PX (1 << 20)
@@ -240,7 +244,8 @@ static bool setup_triangle(tri_list *L, const ras_clip_vertex *a, const ras_clip
 /* ---- shading: hw3_shade_fragment, same arithmetic ------------------------ */
 
 typedef struct frame {
-    const hw3_scene *scene;
+    const ras_scene *scene;
+    const ras_scene_assets *assets;
     const hw3_fragment_stage *stage;
     int width, height, n; /* samples per pixel */
     bool ssaa;
@@ -253,7 +258,7 @@ typedef struct frame {
     int centre_sample; /* a sample whose position is the pixel centre, or -1 */
     /* per object (each has its own p): powf(x, p) is +0 for 0 <= x <= spec_zero
      * (spec_zero_of) */
-    float spec_zero[HW3_MAX_OBJECTS];
+    float spec_zero[FAST_MAX_OBJECTS];
     /* bins: tile t holds bin_tri[bin_start[t] .. bin_start[t+1]) */
     int tiles_x, tiles_y;
     size_t *bin_start;
@@ -300,7 +305,7 @@ typedef struct worker {
     frame *fr;
     vec3s *color; /* TILE² · n, sample s of tile pixel (lx, ly) at (ly·TILE + lx)·n + s */
     float *depth;
-    fragment_shader_payload pay[HW3_MAX_OBJECTS];
+    fragment_shader_payload pay[FAST_MAX_OBJECTS];
     ras_counters k;
     ras_counters ks; /* setup's counters */
     pthread_t thread;
@@ -316,8 +321,8 @@ typedef struct worker {
     /* What one fragment of object o adds to the counters when shaded by the
      * scalar shaders (learnt from the first one shaded: a shader's counts
      * depend on the object's material and textures, not on the fragment). */
-    ras_counters per_fragment[HW3_MAX_OBJECTS];
-    bool per_fragment_known[HW3_MAX_OBJECTS];
+    ras_counters per_fragment[FAST_MAX_OBJECTS];
+    bool per_fragment_known[FAST_MAX_OBJECTS];
 } worker;
 
 /* perspective_correct_barycentric (solution/shading.c), inlined. */
@@ -1034,7 +1039,7 @@ static void shade_deferred(worker *w) {
     flush_queue(w);
 }
 
-static int batch_kind(const hw3_scene *scene, const hw3_render_options *opt,
+static int batch_kind(const ras_scene *scene, const hw3_render_options *opt,
                       const hw3_fragment_stage *stage) {
     unsigned v = stage->varyings;
     bool lit =
@@ -1756,7 +1761,7 @@ static void wait_for(atomic_int *v, int target) {
 
 static void transform_chunk(frame *fr, int c) {
     int o = fr->vchunk_obj[c];
-    const ras_mesh *mesh = fr->scene->objects[o].mesh;
+    const ras_mesh *mesh = fr->assets->meshes[o];
     size_t start = fr->vchunk_start[c];
     ras_mesh part = *mesh;
     part.vertex_count =
@@ -1787,7 +1792,7 @@ static void setup_chunk(worker *w, int c) {
     for (; g < end; g++) {
         while (fr->tri_first[o + 1] <= g)
             o++;
-        const ras_mesh *mesh = fr->scene->objects[o].mesh;
+        const ras_mesh *mesh = fr->assets->meshes[o];
         const unsigned *idx = &mesh->indices[3 * (g - fr->tri_first[o])];
         size_t base = fr->clip_base[o];
         const ras_clip_vertex *clip = fr->clip + base;
@@ -1868,10 +1873,13 @@ static void *worker_main(void *arg) {
 
 /* ---- the frame ------------------------------------------------------------- */
 
-/* What the fast path draws: no culling, z01 depth. */
-static bool fast_accepts(const hw3_renderer *self, const hw3_render_options *opt) {
+/* What the fast path draws: no culling, z01 depth, at most FAST_MAX_OBJECTS
+ * objects. */
+static bool fast_accepts(const hw3_renderer *self, const hw3_frame *frame) {
+    const hw3_render_options *opt = frame->opt;
     (void)self;
-    return opt->cull == RAS_CULL_NONE && opt->depth == RAS_DEPTH_Z01;
+    return opt->cull == RAS_CULL_NONE && opt->depth == RAS_DEPTH_Z01 &&
+           frame->scene->object_count <= FAST_MAX_OBJECTS;
 }
 
 static int thread_count(const hw3_fast_settings *s) {
@@ -1887,7 +1895,7 @@ static int thread_count(const hw3_fast_settings *s) {
 static bool fast_draw(const hw3_renderer *self, const hw3_frame *frame_in, ras_image *out,
                       ras_counters *k, ras_error *err) {
     const hw3_fast_settings *settings = self->user;
-    const hw3_scene *scene = frame_in->scene;
+    const ras_scene *scene = frame_in->scene;
     const hw3_render_options *opt = frame_in->opt;
     const hw3_fragment_stage *stage = frame_in->stage;
     const mat4s *models = frame_in->models;
@@ -1899,7 +1907,7 @@ static bool fast_draw(const hw3_renderer *self, const hw3_frame *frame_in, ras_i
     if (pattern.count < 1 || pattern.count > RAS_MAX_SAMPLES)
         return ras_error_set(err, "the sample pattern is empty: build it with ras_sample_pattern_make");
     double t0 = ras_now_ms();
-    frame fr = {.scene = scene, .stage = stage, .width = width, .height = height,
+    frame fr = {.scene = scene, .assets = frame_in->assets, .stage = stage, .width = width, .height = height,
                 .n = pattern.count, .ssaa = opt->aa == RAS_AA_SSAA, .pattern = pattern,
                 .varyings = stage->varyings, .out = out};
     for (int s = 0; s <= fr.n; s++) {
@@ -1908,7 +1916,7 @@ static bool fast_draw(const hw3_renderer *self, const hw3_frame *frame_in, ras_i
         fr.off_y[s] = llround((double)o.y * SUBPIXEL_ONE);
     }
     for (int o = 0; o < scene->object_count; o++)
-        fr.spec_zero[o] = spec_zero_of(scene->objects[o].p);
+        fr.spec_zero[o] = spec_zero_of(scene->objects[o].material.p);
     fr.omin_x = fr.omax_x = fr.off_x[0];
     fr.omin_y = fr.omax_y = fr.off_y[0];
     for (int k = 1; k <= fr.n; k++) {
@@ -1937,7 +1945,7 @@ static bool fast_draw(const hw3_renderer *self, const hw3_frame *frame_in, ras_i
     if (threads > tiles) threads = tiles;
     size_t vertices = 0, vchunks = 0;
     for (int o = 0; o < objects; o++) {
-        const ras_mesh *mesh = scene->objects[o].mesh;
+        const ras_mesh *mesh = frame_in->assets->meshes[o];
         vertices += mesh->vertex_count;
         vchunks += (mesh->vertex_count + VERTEX_CHUNK - 1) / VERTEX_CHUNK;
         k->stages_run |= RAS_STAGE_VERTEX;
@@ -1960,7 +1968,7 @@ static bool fast_draw(const hw3_renderer *self, const hw3_frame *frame_in, ras_i
         size_t v = 0, t = 0;
         int c = 0;
         for (int o = 0; o < objects; o++) {
-            const ras_mesh *mesh = scene->objects[o].mesh;
+            const ras_mesh *mesh = frame_in->assets->meshes[o];
             fr.clip_base[o] = v;
             fr.tri_first[o] = t;
             for (size_t start = 0; start < mesh->vertex_count; start += VERTEX_CHUNK) {
@@ -2011,17 +2019,9 @@ static bool fast_draw(const hw3_renderer *self, const hw3_frame *frame_in, ras_i
             ok = ok && w->frags && w->owner;
         }
         for (int o = 0; o < scene->object_count; o++) {
-            const hw3_object *ob = &scene->objects[o];
             fragment_shader_payload *p = &w->pay[o];
             *p = stage->base;
-            p->color = ob->color;
-            p->texture = ob->texture;
-            p->height_map = ob->height_map;
-            p->kh = ob->kh;
-            p->kn = ob->kn;
-            p->ka = ob->ka;
-            p->ks = ob->ks;
-            p->p = ob->p;
+            hw3_object_material(scene, frame_in->assets, o, p);
             p->counters = &w->k;
         }
     }

@@ -12,6 +12,7 @@
  *
  * Usage: hw3_figures [OUTPUT_DIR]   (default docs/img)
  */
+#include "ras_builtin_scenes.h" /* the default scene, scenes/hw3_default.json */
 #include "scene.h"
 
 #include <math.h>   /* floorf */
@@ -20,10 +21,10 @@
 
 static const vec3s GAP = {{0.5f, 0.5f, 0.5f}};
 
-static ras_image *render(hw3_scene *s, hw3_render_options opt) {
+static ras_image *render(const ras_scene *s, ras_scene_assets *assets, hw3_render_options opt) {
     ras_error err = {{0}};
     ras_image *img = ras_image_create(s->width, s->height, &err);
-    if (!img || !hw3_render(s, &opt, img, NULL, &err)) {
+    if (!img || !hw3_render(s, assets, &opt, img, NULL, &err)) {
         fprintf(stderr, "hw3_figures: %s\n", err.msg);
         exit(EXIT_FAILURE);
     }
@@ -100,8 +101,9 @@ static void half_texel(const char *dir) {
 int main(int argc, char **argv) {
     const char *dir = argc > 1 ? argv[1] : "docs/img";
     ras_error err = {{0}};
-    hw3_scene *scene = hw3_scene_create_default(&err);
-    if (!scene) {
+    ras_scene *scene = ras_builtin_scene_load("hw3_default", &err);
+    ras_scene_assets *assets = scene ? ras_scene_load_assets(scene, &err) : NULL;
+    if (!assets) {
         fprintf(stderr, "hw3_figures: %s\n", err.msg);
         return EXIT_FAILURE;
     }
@@ -113,15 +115,15 @@ int main(int argc, char **argv) {
         opt.shader = (hw3_shader)s;
         char name[64];
         snprintf(name, sizeof name, "hw3_%s.png", hw3_shader_name((hw3_shader)s));
-        save(render(scene, opt), dir, name);
+        save(render(scene, assets, opt), dir, name);
     }
     scene->width = scene->height = 700;
 
     /* the w = 1 pitfall: the bottom half (the floor), correct | affine */
     opt.shader = HW3_SHADER_TEXTURE;
-    ras_image *correct = render(scene, opt);
+    ras_image *correct = render(scene, assets, opt);
     opt.affine = true;
-    ras_image *affine = render(scene, opt);
+    ras_image *affine = render(scene, assets, opt);
     opt.affine = false;
     ras_image *pit = row_of(2, 700, 300);
     blit(pit, 0, 0, correct, 0, 400, 700, 300, 1);
@@ -141,18 +143,19 @@ int main(int argc, char **argv) {
                                                    (vec3s){{0.1f, 0.15f, 0.3f}});
     if (!fine) return EXIT_FAILURE;
     fine->wrap = RAS_WRAP_REPEAT;
-    scene->objects[scene->object_count - 1].texture = fine;
+    assets->textures[scene->object_count - 1] = fine; /* the floor's */
     ras_image *filters = row_of(3, 300, 150);
     const texture_filter fs[3] = {FILTER_NEAREST, FILTER_BILINEAR, FILTER_TRILINEAR};
     for (int k = 0; k < 3; k++) {
         opt.filter = fs[k];
-        ras_image *img = render(scene, opt);
+        ras_image *img = render(scene, assets, opt);
         blit(filters, k * 304, 0, img, 200, 412, 150, 75, 2);
         ras_image_destroy(img);
     }
     save(filters, dir, "hw3_filters.png");
     ras_texture_destroy(fine);
     half_texel(dir);
-    hw3_scene_destroy(scene);
+    ras_scene_assets_destroy(assets);
+    ras_scene_destroy(scene);
     return 0;
 }

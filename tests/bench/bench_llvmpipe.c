@@ -1,7 +1,8 @@
 /* bench_llvmpipe.c — the classic hw3 scene through Mesa llvmpipe (OSMesa), to
  * time the project's renderers against a real software GPU (issue 18, item 1).
  *
- * The scene is hw3_scene_create_model's, read by the project's own loaders:
+ * The scene is hw3_shading --model's (scenes/hw3_model.json around the model
+ * file, ras_builtin_scene_with_model), read by the project's own loaders:
  * the same mesh (indexed: one VBO per attribute, glDrawElements), model, view
  * and projection matrices (the projection's z row negated, so near is −1 as
  * OpenGL expects — the project's depth runs the other way), the same lights,
@@ -35,6 +36,7 @@
  */
 #define GL_GLEXT_PROTOTYPES 1
 #include "bench_llvmpipe.h"
+#include "ras_builtin_scenes.h" /* ras_builtin_scene_with_model */
 #include "ras_counters.h"  /* ras_now_ms */
 #include "stage1_vertex.h" /* ras_view_matrix_eye, ras_projection_normalize_w */
 #include "transform.h"     /* hw1: get_projection_matrix, as hw3_render uses */
@@ -50,7 +52,6 @@
 #include <GL/gl.h>
 #include <GL/glext.h>
 
-#include <math.h>   /* cosf, sinf, lroundf */
 #include <stdio.h>  /* printf, fprintf, fgets */
 #include <stdlib.h> /* malloc, free */
 #include <string.h> /* strcmp */
@@ -226,11 +227,6 @@ static GLuint make_program(int shader, bool wrong, int lights, bool tex, bool hm
     return ok ? p : 0;
 }
 
-static mat4s rotate_y(float deg) { /* scene.c's, the same floats */
-    float a = ras_deg_to_rad(deg), c = cosf(a), s = sinf(a);
-    return ras_mat4_rows(c, 0, s, 0, 0, 1, 0, 0, -s, 0, c, 0, 0, 0, 0, 1);
-}
-
 static GLuint upload_texture(const ras_texture *tex, GLenum unit) {
     size_t n = (size_t)tex->width * (size_t)tex->height;
     uint8_t *rgba = malloc(4 * n);
@@ -258,7 +254,9 @@ static GLuint upload_texture(const ras_texture *tex, GLenum unit) {
     return t;
 }
 
-static void set_uniforms(GLuint p, const hw3_scene *s, const hw3_object *o, mat4s mv, mat4s proj) {
+/* o: the object's material and the scene's lights (view space), as hw3_render
+ * hands them to the shaders. */
+static void set_uniforms(GLuint p, const fragment_shader_payload *o, mat4s mv, mat4s proj) {
     glUseProgram(p);
     mat3s nmat =
         glms_mat3_transpose(glms_mat3_inv(glms_mat4_pick3(mv))); /* ras_vertex_transform's */
@@ -268,16 +266,16 @@ static void set_uniforms(GLuint p, const hw3_scene *s, const hw3_object *o, mat4
     glUniform3fv(glGetUniformLocation(p, "u_kd"), 1, o->color.raw);
     glUniform3fv(glGetUniformLocation(p, "u_ka"), 1, o->ka.raw);
     glUniform3fv(glGetUniformLocation(p, "u_ks"), 1, o->ks.raw);
-    glUniform3fv(glGetUniformLocation(p, "u_ambient"), 1, s->ambient_intensity.raw);
+    glUniform3fv(glGetUniformLocation(p, "u_ambient"), 1, o->ambient_intensity.raw);
     glUniform1f(glGetUniformLocation(p, "u_p"), o->p);
     glUniform1f(glGetUniformLocation(p, "u_kh"), o->kh);
     glUniform1f(glGetUniformLocation(p, "u_kn"), o->kn);
-    for (int i = 0; i < s->light_count; i++) {
+    for (int i = 0; i < o->light_count; i++) {
         char name[32];
         snprintf(name, sizeof name, "u_light_pos[%d]", i);
-        glUniform3fv(glGetUniformLocation(p, name), 1, s->lights[i].position.raw);
+        glUniform3fv(glGetUniformLocation(p, name), 1, o->lights[i].position.raw);
         snprintf(name, sizeof name, "u_light_int[%d]", i);
-        glUniform3fv(glGetUniformLocation(p, name), 1, s->lights[i].intensity.raw);
+        glUniform3fv(glGetUniformLocation(p, name), 1, o->lights[i].intensity.raw);
     }
     glUniform1i(glGetUniformLocation(p, "u_tex"), 0);
     glUniform1i(glGetUniformLocation(p, "u_hmap"), 1);
@@ -295,22 +293,31 @@ static GLuint buffer(GLenum target, size_t bytes, const void *data) {
 }
 
 /* The GL objects for the scene's one object (the classic model scene). */
-static bool gl_scene_init(gl_scene *g, const hw3_scene *s, bool wrong) {
+static bool gl_scene_init(gl_scene *g, const ras_scene *s, const ras_scene_assets *a,
+                          bool wrong) {
     if (s->object_count != 1) {
         fprintf(stderr, "bench_llvmpipe: the classic model scene has one object\n");
         return false;
     }
-    const hw3_object *o = &s->objects[0];
-    const ras_mesh *m = o->mesh;
+    fragment_shader_payload material = {.ambient_intensity = s->ambient,
+                                        .light_count = s->light_count};
+    const fragment_shader_payload *o = &material;
+    hw3_object_material(s, a, 0, &material);
+    const ras_mesh *m = a->meshes[0];
     g->width = s->width;
     g->height = s->height;
     g->clear = s->clear_color;
-    mat4s model =
-        glms_mat4_mul(glms_mat4_mul(o->place, rotate_y(o->yaw_deg)), o->orient); /* object_model */
-    mat4s view = s->look_at ? s->view : ras_view_matrix_eye(s->eye);
+    mat4s model = hw3_object_model(&s->objects[0], 0);
+    mat4s view = ras_scene_view_matrix(s);
+    for (int i = 0; i < s->light_count; i++) { /* into view space, as hw3_render */
+        const ras_scene_light *l = &s->lights[i];
+        material.lights[i] = (light){
+            l->in_world ? glms_mat4_mulv3(view, l->position, 1.0f) : l->position, l->intensity};
+    }
     mat4s mv = glms_mat4_mul(view, model);
-    mat4s proj = ras_projection_normalize_w(
-        get_projection_matrix(s->fov_deg, (float)s->width / (float)s->height, s->z_near, s->z_far));
+    const ras_scene_camera *cam = &s->camera;
+    mat4s proj = ras_projection_normalize_w(get_projection_matrix(
+        cam->fov_deg, (float)s->width / (float)s->height, cam->z_near, cam->z_far));
     /* The project's depth (1 − z/w)/2 puts near at 0 from z/w = +1; OpenGL's
      * window depth is (z/w + 1)/2: negate the z row, and near is −1 → 0 too. */
     for (int c = 0; c < 4; c++)
@@ -334,9 +341,9 @@ static bool gl_scene_init(gl_scene *g, const hw3_scene *s, bool wrong) {
     if (o->height_map && !upload_texture(o->height_map, GL_TEXTURE1)) return false;
     for (int sh = 0; sh < HW3_SHADER_COUNT; sh++) {
         g->program[sh] =
-            make_program(sh, wrong, s->light_count, o->texture != NULL, o->height_map != NULL);
+            make_program(sh, wrong, o->light_count, o->texture != NULL, o->height_map != NULL);
         if (!g->program[sh]) return false;
-        set_uniforms(g->program[sh], s, o, mv, proj);
+        set_uniforms(g->program[sh], o, mv, proj);
     }
 
     glGenFramebuffers(2, g->fbo);
@@ -450,7 +457,8 @@ static bool save_rgba(const uint8_t *rgba, int w, int h, const char *path) {
     return ok;
 }
 
-static int check(const gl_scene *g, hw3_scene *scene, bool wrong, const char *save_dir) {
+static int check(const gl_scene *g, const ras_scene *scene, ras_scene_assets *assets, bool wrong,
+                 const char *save_dir) {
     size_t bytes = (size_t)g->width * (size_t)g->height * 4;
     uint8_t *rgba = malloc(bytes);
     ras_error err = {{0}};
@@ -468,7 +476,7 @@ static int check(const gl_scene *g, hw3_scene *scene, bool wrong, const char *sa
                 opt.aa = RAS_AA_MSAA;
                 if (!ras_sample_pattern_make(RAS_PATTERN_STANDARD, 4, &opt.pattern, &err)) return 1;
             }
-            if (!hw3_render(scene, &opt, ours, NULL, &err)) {
+            if (!hw3_render(scene, assets, &opt, ours, NULL, &err)) {
                 fprintf(stderr, "bench_llvmpipe: %s\n", err.msg);
                 return 1;
             }
@@ -558,9 +566,12 @@ int main(int argc, char **argv) {
         model = tmp_obj;
     }
     ras_error err = {{0}};
-    hw3_scene *scene = hw3_scene_create_model(model, texture, NULL, false, &err);
+    ras_scene *scene =
+        ras_builtin_scene_with_model("hw3_model", model, texture, NULL, false, &err);
+    ras_scene_assets *assets = scene ? ras_scene_load_assets(scene, &err) : NULL;
     if (tmp_obj[0]) remove(tmp_obj);
-    if (!scene) {
+    if (!assets) {
+        ras_scene_destroy(scene);
         fprintf(stderr, "bench_llvmpipe: %s\n", err.msg);
         return 1;
     }
@@ -582,12 +593,15 @@ int main(int argc, char **argv) {
         return 1;
     }
     gl_scene g = {0};
-    if (!gl_scene_init(&g, scene, wrong)) {
+    if (!gl_scene_init(&g, scene, assets, wrong)) {
         fprintf(stderr, "bench_llvmpipe: OpenGL setup failed\n");
         return 1;
     }
-    int rc = do_count ? count(&g) : do_serve ? serve(&g) : check(&g, scene, wrong, save_dir);
+    int rc = do_count  ? count(&g)
+             : do_serve ? serve(&g)
+                        : check(&g, scene, assets, wrong, save_dir);
     OSMesaDestroyContext(ctx);
-    hw3_scene_destroy(scene);
+    ras_scene_assets_destroy(assets);
+    ras_scene_destroy(scene);
     return rc;
 }

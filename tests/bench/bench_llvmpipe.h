@@ -2,8 +2,8 @@
  * the project's renderers (issue 18, item 1).
  *
  * The comparator program, tests/bench/bench_llvmpipe.c (built only when pkg-config
- * finds OSMesa), renders the scene of hw3_scene_create_model — the same mesh,
- * camera, lights, material and texture — through OpenGL 3.3 core on OSMesa
+ * finds OSMesa), renders hw3_shading --model's scene (scenes/hw3_model.json)
+ * — the same mesh, camera, lights, material and texture — through OpenGL 3.3 core on OSMesa
  * with GLSL ports of the five shaders of hw3_shading/solution/shading.c,
  * indexed geometry, no AA or MSAA 4x. llvmpipe reads LP_NUM_THREADS once,
  * when its screen is created, so each thread count is its own process:

@@ -50,6 +50,7 @@
 #endif
 #include "fast_render.h" /* hw3_fast_renderer: the fast path, chosen explicitly */
 #include "ras_mesh.h"
+#include "ras_builtin_scenes.h" /* ras_builtin_scene_with_model: the classic scene */
 #include "scene.h"
 
 #include <math.h>         /* fabs */
@@ -107,7 +108,7 @@ static double cpu_ms(void) {
     return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
 }
 
-static bool render(hw3_scene *scene, hw3_shader shader, ras_aa_mode aa, bool plain, int threads,
+static bool render(const ras_scene *scene, ras_scene_assets *assets, hw3_shader shader, ras_aa_mode aa, bool plain, int threads,
                    ras_image *out, ras_counters *k, uint64_t *shaded, double *ms, double *cpu) {
     hw3_render_options opt = hw3_render_defaults();
     *shaded = UINT64_MAX; /* the plain pipeline leaves it: it shades what it counts */
@@ -124,7 +125,7 @@ static bool render(hw3_scene *scene, hw3_shader shader, ras_aa_mode aa, bool pla
     }
     ras_error err = {{0}};
     double c0 = cpu_ms(), t0 = ras_now_ms();
-    bool ok = hw3_render(scene, &opt, out, k, &err);
+    bool ok = hw3_render(scene, assets, &opt, out, k, &err);
     *ms = ras_now_ms() - t0;
     *cpu = cpu_ms() - c0;
     if (!ok) fprintf(stderr, "bench_perf: %s\n", err.msg);
@@ -150,8 +151,9 @@ typedef struct contender {
  * reference image), then `frames` rounds of one frame each, the order turned
  * by one every round. Every fast frame is compared with `expected` (outside
  * the timing). Fills each contender's row. */
-static bool measure_rounds(hw3_scene *scene, hw3_shader shader, ras_aa_mode aa, contender *cs,
-                           int n, int frames, ras_image *expected, ras_image *img) {
+static bool measure_rounds(const ras_scene *scene, ras_scene_assets *assets, hw3_shader shader,
+                           ras_aa_mode aa, contender *cs, int n, int frames, ras_image *expected,
+                           ras_image *img) {
     bool ok = true;
     for (int i = 0; i < n; i++) {
         cs[i].t = malloc(sizeof *cs[i].t * 2 * (size_t)frames);
@@ -170,7 +172,7 @@ static bool measure_rounds(hw3_scene *scene, hw3_shader shader, ras_aa_mode aa, 
                 if (!ok) fprintf(stderr, "bench_perf: llvmpipe (%d threads) did not answer\n",
                                  x->threads);
             } else {
-                ok = render(scene, shader, aa, x->plain, x->threads, x->plain ? expected : img,
+                ok = render(scene, assets, shader, aa, x->plain, x->threads, x->plain ? expected : img,
                             &x->k, &x->shaded, &ms, &cpu);
                 if (ok && !x->plain)
                     x->identical = x->identical && !memcmp(expected->pixels, img->pixels, bytes);
@@ -289,7 +291,8 @@ static void machine_name(char *buf, size_t size) {
 /* --count-frames: one frame of every shader at 1x and MSAA 4x, each after a
  * warm-up frame, between a zeroing of callgrind's counters and a dump named
  * SHADER_none / SHADER_msaa. */
-static int count_frames(hw3_scene *scene, bool plain, ras_image *img) {
+static int count_frames(const ras_scene *scene, ras_scene_assets *assets, bool plain,
+                        ras_image *img) {
     const ras_aa_mode aas[2] = {RAS_AA_NONE, RAS_AA_MSAA};
     for (int s = 0; s < HW3_SHADER_COUNT; s++)
         for (int a = 0; a < 2; a++) {
@@ -298,10 +301,11 @@ static int count_frames(hw3_scene *scene, bool plain, ras_image *img) {
             double ms, cpu;
             char name[64];
             snprintf(name, sizeof name, "%s_%s", hw3_shader_name((hw3_shader)s), a ? "msaa" : "none");
-            if (!render(scene, (hw3_shader)s, aas[a], plain, 1, img, &k, &shaded, &ms, &cpu))
+            if (!render(scene, assets, (hw3_shader)s, aas[a], plain, 1, img, &k, &shaded, &ms, &cpu))
                 return 1;
             CALLGRIND_ZERO_STATS;
-            bool ok = render(scene, (hw3_shader)s, aas[a], plain, 1, img, &k, &shaded, &ms, &cpu);
+            bool ok =
+                render(scene, assets, (hw3_shader)s, aas[a], plain, 1, img, &k, &shaded, &ms, &cpu);
             CALLGRIND_DUMP_STATS_AT(name);
             if (!ok) return 1;
         }
@@ -634,12 +638,12 @@ int main(int argc, char **argv) {
 
     char model[1200], texture[1200], tmp_obj[256] = "";
     ras_error err = {{0}};
-    hw3_scene *scene;
+    ras_scene *scene; /* hw3_shading --model's (scenes/hw3_model.json) */
     const char *model_name;
     if (spot && *spot) {
         snprintf(model, sizeof model, "%s/spot_triangulated_good.obj", spot);
         snprintf(texture, sizeof texture, "%s/spot_texture.png", spot);
-        scene = hw3_scene_create_model(model, texture, NULL, false, &err);
+        scene = ras_builtin_scene_with_model("hw3_model", model, texture, NULL, false, &err);
         model_name = "spot cow (spot_triangulated_good.obj, spot_texture.png)";
     } else {
         snprintf(tmp_obj, sizeof tmp_obj, "/tmp/raster101_bench_teapot_%d.obj", (int)getpid());
@@ -648,10 +652,11 @@ int main(int argc, char **argv) {
             return 1;
         }
         snprintf(model, sizeof model, "%s", tmp_obj);
-        scene = hw3_scene_create_model(model, NULL, NULL, false, &err);
+        scene = ras_builtin_scene_with_model("hw3_model", model, NULL, NULL, false, &err);
         model_name = "built-in Bézier teapot (6 400 triangles, checker colour map, bumps height map)";
     }
-    if (!scene) {
+    ras_scene_assets *assets = scene ? ras_scene_load_assets(scene, &err) : NULL;
+    if (!assets) {
         fprintf(stderr, "bench_perf: %s\n", err.msg);
         return 1;
     }
@@ -660,7 +665,7 @@ int main(int argc, char **argv) {
     if (!expected || !img) return 1;
 
     if (count_mode >= 0) { /* the counting side of --instructions, under callgrind */
-        int rc = count_frames(scene, count_mode == 0, img);
+        int rc = count_frames(scene, assets, count_mode == 0, img);
         if (tmp_obj[0]) remove(tmp_obj);
         return rc;
     }
@@ -687,7 +692,7 @@ int main(int argc, char **argv) {
     const ras_aa_mode aas[3] = {RAS_AA_NONE, RAS_AA_MSAA, RAS_AA_SSAA};
     bool all_identical = true, all_llvm_pass = true, any_llvm = false;
     fprintf(stderr, "bench_perf: %s, %zu triangles, %d frames per row%s%s\n", model_name,
-            scene->objects[0].mesh->triangle_count, frames, llvm_renderer[0] ? "; beside " : "",
+            assets->meshes[0]->triangle_count, frames, llvm_renderer[0] ? "; beside " : "",
             llvm_renderer);
     for (int s = 0; s < HW3_SHADER_COUNT; s++)
         for (int a = 0; a < 3; a++) {
@@ -705,7 +710,7 @@ int main(int argc, char **argv) {
                     cs[n++] = (contender){.threads = th, .llvm = llvm[th - 1], .frames = frames};
             if (row_count + n > MAX_ROWS) return 1;
             for (int i = 0; i < n; i++) cs[i].r = &rows[row_count + i];
-            if (!measure_rounds(scene, (hw3_shader)s, aas[a], cs, n, frames, expected, img))
+            if (!measure_rounds(scene, assets, (hw3_shader)s, aas[a], cs, n, frames, expected, img))
                 return 1;
             for (int i = 0; i < n; i++) {
                 row *r = cs[i].r;
@@ -817,7 +822,7 @@ int main(int argc, char **argv) {
                    "%d timed frames per row (after 2 warm-up frames); a frame is one whole "
                    "`hw3_render` call (setup, raster, shading, resolve into the image). Date %s.\n\n",
                 cpu, sysconf(_SC_NPROCESSORS_ONLN), RAS_BUILD_TYPE, __VERSION__,
-                "`make bench-perf`", model_name, scene->objects[0].mesh->triangle_count, frames,
+                "`make bench-perf`", model_name, assets->meshes[0]->triangle_count, frames,
                 date);
         double load[3] = {0, 0, 0};
         if (getloadavg(load, 3) == 3)
@@ -904,6 +909,7 @@ int main(int argc, char **argv) {
     if (csv_path && !write_csv(csv_path)) return 1;
     ras_image_destroy(expected);
     ras_image_destroy(img);
-    hw3_scene_destroy(scene);
+    ras_scene_assets_destroy(assets);
+    ras_scene_destroy(scene);
     return all_identical && all_llvm_pass ? 0 : 1;
 }

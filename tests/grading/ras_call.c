@@ -757,9 +757,9 @@ WRAP(vec3s, texture_sample_trilinear, const ras_texture *tex, vec2s uv, vec2s dx
 
 /* A whole frame: the image, the counters and the error are what the test
  * sees; the shaders and the rasterizer inside are not recorded one by one. */
-WRAP(bool, hw3_render, hw3_scene *scene, const hw3_render_options *opt, ras_image *out,
-     ras_counters *stats, ras_error *err) {
-    (void)scene; /* the replay answers from the record */
+WRAP(bool, hw3_render, const ras_scene *scene, ras_scene_assets *assets,
+     const hw3_render_options *opt, ras_image *out, ras_counters *stats, ras_error *err) {
+    (void)scene, (void)assets; /* the replay answers from the record */
     hash h = hash_start(FN_hw3_render);
     if (opt) {
         HASH(h, opt->shader);
@@ -776,7 +776,7 @@ WRAP(bool, hw3_render, hw3_scene *scene, const hw3_render_options *opt, ras_imag
     if (out) REGION(out->pixels, (size_t)out->width * (size_t)out->height * sizeof *out->pixels);
     REGION(stats, sizeof *stats);
     REGION(err, sizeof *err);
-    CALL(hw3_render, h, r = REAL(hw3_render)(scene, opt, out, stats, err));
+    CALL(hw3_render, h, r = REAL(hw3_render)(scene, assets, opt, out, stats, err));
     if (err) err->msg[sizeof err->msg - 1] = '\0';
     return r;
 }

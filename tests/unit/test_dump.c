@@ -31,6 +31,7 @@
 
 #include "ras_test_main.h"
 
+#include "ras_builtin_scenes.h"
 #include "ras_dump.h"
 #include "ras_image.h"
 #include "ras_io.h"
@@ -313,16 +314,18 @@ static void test_dump_hw3_fragment_buffers(void **state) {
         char dir[64];
         temp_dir(dir, sizeof dir);
         ras_error err = {{0}};
-        hw3_scene *scene = hw3_scene_create_default(&err);
-        CHECK(scene, "default scene: %s", err.msg);
+        ras_scene *scene = ras_builtin_scene_load("hw3_default", &err);
+        ras_scene_assets *assets = scene ? ras_scene_load_assets(scene, &err) : NULL;
+        CHECK(assets, "default scene: %s", err.msg);
         scene->width = 96, scene->height = 72;
         hw3_render_options opt = hw3_render_defaults();
         assert_true(hw3_shader_parse(shaders[k], &opt.shader, &err));
         ras_image *plain = ras_image_create(96, 72, NULL), *dumped = ras_image_create(96, 72, NULL);
         assert_true(plain && dumped);
-        CHECK(hw3_render(scene, &opt, plain, NULL, &err), "render: %s", err.msg);
+        CHECK(hw3_render(scene, assets, &opt, plain, NULL, &err), "render: %s", err.msg);
         opt.dump_dir = dir;
-        CHECK(hw3_render(scene, &opt, dumped, NULL, &err), "render with --dump: %s", err.msg);
+        CHECK(hw3_render(scene, assets, &opt, dumped, NULL, &err), "render with --dump: %s",
+              err.msg);
         CHECK(memcmp(plain->pixels, dumped->pixels, sizeof(vec3s) * 96 * 72) == 0,
               "%s: the picture changed when its buffers were dumped", shaders[k]);
         bool want_uv = k == 1;
@@ -352,7 +355,8 @@ static void test_dump_hw3_fragment_buffers(void **state) {
         free(d);
         ras_image_destroy(plain);
         ras_image_destroy(dumped);
-        hw3_scene_destroy(scene);
+        ras_scene_assets_destroy(assets);
+        ras_scene_destroy(scene);
         remove_dir(dir);
     }
 }

@@ -18,9 +18,11 @@
 
 #include "ras_test_main.h"
 #include "fast_render.h"
+#include "ras_builtin_scenes.h"
 #include "scene.h"
 
 #include <stdio.h>  /* snprintf */
+#include <stdlib.h> /* malloc, free */
 #include <string.h> /* memcmp */
 
 #define FAST_C "hw3_shading/fast/fast_render.c"
@@ -52,21 +54,26 @@ static const char *const fast_copies[HW3_SHADER_COUNT] = {
     "(" FAST_C ") of rasterize_triangle (hw2_rasterize/solution/rasterizer.c), resolve4 of "  \
     "resolve_pixel, persp_bary of perspective_correct_barycentric"
 
-static hw3_scene *scene;
+/* The program's default scene (scenes/hw3_default.json as built in) and its
+ * meshes and textures; the tests change it, then put it back. */
+static ras_scene *scene;
+static ras_scene_assets *assets;
 static ras_image *teaching_img, *fast_img;
 
 static int group_setup(void **state) {
     (void)state;
     ras_error err = {{0}};
-    scene = hw3_scene_create_default(&err);
+    scene = ras_builtin_scene_load("hw3_default", &err);
+    assets = scene ? ras_scene_load_assets(scene, &err) : NULL;
     teaching_img = ras_image_create(700, 700, &err);
     fast_img = ras_image_create(700, 700, &err);
-    return scene && teaching_img && fast_img ? 0 : -1;
+    return assets && teaching_img && fast_img ? 0 : -1;
 }
 
 static int group_teardown(void **state) {
     (void)state;
-    hw3_scene_destroy(scene);
+    ras_scene_assets_destroy(assets);
+    ras_scene_destroy(scene);
     ras_image_destroy(teaching_img);
     ras_image_destroy(fast_img);
     return 0;
@@ -107,7 +114,7 @@ static void render(hw3_render_options opt, bool teaching, int threads, ras_image
     opt.renderer = teaching ? NULL : &fast;
     img->width = scene->width; /* the images are allocated at the largest size */
     img->height = scene->height;
-    if (!hw3_render(scene, &opt, img, k, &err)) fail_msg("hw3_render: %s", err.msg);
+    if (!hw3_render(scene, assets, &opt, img, k, &err)) fail_msg("hw3_render: %s", err.msg);
 }
 
 /* Teaching vs fast with 1, 2 and 3 threads for every shader and AA mode. */
@@ -212,10 +219,10 @@ static void test_fast_path_odd_size_trilinear(void **state) {
  * clipped and split; affine interpolation and nearest filtering. */
 static void test_fast_path_clipping_affine(void **state) {
     (void)state;
-    vec3s eye = scene->eye;
+    vec3s eye = scene->camera.eye;
     scene->width = 256;
     scene->height = 200;
-    scene->eye = (vec3s){{1.0f, 1.2f, 0.6f}};
+    scene->camera.eye = (vec3s){{1.0f, 1.2f, 0.6f}};
     hw3_render_options opt = options(RAS_PATTERN_STANDARD, 4);
     opt.affine = true;
     opt.filter = FILTER_NEAREST;
@@ -224,7 +231,7 @@ static void test_fast_path_clipping_affine(void **state) {
     render(opt, true, 1, teaching_img, &k, NULL);
     assert_true(k.triangles_clip_split > 0);
     check_all("near-plane clipping, affine", opt);
-    scene->eye = eye;
+    scene->camera.eye = eye;
     scene->width = scene->height = 700;
 }
 
@@ -236,21 +243,22 @@ static void test_fast_path_clamp_coloured_light_no_light(void **state) {
     (void)state;
     scene->width = 200;
     scene->height = 160;
-    ras_wrap wraps[HW3_MAX_OBJECTS];
-    for (int i = 0; i < scene->texture_count; i++) {
-        wraps[i] = scene->textures[i]->wrap;
-        scene->textures[i]->wrap = RAS_WRAP_CLAMP;
+    ras_wrap *wraps = malloc((size_t)assets->owned_texture_count * sizeof *wraps);
+    assert_non_null(wraps);
+    for (int i = 0; i < assets->owned_texture_count; i++) {
+        wraps[i] = assets->owned_textures[i]->wrap;
+        assets->owned_textures[i]->wrap = RAS_WRAP_CLAMP;
     }
     ras_texture *tiny = ras_texture_create_checker(1, 1, (vec3s){{0.9f, 0.4f, 0.1f}},
                                                    (vec3s){{0.0f, 0.0f, 0.0f}});
     assert_non_null(tiny);
     int textured = -1;
     for (int o = 0; o < scene->object_count && textured < 0; o++)
-        if (scene->objects[o].texture) textured = o;
+        if (assets->textures[o]) textured = o;
     assert_true(textured >= 0);
-    const ras_texture *kept = scene->objects[textured].texture;
-    scene->objects[textured].texture = tiny;
-    light first = scene->lights[0];
+    ras_texture *kept = assets->textures[textured];
+    assets->textures[textured] = tiny;
+    ras_scene_light first = scene->lights[0];
     int lights = scene->light_count;
     scene->lights[0].intensity = (vec3s){{500.0f, 300.0f, 100.0f}};
     check_all("clamp, 1x1 texture, coloured light", options(RAS_PATTERN_ORDERED, 4));
@@ -258,9 +266,11 @@ static void test_fast_path_clamp_coloured_light_no_light(void **state) {
     check_all("no light", options(RAS_PATTERN_ORDERED, 4));
     scene->light_count = lights;
     scene->lights[0] = first;
-    scene->objects[textured].texture = kept;
+    assets->textures[textured] = kept;
     ras_texture_destroy(tiny);
-    for (int i = 0; i < scene->texture_count; i++) scene->textures[i]->wrap = wraps[i];
+    for (int i = 0; i < assets->owned_texture_count; i++)
+        assets->owned_textures[i]->wrap = wraps[i];
+    free(wraps);
     scene->width = scene->height = 700;
 }
 

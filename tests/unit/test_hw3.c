@@ -28,6 +28,7 @@
 
 #include <cmocka.h>
 
+#include "ras_builtin_scenes.h"
 #include "ras_compare.h"
 #include "ras_test_main.h"
 #include "scene.h"
@@ -760,19 +761,23 @@ static mat4s hand_projection(float fov_deg, float aspect, float n_dist, float f_
                          0, 0, 1, 0);
 }
 
-static hw3_scene *g_scene;
+/* The program's default scene, scenes/hw3_default.json as built in. */
+static ras_scene *g_scene;
+static ras_scene_assets *g_assets;
 
 static int group_setup(void **state) {
     (void)state;
     ras_error err = {{0}};
-    g_scene = hw3_scene_create_default(&err);
-    if (!g_scene) fprintf(stderr, "test_hw3: %s\n", err.msg);
-    return g_scene ? 0 : -1;
+    g_scene = ras_builtin_scene_load("hw3_default", &err);
+    g_assets = g_scene ? ras_scene_load_assets(g_scene, &err) : NULL;
+    if (!g_assets) fprintf(stderr, "test_hw3: %s\n", err.msg);
+    return g_assets ? 0 : -1;
 }
 
 static int group_teardown(void **state) {
     (void)state;
-    hw3_scene_destroy(g_scene);
+    ras_scene_assets_destroy(g_assets);
+    ras_scene_destroy(g_scene);
     return 0;
 }
 
@@ -784,7 +789,7 @@ static ras_image *render(hw3_shader shader, texture_filter filter, ras_counters 
     ras_error err = {{0}};
     ras_image *img = ras_image_create(g_scene->width, g_scene->height, &err);
     assert_non_null(img);
-    CHECK(hw3_render(g_scene, &opt, img, stats, &err), "hw3_render(%s): %s",
+    CHECK(hw3_render(g_scene, g_assets, &opt, img, stats, &err), "hw3_render(%s): %s",
           hw3_shader_name(shader), err.msg);
     return img;
 }
@@ -831,12 +836,24 @@ static void write_file(const char *path, const char *text) {
     fclose(f);
 }
 
+/* --model's scene (scenes/hw3_model.json around a file) and its assets; NULL
+ * and err when a file does not load. */
+static ras_scene *model_scene(const char *model, const char *texture, bool fit,
+                              ras_scene_assets **assets, ras_error *err) {
+    ras_scene *s = ras_builtin_scene_with_model("hw3_model", model, texture, NULL, fit, err);
+    *assets = s ? ras_scene_load_assets(s, err) : NULL;
+    if (*assets) return s;
+    ras_scene_destroy(s);
+    return NULL;
+}
+
 /* A missing or malformed model or texture is an error with a message, not a
  * crash and not an empty picture. A quad OBJ without normals loads and fits. */
 static void test_scene_model_errors_and_quads(void **state) {
     (void)state;
     ras_error err = {{0}};
-    hw3_scene *s = hw3_scene_create_model("/nonexistent/model.obj", NULL, NULL, false, &err);
+    ras_scene_assets *a = NULL;
+    ras_scene *s = model_scene("/nonexistent/model.obj", NULL, false, &a, &err);
     CHECK(!s && strlen(err.msg) > 0, "a missing model must fail with a message");
     char dir[] = "/tmp/raster101_hw3_XXXXXX";
     assert_non_null(mkdtemp(dir));
@@ -847,27 +864,28 @@ static void test_scene_model_errors_and_quads(void **state) {
     write_file(quad, "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
                      "f 1/1 2/2 3/3 4/4\n");
     err.msg[0] = '\0';
-    s = hw3_scene_create_model(bad, NULL, NULL, false, &err);
+    s = model_scene(bad, NULL, false, &a, &err);
     CHECK(!s && strlen(err.msg) > 0, "an OBJ with an out-of-range index must fail with a message");
     err.msg[0] = '\0';
-    s = hw3_scene_create_model(quad, "/nonexistent/tex.png", NULL, false, &err);
+    s = model_scene(quad, "/nonexistent/tex.png", false, &a, &err);
     CHECK(!s && strlen(err.msg) > 0, "a missing texture must fail with a message");
-    s = hw3_scene_create_model(quad, NULL, NULL, true, &err);
+    s = model_scene(quad, NULL, true, &a, &err);
     CHECK(s, "a quad OBJ without normals should load: %s", err.msg);
-    CHECK(s->objects[0].mesh->triangle_count == 2, "the quad should become 2 triangles, got %zu",
-          s->objects[0].mesh->triangle_count);
+    CHECK(a->meshes[0]->triangle_count == 2, "the quad should become 2 triangles, got %zu",
+          a->meshes[0]->triangle_count);
     s->width = s->height = 64;
     hw3_render_options opt = hw3_render_defaults();
     opt.shader = HW3_SHADER_TEXTURE;
     opt.projection = hand_projection;
     ras_image *img = ras_image_create(64, 64, NULL);
     ras_counters k;
-    CHECK(hw3_render(s, &opt, img, &k, &err), "render the quad: %s", err.msg);
+    CHECK(hw3_render(s, a, &opt, img, &k, &err), "render the quad: %s", err.msg);
     CHECK(k.fragments_shaded > 500, "the fitted quad should cover much of a 64x64 frame; %llu "
                                     "fragments shaded",
           (unsigned long long)k.fragments_shaded);
     ras_image_destroy(img);
-    hw3_scene_destroy(s);
+    ras_scene_assets_destroy(a);
+    ras_scene_destroy(s);
     unlink(bad);
     unlink(quad);
     rmdir(dir);

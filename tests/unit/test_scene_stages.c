@@ -1,6 +1,6 @@
 /* test_scene_stages.c — the pipeline runs only what a scene calls for, and
  * --stats says so: counters of small scenes rendered through the real
- * reference pipeline (hw3_ref: scene file → hw3_scene_from_ras → hw3_render).
+ * reference pipeline (hw3_ref: scene file → ras_scene_load_assets → hw3_render).
  *
  * Every expected number is worked out by hand from the geometry, not read
  * back from a run:
@@ -85,8 +85,8 @@ static frame render_spec(const spec *s, bool plain) {
     ras_error err = {{0}};
     ras_scene *rs = ras_scene_parse(text, "stages.json", NULL, &err);
     if (!rs) fail_msg("the test scene does not parse: %s\n%s", err.msg, text);
-    hw3_scene *scene = hw3_scene_from_ras(rs, &err);
-    if (!scene) fail_msg("hw3_scene_from_ras: %s", err.msg);
+    ras_scene_assets *assets = ras_scene_load_assets(rs, &err);
+    if (!assets) fail_msg("ras_scene_load_assets: %s", err.msg);
     hw3_render_options opt = hw3_render_options_from_ras(rs);
 #ifdef RAS_HAVE_FAST_RENDERER
     hw3_fast_settings settings = {.threads = 2};
@@ -95,11 +95,11 @@ static frame render_spec(const spec *s, bool plain) {
 #else
     (void)plain;
 #endif
-    frame f = {.varyings = hw3_frame_varyings(scene, opt.shader)};
+    frame f = {.varyings = hw3_frame_varyings(rs, assets, opt.shader)};
     f.image = ras_image_create(W, W, &err);
     assert_non_null(f.image);
-    if (!hw3_render(scene, &opt, f.image, &f.k, &err)) fail_msg("hw3_render: %s", err.msg);
-    hw3_scene_destroy(scene);
+    if (!hw3_render(rs, assets, &opt, f.image, &f.k, &err)) fail_msg("hw3_render: %s", err.msg);
+    ras_scene_assets_destroy(assets);
     ras_scene_destroy(rs);
     return f;
 }
@@ -314,31 +314,88 @@ static void test_unlit_shader_no_lighting(void **state) {
     ras_image_destroy(f.image);
 }
 
-/* ---- the adapter: scene file → hw3_scene ------------------------------------------ */
+/* ---- how the scene reaches the shaders ------------------------------------------ */
 
+/* A phong frame of two cubes under one light, given in `space` at `pos`. */
+static ras_image *lit_cubes(const char *space, const char *pos) {
+    char text[512];
+    snprintf(text, sizeof text,
+             "{\"image\": {\"width\": %d, \"height\": %d}, \"camera\": {\"eye\": [1, 2, 5]},"
+             " \"objects\": [{\"shape\": \"cube\", \"transform\": {\"translate\": [0.5, 2, 0]}},"
+             " {\"shape\": \"cube\", \"transform\": {\"translate\": [1.5, 2, 0]}}],"
+             " \"lights\": [{\"position\": %s, \"space\": \"%s\"}], \"shader\": \"phong\"}",
+             W, W, pos, space);
+    ras_error err = {{0}};
+    ras_scene *rs = ras_scene_parse(text, "lights.json", NULL, &err);
+    ras_scene_assets *assets = rs ? ras_scene_load_assets(rs, &err) : NULL;
+    if (!assets) fail_msg("%s", err.msg);
+    hw3_render_options opt = hw3_render_options_from_ras(rs);
+    ras_image *img = ras_image_create(W, W, &err);
+    assert_non_null(img);
+    if (!hw3_render(rs, assets, &opt, img, NULL, &err)) fail_msg("hw3_render: %s", err.msg);
+    ras_scene_assets_destroy(assets);
+    ras_scene_destroy(rs);
+    return img;
+}
+
+/* The shaders light in view space: a world light is moved there. The fixed
+ * view translates by -eye, so a world light at (1,2,15) seen from (1,2,5) is
+ * the view light (0,0,10), bit for bit; and the light does matter (one at
+ * (0,0,-10), behind the cubes, draws another picture). */
 static void test_world_lights_move_to_view_space(void **state) {
+    (void)state;
+    ras_image *world = lit_cubes("world", "[1, 2, 15]"), *view = lit_cubes("view", "[0, 0, 10]");
+    ras_image *behind = lit_cubes("view", "[0, 0, -10]");
+    size_t bytes = sizeof(vec3s) * PIXELS;
+    assert_memory_equal(world->pixels, view->pixels, bytes);
+    assert_memory_not_equal(view->pixels, behind->pixels, bytes);
+    ras_image_destroy(world);
+    ras_image_destroy(view);
+    ras_image_destroy(behind);
+}
+
+/* The material is per object, and kd when given is the base colour. */
+static void test_material_is_per_object(void **state) {
     (void)state;
     ras_error err = {{0}};
     ras_scene *rs =
-        ras_scene_parse("{\"camera\": {\"eye\": [1, 2, 5]}, \"objects\": [{\"shape\": \"cube\"},"
+        ras_scene_parse("{\"objects\": [{\"shape\": \"cube\"},"
                         " {\"shape\": \"cube\", \"material\": {\"ka\": 0.5, \"ks\": 0.25, \"p\": "
-                        "8, \"kd\": 0.75}}],"
-                        " \"lights\": [{\"position\": [1, 2, 15], \"space\": \"world\"},"
-                        " {\"position\": [3, 3, 3], \"intensity\": [1, 2, 3]}]}",
-                        "adapter.json", NULL, &err);
-    if (!rs) fail_msg("%s", err.msg);
-    hw3_scene *s = hw3_scene_from_ras(rs, &err);
-    if (!s) fail_msg("%s", err.msg);
-    /* the fixed view translates by -eye: (1,2,15) - (1,2,5) = (0,0,10) */
-    assert_true(s->lights[0].position.x == 0 && s->lights[0].position.y == 0 &&
-                s->lights[0].position.z == 10);
-    assert_true(s->lights[1].position.x == 3 && s->lights[1].intensity.z == 3);
-    /* the material is per object */
-    assert_true(s->objects[0].ka.x == 0.005f && s->objects[0].p == 150);
-    assert_true(s->objects[1].ka.x == 0.5f && s->objects[1].ks.y == 0.25f && s->objects[1].p == 8 &&
-                s->objects[1].color.z == 0.75f);
-    hw3_scene_destroy(s);
+                        "8, \"kd\": 0.75, \"color\": [0.1, 0.2, 0.3]}}]}",
+                        "material.json", NULL, &err);
+    ras_scene_assets *assets = rs ? ras_scene_load_assets(rs, &err) : NULL;
+    if (!assets) fail_msg("%s", err.msg);
+    fragment_shader_payload p[2] = {0};
+    for (int i = 0; i < 2; i++) hw3_object_material(rs, assets, i, &p[i]);
+    assert_true(p[0].ka.x == 0.005f && p[0].p == 150 && p[0].color.x == 1);
+    assert_true(p[1].ka.x == 0.5f && p[1].ks.y == 0.25f && p[1].p == 8 && p[1].color.z == 0.75f);
+    ras_scene_assets_destroy(assets);
     ras_scene_destroy(rs);
+}
+
+/* --model's scene: the model file takes the first object's place; --fit
+ * replaces its scale; the texture doubles as the height map unless --height
+ * names one (the course loads hmap.jpg as "the texture"). */
+static void test_model_scene_takes_the_files(void **state) {
+    (void)state;
+    ras_error err = {{0}};
+    ras_scene *s =
+        ras_builtin_scene_with_model("hw3_model", "spot.obj", "spot.png", NULL, true, &err);
+    if (!s) fail_msg("%s", err.msg);
+    const ras_scene_object *o = &s->objects[0];
+    assert_int_equal(o->shape, RAS_SHAPE_MODEL);
+    assert_string_equal(o->params.model_path, "spot.obj");
+    assert_true(o->params.fit == RAS_BUILTIN_MODEL_FIT && o->scale.x == 1);
+    assert_int_equal(o->material.texture.kind, RAS_MAP_FILE);
+    assert_string_equal(o->material.height_map.path, "spot.png");
+    ras_scene_destroy(s);
+    s = ras_builtin_scene_with_model("hw3_model", "spot.obj", NULL, NULL, false, &err);
+    if (!s) fail_msg("%s", err.msg);
+    o = &s->objects[0];
+    assert_true(o->params.fit == 0 && o->scale.x == 2.5f);
+    assert_int_equal(o->material.texture.kind, RAS_MAP_CHECKER);
+    assert_int_equal(o->material.height_map.kind, RAS_MAP_BUMPS);
+    ras_scene_destroy(s);
 }
 
 /* ---- the built-in default scene ---------------------------------------------------- */
@@ -361,8 +418,8 @@ static char *read_file(const char *path) {
 
 static void test_builtin_scenes_are_the_files(void **state) {
     (void)state;
-    const char *names[] = {"hw1_classic", "hw2_classic", "hw3_default"};
-    for (int i = 0; i < 3; i++) {
+    const char *names[] = {"hw1_classic", "hw2_classic", "hw3_default", "hw3_model"};
+    for (int i = 0; i < 4; i++) {
         char path[1024];
         snprintf(path, sizeof path, "%s/scenes/%s.json", RAS_SOURCE_DIR, names[i]);
         char *file = read_file(path);
@@ -377,41 +434,6 @@ static void test_builtin_scenes_are_the_files(void **state) {
         ras_scene_destroy(s);
     }
     assert_null(ras_builtin_scene_text("nope"));
-}
-
-/* scenes/hw3_default.json draws what hw3_scene_create_default draws, bit for
- * bit, with every shader (the program's default frame did not change when it
- * moved to the scene file). 160×160 keeps it quick. */
-static void test_default_scene_file_matches_builtin_scene(void **state) {
-    (void)state;
-    ras_error err = {{0}};
-    ras_scene *rs = ras_builtin_scene_load("hw3_default", &err);
-    if (!rs) fail_msg("%s", err.msg);
-    hw3_scene *from_file = hw3_scene_from_ras(rs, &err);
-    hw3_scene *built_in = hw3_scene_create_default(&err);
-    assert_non_null(from_file);
-    assert_non_null(built_in);
-    from_file->width = from_file->height = built_in->width = built_in->height = 160;
-    ras_image *a = ras_image_create(160, 160, &err), *b = ras_image_create(160, 160, &err);
-    for (int sh = 0; sh < HW3_SHADER_COUNT; sh++) {
-        hw3_render_options opt = hw3_render_options_from_ras(rs);
-        opt.shader = (hw3_shader)sh;
-        opt.angle_deg = 20; /* the program's turn composes with each object's rotation */
-        ras_counters ka, kb;
-        assert_true(hw3_render(from_file, &opt, a, &ka, &err));
-        assert_true(hw3_render(built_in, &opt, b, &kb, &err));
-        for (int i = 0; i < 160 * 160; i++)
-            if (memcmp(&a->pixels[i], &b->pixels[i], sizeof a->pixels[i]))
-                fail_msg("%s shader: pixel %d differs between scenes/hw3_default.json and the "
-                         "built-in default scene",
-                         hw3_shader_name((hw3_shader)sh), i);
-        assert_same_work(&ka, &kb);
-    }
-    ras_image_destroy(a);
-    ras_image_destroy(b);
-    hw3_scene_destroy(from_file);
-    hw3_scene_destroy(built_in);
-    ras_scene_destroy(rs);
 }
 
 /* "depth": "inverse_w" reaches hw3's pipeline: two parallel triangles at view
@@ -438,14 +460,14 @@ static void test_depth_key_reaches_the_pipeline(void **state) {
         ras_error err = {{0}};
         ras_scene *rs = ras_scene_parse(text, "depth.json", NULL, &err);
         if (!rs) fail_msg("the test scene does not parse: %s\n%s", err.msg, text);
-        hw3_scene *scene = hw3_scene_from_ras(rs, &err);
-        assert_non_null(scene);
+        ras_scene_assets *assets = ras_scene_load_assets(rs, &err);
+        assert_non_null(assets);
         hw3_render_options opt = hw3_render_options_from_ras(rs);
         assert_int_equal(opt.depth, inv ? RAS_DEPTH_INV_W : RAS_DEPTH_Z01);
         ras_image *img = ras_image_create(W, W, &err);
         assert_non_null(img);
         ras_counters k;
-        assert_true(hw3_render(scene, &opt, img, &k, &err));
+        assert_true(hw3_render(rs, assets, &opt, img, &k, &err));
         int red = 0, blue = 0;
         for (int i = 0; i < PIXELS; i++) {
             red += img->pixels[i].x > img->pixels[i].z;
@@ -461,7 +483,7 @@ static void test_depth_key_reaches_the_pipeline(void **state) {
             assert_true(blue > 0);
         }
         ras_image_destroy(img);
-        hw3_scene_destroy(scene);
+        ras_scene_assets_destroy(assets);
         ras_scene_destroy(rs);
     }
 }
@@ -479,8 +501,9 @@ int main(void) {
         cmocka_unit_test(test_no_lights_no_lighting),
         cmocka_unit_test(test_unlit_shader_no_lighting),
         cmocka_unit_test(test_world_lights_move_to_view_space),
+        cmocka_unit_test(test_material_is_per_object),
+        cmocka_unit_test(test_model_scene_takes_the_files),
         cmocka_unit_test(test_builtin_scenes_are_the_files),
-        cmocka_unit_test(test_default_scene_file_matches_builtin_scene),
         cmocka_unit_test(test_depth_key_reaches_the_pipeline),
     };
     return RAS_RUN_TESTS("scene_stages", tests, NULL, NULL);
