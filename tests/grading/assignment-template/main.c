@@ -18,32 +18,35 @@
 
 #include <stdio.h> /* snprintf */
 
+/* The pipeline, made on the first frame: lines only (no rasterizer here). */
+static bool ensure_pipeline(ras_app *app, ras_error *err) {
+    if (app->pipeline) return true;
+    ras_pipeline_config cfg = {.width = app->set.width,
+                               .height = app->set.height,
+                               .clear_color = app->scene->clear_color,
+                               .wireframe = true};
+    return (app->pipeline = ras_pipeline_create(&cfg, err)) != NULL;
+}
+
 /* The frame: each object scaled about its own origin, then view and
- * projection, drawn as lines in the object's colour. */
+ * projection (hw1), drawn as lines in the object's colour. */
 static bool render(ras_app *app, ras_error *err) {
+    if (!ensure_pipeline(app, err)) return false;
     const ras_scene *s = app->scene;
-    if (!app->pipeline) {
-        ras_pipeline_config cfg = {.width = app->set.width,
-                                   .height = app->set.height,
-                                   .clear_color = s->clear_color,
-                                   .wireframe = true,
-                                   .wire_color = {{1, 1, 1}}};
-        if (!(app->pipeline = ras_pipeline_create(&cfg, err))) return false;
-    }
-    ras_pipeline_begin_frame(app->pipeline);
+    float aspect = (float)app->set.width / (float)app->set.height;
+    mat4s scale = get_scale_matrix(0.5f), view = ras_scene_view_matrix(s);
     mat4s projection =
-        get_projection_matrix(s->camera.fov_deg, (float)app->set.width / (float)app->set.height,
-                              s->camera.z_near, s->camera.z_far);
-    mat4s view = ras_scene_view_matrix(s), scale = get_scale_matrix(0.5f);
+        get_projection_matrix(s->camera.fov_deg, aspect, s->camera.z_near, s->camera.z_far);
+    ras_pipeline *p = app->pipeline;
+    ras_pipeline_begin_frame(p);
     for (int i = 0; i < s->object_count; i++) {
-        app->pipeline->config.wire_color = s->objects[i].material.color;
+        p->config.wire_color = s->objects[i].material.color;
         mat4s model = ras_scene_model_matrix(&s->objects[i], scale);
-        if (!ras_pipeline_draw_mesh(app->pipeline, app->assets->meshes[i], model, view, projection,
-                                    err))
+        if (!ras_pipeline_draw_mesh(p, app->assets->meshes[i], model, view, projection, err))
             return false;
     }
-    ras_pipeline_end_frame(app->pipeline, app->image);
-    app->counters = &app->pipeline->counters;
+    ras_pipeline_end_frame(p, app->image);
+    app->counters = &p->counters;
     return true;
 }
 
