@@ -35,32 +35,33 @@ reference-images: build
 	@scripts/reference-images $(BUILD)
 
 format:
-	@clang-format -i common/*.[ch] common/*.cpp hw*/*.[ch] hw*/solution/*.c tests/*.[ch]
+	@clang-format -i common/*.[ch] common/*.cpp hw*/*.[ch] hw*/solution/*.c \
+	  tests/unit/*.[ch] tests/grading/*.[ch] tests/bench/*.[ch]
 
 clean:
 	rm -rf $(BUILD) out
 
-# ---- grading (tests/grade, docs/grading.md) ----
+# ---- grading (tests/grading/grade, docs/grading.md) ----
 #   make grade              builds and grades the student code (all assignments)
 #   make grade HW=2         one assignment
 #   make grade STUDENT=ref  grades the reference solutions as the student (full marks)
 .PHONY: grade
 grade: configure
-	@tests/grade --build $(BUILD) --jobs $(JOBS) --reuse-build $(BUILD)/grade-sandbox \
+	@tests/grading/grade --build $(BUILD) --jobs $(JOBS) --reuse-build $(BUILD)/grade-sandbox \
 	  $(if $(HW),--hw $(HW)) $(if $(STUDENT),--student $(STUDENT))
 
 # The student edition: build/handout/raster101-handout.tar.gz, no solution/
-# folders; fails if any solution text would ship (tests/make-handout).
+# folders; fails if any solution text would ship (tests/grading/make-handout).
 .PHONY: handout
 handout:
-	@tests/make-handout --out $(BUILD)/handout
+	@tests/grading/make-handout --out $(BUILD)/handout
 
 # The Gradescope autograder: build/autograder/raster101-autograder.zip
-# (setup.sh, run_autograder and the tree without solutions; tests/make-autograder,
+# (setup.sh, run_autograder and the tree without solutions; tests/grading/make-autograder,
 # docs/instructors.md). The same zip serves a GitHub Actions runner.
 .PHONY: autograder
 autograder:
-	@tests/make-autograder --out $(BUILD)/autograder
+	@tests/grading/make-autograder --out $(BUILD)/autograder
 
 # The accuracy report (issue 6): time and error of every accuracy option,
 # measured on this machine, into docs/accuracy.md, docs/accuracy.csv and
@@ -71,26 +72,26 @@ bench-accuracy: configure
 	@$(BUILD)/bin/bench_accuracy --out docs
 
 # The tests are tested and the grades fair: the classic solution gets full
-# marks; known student mistakes (tests/mutants/) injected into the reference
+# marks; known student mistakes (tests/grading/mutants/) injected into the reference
 # each lose points in their own assignment first and are named first
-# (docs/mutants.md; 15-30 minutes, tests/run-mutants --own-only is faster).
+# (docs/mutants.md; 15-30 minutes, tests/grading/run-mutants --own-only is faster).
 .PHONY: mutants
 mutants: configure
-	@tests/run-mutants --build $(BUILD)
+	@tests/grading/run-mutants --build $(BUILD)
 
 # The grader is tested against cheating (issue 14): every hostile submission of
-# tests/attacks/ must score 0 on what it attacks, leave no process and no file
+# tests/grading/attacks/ must score 0 on what it attacks, leave no process and no file
 # changed, and not change honest students' grades in a mixed grade-all batch
-# (tests/run-attacks, docs/grading.md "The attack catalogue"; instructors' only).
+# (tests/grading/run-attacks, docs/grading.md "The attack catalogue"; instructors' only).
 .PHONY: attacks
 attacks: configure
-	@tests/run-attacks --build $(BUILD)
+	@tests/grading/run-attacks --build $(BUILD)
 
 # The performance report: frame times of the classic hw3 scene, the teaching
 # pipeline vs the fast renderer (hw3_shading/fast/), into docs/performance.md.
 # SPOT=DIR uses DIR/spot_triangulated_good.obj (else a built-in teapot).
 .PHONY: bench-perf
-# Beside them Mesa llvmpipe (issue 18; tests/bench_llvmpipe.c, OSMesa installed by
+# Beside them Mesa llvmpipe (issue 18; tests/bench/bench_llvmpipe.c, OSMesa installed by
 # scripts/install-bench-deps), and the rows as CSV into docs/performance.csv.
 # INSTRUCTIONS=1 also counts one frame's instructions with callgrind (minutes).
 bench-perf: BUILD = build-perf

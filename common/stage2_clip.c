@@ -70,7 +70,7 @@ ras_clip_result ras_clip_triangle(const ras_clip_vertex *a, const ras_clip_verte
              * neighbour sharing this edge walks it the other way, and only a
              * direction-independent formula gives it the same cut point bit for
              * bit — otherwise the shared edge moves and the mesh cracks on
-             * screen (tests/test_hardcases.c, test_watertight_clipped_fan). */
+             * screen (tests/unit/test_hardcases.c, test_watertight_clipped_fan). */
             if ((dp >= 0) != (dq >= 0))
                 tmp[m++] = dp >= 0 ? lerp_vertex(p, q, dp / (dp - dq))
                                    : lerp_vertex(q, p, dq / (dq - dp));

@@ -12,7 +12,7 @@
  *                          coverage (every sample once) | float edges with
  *                          >= 0 (red: hit twice, yellow: missed), drawn by
  *                          the accuracy benchmark's float-edge rasterizer
- *                          (tests/bench_float_edges.c; the reference has no
+ *                          (tests/bench/bench_float_edges.c; the reference has no
  *                          float mode); the counts go to stdout. Instructors'
  *                          edition only: the handout has no float rasterizer
  *

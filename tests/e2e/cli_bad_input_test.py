@@ -1,0 +1,569 @@
+#!/usr/bin/env python3
+"""cli_bad_input_test.py — the programs and tools given bad input, from outside.
+
+    cli_bad_input_test.py BIN_DIR WORK_DIR
+
+The project standard: bad input (files, scenes, numbers, flags) gets a clear
+error and a non-zero exit (2 for usage and input errors), nothing half
+written is left behind, no crash, no sanitizer finding. For each case below
+this runs one of build/bin/{hw1_transform,hw2_rasterize,hw3_shading}_ref,
+raster101-compare or raster101-grade and checks
+  - the exit status,
+  - a piece of the message on stderr (what was expected / what came),
+  - that the output file named on the command line does not exist afterwards,
+  - that stderr carries no AddressSanitizer / UBSan report.
+A few good runs are checked as well, so the checks cannot pass by accident.
+The robustness cases (issue 16: disk full, special files, memory bombs, deep
+models) run as a user would meet them: under a 1 GiB address-space cap
+(prlimit --as; not under ASan, whose shadow memory needs terabytes of address
+space: the cap is left off when the programs link libasan, and
+RAS_MEMORY_LIMIT_MB=528 gives the budget the cap would) and a 20 s timeout, with a good output file already in
+place that must come out byte-identical, and no temporary file (.NAME-XXXXXX)
+left beside it.
+Every bad case fails before rendering; the cases run in parallel, each with
+its own output name, so the whole run takes seconds (most of it is process
+start-up, slow under ASan).
+Exit status 0 when every check passes; each failure is printed.
+"""
+import concurrent.futures
+import glob
+import os
+import shutil
+import subprocess
+import sys
+
+BIN, WORK = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
+def sanitized():
+    """Whether the programs were built with ASan (they link libasan)."""
+    try:
+        with open(os.path.join(BIN, "hw1_transform_ref"), "rb") as f:
+            return b"libasan" in f.read()
+    except OSError:
+        return False
+SANITIZED = sanitized()
+AS_CAP = 1 << 30  # the robustness cases' address-space cap, bytes
+shutil.rmtree(WORK, ignore_errors=True)
+os.makedirs(WORK)
+failures = []
+
+def path(name):
+    return os.path.join(WORK, name)
+
+def write(name, data):
+    with open(path(name), "wb") as f:
+        f.write(data.encode() if isinstance(data, str) else data)
+    return path(name)
+
+EMPTY = write("empty.json", "")
+BINARY = write("binary.json", bytes(range(256)) * 4)
+CORRUPT_PNG = write("corrupt.png", b"\x89PNG\r\n\x1a\n" + bytes(range(200)))
+OK_OBJ = write("ok.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+MISSING_MODEL_SCENE = write("missing_model.json", '{"objects": [{"model": "no-such-model.obj"}]}')
+CORRUPT_TEXTURE_SCENE = write("corrupt_texture.json",
+                              '{"shader": "texture", "objects": [{"shape": "cube", "material": '
+                              '{"texture": {"file": "%s"}}}]}' % CORRUPT_PNG)
+HUGE_NUMBER_SCENE = write("huge_number.json",
+                          '{"image": {"width": 1e999, "height": 10}, "objects": [{"shape": "cube"}]}')
+CUBE_SCENE = write("cube.json", '{"objects": [{"shape": "cube"}]}')
+A_FOLDER = path("folder.png")  # a folder whose name looks like an image
+os.makedirs(A_FOLDER)
+OUT = "<OUT>"  # in a case's arguments: that case's own output file, WORK/out<N>.png
+cases = []
+
+def run(program, args, limits=None, timeout=120, env_extra=None):
+    """limits: prlimit options (e.g. ["--as=1073741824"]) the program runs under."""
+    env = dict(os.environ)
+    env.pop("DISPLAY", None)  # no window: every case is headless or a "no display" error
+    env.pop("WAYLAND_DISPLAY", None)
+    env.pop("RAS_MEMORY_LIMIT_MB", None)
+    env.update(env_extra or {})
+    cmd = [os.path.join(BIN, program)] + args
+    if limits:
+        cmd = ["prlimit"] + limits + ["--"] + cmd
+    if env_extra and env_extra.get("AS_NOBODY"):  # root reads everything: drop to nobody
+        cmd = ["setpriv", "--reuid=65534", "--regid=65534", "--clear-groups"] + cmd
+        env.pop("AS_NOBODY")
+    try:
+        p = subprocess.run(cmd, capture_output=True, text=True, env=env, timeout=timeout,
+                           cwd=WORK, errors="replace")
+    except subprocess.TimeoutExpired:
+        return "timeout", "", f"(killed after {timeout} s)"
+    return p.returncode, p.stdout, p.stderr
+
+def case(program, args, status, message, absent=(OUT,), stdout_has=None, present=(),
+         hard=False, keep=None, fsize=None, env=None, ext="png"):
+    """One case: `message` must appear in stderr (stdout_has in stdout), the
+    files `absent` must not exist afterwards and those `present` must.
+    hard: a robustness case, run under the 1 GiB address-space cap and a 20 s
+    timeout; status "nonzero" accepts any failure that is not a signal.
+    keep: a file put at the case's output before the run, which must be
+    unchanged after it (absent is then ignored for OUT). fsize: RLIMIT_FSIZE.
+    ext: the extension of the case's output file."""
+    cases.append((len(cases), program, args, status, message, absent, stdout_has, present,
+                  hard, keep, fsize, env, ext))
+
+def check(c):
+    n, program, args, status, message, absent, stdout_has, present, hard, keep, fsize, env, ext = c
+    out_path = path(f"out{n}.{ext}")
+    args = [out_path if a == OUT else a for a in args]
+    absent = [out_path if a == OUT else a for a in absent if not (keep and a == OUT)]
+    present = [out_path if a == OUT else a for a in present]
+    before = None
+    if keep:
+        shutil.copyfile(keep, out_path)
+        with open(out_path, "rb") as f:
+            before = f.read()
+    limits = []
+    if hard and not SANITIZED:
+        limits.append(f"--as={AS_CAP}")
+    elif hard and not (env and "RAS_MEMORY_LIMIT_MB" in env):
+        # No cap under ASan: the budget the cap would give, set directly.
+        env = dict(env or {}, RAS_MEMORY_LIMIT_MB="528")
+    if fsize is not None:
+        limits.append(f"--fsize={fsize}")
+    code, out, err = run(program, args, limits, timeout=20 if hard else 120, env_extra=env)
+    what = f"{program} {' '.join(args)}"
+    problems = []
+    if status == "nonzero":
+        if code == "timeout" or code == 0 or code < 0 or code >= 128:
+            problems.append(f"exit {code}, expected a non-zero status (not a signal)")
+    elif code != status:
+        problems.append(f"exit {code}, expected {status}")
+    if before is not None:
+        try:
+            with open(out_path, "rb") as f:
+                if f.read() != before:
+                    problems.append(f"{out_path} was changed")
+        except OSError:
+            problems.append(f"{out_path} was lost")
+    leftovers = glob.glob(os.path.join(glob.escape(WORK), f".out{n}.{ext}-*"))
+    problems += [f"temporary file {t} was left behind" for t in leftovers]
+    if message and message not in err:
+        problems.append(f"stderr lacks {message!r}")
+    if stdout_has and stdout_has not in out:
+        problems.append(f"stdout lacks {stdout_has!r}")
+    problems += [f"{f} was left behind" for f in absent if os.path.exists(f)]
+    problems += [f"{f} was not written" for f in present if not os.path.isfile(f)]
+    if "Sanitizer" in err or "runtime error:" in err:
+        problems.append("sanitizer report")
+    if status in (2, "nonzero") and not err.startswith(program.replace("_ref", "") + ":"):
+        problems.append("stderr does not start with the program's name")
+    if problems:
+        return f"FAIL: {what}: {'; '.join(problems)}\n  stderr: {err.strip()[:600]}"
+    return None
+
+REF = path("ref.png")  # a small good image, for raster101-compare and --reference
+code, _, err = run("hw2_rasterize_ref", ["--size", "16x16", "-o", REF])
+if code != 0:
+    failures.append(f"could not make {REF}: {err}")
+# The programs: those of the reference catalogue (tests/reference/catalogue.json).
+PROGRAMS = [p + "_ref" for p in subprocess.run(
+    [os.path.join(BIN, "raster101-catalogue"), "programs"], capture_output=True, text=True,
+    check=True).stdout.split()]
+
+# ---- what every program shares (common/ras_cli.c, ras_image_check_output) ----
+# Each main checks -o, the display and the scene itself: those cases run on all
+# three programs. The parser is one for all: its cases take turns (each process
+# start costs ~0.3 s under ASan).
+for p in PROGRAMS:
+    case(p, ["--help"], 0, "", stdout_has="Exit status")
+case(PROGRAMS[0], ["--version"], 0, "", stdout_has="Raster101")
+for p in PROGRAMS:
+    case(p, [], 2, "no display to open a window on")
+    case(p, ["-o", path("out.txt")], 2, "expected an image extension", absent=(path("out.txt"),))
+    case(p, ["--scene", MISSING_MODEL_SCENE, "-o", OUT], 2, "no-such-model.obj")
+    case(p, ["--size", "16x16", "-o", OUT], 0, "wrote", absent=(), present=(OUT,))
+# --dump (common/ras_dump.h): only with a headless frame, only into a folder;
+# each program writes its own buffers (hw1 its vertices).
+case(PROGRAMS[0], ["--dump", path("dump-none")], 2,
+     "--dump DIR writes the buffers of one headless frame", absent=(path("dump-none"),))
+case(PROGRAMS[1 % len(PROGRAMS)], ["-o", OUT, "--dump", REF], 2,
+     "--dump expects a folder", keep=REF)
+for p, first in zip(PROGRAMS, ["vertices.json", "depth.pfm", "normal.json"]):
+    dump = path("dump-" + p)
+    case(p, ["--size", "32x24", "-o", OUT, "--dump", dump], 0, "wrote the frame's buffers",
+         absent=(), present=(OUT, os.path.join(dump, first)))
+shared = [
+    (["--bogus", "-o", OUT], 2, "unknown option '--bogus'"),
+    (["-q", "-o", OUT], 2, "unknown option '-q'"),
+    (["--stats=1", "-o", OUT], 2, "'--stats' takes no value"),
+    (["--s", "9", "-o", OUT], 2, "ambiguous"),
+    (["-o"], 2, "needs a value: expected an output FILE"),
+    (["-o", "--size", "9x9"], 2, "got '--size', which looks like an option"),
+    (["-o", ""], 2, "got an empty name"),
+    (["-o", path("out")], 2, "expected a file name with an image extension"),
+    (["-o", path("no-such-folder/out.png")], 2, "no-such-folder' does not exist; create it"),
+    (["-o", A_FOLDER], 2, "it is a folder"),
+    (["-o", EMPTY + "/out.png"], 2, "is a file, not a folder"),
+    (["--scene", path("no-such-scene.json"), "-o", OUT], 2, "cannot open the scene file"),
+    (["--scene", WORK, "-o", OUT], 2, "expected a scene file, got a folder"),
+    (["--scene", EMPTY, "-o", OUT], 2, "expected a JSON object"),
+    (["--scene", BINARY, "-o", OUT], 2, "binary.json"),
+    (["--scene", HUGE_NUMBER_SCENE, "-o", OUT], 2, "image.width"),
+    (["--scene", CORRUPT_TEXTURE_SCENE, "-o", OUT], 2, "corrupt.png"),
+] + [(["--size", size, "-o", OUT], 2, f"--size expects WIDTHxHEIGHT between 1x1 and "
+      f"8192x8192, e.g. --size 700x700; got '{size}'")
+     for size in ["0", "99999", "10x10junk"]]
+for k, (args, status, message) in enumerate(shared):
+    case(PROGRAMS[k % len(PROGRAMS)], args, status, message)
+
+# ---- hw1 ----
+H1 = "hw1_transform_ref"
+for angle in ["abc", "1e999"]:
+    case(H1, ["-r", angle, "-o", OUT], 2, f"--angle expects a finite number of degrees, e.g. -r "
+         f"20; got '{angle}'")
+for axis in ["0,0,0", "nan,1,1"]:
+    case(H1, ["--axis", axis, "-o", OUT], 2, f"--axis expects three numbers X,Y,Z, not all "
+         f"zero, e.g. --axis 0,1,0; got '{axis}'")
+case(H1, ["--samples", "4", "-o", OUT], 2, "'--samples' does not apply to this program")
+case(H1, ["-o", OUT, path("b.png")], 2, "unexpected argument", absent=(OUT, path("b.png")))
+case(H1, ["-r", "20", OUT], 0, "wrote", absent=(), present=(OUT,))  # the classic positional form
+
+# ---- hw2 ----
+H2 = "hw2_rasterize_ref"
+case(H2, ["--samples", "3", "-o", OUT], 2, "has no 3-sample version")
+case(H2, ["--samples", "1000", "-o", OUT], 2, "--samples expects a whole number")
+case(H2, ["--aa", "bogus", "-o", OUT], 2, "--aa expects none, msaa or ssaa; got 'bogus'")
+case(H2, ["--pattern"], 2, "'--pattern' needs a value: expected ordered or standard")
+case(H2, ["--depth", "reversed", "-o", OUT], 2, "--depth expects z01 or inverse_w; got 'reversed'")
+case(H2, ["--depth", "inverse_w", "--size", "16x16", "-o", OUT], 0, "wrote", absent=(),
+     present=(OUT,))
+case(H2, ["--aa", "none", "--samples", "4", "-o", OUT], 2, "--aa none draws one sample")
+case(H2, ["--samples", "8", "--size", "16x16", "-o", OUT], 0, "wrote", absent=(), present=(OUT,))
+case(H2, ["--reference", CORRUPT_PNG, "-o", OUT], 2, "--reference FILE goes with --compare")
+case(H2, ["--compare", "--aa", "msaa", "--samples", "16", "-o", OUT], 2,
+     "no reference image for these settings; hw2_rasterize's references")
+case(H2, ["--compare", "--reference", CORRUPT_PNG, "-o", OUT], 2, "--reference: could not read")
+case(H2, ["--compare", "--size", "64x64", "-o", path("cmp2.png")], 2,
+     "render at the reference's size", absent=(path("cmp2.png"), path("cmp2_diff.png")))
+case(H2, ["--compare", "--scene", CUBE_SCENE, "-o", OUT], 2, "needs --reference FILE")
+case(H2, ["--compare", "--reference", REF, "-o", REF], 2, "would overwrite the --reference",
+     absent=(), present=(REF,))
+case(H2, ["--size", "8192x8192", "--aa", "ssaa", "--samples", "64", "-o", OUT], 2,
+     "use a smaller --size or fewer --samples")
+case(H2, ["--shader", "phong", "-o", OUT], 2, "'--shader' does not apply to this program")
+
+# ---- hw3 ----
+H3 = "hw3_shading_ref"
+case(H3, ["--shader", "bogus", "-o", OUT], 2, "--shader expects normal, phong")
+case(H3, ["phong", OUT], 2, "--shader expects")  # positional arguments in the wrong order
+case(H3, ["-o", OUT, path("b.png")], 2, "unexpected argument", absent=(OUT, path("b.png")))
+# One rule set (common/ras_app.h): --samples N alone means MSAA in every program.
+case(H3, ["--samples", "8", "--size", "16x16", "-o", OUT], 0, "wrote", absent=(), present=(OUT,))
+case(H3, ["--aa", "none", "--samples", "4", "-o", OUT], 2, "--aa none draws one sample")
+case(H3, ["--compare", "--filter", "nearest", "-o", OUT], 2,
+     "no reference image for these settings; hw3_shading's references")
+case(H3, ["--texture", OK_OBJ, "-o", OUT], 2, "go with --model FILE")
+case(H3, ["--compare", "--size", "64x64", "-o", path("cmp3.png")], 2,
+     "render at the reference's size", absent=(path("cmp3.png"), path("cmp3_diff.png")))
+case(H3, ["--compare", "--scene", CUBE_SCENE, "-o", OUT], 2, "needs --reference FILE")
+case(H3, ["--compare", "--reference", path("no-such.png"), "-o", OUT], 2,
+     "--reference: could not read image")
+case(H3, ["--model", path("no-such.obj"), "-o", OUT], 2, "cannot open model file")
+case(H3, ["--model", OK_OBJ, "--texture", CORRUPT_PNG, "-o", OUT], 2, "corrupt.png")
+case(H3, ["--size", "8192x8192", "--aa", "ssaa", "--samples", "64", "-o", OUT], 2,
+     "use a smaller --size or fewer --samples")
+case(H3, ["--model", OK_OBJ, "--size", "16x16", "-o", OUT], 0, "wrote", absent=(),
+     present=(OUT,))
+
+# ---- raster101-compare ----
+C = "raster101-compare"
+case(C, ["--metric", "exact", REF, REF], 0, "", absent=())
+case(C, ["--metric", "exact", REF], 2, "expected two images, EXPECTED and GOT; got 1 argument",
+     absent=())
+case(C, [REF, REF], 2, "expected --metric", absent=())
+for tol in ["1e999", "nan"]:
+    case(C, ["--metric", "exact", "--tolerance", tol, REF, REF], 2, f"got '{tol}'", absent=())
+case(C, ["--metric", "edge", "--max-bad", "-3", REF, REF], 2, "--max-bad expects", absent=())
+case(C, ["--metric", "exact", REF, CORRUPT_PNG], 2, "got image: could not read", absent=())
+case(C, ["--metric", "exact", "--diff", path("no-such-folder/d.png"), REF, REF], 2,
+     "does not exist", absent=())
+case(C, ["--metric", "exact", "--crop", path("crop.txt"), REF, REF], 2,
+     "expected an image extension", absent=(path("crop.txt"),))
+
+# ---- raster101-grade (argument checks only: no grading is run) ----
+G = "raster101-grade"
+SRC = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+BUILD = os.path.dirname(os.path.abspath(BIN))
+GOUT = path("grade-out")
+case(G, ["--bogus", "x"], 2, "unknown argument '--bogus'", absent=(GOUT,))
+case(G, ["--source", SRC, "--build", BUILD], 2, "--out is missing", absent=(GOUT,))
+case(G, ["--source", SRC, "--build", BUILD, "--out", GOUT, "--expect", "abc"], 2,
+     "--expect expects full or a number", absent=(GOUT,))
+case(G, ["--source", path("no-such-src"), "--build", BUILD, "--out", GOUT], 2,
+     "is not a folder", absent=(GOUT,))
+case(G, ["--source", SRC, "--build", BUILD, "--out", GOUT, "--hw", "hw9"], 2,
+     "--hw expects an assignment", absent=(GOUT,))
+case(G, ["--source", SRC, "--build", BUILD, "--out", EMPTY, "--hw", "hw1"], 2,
+     "it is a file", absent=())
+
+# ---- issue 16: writes are atomic and verified (common/ras_io.c) ----
+# A file-size limit one byte short of the picture (the disk-full repro: the
+# error lands in the last bytes), PNG, BMP and PPM, every writer: the good
+# file already there stays byte-identical, no temporary file is left.
+case(H3, ["--shader", "phong", "-o", OUT], "nonzero", "File too large", hard=True, keep=REF,
+     fsize=100252)
+case(H1, ["-o", OUT], "nonzero", "was left as it was", hard=True, keep=REF, fsize=4096, ext="bmp")
+case(H2, ["-o", OUT], "nonzero", "File too large", hard=True, keep=REF, fsize=4096, ext="ppm")
+case(C, ["--metric", "exact", "--diff", OUT, REF, REF], "nonzero", "File too large", hard=True,
+     keep=REF, fsize=10)
+# The longest valid name (255 bytes) works: the temporary name is cut to fit.
+LONG_NAME = path("n" * 251 + ".png")
+case(H1, ["--size", "16x16", "-o", LONG_NAME], 0, "wrote", absent=(), present=(LONG_NAME,),
+     hard=True)
+# A good write over a good file replaces it.
+case(H2, ["--size", "16x16", "--aa", "msaa", "-o", OUT], 0, "wrote", absent=(), present=(OUT,),
+     hard=True)
+
+# ---- issue 16: only regular files are read (ras_io_open_input) ----
+# A FIFO with no writer would block forever; a device never ends; both are
+# refused at once, by type, wherever a file is read.
+FIFO = path("fifo.obj")
+os.mkfifo(FIFO)
+FIFO_PNG = path("fifo.png")
+os.mkfifo(FIFO_PNG)
+FIFO_JSON = path("fifo.json")
+os.mkfifo(FIFO_JSON)
+FIFO_MTL_OBJ = write("fifo_mtl.obj", "mtllib fifo.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+os.mkfifo(path("fifo.mtl"))
+FIFO_TEXTURE_SCENE = write("fifo_texture.json",
+                           '{"shader": "texture", "objects": [{"shape": "cube", "material": '
+                           '{"texture": {"file": "%s"}}}]}' % FIFO_PNG)
+GOT_FIFO = "expected a regular file, got a FIFO"
+case(H2, ["-o", FIFO_PNG], 2, "it is a FIFO; expected a regular file", absent=(), hard=True)
+case(H3, ["--model", FIFO, "-o", OUT], "nonzero", GOT_FIFO, hard=True, keep=REF)
+case(H3, ["--model", OK_OBJ, "--texture", FIFO_PNG, "-o", OUT], "nonzero", GOT_FIFO, hard=True,
+     keep=REF)
+case(H3, ["--model", OK_OBJ, "--texture", "/dev/zero", "-o", OUT], "nonzero",
+     "got a character device", hard=True, keep=REF)
+case(H3, ["--model", OK_OBJ, "--texture", WORK, "-o", OUT], "nonzero", "got a folder",
+     hard=True, keep=REF)
+case(H3, ["--model", FIFO_MTL_OBJ, "--size", "16x16", "-o", OUT], 0, "wrote", absent=(),
+     present=(OUT,), hard=True)  # a FIFO named by the model is skipped, not waited for
+case(H1, ["--scene", FIFO_JSON, "-o", OUT], "nonzero", GOT_FIFO, hard=True, keep=REF)
+case(H3, ["--scene", FIFO_TEXTURE_SCENE, "-o", OUT], "nonzero", GOT_FIFO, hard=True, keep=REF)
+case(H2, ["--compare", "--reference", FIFO_PNG, "-o", OUT], "nonzero", GOT_FIFO, hard=True,
+     keep=REF)
+case(H3, ["--compare", "--reference", "/dev/zero", "-o", OUT], "nonzero",
+     "got a character device", hard=True, keep=REF)
+case(C, ["--metric", "exact", FIFO_PNG, REF], "nonzero", GOT_FIFO, absent=(), hard=True)
+case(C, ["--metric", "exact", REF, FIFO_PNG], "nonzero", GOT_FIFO, absent=(), hard=True)
+# A --reference path longer than the programs take is refused by name, not cut.
+LONG_REF = os.path.join(WORK, "./" * 600 + "ref.png")
+case(H2, ["--compare", "--reference", LONG_REF, "-o", OUT], 2,
+     "--reference expects a file name of at most 1023 bytes", hard=True, keep=REF)
+# An existing file that cannot be read says so (root reads everything: run as
+# nobody through setpriv, when the folders let nobody in).
+UNREADABLE = write("unreadable.png", open(REF, "rb").read())
+os.chmod(UNREADABLE, 0)
+UNREADABLE_OBJ = write("unreadable.obj", open(OK_OBJ).read())
+os.chmod(UNREADABLE_OBJ, 0)
+if os.geteuid() != 0:
+    case(H3, ["--model", OK_OBJ, "--texture", UNREADABLE, "-o", OUT], "nonzero",
+         "Permission denied", hard=True, keep=REF)
+    case(C, ["--metric", "exact", UNREADABLE, REF], "nonzero", "Permission denied", absent=(),
+         hard=True)
+elif shutil.which("setpriv") and subprocess.run(
+        ["setpriv", "--reuid=65534", "--regid=65534", "--clear-groups", "test", "-r", REF]
+        ).returncode == 0:
+    NOBODY = {"AS_NOBODY": "1"}
+    case(C, ["--metric", "exact", UNREADABLE, REF], "nonzero",
+         "could not read image '%s': Permission denied" % UNREADABLE, absent=(), hard=True,
+         env=NOBODY)
+    case(C, ["--metric", "exact", REF, UNREADABLE_OBJ], "nonzero", "Permission denied",
+         absent=(), hard=True, env=NOBODY)
+
+# ---- issue 16: the memory budget (common/ras_memory.c) ----
+# Each of these asked for gigabytes before: refused from the header or the
+# scene's parameters, before the allocation, under the 1 GiB cap.
+import struct
+import zlib
+
+def png_bomb(name, side, truncated=False):
+    """A grey PNG of side x side zeros: a few hundred KB that decode to side² bytes
+    (truncated: the header only, for sides too big to compress here quickly)."""
+    def chunk(tag, data):
+        return struct.pack(">I", len(data)) + tag + data + struct.pack(">I", zlib.crc32(tag + data))
+    data = b""
+    if not truncated:
+        co = zlib.compressobj(6)
+        row = b"\0" * (side + 1)
+        data = b"".join(co.compress(row) for _ in range(side)) + co.flush()
+    ihdr = struct.pack(">IIBBBBB", side, side, 8, 0, 0, 0, 0)
+    return write(name, b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", ihdr) + chunk(b"IDAT", data) +
+                 chunk(b"IEND", b""))
+
+BOMB16K = png_bomb("bomb16k.png", 16384)     # 261 KB -> 16384² (was decoded: 3.9 GB)
+BOMB32K = png_bomb("bomb32k.png", 32768, truncated=True)  # (was 6.2 GB before refused)
+BMP_BOMB = write("bomb.bmp", b"BM" + struct.pack("<IHHI", 54, 0, 0, 54) +
+                 struct.pack("<IiiHHIIiiII", 40, 16000, 16000, 1, 24, 0, 0, 0, 0, 0, 0))
+JPEG_BOMB = write("bomb.jpg", b"\xff\xd8\xff\xe0\x00\x10JFIF\x00\x01\x01\x00\x00\x01\x00\x01\x00"
+                  b"\x00\xff\xc0\x00\x11\x08" + struct.pack(">HH", 16000, 16000) +
+                  b"\x03\x01\x22\x00\x02\x11\x01\x03\x11\x01" + b"\x00" * 20)
+PAM_BOMB = write("bomb.pam", b"P7\nWIDTH 16000\nHEIGHT 16000\nDEPTH 3\nMAXVAL 255\n"
+                 b"TUPLTYPE RGB\nENDHDR\n" + b"\x00" * 30)
+HDR_BOMB = write("bomb.hdr", b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 40000 +X 40000\n" +
+                 b"\x00" * 30)
+TEAPOTS = write("teapots.json", '{"objects": [%s]}' % ", ".join(
+    ['{"shape": "teapot", "divisions": 64}'] * 64))  # 3 KB (was 8.8 GB)
+SPHERES = write("spheres.json", '{"objects": [%s]}' % ", ".join(
+    ['{"shape": "sphere", "stacks": 1024, "slices": 1024}'] * 40))  # 1 KB (was 2.9 GB, 81 s)
+BIG_MAPS = write("maps.json", '{"shader": "texture", "objects": [%s]}' % ", ".join(
+    '{"shape": "cube", "material": {"texture": {"builtin": "%s", "size": 4096}}}' % b
+    for b in ["checker", "brick", "bumps"]))  # 3 x 4096² textures with mips: 805 MiB
+OVER = "over the memory limit"
+case(H3, ["--model", OK_OBJ, "--texture", BOMB16K, "-o", OUT], "nonzero", OVER, hard=True,
+     keep=REF)
+case(H3, ["--model", OK_OBJ, "--texture", BOMB32K, "-o", OUT], "nonzero",
+     "header says 32768x32768 pixels; expected 1..16384", hard=True, keep=REF)
+case(H3, ["--model", OK_OBJ, "--texture", BMP_BOMB, "-o", OUT], "nonzero", OVER, hard=True,
+     keep=REF)
+for bomb in (JPEG_BOMB, PAM_BOMB):
+    case(H3, ["--model", OK_OBJ, "--texture", bomb, "-o", OUT], "nonzero",
+         "(16000x16000 pixels) needs about", hard=True, keep=REF)
+case(H3, ["--model", OK_OBJ, "--texture", HDR_BOMB, "-o", OUT], "nonzero",
+     "header says 40000x40000 pixels; expected 1..16384", hard=True, keep=REF)
+case(C, ["--metric", "exact", HDR_BOMB, REF], "nonzero",
+     "bomb.hdr' (40000x40000) with '%s' (16x16) needs about" % REF, absent=(), hard=True)
+case(H3, ["--scene", TEAPOTS, "-o", OUT], "nonzero", "a teapot of 262144 triangles", hard=True,
+     keep=REF)
+case(H1, ["--scene", SPHERES, "-o", OUT], "nonzero", OVER, hard=True, keep=REF)
+case(H3, ["--scene", BIG_MAPS, "-o", OUT], "nonzero", "a 4096x4096 texture", hard=True, keep=REF)
+case(H1, ["--size", "8192x8192", "-o", OUT], 2, "a 8192x8192 frame with 1 sample per pixel needs",
+     hard=True, keep=REF)
+case(H2, ["--size", "4096x4096", "--aa", "ssaa", "--samples", "4", "-o", OUT], "nonzero",
+     "a 4096x4096 frame with 4 samples per pixel needs about", hard=True, keep=REF)
+case(C, ["--metric", "ssim", BOMB16K, BOMB16K], "nonzero",
+     "bomb16k.png' (16384x16384) needs about",
+     absent=(), hard=True)
+case(H2, ["--compare", "--reference", BOMB16K, "-o", OUT], "nonzero", OVER, hard=True, keep=REF)
+# The limit's two handles, and their bad values.
+case(H2, ["--memory-limit", "16", "--size", "2048x2048", "--aa", "ssaa", "--samples", "4", "-o",
+          OUT], "nonzero", "set by --memory-limit", hard=True, keep=REF)
+case(H2, ["--size", "2048x2048", "--aa", "ssaa", "--samples", "4", "-o", OUT], "nonzero",
+     "set by RAS_MEMORY_LIMIT_MB", hard=True, keep=REF, env={"RAS_MEMORY_LIMIT_MB": "16"})
+case(H1, ["--memory-limit", "lots", "-o", OUT], 2, "--memory-limit expects a whole number of MiB",
+     hard=True, keep=REF)
+case(H3, ["-o", OUT], 2, "RAS_MEMORY_LIMIT_MB expects a whole number", hard=True, keep=REF,
+     env={"RAS_MEMORY_LIMIT_MB": "-5"})
+case(C, ["--metric", "exact", "--memory-limit", "0", REF, REF], 2, "--memory-limit expects",
+     absent=(), hard=True)
+
+# ---- issue 16: deep models and deep JSON (common/ras_mesh.c, ras_scene.c) ----
+def deep_gltf(name, levels):
+    nodes = ",".join('{"children":[%d]}' % (k + 1) for k in range(levels - 1)) + ',{"mesh":0}'
+    tri = "AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA"  # 3 vec3 floats, base64
+    return write(name, '{"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],'
+                 '"nodes":[%s],"meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}],'
+                 '"accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3",'
+                 '"min":[0,0,0],"max":[1,1,0]}],"bufferViews":[{"buffer":0,"byteLength":36}],'
+                 '"buffers":[{"byteLength":36,"uri":"data:application/octet-stream;base64,%s"}]}'
+                 % (nodes, tri))
+DEEP_GLTF = deep_gltf("deep.gltf", 20000)  # 450 KB: SIGSEGV in assimp before
+DEEP_DAE = write("deep.dae", '<?xml version="1.0"?><COLLADA><library_visual_scenes>'
+                 '<visual_scene id="s">' + '<node>' * 20000 + '</node>' * 20000 +
+                 '</visual_scene></library_visual_scenes></COLLADA>')
+DEEP_JSON_GLTF = write("deep_json.gltf", '{"asset":{"version":"2.0"},"extras":' + "[" * 100000 +
+                       "]" * 100000 + "}")
+CYCLE_GLTF = write("cycle.gltf", open(deep_gltf("cycle_src.gltf", 3)).read()
+                   .replace('{"children":[1]}', '{"children":[1]}', 1)
+                   .replace('{"mesh":0}', '{"mesh":0,"children":[1]}'))
+DEEP_SCENE = write("deep_scene.json", '{"objects": ' + "[" * 5000 + "]" * 5000 + "}")
+NESTED = "is nested deeper than 10000 levels"
+case(H3, ["--model", DEEP_GLTF, "-o", OUT], "nonzero", "nested deeper than that", hard=True,
+     keep=REF)
+case(H3, ["--model", deep_gltf("deep500.gltf", 500), "--size", "16x16", "-o", OUT], 0, "wrote",
+     absent=(), present=(OUT,), hard=True)
+case(H3, ["--model", DEEP_DAE, "-o", OUT], "nonzero", NESTED, hard=True, keep=REF)
+case(H3, ["--model", DEEP_JSON_GLTF, "-o", OUT], "nonzero", NESTED, hard=True, keep=REF)
+case(H3, ["--model", CYCLE_GLTF, "-o", OUT], "nonzero", "not a tree", hard=True, keep=REF)
+case(H2, ["--scene", DEEP_SCENE, "-o", OUT], 2, "expected JSON nested at most 1000 levels deep",
+     hard=True, keep=REF)
+
+# Counts a PLY/OFF header declares that the file cannot hold (assimp reserved
+# them first: a 123-byte PLY took 4.7 GB and 10 s).
+PLY_BOMB = write("bomb.ply", "ply\nformat binary_little_endian 1.0\nelement vertex 400000000\n"
+                 "property float x\nproperty float y\nproperty float z\nend_header\n")
+OFF_BOMB = write("bomb.off", "OFF\n300000000 1 0\n0 0 0\n")
+case(H3, ["--model", PLY_BOMB, "-o", OUT], "nonzero", "declares 400000000 elements", hard=True,
+     keep=REF)
+case(H3, ["--model", OFF_BOMB, "-o", OUT], "nonzero", "the file is truncated or corrupt",
+     hard=True, keep=REF)
+# A PLY element line without a count: assimp 5.2's header parser loops on it
+# forever (found by fuzz_mesh); refused before assimp. Any other importer that
+# hangs meets the import's time limit (RAS_MESH_IMPORT_SECONDS).
+PLY_LOOP = write("loop.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+                 "property float y\nproperty float z\nelement \x03OFF\n0 0 0\n1 0 0\n0 1 0\n")
+case(H3, ["--model", PLY_LOOP, "-o", OUT], 2, "is not 'element NAME COUNT'", hard=True, keep=REF)
+GRID_OBJ = write("grid.obj", "".join("v %d %d 0\n" % (i % 100, i // 100) for i in range(10000)) +
+                 "".join("f %d %d %d\n" % (i + 1, i + 2, i + 101) for i in range(9800)))
+case(H3, ["--model", GRID_OBJ, "-o", OUT], 2, "the importer did not finish", hard=True, keep=REF,
+     env={"RAS_MESH_IMPORT_SECONDS": "0.000001"})
+
+# ---- issue 16: nothing overwrites an input ----
+DIFF_REF = write("cmp_diff.png", open(REF, "rb").read())  # what -o cmp.png's diff would be
+for prog in (H2, H3):
+    case(prog, ["--compare", "--reference", DIFF_REF, "--size", "16x16", "-o", path("cmp.png")],
+         2, "which is the --reference image", absent=(path("cmp.png"),), present=(DIFF_REF,),
+         hard=True)
+IN_COPY = write("compare_input.png", open(REF, "rb").read())
+case(C, ["--metric", "exact", "--diff", IN_COPY, REF, IN_COPY], 2,
+     "would overwrite one of the images being compared", absent=(), present=(IN_COPY,),
+     hard=True)
+case(C, ["--metric", "exact", "--crop", os.path.join(WORK, ".", "ref.png"), REF, IN_COPY], 2,
+     "would overwrite one of the images", absent=(), hard=True)
+
+with concurrent.futures.ThreadPoolExecutor(max_workers=max(2, os.cpu_count() or 2)) as pool:
+    for result in pool.map(check, cases):
+        if result:
+            failures.append(result)
+            print(result)
+
+def signal_during_write(sig):
+    """SIGINT/SIGTERM while the temporary file exists (the write held in fsync
+    by strace's fault injection): the process dies of the signal, the old
+    output stays byte-identical and the temporary file is gone."""
+    import signal
+    import time
+    out = path(f"signal{sig}.png")
+    shutil.copyfile(REF, out)
+    before = open(out, "rb").read()
+    env = dict(os.environ)
+    env.pop("DISPLAY", None)
+    p = subprocess.Popen(["strace", "-f", "-o", os.devnull, "-e", "trace=fsync", "-e",
+                          "inject=fsync:delay_exit=3000000",
+                          os.path.join(BIN, "hw2_rasterize_ref"), "-o", out],
+                         stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, env=env, cwd=WORK)
+    temps, deadline = [], time.time() + 15
+    while not temps and time.time() < deadline and p.poll() is None:
+        time.sleep(0.05)
+        temps = glob.glob(os.path.join(glob.escape(WORK), f".signal{sig}.png-*"))
+    child = subprocess.run(["pgrep", "-P", str(p.pid)], capture_output=True, text=True).stdout.split()
+    if not temps or not child:
+        p.kill()
+        p.wait()
+        return f"SKIP: signal {sig}: the write could not be caught in the act"
+    os.kill(int(child[0]), sig)
+    p.wait(timeout=20)
+    problems = []
+    if glob.glob(os.path.join(glob.escape(WORK), f".signal{sig}.png-*")):
+        problems.append("the temporary file was left behind")
+    if open(out, "rb").read() != before:
+        problems.append(f"{out} was changed")
+    if problems:
+        return f"FAIL: signal {sig} during the write: {'; '.join(problems)}"
+    print(f"signal {sig} during the write: exit {p.returncode}, old file intact, no temporary "
+          "file")
+    return None
+
+# Needs strace and ptrace (not under ASan: too slow to time).
+if shutil.which("strace") and shutil.which("pgrep") and not SANITIZED:
+    import signal as _signal
+    for sig in (_signal.SIGINT, _signal.SIGTERM):
+        result = signal_during_write(sig)
+        if result and result.startswith("FAIL"):
+            failures.append(result)
+        if result:
+            print(result)
+print(f"{len(cases)} cases, {len(failures)} failed")
+sys.exit(1 if failures else 0)

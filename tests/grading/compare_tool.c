@@ -1,0 +1,321 @@
+/* compare_tool.c — raster101-compare: compares two images from the command
+ * line with the metrics of common/ras_compare.h.
+ *
+ *   raster101-compare --metric exact|edge|psnr|ssim EXPECTED.png GOT.png
+ *                     [--tolerance N] [--max-bad F] [--min-psnr DB] [--min-ssim S]
+ *                     [--diff HEATMAP.png] [--crop CROP.png] [--mask]
+ *   raster101-compare --buffers REFERENCE_DIR GOT_DIR [--pictures OUT_DIR]
+ *
+ * --buffers compares two --dump folders buffer by buffer, in the order a frame
+ * makes them (depth, coverage, overdraw, normal, uv, view_depth), each with
+ * its kind's tolerance (common/ras_dump.h), and names the first that differs:
+ * where a picture is wrong, the first wrong buffer says which stage made it.
+ * --pictures OUT_DIR draws that buffer for both, on the reference's range,
+ * and their difference (reference.png, yours.png, difference.png).
+ *
+ * Prints the one-line summary of ras_compare_result (and, with --mask, the
+ * ASCII coverage window around the worst pixel, background black). Exit
+ * status: 0 the images match, 1 they do not, 2 error (bad arguments,
+ * unreadable image, sizes differ). The grader (tests/grading/grade) uses the same
+ * module in-process; this tool is for students and scripts.
+ */
+#include "ras_compare.h"
+#include "ras_dump.h"
+#include "ras_image.h"
+#include "ras_memory.h"
+
+#include <getopt.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+static void usage(FILE *out) {
+    fputs("usage: raster101-compare --metric exact|edge|psnr|ssim EXPECTED GOT\n"
+          "         [--tolerance N] [--max-bad FRACTION] [--min-psnr DB] [--min-ssim S]\n"
+          "         [--diff OUT.png] [--crop OUT.png] [--mask] [--memory-limit MB]\n"
+          "Compares GOT (the image under test) with EXPECTED (the reference).\n"
+          "--memory-limit MB (or RAS_MEMORY_LIMIT_MB): refuse images estimated to need\n"
+          "more (default: half of physical memory, at most 2048).\n"
+          "       raster101-compare --buffers REFERENCE_DIR GOT_DIR [--pictures OUT_DIR]\n"
+          "Compares two --dump folders buffer by buffer and names the first that differs.\n"
+          "Exit status: 0 match, 1 mismatch, 2 error.\n",
+          out);
+}
+
+static bool parse_double(const char *s, double *v) {
+    char *end;
+    *v = strtod(s, &end);
+    return end != s && *end == '\0' && !isnan(*v);
+}
+
+/* Each number option's range, checked before any image is read: out of range
+ * the comparison would assert (tolerance) or never fail (a negative --max-bad). */
+static bool number_in_range(const char *option, const char *text, double v, double lo, double hi,
+                            bool whole, const char *what) {
+    if (v >= lo && v <= hi && (!whole || v == (double)(long)v)) return true;
+    fprintf(stderr, "raster101-compare: %s expects %s; got '%s'\n", option, what, text);
+    return false;
+}
+
+/* --diff and --crop are written after the comparison: check their names first. */
+static bool output_ok(const char *option, const char *path) {
+    ras_error err = {{0}};
+    if (!path || ras_image_check_output(path, &err)) return true;
+    fprintf(stderr, "raster101-compare: %s: %s\n", option, err.msg);
+    return false;
+}
+
+/* Estimated bytes per pixel of each image compared: measured 43 (decode,
+ * float image, the metric's buffers) on two 6000x6000 TIFFs. */
+#define COMPARE_BYTES_PER_PIXEL 48.0
+
+/* Whether two names are the same existing file (hard links and ./a.png too). */
+static bool same_file(const char *a, const char *b) {
+    struct stat sa, sb;
+    return stat(a, &sa) == 0 && stat(b, &sb) == 0 && sa.st_dev == sb.st_dev &&
+           sa.st_ino == sb.st_ino;
+}
+
+/* --buffers: each buffer of the reference's dump against the same of GOT. */
+static int compare_buffers(const char *ref_dir, const char *got_dir, const char *pictures) {
+    int differing = 0, compared = 0;
+    /* hw1's buffer: its vertices, step by step */
+    char rv[4200], gv[4200];
+    snprintf(rv, sizeof rv, "%s/vertices.json", ref_dir);
+    snprintf(gv, sizeof gv, "%s/vertices.json", got_dir);
+    if (access(rv, F_OK) == 0 || access(gv, F_OK) == 0) {
+        char line[600];
+        int r = ras_dump_compare_vertices(rv, gv, line, sizeof line);
+        if (r < 0) {
+            fprintf(stderr, "raster101-compare: %s\n", line);
+            return 2;
+        }
+        printf("%s\n", line);
+        compared++;
+        if (r && differing++ == 0) printf("first differing buffer: vertices\n");
+    }
+    for (int i = 0; ras_dump_buffer_names[i]; i++) {
+        const char *name = ras_dump_buffer_names[i];
+        char ref_desc[4200], got_pfm[4200];
+        snprintf(ref_desc, sizeof ref_desc, "%s/%s.json", ref_dir, name);
+        snprintf(got_pfm, sizeof got_pfm, "%s/%s.pfm", got_dir, name); /* a dump: uncompressed */
+        bool in_ref = ras_dump_has_exact(ref_dir, name), in_got = access(got_pfm, F_OK) == 0;
+        if (!in_ref && in_got && access(ref_desc, F_OK) == 0) {
+            /* the shipped references keep some buffers as pictures only */
+            printf("%s: the reference has its picture only (%s/%s.png): compare by eye\n", name,
+                   ref_dir, name);
+            compared++;
+            continue;
+        }
+        if (!in_ref && !in_got) continue;
+        compared++;
+        if (in_ref != in_got) {
+            printf("%s: only in %s (the other frame %s it)\n", name,
+                   in_ref ? "the reference" : "yours",
+                   in_ref ? "did not make" : "made no such buffer: the reference does not have");
+            if (differing++ == 0) printf("first differing buffer: %s\n", name);
+            continue;
+        }
+        ras_dump_difference d;
+        ras_error err = {{0}};
+        if (!ras_dump_compare(ref_dir, got_dir, name, &d, &err)) {
+            fprintf(stderr, "raster101-compare: %s\n", err.msg);
+            return 2;
+        }
+        char line[512];
+        ras_dump_difference_text(name, &d, line, sizeof line);
+        printf("%s\n", line);
+        if (d.pixels_differ && differing++ == 0) {
+            printf("first differing buffer: %s\n", name);
+            if (pictures && !(ras_dump_prepare_dir(pictures, &err) &&
+                              ras_dump_compare_pictures(ref_dir, got_dir, name, pictures, &err))) {
+                fprintf(stderr, "raster101-compare: --pictures: %s\n", err.msg);
+                return 2;
+            }
+            if (pictures) printf("wrote %s/reference.png, yours.png, difference.png\n", pictures);
+        }
+    }
+    if (compared == 0) {
+        fprintf(stderr,
+                "raster101-compare: --buffers found no buffer files in '%s' or '%s' "
+                "(expected the folders of two --dump runs)\n",
+                ref_dir, got_dir);
+        return 2;
+    }
+    return differing ? 1 : 0;
+}
+
+int main(int argc, char **argv) {
+    if (argc >= 2 && !strcmp(argv[1], "--buffers")) {
+        bool with_pictures = argc == 6 && !strcmp(argv[4], "--pictures");
+        if (argc != 4 && !with_pictures) {
+            fprintf(stderr,
+                    "raster101-compare: --buffers expects two folders (the reference's "
+                    "--dump, then yours), then optionally --pictures OUT_DIR; got %d "
+                    "argument(s)\n",
+                    argc - 2);
+            usage(stderr);
+            return 2;
+        }
+        return compare_buffers(argv[2], argv[3], with_pictures ? argv[5] : NULL);
+    }
+    enum { OPT_TOL = 256, OPT_MAXBAD, OPT_PSNR, OPT_SSIM, OPT_MASK, OPT_MEMORY };
+    static const struct option longopts[] = {{"metric", required_argument, NULL, 'm'},
+                                             {"diff", required_argument, NULL, 'd'},
+                                             {"crop", required_argument, NULL, 'c'},
+                                             {"tolerance", required_argument, NULL, OPT_TOL},
+                                             {"max-bad", required_argument, NULL, OPT_MAXBAD},
+                                             {"min-psnr", required_argument, NULL, OPT_PSNR},
+                                             {"min-ssim", required_argument, NULL, OPT_SSIM},
+                                             {"mask", no_argument, NULL, OPT_MASK},
+                                             {"help", no_argument, NULL, 'h'},
+                                             {"memory-limit", required_argument, NULL, OPT_MEMORY},
+                                             {NULL, 0, NULL, 0}};
+    const char *metric = NULL, *diff_path = NULL, *crop_path = NULL;
+    double tol = NAN, max_bad = NAN, min_psnr = NAN, min_ssim = NAN;
+    bool mask = false;
+    int c;
+    while ((c = getopt_long(argc, argv, "m:d:c:h", longopts, NULL)) != -1) {
+        double *target = NULL;
+        const char *option = "";
+        switch (c) {
+        case 'm': metric = optarg; break;
+        case 'd': diff_path = optarg; break;
+        case 'c': crop_path = optarg; break;
+        case OPT_TOL: target = &tol, option = "--tolerance"; break;
+        case OPT_MAXBAD: target = &max_bad, option = "--max-bad"; break;
+        case OPT_PSNR: target = &min_psnr, option = "--min-psnr"; break;
+        case OPT_SSIM: target = &min_ssim, option = "--min-ssim"; break;
+        case OPT_MASK: mask = true; break;
+        case OPT_MEMORY: {
+            ras_error merr = {{0}};
+            if (!ras_memory_set_limit_mb(optarg, &merr)) {
+                fprintf(stderr, "raster101-compare: %s\n", merr.msg);
+                return 2;
+            }
+            break;
+        }
+        case 'h': usage(stdout); return 0;
+        default: usage(stderr); return 2; /* getopt named the option */
+        }
+        if (target && !parse_double(optarg, target)) {
+            fprintf(stderr, "raster101-compare: %s expects a number; got '%s'\n", option, optarg);
+            return 2;
+        }
+        if ((target == &tol &&
+             !number_in_range("--tolerance", optarg, tol, 0, 255, true, "a whole number 0..255")) ||
+            (target == &max_bad && !number_in_range("--max-bad", optarg, max_bad, 0, 1, false,
+                                                    "a fraction of the pixels, 0..1")) ||
+            (target == &min_psnr &&
+             !number_in_range("--min-psnr", optarg, min_psnr, 0, INFINITY, false,
+                              "decibels, 0 or more (inf: identical)")) ||
+            (target == &min_ssim &&
+             !number_in_range("--min-ssim", optarg, min_ssim, -1, 1, false, "a value -1..1")))
+            return 2;
+    }
+    if (!metric) {
+        fprintf(stderr, "raster101-compare: expected --metric exact|edge|psnr|ssim; got none\n");
+        usage(stderr);
+        return 2;
+    }
+    if (argc - optind != 2) {
+        fprintf(stderr,
+                "raster101-compare: expected two images, EXPECTED and GOT; got %d argument%s\n",
+                argc - optind, argc - optind == 1 ? "" : "s");
+        usage(stderr);
+        return 2;
+    }
+    if (!output_ok("--diff", diff_path) || !output_ok("--crop", crop_path)) return 2;
+    ras_error err = {{0}};
+    ras_compare_kind kind;
+    if (!ras_compare_kind_parse(metric, &kind, &err)) {
+        fprintf(stderr, "raster101-compare: %s\n", err.msg);
+        return 2;
+    }
+    ras_compare_options opt = ras_compare_defaults(kind);
+    if (!isnan(tol)) opt.tolerance = (int)tol;
+    if (!isnan(max_bad)) opt.max_bad_fraction = max_bad;
+    if (!isnan(min_psnr)) opt.min_psnr_db = min_psnr;
+    if (!isnan(min_ssim)) opt.min_ssim = min_ssim;
+
+    const char *expected_path = argv[optind], *got_path = argv[optind + 1];
+    if (!ras_memory_check_env(&err)) {
+        fprintf(stderr, "raster101-compare: %s\n", err.msg);
+        return 2;
+    }
+    /* --diff or --crop over one of the inputs would destroy it. */
+    const char *outputs[2][2] = {{"--diff", diff_path}, {"--crop", crop_path}};
+    for (int k = 0; k < 2; k++)
+        if (outputs[k][1] &&
+            (same_file(outputs[k][1], expected_path) || same_file(outputs[k][1], got_path))) {
+            fprintf(stderr,
+                    "raster101-compare: %s '%s' would overwrite one of the images being "
+                    "compared; expected a new file name, e.g. diff.png\n",
+                    outputs[k][0], outputs[k][1]);
+            return 2;
+        }
+    /* Both images, the comparison's own buffers and the heat map, estimated
+     * from the files' headers before either is decoded. */
+    long ew = 0, eh = 0, gw = 0, gh = 0;
+    if (ras_image_peek_file(expected_path, &ew, &eh) && ras_image_peek_file(got_path, &gw, &gh)) {
+        char what[2400];
+        snprintf(what, sizeof what, "comparing '%s' (%ldx%ld) with '%s' (%ldx%ld)", expected_path,
+                 ew, eh, got_path, gw, gh);
+        if (!ras_memory_check(((double)ew * (double)eh + (double)gw * (double)gh) *
+                                  COMPARE_BYTES_PER_PIXEL,
+                              what, "compare smaller images", &err)) {
+            fprintf(stderr, "raster101-compare: %s\n", err.msg);
+            return 2;
+        }
+    }
+    ras_image *expected = ras_image_load(expected_path, &err);
+    if (!expected) {
+        fprintf(stderr, "raster101-compare: expected image: %s\n", err.msg);
+        return 2;
+    }
+    ras_image *got = ras_image_load(got_path, &err);
+    if (!got) {
+        fprintf(stderr, "raster101-compare: got image: %s\n", err.msg);
+        ras_image_destroy(expected);
+        return 2;
+    }
+    int status = 2;
+    ras_compare_result r;
+    if (!ras_compare_images(expected, got, &opt, &r, &err)) {
+        fprintf(stderr, "raster101-compare: %s\n", err.msg);
+        goto done;
+    }
+    printf("%s\n", r.summary);
+    status = r.pass ? 0 : 1;
+    if (mask) {
+        char buf[4096];
+        if (ras_compare_ascii_mask(expected, got, (vec3s){{0, 0, 0}},
+                                   r.worst_col < 0 ? 0 : r.worst_col,
+                                   r.worst_row < 0 ? 0 : r.worst_row, 12, buf, sizeof buf, &err))
+            printf("coverage around (%d,%d), %s:\n%s", r.worst_col, r.worst_row,
+                   RAS_COMPARE_ASCII_LEGEND, buf);
+    }
+    if (diff_path) {
+        ras_image *heat = ras_compare_heatmap(expected, got, kind, &err);
+        if (!heat || !ras_image_save(heat, diff_path, &err)) {
+            fprintf(stderr, "raster101-compare: --diff: %s\n", err.msg);
+            status = 2;
+        }
+        ras_image_destroy(heat);
+    }
+    if (crop_path) {
+        ras_image *crop = ras_compare_crop(expected, got, kind, r.worst_col, r.worst_row, &err);
+        if (!crop || !ras_image_save(crop, crop_path, &err)) {
+            fprintf(stderr, "raster101-compare: --crop: %s\n", err.msg);
+            status = 2;
+        }
+        ras_image_destroy(crop);
+    }
+done:
+    ras_image_destroy(expected);
+    ras_image_destroy(got);
+    return status;
+}

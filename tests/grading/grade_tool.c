@@ -1,0 +1,2540 @@
+/* grade_tool.c — raster101-grade: grades one build of the assignments against
+ * tests/grading/rubric.json. tests/grading/grade builds the student code and then calls this;
+ * see docs/grading.md.
+ *
+ *   raster101-grade --source SRC --build BUILD --out OUT
+ *                   [--rubric FILE] [--hw hwN]... [--variant student|ref]
+ *                   [--build-failed hwN=LOG]... [--expect full|0|POINTS]
+ *
+ * For each assignment of the rubric (or only those given with --hw):
+ *   1. tests: lists the test program's tests (RAS_TEST_LIST=1, see
+ *      tests/unit/ras_test_main.h) and runs each test in its own process
+ *      (RAS_TEST_FILTER=name) with cmocka's XML output, a time limit and a
+ *      memory limit; a crash or a hang fails that test only. A test program
+ *      without ras_test_main.h runs once, whole, and its console output is
+ *      split per test.
+ *   2. images: runs the program with each graded scene's arguments and
+ *      compares the PNG with tests/reference/ (common/ras_compare.h), writing
+ *      a heatmap and a crop of the worst region.
+ * Outputs in OUT: results.json (Gradescope), report.md (with images),
+ * scores.csv (one row per item, for tests/grading/grade-all), hwN/cmocka.xml; a table
+ * on stdout.
+ *
+ * Scoring: an item scores its points when it passes and no TODO notice was
+ * printed while it ran (passing on a placeholder stub earns nothing). Exit
+ * status: 0 graded (whatever the score), 1 --expect not met, 2 grader error.
+ */
+#include "ras_compare.h"
+#include "ras_dump.h"
+#include "ras_image.h"
+#include "ras_io.h"
+
+#include <cjson/cJSON.h>
+#include <errno.h>
+#include <fcntl.h>
+#include <math.h>
+#include <poll.h>
+#include <signal.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
+
+/* snprintf that cuts silently (paths here are far below the buffer sizes). */
+__attribute__((format(printf, 3, 4))) static void fmt(char *buf, size_t size, const char *f, ...) {
+    va_list ap;
+    va_start(ap, f);
+    vsnprintf(buf, size, f, ap);
+    va_end(ap);
+}
+
+/* ---------------------------------------------------------------- strings */
+
+typedef struct sbuf {
+    char *s;
+    size_t len, cap;
+} sbuf;
+
+static void sb_addn(sbuf *b, const char *s, size_t n) {
+    if (b->len + n + 1 > b->cap) {
+        size_t cap = b->cap ? b->cap : 256;
+        while (cap < b->len + n + 1)
+            cap *= 2;
+        char *p = realloc(b->s, cap);
+        if (!p) abort();
+        b->s = p;
+        b->cap = cap;
+    }
+    memcpy(b->s + b->len, s, n);
+    b->len += n;
+    b->s[b->len] = '\0';
+}
+static void sb_add(sbuf *b, const char *s) { sb_addn(b, s, strlen(s)); }
+static void sb_printf(sbuf *b, const char *fmt, ...) {
+    va_list ap;
+    va_start(ap, fmt);
+    char tmp[2048];
+    int n = vsnprintf(tmp, sizeof tmp, fmt, ap);
+    va_end(ap);
+    if (n < 0) return;
+    if ((size_t)n < sizeof tmp) {
+        sb_addn(b, tmp, (size_t)n);
+        return;
+    }
+    char *big = malloc((size_t)n + 1);
+    if (!big) abort();
+    va_start(ap, fmt);
+    vsnprintf(big, (size_t)n + 1, fmt, ap);
+    va_end(ap);
+    sb_addn(b, big, (size_t)n);
+    free(big);
+}
+static const char *sb_str(const sbuf *b) { return b->s ? b->s : ""; }
+
+static char *xstrdup(const char *s) {
+    char *p = strdup(s ? s : "");
+    if (!p) abort();
+    return p;
+}
+
+static char *read_file(const char *path, size_t limit) {
+    FILE *f = fopen(path, "rb");
+    if (!f) return NULL;
+    sbuf b = {0};
+    char chunk[8192];
+    size_t n;
+    while ((n = fread(chunk, 1, sizeof chunk, f)) > 0) {
+        if (limit && b.len + n > limit) {
+            sb_addn(&b, chunk, limit - b.len);
+            sb_add(&b, "\n[... output cut ...]\n");
+            break;
+        }
+        sb_addn(&b, chunk, n);
+    }
+    fclose(f);
+    if (!b.s) return xstrdup("");
+    return b.s;
+}
+
+static bool copy_file(const char *from, const char *to) {
+    FILE *in = fopen(from, "rb"), *out = in ? fopen(to, "wb") : NULL;
+    bool ok = in && out;
+    char buf[65536];
+    size_t n;
+    while (ok && (n = fread(buf, 1, sizeof buf, in)) > 0)
+        ok = fwrite(buf, 1, n, out) == n;
+    if (in) fclose(in);
+    if (out && fclose(out) != 0) ok = false;
+    return ok;
+}
+
+static void mkdirs(const char *path) {
+    char tmp[4096];
+    fmt(tmp, sizeof tmp, "%s", path);
+    for (char *p = tmp + 1; *p; p++)
+        if (*p == '/') {
+            *p = '\0';
+            mkdir(tmp, 0755);
+            *p = '/';
+        }
+    mkdir(tmp, 0755);
+}
+
+static bool file_exists(const char *path) { return access(path, F_OK) == 0; }
+
+/* Drops cmocka's banner lines and the "ERROR: " prefix of its XML mode, so
+ * what remains is what the test said. */
+static char *clean_output(const char *raw) {
+    sbuf b = {0};
+    const char *p = raw;
+    while (*p) {
+        const char *nl = strchr(p, '\n');
+        size_t n = nl ? (size_t)(nl - p) : strlen(p);
+        bool banner = n > 0 && p[0] == '[' &&
+                      (!strncmp(p, "[==========]", 12) || !strncmp(p, "[ RUN      ]", 12) ||
+                       !strncmp(p, "[       OK ]", 12) || !strncmp(p, "[  FAILED  ]", 12) ||
+                       !strncmp(p, "[  PASSED  ]", 12) || !strncmp(p, "[  SKIPPED ]", 12));
+        bool footer = n > 0 && strstr(p, "FAILED TEST(S)") && strstr(p, "FAILED TEST(S)") < p + n;
+        if (!banner && !footer) {
+            if (!strncmp(p, "ERROR: ", 7)) p += 7, n -= 7;
+            sb_addn(&b, p, n);
+            sb_add(&b, "\n");
+        }
+        p += n + (nl ? 1 : 0);
+    }
+    /* trim trailing blank lines */
+    while (b.len > 0 && (b.s[b.len - 1] == '\n' || b.s[b.len - 1] == ' '))
+        b.s[--b.len] = '\0';
+    return b.s ? b.s : xstrdup("");
+}
+
+static bool has_todo_notice(const char *out) { return strstr(out, "is not written yet") != NULL; }
+
+/* The most useful line of a failure: the "likely mistake" if there is one,
+ * otherwise the first line that is not a TODO notice. */
+static char *reason_line(const char *out) {
+    const char *todo = strstr(out, "TODO: ");
+    if (todo) { /* "TODO: f() is not written yet" is the whole story */
+        const char *end = strstr(todo, " is not written yet");
+        const char *nl = strchr(todo, '\n');
+        if (end && (!nl || end < nl)) {
+            size_t n = (size_t)(end - todo) + strlen(" is not written yet");
+            char *r = malloc(n + 1);
+            if (!r) abort();
+            memcpy(r, todo, n);
+            r[n] = '\0';
+            return r;
+        }
+    }
+    const char *p = strstr(out, "likely mistake");
+    if (p && !strncmp(p, "likely mistake: ", 16)) p += 16;
+    if (!p) {
+        p = out;
+        while (*p && (!strncmp(p, "TODO:", 5) || *p == '\n')) {
+            const char *nl = strchr(p, '\n');
+            if (!nl) break;
+            p = nl + 1;
+        }
+        if (!*p || !strncmp(p, "TODO:", 5)) p = out;
+    }
+    const char *nl = strchr(p, '\n');
+    size_t n = nl ? (size_t)(nl - p) : strlen(p);
+    if (n > 110) n = 110;
+    char *r = malloc(n + 1);
+    if (!r) abort();
+    memcpy(r, p, n);
+    r[n] = '\0';
+    return r;
+}
+
+static void xml_escape(sbuf *b, const char *s) {
+    for (; *s; s++) {
+        switch (*s) {
+        case '<': sb_add(b, "&lt;"); break;
+        case '>': sb_add(b, "&gt;"); break;
+        case '&': sb_add(b, "&amp;"); break;
+        case '"': sb_add(b, "&quot;"); break;
+        default: sb_addn(b, s, 1);
+        }
+    }
+}
+
+/* ---------------------------------------------------------------- processes */
+
+typedef enum run_kind { RUN_EXITED, RUN_SIGNALED, RUN_TIMEOUT, RUN_NOT_STARTED } run_kind;
+
+typedef struct run_result {
+    run_kind kind;
+    int code; /* exit status or signal number */
+    double seconds;
+} run_result;
+
+static double now_s(void) {
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+/* Runs argv in its own process group with stdout+stderr captured through a
+ * pipe (at most OUTPUT_CAP bytes kept, the rest read and dropped, so a flood
+ * costs neither disk nor memory) and written to out_path; the
+ * NULL-terminated "NAME=value" pairs of env added, a wall-clock limit and an
+ * address-space limit (MB, 0 = none). Kills the whole group at the limit. */
+#define OUTPUT_CAP (48 * 1024)
+static run_result run_limited(char *const argv[], const char *const env[], const char *out_path,
+                              double limit_s, long mem_mb) {
+    run_result r = {RUN_NOT_STARTED, 0, 0};
+    double t0 = now_s();
+    int pipefd[2];
+    if (pipe(pipefd) != 0) return r;
+    fflush(stdout);
+    pid_t pid = fork();
+    if (pid < 0) {
+        close(pipefd[0]);
+        close(pipefd[1]);
+        return r;
+    }
+    if (pid == 0) {
+        setpgid(0, 0);
+        dup2(pipefd[1], 1);
+        dup2(pipefd[1], 2);
+        close(pipefd[0]);
+        close(pipefd[1]);
+        int devnull = open("/dev/null", O_RDONLY);
+        if (devnull >= 0) dup2(devnull, 0);
+        for (int i = 0; env && env[i]; i++)
+            putenv((char *)env[i]);
+        unsetenv("DISPLAY"); /* never open a window while grading */
+        struct rlimit core = {0, 0};
+        setrlimit(RLIMIT_CORE, &core);
+        if (mem_mb > 0) {
+            struct rlimit as = {(rlim_t)mem_mb << 20, (rlim_t)mem_mb << 20};
+            setrlimit(RLIMIT_AS, &as);
+        }
+        struct rlimit cpu = {(rlim_t)limit_s + 2, (rlim_t)limit_s + 3};
+        setrlimit(RLIMIT_CPU, &cpu);
+        execv(argv[0], argv);
+        fprintf(stderr, "could not start %s: %s\n", argv[0], strerror(errno));
+        _exit(127);
+    }
+    setpgid(pid, pid);
+    close(pipefd[1]);
+    fcntl(pipefd[0], F_SETFL, O_NONBLOCK);
+    sbuf kept = {0};
+    size_t dropped = 0;
+    int status = 0;
+    bool done = false;
+    for (;;) {
+        char chunk[16384];
+        ssize_t n;
+        while ((n = read(pipefd[0], chunk, sizeof chunk)) > 0) {
+            size_t room = kept.len < OUTPUT_CAP ? OUTPUT_CAP - kept.len : 0;
+            size_t take = (size_t)n < room ? (size_t)n : room;
+            if (take) sb_addn(&kept, chunk, take);
+            dropped += (size_t)n - take;
+        }
+        if (done) break;
+        pid_t w = waitpid(pid, &status, WNOHANG);
+        if (w == pid) {
+            done = true; /* one more read for what is left in the pipe */
+            continue;
+        }
+        if (w < 0 && errno != EINTR) break;
+        if (now_s() - t0 > limit_s) {
+            kill(-pid, SIGKILL);
+            kill(pid, SIGKILL);
+            waitpid(pid, &status, 0);
+            r.kind = RUN_TIMEOUT;
+            break;
+        }
+        struct pollfd pfd = {pipefd[0], POLLIN, 0};
+        poll(&pfd, 1, 5);
+    }
+    close(pipefd[0]);
+    kill(-pid, SIGKILL); /* anything the run left behind in its group */
+    if (dropped) sb_printf(&kept, "\n[... %zu more bytes of output dropped ...]\n", dropped);
+    int fd = open(out_path, O_WRONLY | O_CREAT | O_TRUNC | O_NOFOLLOW | O_CLOEXEC, 0644);
+    if (fd >= 0) {
+        /* a short write only shortens what the report quotes */
+        ssize_t w = kept.len ? write(fd, kept.s, kept.len) : 0;
+        (void)w;
+        close(fd);
+    }
+    free(kept.s);
+    r.seconds = now_s() - t0;
+    if (r.kind == RUN_TIMEOUT) return r;
+    if (WIFSIGNALED(status)) {
+        r.kind = RUN_SIGNALED;
+        r.code = WTERMSIG(status);
+    } else {
+        r.kind = RUN_EXITED;
+        r.code = WEXITSTATUS(status);
+    }
+    return r;
+}
+
+/* One process for run_jobs: its command, environment and output file. */
+typedef struct job {
+    char *argv[120];
+    char store[16][4200]; /* strings argv and env point into */
+    const char *env[8];
+    char out_path[4096];
+    char rw[4096];      /* its sandbox's writable folder */
+    double limit;
+    long mem_mb;
+    run_result rr;
+    const cJSON *args; /* an image's program arguments, as chosen for this grading */
+    char extra_ro[4096]; /* one more read-only folder in its sandbox ("": none) */
+} job;
+
+/* Runs the jobs, `parallel` at a time, each through run_limited in a child
+ * of the grader that hands back its run_result through a pipe. */
+static void run_jobs(job *jobs, int n, int parallel) {
+    pid_t *pids = calloc((size_t)n + 1, sizeof *pids);
+    int *fds = calloc((size_t)n + 1, sizeof *fds);
+    if (!pids || !fds) abort();
+    int next = 0, active = 0;
+    if (parallel < 1) parallel = 1;
+    while (next < n || active > 0) {
+        while (active < parallel && next < n) {
+            job *j = &jobs[next];
+            j->rr = (run_result){RUN_NOT_STARTED, 0, 0};
+            int p[2];
+            if (pipe(p) != 0) {
+                next++;
+                continue;
+            }
+            fflush(stdout);
+            fflush(stderr);
+            pid_t pid = fork();
+            if (pid == 0) {
+                close(p[0]);
+                run_result rr = run_limited(j->argv, j->env, j->out_path, j->limit, j->mem_mb);
+                ssize_t w = write(p[1], &rr, sizeof rr);
+                _exit(w == (ssize_t)sizeof rr ? 0 : 1);
+            }
+            close(p[1]);
+            pids[next] = pid;
+            fds[next] = p[0];
+            if (pid > 0) active++;
+            next++;
+        }
+        if (active == 0) continue;
+        int status;
+        pid_t w = wait(&status);
+        if (w < 0) {
+            if (errno == EINTR) continue;
+            break;
+        }
+        for (int i = 0; i < next; i++)
+            if (pids[i] == w) {
+                run_result rr;
+                if (read(fds[i], &rr, sizeof rr) == (ssize_t)sizeof rr) jobs[i].rr = rr;
+                close(fds[i]);
+                pids[i] = 0;
+                active--;
+            }
+    }
+    free(pids);
+    free(fds);
+}
+
+static const char *signal_text(int sig) {
+    switch (sig) {
+    case SIGSEGV: return "SIGSEGV, a segmentation fault: memory read or written out of bounds";
+    case SIGABRT: return "SIGABRT: an assert failed or memory was corrupted";
+    case SIGFPE: return "SIGFPE: an integer division by zero";
+    case SIGBUS: return "SIGBUS: a bad memory access";
+    case SIGKILL: return "SIGKILL: killed (out of memory or CPU time?)";
+    case SIGXCPU: return "SIGXCPU: the CPU time limit ran out (an endless loop?)";
+    case SIGILL: return "SIGILL: an illegal instruction (undefined behaviour?)";
+    default: return "a signal";
+    }
+}
+
+/* ---------------------------------------------------------------- results */
+
+typedef struct item {
+    char *name; /* test name or "image NAME" */
+    bool is_image;
+    bool counted; /* false: reported but not in the score */
+    bool passed;
+    bool default_weight;
+    double score, max_score;
+    char *status; /* PASS, FAIL, CRASH, TIMEOUT, TODO, BUILD, SKIP */
+    char *reason; /* one line for the table */
+    char *output; /* everything for the student */
+    char *xml;    /* JUnit <testcase> for tests */
+    /* images: paths relative to OUT */
+    char *img_expected, *img_got, *img_diff, *img_crop;
+    /* the first buffer that differs (--dump): its name and pictures */
+    char *buf_name, *buf_ref, *buf_got, *buf_diff;
+} item;
+
+typedef struct assignment_result {
+    char *id, *title;
+    bool graded;
+    char *note; /* why not graded, or remarks */
+    item *items;
+    int n_items, cap_items;
+    double score, max_score;
+    double seconds;
+} assignment_result;
+
+static item *add_item(assignment_result *a) {
+    if (a->n_items == a->cap_items) {
+        a->cap_items = a->cap_items ? 2 * a->cap_items : 16;
+        a->items = realloc(a->items, (size_t)a->cap_items * sizeof *a->items);
+        if (!a->items) abort();
+    }
+    item *it = &a->items[a->n_items++];
+    memset(it, 0, sizeof *it);
+    it->counted = true;
+    return it;
+}
+
+static void item_free(item *it) {
+    char *owned[] = {it->name,         it->status,  it->reason,   it->output,  it->xml,
+                     it->img_expected, it->img_got, it->img_diff, it->img_crop,
+                     it->buf_name,     it->buf_ref, it->buf_got,  it->buf_diff};
+    for (size_t i = 0; i < sizeof owned / sizeof owned[0]; i++)
+        free(owned[i]);
+}
+
+static void assignment_results_free(assignment_result *as, int n) {
+    for (int k = 0; k < n; k++) {
+        for (int i = 0; i < as[k].n_items; i++)
+            item_free(&as[k].items[i]);
+        free(as[k].items);
+        free(as[k].id);
+        free(as[k].title);
+        free(as[k].note);
+    }
+    free(as);
+}
+
+typedef struct grader {
+    const char *source, *build, *out, *variant;
+    /* The student's side: the pristine tree and its build, both read-only in
+     * the sandbox, and the work folder where each run gets its own writable
+     * folder. Nothing of the trusted side (source, build, out) is visible. */
+    const char *student_tree, *student_build, *work;
+    /* --own: each assignment's programs and test worker linked with the
+     * reference of the earlier assignments (tests/grading/grade, step 2b), as
+     * OWN/refK.../bin and OWN/refK.../tests; NULL when there are none. */
+    const char *own;
+    /* --sanitized-build (grade --sanitize): the student's test workers built
+     * with AddressSanitizer and UBSan in the sandbox; NULL: no such pass. */
+    const char *sanitized;
+    long sandbox_uid; /* -1: not root, runs stay this user's */
+    int runs;         /* numbers the run folders */
+    int evidence_runs; /* failing images given buffer evidence so far (at most 8) */
+    int jobs;         /* sandboxed runs at once */
+    cJSON *rubric;
+    double default_points, test_limit, render_limit;
+    long mem_mb;
+    const char *only[8];
+    int n_only;
+    const char *failed_hw[8], *failed_log[8];
+    int n_failed;
+} grader;
+
+static double num_or(const cJSON *obj, const char *key, double fallback) {
+    const cJSON *v = cJSON_GetObjectItemCaseSensitive(obj, key);
+    return cJSON_IsNumber(v) ? v->valuedouble : fallback;
+}
+static const char *str_or(const cJSON *obj, const char *key, const char *fallback) {
+    const cJSON *v = cJSON_GetObjectItemCaseSensitive(obj, key);
+    return cJSON_IsString(v) ? v->valuestring : fallback;
+}
+
+/* Points for a test from the rubric's "tests" object; *dflt set when the
+ * rubric does not name it. */
+static double test_points(const grader *g, const cJSON *tests, const char *name, bool *dflt) {
+    const cJSON *v = cJSON_GetObjectItemCaseSensitive(tests, name);
+    *dflt = !cJSON_IsNumber(v);
+    return cJSON_IsNumber(v) ? v->valuedouble : g->default_points;
+}
+
+/* Fills in score and status of a finished test from its run and output. */
+static void judge_test(item *it, run_result rr, bool failed_in_output, const char *out,
+                       double limit, const char *crash_hint) {
+    sbuf o = {0};
+    it->passed = false;
+    if (rr.kind == RUN_TIMEOUT) {
+        it->status = xstrdup("TIMEOUT");
+        sb_printf(&o,
+                  "the test did not finish within %.0f s and was stopped: an endless loop, or "
+                  "far too much work (e.g. a bounding box that is not clamped)\n",
+                  limit);
+    } else if (rr.kind == RUN_SIGNALED) {
+        it->status = xstrdup("CRASH");
+        sb_printf(&o, "the test crashed with %s\nlikely mistake: %s\n", signal_text(rr.code),
+                  crash_hint);
+    } else if (rr.kind == RUN_NOT_STARTED) {
+        it->status = xstrdup("ERROR");
+        sb_add(&o, "the test program could not be started\n");
+    } else if (strstr(out, "Test failed with exception")) {
+        /* cmocka caught the signal itself: still a crash of the student code */
+        it->status = xstrdup("CRASH");
+        sb_printf(&o, "the test crashed (cmocka caught the signal)\nlikely mistake: %s\n",
+                  crash_hint);
+    } else if (rr.code == 0 && !failed_in_output) {
+        it->passed = true;
+        it->status = xstrdup(has_todo_notice(out) ? "TODO" : "PASS");
+    } else {
+        it->status = xstrdup(has_todo_notice(out) ? "TODO" : "FAIL");
+    }
+    if (*out) sb_printf(&o, "%s%s", o.len ? "output before it stopped:\n" : "", out);
+    if (it->passed && has_todo_notice(out))
+        sb_add(&o, "\n(passed, but a TODO notice was printed, so no points: either a function it "
+                   "calls is still the stub and its placeholder happens to be right, or you wrote "
+                   "the function and left its `static bool shown; ras_todo_notice(...)` lines in: "
+                   "delete them)");
+    it->output = o.s ? o.s : xstrdup("");
+    it->score = it->passed && !has_todo_notice(out) ? it->max_score : 0;
+    if (it->passed && !has_todo_notice(out))
+        it->reason = xstrdup("");
+    else if (it->passed)
+        it->reason = xstrdup("passes, but a TODO notice was printed (a stub, or notice lines left in)");
+    else
+        it->reason = reason_line(it->output);
+}
+
+static void junit_case(item *it, const char *classname, const char *raw_xml) {
+    sbuf x = {0};
+    if (raw_xml) {
+        sb_add(&x, raw_xml);
+    } else {
+        sb_add(&x, "    <testcase classname=\"");
+        xml_escape(&x, classname);
+        sb_add(&x, "\" name=\"");
+        xml_escape(&x, it->name);
+        sb_add(&x, "\">\n");
+        if (!it->passed) {
+            sb_add(&x, "      <failure message=\"");
+            xml_escape(&x, it->reason ? it->reason : it->status);
+            sb_add(&x, "\"><![CDATA[");
+            sb_add(&x, it->output ? it->output : "");
+            sb_add(&x, "]]></failure>\n");
+        }
+        sb_add(&x, "    </testcase>\n");
+    }
+    it->xml = x.s;
+}
+
+/* The <testcase> elements of a cmocka XML file, or NULL. */
+static char *cmocka_testcases(const char *xml_path, bool *has_failure) {
+    char *x = read_file(xml_path, 0);
+    if (!x) return NULL;
+    char *a = strstr(x, "<testcase"), *b = a ? strstr(a, "</testsuite>") : NULL;
+    if (!a || !b) {
+        free(x);
+        return NULL;
+    }
+    *b = '\0';
+    *has_failure = strstr(a, "<failure") != NULL || strstr(a, "<error") != NULL;
+    sbuf s = {0};
+    sb_add(&s, "    ");
+    sb_add(&s, a);
+    free(x);
+    while (s.len && (s.s[s.len - 1] == ' ' || s.s[s.len - 1] == '\n'))
+        s.s[--s.len] = '\0';
+    sb_add(&s, "\n");
+    return s.s;
+}
+
+/* ------------------------------------------------------------- the tests */
+
+typedef struct name_list {
+    char **v;
+    int n;
+} name_list;
+
+static void names_add(name_list *l, const char *s) {
+    l->v = realloc(l->v, (size_t)(l->n + 1) * sizeof *l->v);
+    if (!l->v) abort();
+    l->v[l->n++] = xstrdup(s);
+}
+static void names_free(name_list *l) {
+    for (int i = 0; i < l->n; i++)
+        free(l->v[i]);
+    free(l->v);
+    *l = (name_list){0};
+}
+static bool names_has(const name_list *l, const char *s) {
+    for (int i = 0; i < l->n; i++)
+        if (!strcmp(l->v[i], s)) return true;
+    return false;
+}
+
+/* Parses the console output of a whole cmocka run (standard output mode)
+ * into per-test blocks: used when the test program has no RAS_TEST_FILTER. */
+/* Student output shown in a report: at most `cap` bytes, control
+ * characters and invalid UTF-8 replaced by '?', so nothing it prints can
+ * forge the report's layout or break its JSON. */
+static char *student_text(const char *raw, size_t cap) {
+    sbuf b = {0};
+    const unsigned char *p = (const unsigned char *)raw;
+    while (*p && b.len < cap) {
+        unsigned c = *p;
+        size_t n = c < 0x80 ? 1 : (c >> 5) == 6 ? 2 : (c >> 4) == 14 ? 3 : (c >> 3) == 30 ? 4 : 0;
+        bool ok = n > 0;
+        for (size_t k = 1; ok && k < n; k++)
+            ok = (p[k] & 0xC0) == 0x80;
+        if (!ok) {
+            sb_add(&b, "?");
+            p++;
+        } else if (n == 1 && ((c < 32 && c != '\n' && c != '\t') || c == 127)) {
+            sb_add(&b, "?");
+            p++;
+        } else {
+            sb_addn(&b, (const char *)p, n);
+            p += n;
+        }
+    }
+    if (*p) sb_add(&b, "\n[... cut ...]");
+    return b.s ? b.s : xstrdup("");
+}
+
+/* Each sandboxed run its own uid (the grading's base + 1 + run % 90), so
+ * runs at the same time never share per-uid limits, and the user isolation's
+ * kill-by-uid reaches only its own run. */
+static long run_uid(const grader *g, int run) {
+    return g->sandbox_uid < 0 ? -1 : g->sandbox_uid + 1 + run % 90;
+}
+
+/* A fresh folder for one sandboxed run, writable by that run's user and by
+ * nobody else. */
+static void run_dir(const grader *g, char *path, size_t size) {
+    int run = ((grader *)g)->runs++;
+    fmt(path, size, "%s/runs/%d", g->work, run);
+    mkdirs(path);
+    long uid = run_uid(g, run);
+    if (uid >= 0 && chown(path, (uid_t)uid, (gid_t)uid) != 0) chmod(path, 0777);
+}
+
+/* Fills j->argv with `tests/grading/sandbox ... --` for a new run folder j->rw: the
+ * student's tree and build read-only, j->rw writable, the given environment
+ * (the sandbox starts from an empty one); returns the next argv index. */
+static int sandbox_job(const grader *g, job *j, double limit_s, const char *const env[]) {
+    int n = 0, k = 0;
+    run_dir(g, j->rw, sizeof j->rw);
+    j->limit = limit_s;
+    j->mem_mb = 0; /* the sandbox sets the limits */
+    j->env[0] = NULL;
+    fmt(j->store[k], sizeof j->store[k], "%s/tests/grading/sandbox", g->source);
+    j->argv[n++] = j->store[k++];
+    j->argv[n++] = "--ro";
+    j->argv[n++] = (char *)g->student_tree;
+    j->argv[n++] = "--ro";
+    j->argv[n++] = (char *)g->student_build;
+    if (j->extra_ro[0]) {
+        j->argv[n++] = "--ro";
+        j->argv[n++] = j->extra_ro;
+    }
+    j->argv[n++] = "--rw";
+    j->argv[n++] = j->rw;
+    j->argv[n++] = "--chdir";
+    j->argv[n++] = j->rw;
+    j->argv[n++] = "--mem-mb";
+    fmt(j->store[k], sizeof j->store[k], "%ld", g->mem_mb > 0 ? g->mem_mb : 65536);
+    j->argv[n++] = j->store[k++];
+    j->argv[n++] = "--cpu-s";
+    fmt(j->store[k], sizeof j->store[k], "%.0f", limit_s + 2);
+    j->argv[n++] = j->store[k++];
+    if (g->sandbox_uid >= 0) {
+        j->argv[n++] = "--uid";
+        fmt(j->store[k], sizeof j->store[k], "%ld", run_uid(g, g->runs - 1));
+        j->argv[n++] = j->store[k++];
+    }
+    for (int i = 0; env && env[i] && k < 14; i++) {
+        j->argv[n++] = "--env";
+        fmt(j->store[k], sizeof j->store[k], "%s", env[i]);
+        j->argv[n++] = j->store[k++];
+    }
+    j->argv[n++] = "--";
+    return n;
+}
+
+/* How a sandboxed run ended, in words (bwrap reports a signal as 128+N), in
+ * the form tests/unit/ras_test_main.h writes a test's fate, so that fate_parse
+ * reads both the same way. */
+static void fate_text(run_result rr, double limit, char *buf, size_t size) {
+    int sig = rr.kind == RUN_SIGNALED                       ? rr.code
+              : rr.kind == RUN_EXITED && rr.code > 128 && rr.code < 160 ? rr.code - 128
+                                                                        : 0;
+    if (rr.kind == RUN_TIMEOUT)
+        fmt(buf, size, "was stopped after %.0f s (the time limit)", limit);
+    else if (rr.kind == RUN_NOT_STARTED)
+        fmt(buf, size, "could not be started");
+    else if (sig)
+        fmt(buf, size, "was killed by signal %d (%s)", sig, signal_text(sig));
+    else
+        fmt(buf, size, "exited with status %d", rr.code);
+}
+
+/* A file the sandbox wrote: only a regular file (no symlink, FIFO or device
+ * planted there), at most `limit` bytes of it. NULL when there is none. */
+static char *read_small_file(const char *path, size_t limit) {
+    int fd = open(path, O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
+    struct stat st;
+    if (fd < 0) return NULL;
+    if (fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+        close(fd);
+        return NULL;
+    }
+    sbuf b = {0};
+    char chunk[4096];
+    ssize_t n;
+    while (b.len < limit && (n = read(fd, chunk, sizeof chunk)) > 0)
+        sb_addn(&b, chunk, b.len + (size_t)n > limit ? limit - b.len : (size_t)n);
+    if ((size_t)st.st_size > limit) sb_add(&b, "\n[... output cut ...]\n");
+    close(fd);
+    return b.s ? b.s : xstrdup("");
+}
+
+/* One line of printable text (a fate), "" when there is none. */
+static void read_small(const char *path, char *buf, size_t n) {
+    char *t = read_small_file(path, n - 1);
+    size_t k = 0;
+    for (const char *p = t ? t : ""; *p && k < n - 1; p++)
+        if (*p >= 32 && *p < 127) buf[k++] = *p;
+    buf[k] = '\0';
+    free(t);
+}
+
+/* The words of tests/unit/ras_test_main.h's NAME.fate back into a run_result. */
+static run_result fate_parse(const char *fate) {
+    const char *p;
+    int v;
+    if (strstr(fate, "was stopped after")) return (run_result){RUN_TIMEOUT, 0, 0};
+    if ((p = strstr(fate, "was killed by signal ")) && sscanf(p + 21, "%d", &v) == 1)
+        return (run_result){RUN_SIGNALED, v, 0};
+    if ((p = strstr(fate, "exited with status ")) && sscanf(p + 19, "%d", &v) == 1)
+        return (run_result){RUN_EXITED, v, 0};
+    return (run_result){RUN_EXITED, 1, 0};
+}
+
+static bool is_dir(const char *path);
+
+/* Whose code a grade measures (docs/grading.md): hwN is graded on its own
+ * code, linked with the reference of hw1 … hwN-1, when tests/grading/grade could link
+ * it (--own). The folder of such a link is OWN/ref1…(N-1); `refs` names the
+ * assignments taken from the reference ("1", "12"; NULL: every earlier one).
+ * False when there is none: then the student's whole chain is graded. */
+static bool own_dir(const grader *g, const char *id, const char *refs, char *dir, size_t size) {
+    int number = 0;
+    if (!g->own || sscanf(id, "hw%d", &number) != 1 || number < 2 || number > 9) return false;
+    char all[10] = "";
+    for (int k = 1; k < number; k++)
+        all[k - 1] = (char)('0' + k);
+    fmt(dir, size, "%s/ref%s", g->own, refs ? refs : all);
+    if (is_dir(dir)) return true;
+    dir[0] = '\0';
+    return false;
+}
+
+/* The first line of a sanitizer report in `out` and the first frame of it
+ * in a student file ("in FUNC .../hw3_shading/shading.c:183"), as one line
+ * into buf; false when there is no report. */
+static bool sanitizer_finding(const char *out, const cJSON *assignments, char *buf,
+                              size_t size) {
+    const char *asan = strstr(out, "ERROR: AddressSanitizer: ");
+    const char *ub = strstr(out, ": runtime error: ");
+    if (!asan && !ub) return false;
+    /* every assignment's student files, the names a frame or a path is
+     * recognised by */
+    const char *files[32];
+    int n_files = 0;
+    for (const cJSON *as = assignments ? assignments->child : NULL; as; as = as->next) {
+        const cJSON *list = cJSON_GetObjectItemCaseSensitive(as, "student_files");
+        for (const cJSON *sf = list ? list->child : NULL; sf && n_files < 32; sf = sf->next)
+            if (cJSON_IsString(sf) && *sf->valuestring) files[n_files++] = sf->valuestring;
+    }
+    char kind[200] = "", access[120] = "", where[400] = "";
+    if (asan) {
+        sscanf(asan + 25, "%199[^ \n]", kind);
+        const char *acc = strstr(asan, "\nREAD of size ");
+        if (!acc) acc = strstr(asan, "\nWRITE of size ");
+        if (acc) sscanf(acc + 1, "%119[^\n]", access);
+        char *t = strstr(access, " at 0x");
+        if (t) *t = '\0';
+        /* the first frame in a student file: "#N 0x... in FUNC PATH/FILE:LINE" */
+        for (const char *f = strstr(asan, "    #"); f && !*where; f = strstr(f + 1, "    #")) {
+            const char *eol = strchr(f, '\n');
+            const char *stop = eol ? eol : f + strlen(f), *in = strstr(f, " in ");
+            for (int i = 0; i < n_files && in && in < stop && !*where; i++) {
+                const char *hit = strstr(f, files[i]);
+                if (!hit || hit >= stop) continue;
+                const char *end = hit, *name = in + 4, *name_end = name;
+                while (end < stop && *end != ' ')
+                    end++;
+                while (name_end < hit && *name_end != ' ')
+                    name_end++;
+                fmt(where, sizeof where, "in %.*s (%.*s)", (int)(name_end - name), name,
+                    (int)(end - hit), hit);
+            }
+        }
+        fmt(buf, size, "AddressSanitizer: %s%s%s%s%s", kind, *access ? ", a " : "", access,
+            *where ? " " : "", where);
+    } else {
+        const char *line = ub;
+        while (line > out && line[-1] != '\n')
+            line--;
+        const char *eol = strchr(ub, '\n');
+        fmt(buf, size, "UndefinedBehaviorSanitizer: %.*s",
+            (int)((eol ? eol : ub + strlen(ub)) - line), line);
+    }
+    /* the sandbox's paths mean nothing to the student: keep from the
+     * assignment folder on */
+    for (int i = 0; i < n_files; i++) {
+        char *hit = strstr(buf, files[i]), *start = hit;
+        while (start && start > buf && start[-1] != '(' && start[-1] != ' ')
+            start--;
+        if (hit && start < hit) memmove(start, hit, strlen(hit) + 1);
+    }
+    return true;
+}
+
+/* One sandboxed chunk of a test worker (tests/unit/ras_test_main.h, RAS_EACH_*):
+ * names[first, last) of `bin`, each test in a forked child with `per_test`
+ * seconds, recording into the run's own folder, which also gets the list;
+ * `own` is bound read-only too ("": none), `extra` adds to the environment
+ * (at most 4). */
+static void worker_job(const grader *g, job *w, const char *bin, const char *own,
+                       const name_list *names, int first, int last, double per_test,
+                       const char *const extra[]) {
+    char each[4][4300];
+    fmt(each[0], sizeof each[0], "RAS_EACH_NAMES=%s/runs/%d/names", g->work, g->runs);
+    fmt(each[1], sizeof each[1], "RAS_EACH_OUT=%s/runs/%d", g->work, g->runs);
+    fmt(each[2], sizeof each[2], "RAS_EACH_CALLS=%s/runs/%d", g->work, g->runs);
+    fmt(each[3], sizeof each[3], "RAS_EACH_LIMIT=%.0f", per_test);
+    const char *env[11] = {each[0], each[1], each[2], each[3], "RAS_EACH_MODE=record",
+                           "RAS_RECORD_CAP_MB=256"};
+    for (int i = 0; extra && extra[i] && i < 4; i++)
+        env[6 + i] = extra[i];
+    fmt(w->extra_ro, sizeof w->extra_ro, "%s", own);
+    int k = sandbox_job(g, w, (last - first) * (per_test + 1) + 20, env);
+    w->argv[k++] = (char *)bin;
+    w->argv[k] = NULL;
+    char list_path[4200];
+    fmt(list_path, sizeof list_path, "%s/names", w->rw);
+    FILE *lf = fopen(list_path, "w");
+    for (int i = first; i < last && lf; i++)
+        fprintf(lf, "%s\n", names->v[i]);
+    if (lf) fclose(lf);
+}
+
+/* grade --sanitize: the tests once more, on the student's code built with
+ * AddressSanitizer and UBSan, only to say where memory or arithmetic goes
+ * wrong: the verdicts stay the replay's. The finding is added to its test's
+ * output (the first frame in a student file: function, file and line). */
+static void sanitizer_pass(const grader *g, assignment_result *a, const cJSON *asg,
+                           const name_list *names, int first_item) {
+    char worker[4096];
+    fmt(worker, sizeof worker, "%s/tests/test_%s_worker", g->sanitized, a->id);
+    if (!g->sanitized || !file_exists(worker)) return;
+    int n = names->n, chunks = g->jobs < n ? g->jobs : n;
+    if (chunks < 1) return;
+    job *jobs = calloc((size_t)chunks, sizeof *jobs);
+    if (!jobs) abort();
+    int per = (n + chunks - 1) / chunks;
+    static const char *const sanitizers[] = {
+        "ASAN_OPTIONS=detect_leaks=0:halt_on_error=1:abort_on_error=0",
+        "UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1", NULL};
+    for (int c = 0; c < chunks; c++) {
+        job *w = &jobs[c];
+        int first = c * per, last = first + per > n ? n : first + per;
+        worker_job(g, w, worker, "", names, first, last, 3 * g->test_limit, sanitizers);
+        w->env[0] = "RAS_SANDBOX_NO_AS=1"; /* ASan reserves terabytes of address space */
+        w->env[1] = NULL;
+        fmt(w->out_path, sizeof w->out_path, "%s/runs/sanitized-%s-%d.out", g->work, a->id, c);
+    }
+    run_jobs(jobs, chunks, g->jobs);
+    (void)asg;
+    const cJSON *files = cJSON_GetObjectItemCaseSensitive(g->rubric, "assignments");
+    for (int i = 0; i < n; i++) {
+        char path[4400], finding[800];
+        fmt(path, sizeof path, "%s/%s.out", jobs[i / per].rw, names->v[i]);
+        char *out = read_small_file(path, 64 * 1024);
+        if (out && sanitizer_finding(out, files, finding, sizeof finding)) {
+            char *shown = student_text(finding, 600);
+            item *it = &a->items[first_item + i];
+            sbuf o = {0};
+            sb_printf(&o, "%s\n--- grade --sanitize (your code built with AddressSanitizer "
+                          "and UBSan) ---\n%s",
+                      it->output ? it->output : "", shown);
+            free(it->output);
+            it->output = o.s;
+            free(shown);
+        }
+        free(out);
+    }
+    free(jobs);
+}
+
+static void grade_tests(const grader *g, assignment_result *a, const cJSON *asg, const char *dir) {
+    const cJSON *tests = cJSON_GetObjectItemCaseSensitive(asg, "tests");
+    const char *crash_hint = str_or(asg, "crash_hint", "look for an out-of-bounds access");
+    char out_path[4096], xml_dir[4096], replay_bin[4096], worker_bin[4096];
+    fmt(xml_dir, sizeof xml_dir, "%s/xml", dir);
+    mkdirs(xml_dir);
+    fmt(replay_bin, sizeof replay_bin, "%s/tests/test_%s_replay", g->build, a->id);
+    fmt(worker_bin, sizeof worker_bin, "%s/tests/test_%s_worker", g->student_build, a->id);
+    /* On its own code: the worker linked with the earlier references. It holds
+     * reference code, so it is sealed: what it printed is not shown. */
+    char own[4096] = "", own_worker[4200];
+    if (own_dir(g, a->id, NULL, own, sizeof own)) {
+        fmt(own_worker, sizeof own_worker, "%s/tests/test_%s_worker", own, a->id);
+        if (file_exists(own_worker)) {
+            fmt(worker_bin, sizeof worker_bin, "%s", own_worker);
+            if (!a->note) {
+                sbuf n = {0};
+                sb_printf(&n, "graded on your %s code alone, with the reference of the earlier "
+                              "assignments (what the test process printed is not shown; run "
+                              "ctest to see it)",
+                          a->id);
+                a->note = n.s;
+            }
+        } else
+            own[0] = '\0';
+    }
+    /* The list of tests comes from the trusted replay program, never from
+     * the student's build. */
+    fmt(out_path, sizeof out_path, "%s/list.txt", dir);
+    char *list_argv[] = {replay_bin, NULL};
+    const char *list_env[] = {"RAS_TEST_LIST=1", NULL};
+    run_limited(list_argv, list_env, out_path, 30, g->mem_mb);
+    char *listing = read_file(out_path, 1 << 20);
+    if (!listing || strncmp(listing, "RAS_TEST_LIST\n", 14) != 0) {
+        free(listing);
+        free(a->note);
+        a->note = xstrdup("grader error: the trusted test program could not list its tests");
+        fprintf(stderr, "raster101-grade: %s could not list its tests (build it: cmake --build %s "
+                        "--target test_%s_replay)\n",
+                replay_bin, g->build, a->id);
+        return;
+    }
+    name_list names = {0};
+    for (char *line = strtok(listing + 14, "\n"); line; line = strtok(NULL, "\n"))
+        if (*line) names_add(&names, line);
+    int n = names.n;
+    /* The tests in `chunks` groups, one sandbox and one process each (a
+     * forked child per test inside: tests/unit/ras_test_main.h, RAS_EACH_*). */
+    int chunks = g->jobs < n ? g->jobs : n;
+    if (chunks < 1) chunks = 1;
+    job *workers = calloc((size_t)chunks, sizeof *workers);
+    job *replays = calloc((size_t)chunks, sizeof *replays);
+    int *chunk_of = calloc((size_t)n + 1, sizeof *chunk_of);
+    if (!workers || !replays || !chunk_of) abort();
+    for (int c = 0; c < chunks; c++) {
+        /* 1. the student's code, in the sandbox: each test records what each
+         * call of the student's functions returned */
+        job *w = &workers[c];
+        int per = (n + chunks - 1) / chunks, first = c * per, last = first + per;
+        if (last > n) last = n;
+        worker_job(g, w, worker_bin, own, &names, first, last, g->test_limit, NULL);
+        fmt(w->out_path, sizeof w->out_path, "%s/worker%d.out", xml_dir, c);
+        for (int i = first; i < last; i++)
+            chunk_of[i] = c;
+        /* 2. the verdicts: the same tests, trusted, on the recorded outputs
+         * (the trusted copy of the list: the worker could rewrite its own) */
+        job *r = &replays[c];
+        fmt(r->store[0], sizeof r->store[0], "%s/names%d", xml_dir, c);
+        FILE *lf = fopen(r->store[0], "w");
+        for (int i = first; i < last; i++)
+            if (lf) fprintf(lf, "%s\n", names.v[i]);
+        if (lf) fclose(lf);
+        fmt(r->store[1], sizeof r->store[1], "RAS_EACH_NAMES=%s", r->store[0]);
+        fmt(r->store[2], sizeof r->store[2], "RAS_EACH_OUT=%s", xml_dir);
+        fmt(r->store[3], sizeof r->store[3], "RAS_EACH_CALLS=%s", w->rw);
+        fmt(r->store[4], sizeof r->store[4], "RAS_EACH_LIMIT=%.0f", g->test_limit + 20);
+        r->env[0] = r->store[1];
+        r->env[1] = r->store[2];
+        r->env[2] = r->store[3];
+        r->env[3] = r->store[4];
+        r->env[4] = "RAS_EACH_MODE=replay";
+        r->env[5] = "CMOCKA_MESSAGE_OUTPUT=xml";
+        r->env[6] = NULL;
+        r->argv[0] = replay_bin;
+        r->argv[1] = NULL;
+        r->limit = (last - first) * (g->test_limit + 21) + 20;
+        r->mem_mb = g->mem_mb;
+        fmt(r->out_path, sizeof r->out_path, "%s/replay%d.out", xml_dir, c);
+    }
+    run_jobs(workers, chunks, g->jobs);
+    /* What the sandbox reported for tests whose process never wrote a fate
+     * (the whole worker died or was stopped) is the worker's own end. */
+    for (int i = 0; i < n; i++) {
+        char fate_path[4400], fate[200];
+        fmt(fate_path, sizeof fate_path, "%s/%s.fate", workers[chunk_of[i]].rw, names.v[i]);
+        struct stat st;
+        if (lstat(fate_path, &st) != 0) {
+            fate_text(workers[chunk_of[i]].rr, workers[chunk_of[i]].limit, fate, sizeof fate);
+            FILE *f = fopen(fate_path, "w");
+            if (f) {
+                fprintf(f, "(the whole test program) %s", fate);
+                fclose(f);
+            }
+        }
+        char xml_path[4400];
+        fmt(xml_path, sizeof xml_path, "%s/%s.xml", xml_dir, names.v[i]);
+        unlink(xml_path);
+    }
+    run_jobs(replays, chunks, g->jobs);
+    for (int i = 0; i < n; i++) {
+        const char *name = names.v[i];
+        item *it = add_item(a);
+        it->name = xstrdup(name);
+        it->max_score = test_points(g, tests, name, &it->default_weight);
+        const char *rw = workers[chunk_of[i]].rw;
+        char path[4400], fate[200], rfate[200];
+        fmt(path, sizeof path, "%s/%s.fate", rw, name);
+        read_small(path, fate, sizeof fate);
+        fmt(path, sizeof path, "%s/%s.fate", xml_dir, name);
+        read_small(path, rfate, sizeof rfate);
+        run_result wr = fate_parse(fate), rr = fate_parse(rfate);
+        if (!*rfate) rr = (run_result){RUN_NOT_STARTED, 0, 0};
+        fmt(path, sizeof path, "%s/%s.out", xml_dir, name);
+        char *raw = read_file(path, 64 * 1024);
+        char *clean = clean_output(raw ? raw : "");
+        bool xml_failure = false;
+        fmt(path, sizeof path, "%s/%s.xml", xml_dir, name);
+        char *cases = rr.kind == RUN_EXITED ? cmocka_testcases(path, &xml_failure) : NULL;
+        /* cmocka's XML mode puts assertion texts only into the XML: add them */
+        const char *cdata = cases ? strstr(cases, "<failure><![CDATA[") : NULL;
+        if (cdata) {
+            cdata += strlen("<failure><![CDATA[");
+            const char *end = strstr(cdata, "]]>");
+            size_t len = end ? (size_t)(end - cdata) : 0;
+            char *msg = malloc(len + 1);
+            if (!msg) abort();
+            memcpy(msg, cdata, len);
+            msg[len] = '\0';
+            char *first_nl = strchr(msg, '\n');
+            if (first_nl) *first_nl = '\0';
+            if (len && !strstr(clean, msg) && !strstr(msg, "error: Failure!")) {
+                sbuf c = {0};
+                sb_printf(&c, "%s%s%.*s", clean, *clean ? "\n" : "", (int)len, cdata);
+                free(clean);
+                clean = c.s;
+            }
+            free(msg);
+        }
+        /* A failure because the worker died is charged to the way it died. */
+        run_result verdict = rr;
+        bool worker_died = wr.kind == RUN_TIMEOUT || wr.kind == RUN_SIGNALED ||
+                           (wr.kind == RUN_EXITED && wr.code > 128 && wr.code < 160);
+        if (rr.kind == RUN_EXITED && rr.code != 0 && worker_died) {
+            verdict = wr;
+            if (wr.kind == RUN_EXITED) verdict = (run_result){RUN_SIGNALED, wr.code - 128, 0};
+        } else if (rr.kind != RUN_EXITED) {
+            free(clean);
+            clean = xstrdup("grader error: the trusted replay of this test did not finish; "
+                            "tell your instructor");
+            verdict = (run_result){RUN_EXITED, 1, 0};
+        }
+        judge_test(it, verdict, xml_failure, clean, g->test_limit, crash_hint);
+        /* What the student's code printed: theirs, shown as such, capped. */
+        fmt(path, sizeof path, "%s/%s.out", rw, name);
+        char *wraw = read_small_file(path, 4096);
+        char *wclean = wraw && !own[0] ? clean_output(wraw) : NULL;
+        if (wclean && *wclean) {
+            char *shown = student_text(wclean, 1500);
+            sbuf o = {0};
+            sb_printf(&o, "%s\n--- what the test process printed (your code runs there) ---\n%s",
+                      it->output, shown);
+            free(it->output);
+            it->output = o.s;
+            free(shown);
+        }
+        free(wclean);
+        free(wraw);
+        junit_case(it, a->id, cases);
+        free(cases);
+        free(raw);
+        free(clean);
+    }
+    free(workers);
+    free(replays);
+    free(chunk_of);
+    if (g->sanitized) sanitizer_pass(g, a, asg, &names, a->n_items - n);
+    for (const cJSON *t = tests ? tests->child : NULL; t; t = t->next) {
+        if (names_has(&names, t->string)) continue;
+        item *it = add_item(a);
+        it->name = xstrdup(t->string);
+        it->counted = false;
+        it->max_score = cJSON_IsNumber(t) ? t->valuedouble : g->default_points;
+        it->status = xstrdup("MISSING");
+        it->output = xstrdup("the rubric names this test but the test program has none by that "
+                             "name (not counted; update tests/grading/rubric.json)");
+        it->reason = xstrdup("not in the test program (rubric out of date; not counted)");
+        junit_case(it, a->id, NULL);
+    }
+    names_free(&names);
+    free(listing);
+}
+
+/* ------------------------------------------------------------- the images */
+
+/* Vertical mirror, to recognise a missing y-flip. */
+static ras_image *flip_rows(const ras_image *img) {
+    ras_image *f = ras_image_clone(img);
+    if (!f) return NULL;
+    for (int r = 0; r < img->height; r++)
+        for (int c = 0; c < img->width; c++)
+            ras_image_set(f, c, img->height - 1 - r, ras_image_get(img, c, r));
+    return f;
+}
+
+static double mean_luma(const ras_image *img) {
+    double s = 0;
+    long n = (long)img->width * img->height;
+    for (long i = 0; i < n; i++)
+        s += 0.299 * img->pixels[i].x + 0.587 * img->pixels[i].y + 0.114 * img->pixels[i].z;
+    return n ? s / (double)n : 0;
+}
+
+static bool is_flat(const ras_image *img) {
+    long n = (long)img->width * img->height;
+    for (long i = 1; i < n; i++)
+        if (ras_unit_to_byte(img->pixels[i].x) != ras_unit_to_byte(img->pixels[0].x) ||
+            ras_unit_to_byte(img->pixels[i].y) != ras_unit_to_byte(img->pixels[0].y) ||
+            ras_unit_to_byte(img->pixels[i].z) != ras_unit_to_byte(img->pixels[0].z))
+            return false;
+    return true;
+}
+
+/* Bounding box of the pixels that differ from the top-left (background)
+ * pixel; false when there are none. */
+static bool content_box(const ras_image *img, int *x0, int *y0, int *x1, int *y1) {
+    vec3s bg = ras_image_get(img, 0, 0);
+    *x0 = img->width, *y0 = img->height, *x1 = -1, *y1 = -1;
+    for (int r = 0; r < img->height; r++)
+        for (int c = 0; c < img->width; c++) {
+            vec3s p = ras_image_get(img, c, r);
+            if (ras_unit_to_byte(p.x) == ras_unit_to_byte(bg.x) &&
+                ras_unit_to_byte(p.y) == ras_unit_to_byte(bg.y) &&
+                ras_unit_to_byte(p.z) == ras_unit_to_byte(bg.z))
+                continue;
+            if (c < *x0) *x0 = c;
+            if (c > *x1) *x1 = c;
+            if (r < *y0) *y0 = r;
+            if (r > *y1) *y1 = r;
+        }
+    return *x1 >= 0;
+}
+
+/* Likely-mistake lines recognised from the pictures themselves. */
+/* Does the image's command line contain `word` (e.g. "msaa")? */
+static bool args_have(const cJSON *args, const char *word) {
+    for (const cJSON *v = args ? args->child : NULL; v; v = v->next)
+        if (cJSON_IsString(v) && strstr(v->valuestring, word)) return true;
+    return false;
+}
+
+/* Signatures of classic mistakes; a cause is named only where the picture
+ * can have it (seams need anti-aliasing, doubled ambient needs lighting). */
+static void image_signatures(sbuf *o, const ras_image *expected, const ras_image *got,
+                             const ras_compare_options *opt, const cJSON *args) {
+    if (is_flat(got) && !is_flat(expected)) {
+        sb_add(o, "likely mistake: your image is one flat colour: nothing was drawn (are the "
+                  "TODOs written? do the matrices put the scene in front of the camera?)\n");
+        return;
+    }
+    ras_image *flipped = flip_rows(got);
+    ras_compare_result fr;
+    ras_error err;
+    if (flipped && ras_compare_images(expected, flipped, opt, &fr, &err) && fr.pass)
+        sb_add(o, "likely mistake: your image is the reference upside down: the y-flip is "
+                  "missing (image row = height - 1 - y) or the projection flips y\n");
+    ras_image_destroy(flipped);
+    int ex0, ey0, ex1, ey1, gx0, gy0, gx1, gy1;
+    if (content_box(expected, &ex0, &ey0, &ex1, &ey1) && content_box(got, &gx0, &gy0, &gx1, &gy1)) {
+        double cx = (gx0 + gx1 - ex0 - ex1) / 2.0, cy = (gy0 + gy1 - ey0 - ey1) / 2.0;
+        double sx = (gx1 - gx0 + 1.0) / (ex1 - ex0 + 1.0),
+               sy = (gy1 - gy0 + 1.0) / (ey1 - ey0 + 1.0);
+        double cxe = (ex0 + ex1) / 2.0, cye = (ey0 + ey1) / 2.0;
+        double ccx = expected->width / 2.0, ccy = expected->height / 2.0;
+        /* same centre of projection, different size: the field of view */
+        double scale = (sx + sy) / 2;
+        if (fabs(sx - sy) < 0.05 && fabs(scale - 1) > 0.05 &&
+            fabs((cxe - ccx) * scale - (cxe + cx - ccx)) < 4 &&
+            fabs((cye - ccy) * scale - (cye + cy - ccy)) < 4)
+            sb_printf(o,
+                      "likely mistake: your picture is the reference scaled by %.2f about the "
+                      "image centre: the field of view is off (the whole fov used instead of "
+                      "half of it, or degrees given to tanf)\n",
+                      scale);
+        else if (fabs(sx - 1) > 0.05 && fabs(sy - 1) < 0.05)
+            sb_printf(o,
+                      "likely mistake: your picture is stretched horizontally by %.2f: the "
+                      "aspect ratio is applied to the wrong axis\n",
+                      sx);
+    }
+    double le = mean_luma(expected), lg = mean_luma(got);
+    bool aa = args_have(args, "msaa") || args_have(args, "ssaa");
+    bool lit = args_have(args, "phong") || args_have(args, "texture") ||
+               args_have(args, "displacement");
+    if (le > 0.02 && lg < 0.97 * le)
+        sb_printf(o, "note: your image is darker than the reference on average (mean luma %.4f "
+                     "vs %.4f)%s\n",
+                  lg, le,
+                  aa ? ": dark edges or seams? (resolve in floating point, colour per sample)"
+                     : "");
+    else if (le > 0.02 && lg > 1.03 * le)
+        sb_printf(o, "note: your image is brighter than the reference on average (mean luma "
+                     "%.4f vs %.4f)%s\n",
+                  lg, le, lit ? ": light added twice (ambient once per light?)" : "");
+}
+
+/* Defects a person sees at once but a global pixel budget can hide: a dark
+ * seam, a line of wrong pixels, speckle. Each is a pattern of "bad" pixels
+ * (some channel off by more than BAD_BYTES) that a correct image never has,
+ * whatever its float style: a seam pixel is darker than everything around it
+ * in the reference, speckle sits inside a smooth area of the reference, a
+ * line is a row or column whose neighbours match. Appends one "likely
+ * mistake" line per defect found; returns whether any was. */
+enum { BAD_BYTES = 48, SEAM_MIN = 20, SPECKLE_MIN = 12, LINE_MIN = 24 };
+
+static int byte_diff(vec3s a, vec3s b) {
+    int d = 0;
+    for (int k = 0; k < 3; k++) {
+        int e = abs(ras_unit_to_byte(a.raw[k]) - ras_unit_to_byte(b.raw[k]));
+        if (e > d) d = e;
+    }
+    return d;
+}
+
+static double luma(vec3s p) { return 0.299 * p.x + 0.587 * p.y + 0.114 * p.z; }
+
+static bool image_defects(sbuf *o, const ras_image *expected, const ras_image *got) {
+    int w = expected->width, h = expected->height;
+    if (got->width != w || got->height != h || w < 3 || h < 3) return false;
+    unsigned char *bad = calloc((size_t)w * h, 1);
+    int *row_bad = calloc((size_t)h, sizeof *row_bad), *col_bad = calloc((size_t)w, sizeof *col_bad);
+    if (!bad || !row_bad || !col_bad) abort();
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++)
+            if (byte_diff(ras_image_get(expected, x, y), ras_image_get(got, x, y)) > BAD_BYTES) {
+                bad[(size_t)y * w + x] = 1;
+                row_bad[y]++;
+                col_bad[x]++;
+            }
+    int seams = 0, speckles = 0, sx = -1, sy = -1, px = -1, py = -1;
+    for (int y = 1; y < h - 1; y++)
+        for (int x = 1; x < w - 1; x++) {
+            if (!bad[(size_t)y * w + x]) continue;
+            double lo = 1e9, hi = -1e9;
+            int bad_around = 0;
+            vec3s e0 = ras_image_get(expected, x, y);
+            int spread = 0;
+            for (int dy = -1; dy <= 1; dy++)
+                for (int dx = -1; dx <= 1; dx++) {
+                    vec3s e = ras_image_get(expected, x + dx, y + dy);
+                    double l = luma(e);
+                    lo = l < lo ? l : lo;
+                    hi = l > hi ? l : hi;
+                    int d = byte_diff(e, e0);
+                    spread = d > spread ? d : spread;
+                    bad_around += (dx || dy) && bad[(size_t)(y + dy) * w + x + dx];
+                }
+            double lg = luma(ras_image_get(got, x, y));
+            /* where two drawn surfaces meet (not against the background),
+             * darker than both */
+            if (lo > 0.05 && hi - lo > 0.02 && lg < lo - 0.15) {
+                if (seams++ == 0) sx = x, sy = y;
+            } else if (spread <= 24 && bad_around <= 2) {
+                if (speckles++ == 0) px = x, py = y;
+            }
+        }
+    bool found = false;
+    if (seams >= SEAM_MIN) {
+        sb_printf(o, "likely mistake: a dark seam: %d pixels where two surfaces meet are darker "
+                     "than both in the reference (first at (%d,%d)): the background shows "
+                     "through a shared edge (a coverage rule that drops edge samples, or a "
+                     "resolve that mixes in uncovered or integer-rounded samples)\n",
+                  seams, sx, sy);
+        found = true;
+    }
+    if (speckles >= SPECKLE_MIN) {
+        sb_printf(o, "likely mistake: speckle: %d isolated pixels inside smooth areas are wrong "
+                     "(first at (%d,%d)): back faces winning the depth test (depth or "
+                     "barycentric precision: subtract a vertex before the edge functions; "
+                     "perspective-correct depth) or a NaN in some pixels\n",
+                  speckles, px, py);
+        found = true;
+    }
+    for (int pass = 0; pass < 2; pass++) {
+        const int *line = pass ? col_bad : row_bad;
+        int n = pass ? w : h;
+        for (int i = 0; i < n; i++) {
+            int beside = 0;
+            if (i > 0 && line[i - 1] > beside) beside = line[i - 1];
+            if (i < n - 1 && line[i + 1] > beside) beside = line[i + 1];
+            if (line[i] >= LINE_MIN && line[i] >= 4 * (beside + 1)) {
+                sb_printf(o, "likely mistake: %s %d of the image is wrong along %d pixels while "
+                             "the %ss beside it match: a %s skipped or written twice (a loop "
+                             "bound, < against <=, or an index off by one)\n",
+                          pass ? "column" : "row", i, line[i], pass ? "column" : "row",
+                          pass ? "column" : "row");
+                found = true;
+                break;
+            }
+        }
+    }
+    free(bad);
+    free(row_bad);
+    free(col_bad);
+    return found;
+}
+
+/* Reads the image a student's program wrote, refusing before any decoding
+ * what is not a regular PNG file of the reference's size: a symlink, a FIFO,
+ * a huge file or a decompression bomb costs nothing. */
+static ras_image *load_student_image(const char *path, const char *ref_path, ras_error *err) {
+    unsigned char head[24], rhead[24];
+    int fd = open(path, O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
+    struct stat st;
+    if (fd < 0) return ras_error_set(err, "no file at -o (%s)", strerror(errno)), NULL;
+    bool regular = fstat(fd, &st) == 0 && S_ISREG(st.st_mode);
+    ssize_t got = regular ? read(fd, head, sizeof head) : -1;
+    close(fd);
+    if (!regular) return ras_error_set(err, "the output is not a regular file"), NULL;
+    if (st.st_size > (64 << 20))
+        return ras_error_set(err, "the output is %lld bytes, over the 64 MiB a PNG of this size "
+                                  "needs",
+                             (long long)st.st_size),
+               NULL;
+    FILE *rf = fopen(ref_path, "rb");
+    size_t rgot = rf ? fread(rhead, 1, sizeof rhead, rf) : 0;
+    if (rf) fclose(rf);
+    static const unsigned char sig[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+    if (got != (ssize_t)sizeof head || memcmp(head, sig, 8) != 0 || memcmp(head + 12, "IHDR", 4))
+        return ras_error_set(err, "the output is not a PNG file"), NULL;
+    if (rgot == sizeof rhead && memcmp(head + 16, rhead + 16, 8) != 0) {
+        unsigned w = (unsigned)head[16] << 24 | head[17] << 16 | head[18] << 8 | head[19];
+        unsigned h = (unsigned)head[20] << 24 | head[21] << 16 | head[22] << 8 | head[23];
+        unsigned rw = (unsigned)rhead[16] << 24 | rhead[17] << 16 | rhead[18] << 8 | rhead[19];
+        unsigned rh = (unsigned)rhead[20] << 24 | rhead[21] << 16 | rhead[22] << 8 | rhead[23];
+        return ras_error_set(err, "expected a %ux%u image like the reference, got %ux%u (not "
+                                  "decoded)",
+                             rw, rh, w, h),
+               NULL;
+    }
+    return ras_image_load(path, err);
+}
+
+/* The sandboxed run of an image's program: -o into its own run folder. */
+/* `bin_dir` holds the program: the student's build (the whole chain) or an
+ * own-code link (then also bound read-only); `tag` names the log. */
+static void image_job(const grader *g, const cJSON *img, const char *dir, job *j,
+                      const char *own, const char *tag) {
+    const cJSON *args = j->args;
+    fmt(j->extra_ro, sizeof j->extra_ro, "%s", own ? own : "");
+    int n = sandbox_job(g, j, g->render_limit, NULL);
+    fmt(j->store[14], sizeof j->store[14], "%s/bin/%s", own ? own : g->student_build,
+        str_or(img, "program", ""));
+    j->argv[n++] = j->store[14];
+    for (const cJSON *v = args ? args->child : NULL; v && n < 110; v = v->next)
+        if (cJSON_IsString(v)) j->argv[n++] = v->valuestring;
+    j->argv[n++] = "-o";
+    fmt(j->store[15], sizeof j->store[15], "%s/out.png", j->rw);
+    j->argv[n++] = j->store[15];
+    j->argv[n] = NULL;
+    fmt(j->out_path, sizeof j->out_path, "%s/%s%s.log", dir, str_or(img, "name", "image"), tag);
+}
+
+/* The comparison the rubric asks of an image; false for an unknown metric. */
+static bool image_options(const cJSON *img, ras_compare_kind *kind, ras_compare_options *opt,
+                          ras_error *err) {
+    if (!ras_compare_kind_parse(str_or(img, "metric", "edge"), kind, err)) return false;
+    *opt = ras_compare_defaults(*kind);
+    opt->tolerance = (int)num_or(img, "tolerance", opt->tolerance);
+    opt->max_bad_fraction = num_or(img, "max_bad", opt->max_bad_fraction);
+    opt->min_psnr_db = num_or(img, "min_psnr", opt->min_psnr_db);
+    opt->min_ssim = num_or(img, "min_ssim", opt->min_ssim);
+    return true;
+}
+
+/* The trusted reference program, outside the sandbox: `args` as drawn for
+ * this grading, -o out_png, and --dump dump_dir unless NULL. */
+static run_result reference_render(const grader *g, const char *program, const cJSON *args,
+                                   const char *out_png, const char *dump_dir, const char *log) {
+    char *argv[120] = {(char *)program};
+    int n = 1;
+    for (const cJSON *v = args ? args->child : NULL; v && n < 110; v = v->next)
+        if (cJSON_IsString(v)) argv[n++] = v->valuestring;
+    argv[n++] = "-o";
+    argv[n++] = (char *)out_png;
+    if (dump_dir) {
+        argv[n++] = "--dump";
+        argv[n++] = (char *)dump_dir;
+    }
+    argv[n] = NULL;
+    return run_limited(argv, NULL, log, g->render_limit, g->mem_mb);
+}
+
+/* What a buffer's first difference most likely means, by buffer and
+ * pattern; "" when nothing specific can be said. */
+static const char *buffer_hint(const char *name, const ras_dump_difference *d) {
+    const char *pattern = d->pattern;
+    bool speckle = !strcmp(pattern, "in speckles"), line = !strncmp(pattern, "along", 5),
+         one = !strcmp(pattern, "where only one drew");
+    if (!strcmp(name, "depth")) {
+        if (speckle)
+            return "back faces winning the depth test in scattered pixels: depth or barycentric "
+                   "precision (docs/hw2.md: subtract a vertex before the edge functions, "
+                   "interpolate v[i].z with the screen barycentrics)";
+        if (line) return "a row or column of samples skipped or written twice: the loop bounds";
+        if (one)
+            return "pixels drawn in one frame and not the other: coverage (the bounding box, "
+                   "the inside test, the top-left rule) or the depth test's direction";
+        if (d->larger * 10 >= d->pixels_differ * 9)
+            return "your depth buffer keeps the FARTHER surface where triangles overlap: the "
+                   "depth comparison is reversed (smaller is closer; the buffer starts at +INF)";
+        return "depths interpolated differently: v[i].z with the screen barycentrics, nothing "
+               "else (not the course's w_reciprocal snippet), or a reversed depth test";
+    }
+    if (!strcmp(name, "coverage"))
+        return line ? "a row or column of samples skipped: the loop bounds"
+                    : "samples covered differently: sample positions from ctx->pattern, the "
+                      "top-left rule on shared edges";
+    if (!strcmp(name, "overdraw"))
+        return "fragments shaded a different number of times: shading once per pixel with MSAA, "
+               "per sample with SSAA; the depth test before shading";
+    if (!strcmp(name, "normal"))
+        return "the normals the shader got: interpolate with perspective-correct weights, then "
+               "normalise";
+    if (!strcmp(name, "uv"))
+        return "the texture coordinates the shader got: perspective-correct interpolation (the "
+               "1/w weights), not affine";
+    if (!strcmp(name, "view_depth"))
+        return "the view-space positions: perspective-correct interpolation of view_pos";
+    return "";
+}
+
+/* Evidence for a failing image (docs/grading.md, "Buffers"): the program
+ * renders it again with --dump, in the sandbox, and the trusted reference
+ * program with --dump; the first buffer in frame order that differs (with
+ * its kind's tolerance) is named, with the likely cause. Sealed runs give
+ * the words only; others also the buffer's pictures (redrawn here from the
+ * exact files, never the sandbox's own pictures). Programs without --dump,
+ * and pictures that only differ in colour, add nothing. */
+static void buffer_evidence(const grader *g, item *it, sbuf *o, const cJSON *img, const char *dir,
+                            const char *reldir, const job *graded, const char *own) {
+    const char *name = str_or(img, "name", "image");
+    const char *program = str_or(img, "program", "");
+    char ref_prog[4200], ref_dir[4300], log[4400];
+    const char *rp = str_or(img, "reference_program", NULL);
+    if (rp)
+        fmt(ref_prog, sizeof ref_prog, "%s/bin/%s", g->build, rp);
+    else
+        fmt(ref_prog, sizeof ref_prog, "%s/bin/%s_ref", g->build, program);
+    if (!file_exists(ref_prog)) return;
+    fmt(ref_dir, sizeof ref_dir, "%s/%s%s.buffers-reference", dir, name, own ? ".own" : "");
+    mkdirs(ref_dir);
+    char ref_png[4400];
+    fmt(ref_png, sizeof ref_png, "%s/frame.png", ref_dir);
+    fmt(log, sizeof log, "%s/log.txt", ref_dir);
+    run_result rr = reference_render(g, ref_prog, graded->args, ref_png, ref_dir, log);
+    if (rr.kind != RUN_EXITED || rr.code != 0) return; /* no --dump here */
+    /* the student's run, as the graded one but with --dump */
+    job dj;
+    memset(&dj, 0, sizeof dj);
+    dj.args = graded->args;
+    image_job(g, img, dir, &dj, own, own ? ".own-dump" : ".dump");
+    int k = 0;
+    while (dj.argv[k])
+        k++;
+    fmt(dj.store[13], sizeof dj.store[13], "%s/dump", dj.rw);
+    dj.argv[k++] = "--dump";
+    dj.argv[k++] = dj.store[13];
+    dj.argv[k] = NULL;
+    run_jobs(&dj, 1, 1);
+    if (dj.rr.kind != RUN_EXITED || dj.rr.code != 0) {
+        sb_printf(o, "buffers: your program's --dump run %s, so its buffers cannot be compared\n",
+                  dj.rr.kind == RUN_TIMEOUT ? "timed out" : "failed");
+        return;
+    }
+    for (int b = 0; ras_dump_buffer_names[b]; b++) {
+        const char *buf = ras_dump_buffer_names[b];
+        char rf[4400], gf[4400];
+        fmt(rf, sizeof rf, "%s/%s.pfm", ref_dir, buf);
+        fmt(gf, sizeof gf, "%s/%s.pfm", dj.store[13], buf);
+        bool in_ref = file_exists(rf), in_got = file_exists(gf);
+        if (!in_ref && !in_got) continue;
+        if (in_ref != in_got) {
+            sb_printf(o, "buffers: the first that differs is %s: %s\n", buf,
+                      in_ref ? "your program wrote none (its frame made no such buffer)"
+                             : "the reference's frame makes no such buffer");
+            return;
+        }
+        ras_dump_difference d;
+        ras_error err = {{0}};
+        if (!ras_dump_compare(ref_dir, dj.store[13], buf, &d, &err)) {
+            char *shown = student_text(err.msg, 300);
+            sb_printf(o, "buffers: %s could not be compared: %s\n", buf, shown);
+            free(shown);
+            return;
+        }
+        if (d.pixels_differ == 0) continue;
+        char line[600];
+        ras_dump_difference_text(buf, &d, line, sizeof line);
+        const char *hint = buffer_hint(buf, &d);
+        sb_printf(o, "buffers: the first that differs is %s%s%s\n", line,
+                  *hint ? "; likely: " : "", hint);
+        if (own) return; /* sealed: words only */
+        /* the pictures, redrawn from the exact files */
+        char out_dir[4400];
+        fmt(out_dir, sizeof out_dir, "%s/%s.buffers/%s", dir, name, buf);
+        mkdirs(out_dir);
+        if (ras_dump_compare_pictures(ref_dir, dj.store[13], buf, out_dir, &err)) {
+            char rel[4600];
+            it->buf_name = xstrdup(buf);
+            fmt(rel, sizeof rel, "%s/%s.buffers/%s/reference.png", reldir, name, buf);
+            it->buf_ref = xstrdup(rel);
+            fmt(rel, sizeof rel, "%s/%s.buffers/%s/yours.png", reldir, name, buf);
+            it->buf_got = xstrdup(rel);
+            fmt(rel, sizeof rel, "%s/%s.buffers/%s/difference.png", reldir, name, buf);
+            it->buf_diff = xstrdup(rel);
+        }
+        return;
+    }
+    sb_add(o, "buffers: every buffer matches the reference's: the difference is in the "
+              "colours the shader computed\n");
+}
+
+/* Grades one image run (image_job). `sealed`: the program held reference
+ * code (an own-code link), so neither its output nor its picture goes into
+ * the report, only the verdict. `whole`: the run of the student's whole
+ * chain, for the integration part (its reference was rendered by the own-code
+ * run just before, with the same arguments). Returns whether it matched. */
+static bool grade_image(const grader *g, assignment_result *a, const cJSON *img, const char *dir,
+                        const char *reldir, const char *crash_hint, const job *j, bool sealed,
+                        bool whole) {
+    const char *name = str_or(img, "name", "image");
+    const char *program = str_or(img, "program", "");
+    const char *reference = str_or(img, "reference", "");
+    const char *metric = str_or(img, "metric", "edge");
+    const char *hint = str_or(img, "hint", NULL);
+    item *it = add_item(a);
+    it->is_image = true;
+    char label[300];
+    fmt(label, sizeof label, whole ? "%s image %s, your whole chain" : "image %s",
+        whole ? reldir : name, name);
+    it->name = xstrdup(label);
+    it->max_score = num_or(img, "points", g->default_points);
+    sbuf o = {0};
+    char ref_path[4096], prog_path[4096], got_path[4096], log_path[4096];
+    fmt(ref_path, sizeof ref_path, "%s/tests/reference/%s", g->source, reference);
+    /* A variant (rubric "reference_program"): its reference is rendered now,
+     * by the trusted reference program with the arguments chosen for this
+     * grading, so no reference image of it exists for a submission to copy or
+     * carry. */
+    const char *ref_program = str_or(img, "reference_program", NULL);
+    if (ref_program) {
+        char ref_prog_path[4096], ref_log[4300];
+        fmt(ref_prog_path, sizeof ref_prog_path, "%s/bin/%s", g->build, ref_program);
+        fmt(ref_path, sizeof ref_path, "%s/%s.expected.png", dir, name);
+        fmt(ref_log, sizeof ref_log, "%s/%s.reference.log", dir, name);
+        if (whole && file_exists(ref_path)) goto reference_ready;
+        unlink(ref_path);
+        run_result ref_rr = file_exists(ref_prog_path)
+                                ? reference_render(g, ref_prog_path, j->args, ref_path, NULL, ref_log)
+                                : (run_result){RUN_NOT_STARTED, 0, 0};
+        if (ref_rr.kind != RUN_EXITED || ref_rr.code != 0 || !file_exists(ref_path)) {
+            it->counted = false;
+            it->status = xstrdup("SKIP");
+            it->reason = xstrdup("no reference program here (not counted)");
+            sb_printf(&o, "this image is graded against %s, rendered at grading time; this build "
+                          "has no working %s (the student edition has none): not counted",
+                      ref_program, ref_program);
+            it->output = o.s;
+            junit_case(it, a->id, NULL);
+            return false;
+        }
+    }
+reference_ready:;
+    /* The student's program ran in the sandbox (image_job), writing into a
+     * folder of its own, never next to the reference. */
+    const char *written = j->store[15];
+    fmt(prog_path, sizeof prog_path, "%s", j->store[14]);
+    fmt(got_path, sizeof got_path, "%s/%s.got.png", dir, name);
+    fmt(log_path, sizeof log_path, "%s", j->out_path);
+    if (!ref_program && !file_exists(ref_path)) {
+        it->counted = false;
+        it->status = xstrdup("SKIP");
+        it->reason = xstrdup("no reference image yet (not counted)");
+        sb_printf(&o, "tests/reference/%s does not exist (make reference-images); not counted",
+                  reference);
+        it->output = o.s;
+        junit_case(it, a->id, NULL);
+        return false;
+    }
+    ras_error err = {{0}};
+    ras_compare_kind kind;
+    ras_compare_options opt;
+    if (!image_options(img, &kind, &opt, &err)) {
+        it->counted = false;
+        it->status = xstrdup("SKIP");
+        it->reason = xstrdup("bad metric in the rubric (not counted)");
+        it->output = xstrdup(err.msg);
+        junit_case(it, a->id, NULL);
+        return false;
+    }
+
+    /* the copy of the reference that the report shows */
+    char exp_copy[4096], rel[4200];
+    fmt(exp_copy, sizeof exp_copy, "%s/%s.expected.png", dir, name);
+    if (!ref_program) copy_file(ref_path, exp_copy);
+    fmt(rel, sizeof rel, "%s/%s.expected.png", reldir, name);
+    it->img_expected = xstrdup(rel);
+
+    const cJSON *args = j->args;
+    sb_printf(&o, "command: %s", program);
+    for (const cJSON *v = args ? args->child : NULL; v; v = v->next)
+        if (cJSON_IsString(v)) sb_printf(&o, " %s", v->valuestring);
+    sb_printf(&o, " -o %s.png   (metric %s)\n", name, metric);
+    unlink(got_path);
+    run_result rr = file_exists(prog_path) ? j->rr : (run_result){RUN_NOT_STARTED, 0, 0};
+    if (rr.kind == RUN_EXITED && rr.code > 128 && rr.code < 160) /* bwrap: 128 + signal */
+        rr = (run_result){RUN_SIGNALED, rr.code - 128, rr.seconds};
+    char *log = read_file(log_path, 16 * 1024);
+    char *clean_raw = clean_output(log ? log : "");
+    char *clean = student_text(clean_raw, 3000);
+    free(clean_raw);
+    free(log);
+    /* The notice is what the program printed: the student controls it, so it
+     * can only cost points, never earn them. */
+    bool todo = has_todo_notice(clean);
+    ras_image *got = NULL, *expected = NULL;
+    if (rr.kind == RUN_NOT_STARTED) {
+        it->status = xstrdup("ERROR");
+        sb_printf(&o, "the program %s was not built\n", program);
+    } else if (rr.kind == RUN_TIMEOUT) {
+        it->status = xstrdup("TIMEOUT");
+        sb_printf(&o, "the program did not finish within %.0f s: an endless loop?\n",
+                  g->render_limit);
+    } else if (rr.kind == RUN_SIGNALED) {
+        it->status = xstrdup("CRASH");
+        sb_printf(&o, "the program crashed with %s\nlikely mistake: %s\n", signal_text(rr.code),
+                  crash_hint);
+    } else if (!(got = load_student_image(written, ref_path, &err))) {
+        it->status = xstrdup("FAIL");
+        sb_printf(&o, "the program exited with status %d and wrote no usable image: %s\n",
+                  rr.code, err.msg);
+    } else if (!sealed) {
+        ras_image_save(got, got_path, &err); /* the report's copy, re-encoded by us */
+    }
+    if (sealed)
+        sb_printf(&o, "(rendered with your %s code and the reference of the earlier assignments; "
+                      "this run holds reference code, so its picture and output are not shown%s)\n",
+                  a->id, *clean ? ", although it printed some" : "");
+    else if (*clean)
+        sb_printf(&o, "program output:\n%s\n", clean);
+    free(clean);
+    if (got && (expected = ras_image_load(ref_path, &err)) != NULL) {
+        ras_compare_result r;
+        fmt(rel, sizeof rel, "%s/%s.got.png", reldir, name);
+        if (!sealed) it->img_got = xstrdup(rel);
+        if (!ras_compare_images(expected, got, &opt, &r, &err)) {
+            it->status = xstrdup("FAIL");
+            sb_printf(&o, "%s\n", err.msg);
+        } else {
+            sb_printf(&o, "%s\n", r.summary);
+            /* a defect a person sees fails the image even within the budget */
+            if (image_defects(&o, expected, got) && r.pass) {
+                r.pass = false;
+                sb_add(&o, "(within the pixel budget, but the defect above is visible: not a "
+                           "match)\n");
+            }
+            it->passed = r.pass;
+            it->status = xstrdup(r.pass ? (todo ? "TODO" : "PASS") : (todo ? "TODO" : "FAIL"));
+            if (!r.pass) {
+                image_signatures(&o, expected, got, &opt, j->args);
+                if (kind == RAS_COMPARE_EXACT || kind == RAS_COMPARE_EDGE_TOLERANT) {
+                    char mask[2048];
+                    if (ras_compare_ascii_mask(expected, got, (vec3s){{0, 0, 0}}, r.worst_col,
+                                               r.worst_row, 8, mask, sizeof mask, &err))
+                        sb_printf(&o, "coverage around the worst pixel (%d,%d), %s:\n%s",
+                                  r.worst_col, r.worst_row, RAS_COMPARE_ASCII_LEGEND, mask);
+                }
+                if (hint) sb_printf(&o, "what this image checks: %s\n", hint);
+            }
+            ras_image *heat = sealed ? NULL : ras_compare_heatmap(expected, got, kind, &err);
+            char p[4096];
+            fmt(p, sizeof p, "%s/%s.diff.png", dir, name);
+            if (heat && ras_image_save(heat, p, &err)) {
+                fmt(rel, sizeof rel, "%s/%s.diff.png", reldir, name);
+                it->img_diff = xstrdup(rel);
+            }
+            ras_image_destroy(heat);
+            if (!r.pass && !sealed) {
+                ras_image *crop =
+                    ras_compare_crop(expected, got, kind, r.worst_col, r.worst_row, &err);
+                fmt(p, sizeof p, "%s/%s.crop.png", dir, name);
+                if (crop && ras_image_save(crop, p, &err)) {
+                    fmt(rel, sizeof rel, "%s/%s.crop.png", reldir, name);
+                    it->img_crop = xstrdup(rel);
+                }
+                ras_image_destroy(crop);
+            }
+        }
+    } else if (got) {
+        it->status = xstrdup("ERROR");
+        sb_printf(&o, "could not read the reference: %s\n", err.msg);
+    }
+    /* a wrong picture the program did draw: which buffer goes wrong first
+     * (not for a stub's placeholder picture, nor for a blank one, which say
+     * enough; at most 8 per grading: each costs two more renders) */
+    if (!it->passed && got && rr.kind == RUN_EXITED && !todo && !is_flat(got) &&
+        g->evidence_runs < 8 && !getenv("RAS_GRADE_NO_BUFFERS")) {
+        ((grader *)g)->evidence_runs++;
+        buffer_evidence(g, it, &o, img, dir, reldir, j, sealed ? j->extra_ro : NULL);
+    }
+    if (it->passed && todo)
+        sb_add(&o, "(matches, but the program printed a TODO notice, so no points: a stub it "
+                   "calls, or a function you wrote with its notice lines left in: delete them)\n");
+    ras_image_destroy(got);
+    ras_image_destroy(expected);
+    while (o.len && o.s[o.len - 1] == '\n')
+        o.s[--o.len] = '\0';
+    it->output = o.s;
+    it->score = it->passed && !todo ? it->max_score : 0;
+    if (it->passed && !todo)
+        it->reason = xstrdup("");
+    else if (it->passed)
+        it->reason = xstrdup("matches, but a TODO notice was printed (a stub, or notice lines left in)");
+    else {
+        const char *lm = strstr(it->output, "likely mistake");
+        const char *summary = strstr(it->output, " FAIL: ");
+        if (lm)
+            it->reason = reason_line(lm);
+        else if (summary) {
+            while (summary > it->output && summary[-1] != '\n')
+                summary--;
+            it->reason = reason_line(summary);
+        } else if (rr.kind != RUN_EXITED)
+            it->reason = reason_line(strstr(it->output, "\n") + 1);
+        else
+            it->reason = reason_line(it->output + strcspn(it->output, "\n") + 1);
+    }
+    junit_case(it, a->id, NULL);
+    return it->passed;
+}
+
+/* Whether a sealed run (image_job) wrote an image that passes the rubric's
+ * comparison with ref_path. */
+static bool run_matches(const job *j, const cJSON *img, const char *ref_path) {
+    ras_error err = {{0}};
+    ras_compare_kind kind;
+    ras_compare_options opt;
+    if (j->rr.kind != RUN_EXITED || j->rr.code != 0 || !image_options(img, &kind, &opt, &err))
+        return false;
+    ras_image *got = load_student_image(j->store[15], ref_path, &err);
+    ras_image *expected = got ? ras_image_load(ref_path, &err) : NULL;
+    ras_compare_result r = {0};
+    bool pass = expected && ras_compare_images(expected, got, &opt, &r, &err) && r.pass;
+    sbuf ignored = {0};
+    if (pass && image_defects(&ignored, expected, got)) pass = false;
+    free(ignored.s);
+    ras_image_destroy(got);
+    ras_image_destroy(expected);
+    return pass;
+}
+
+/* The first item of assignment `id` that lost points, as "NAME (reason)"
+ * into buf; "" when it lost none or was not graded. */
+static void first_loss(const assignment_result *as, int n, const char *id, char *buf, size_t size) {
+    buf[0] = '\0';
+    for (int i = 0; i < n; i++) {
+        if (!as[i].id || strcmp(as[i].id, id)) continue;
+        for (int k = 0; k < as[i].n_items; k++) {
+            const item *it = &as[i].items[k];
+            if (it->counted && it->score < it->max_score) {
+                fmt(buf, size, "%s%s%s%s", it->name, it->reason && *it->reason ? " (" : "",
+                    it->reason ? it->reason : "", it->reason && *it->reason ? ")" : "");
+                return;
+            }
+        }
+    }
+}
+
+/* Attribution by substitution (docs/grading.md): the student's whole chain
+ * failed an image of hwN. Which assignment's code makes the difference? The
+ * own-code run (the references of every earlier assignment) has answered for
+ * hwN itself; for each earlier assignment K alone, the image is rendered
+ * again, sealed, with only K's reference swapped in. The answer leads the
+ * integration item, with the first loss of the assignment it names. */
+static void attribute_image(grader *g, item *it, const cJSON *img, const char *dir,
+                            const char *id, const job *graded, bool own_passed,
+                            const assignment_result *as, int n_as) {
+    char ref_path[4096], why[1200] = "", loss[700];
+    fmt(ref_path, sizeof ref_path, "%s/%s.expected.png", dir, str_or(img, "name", "image"));
+    if (!str_or(img, "reference_program", NULL))
+        fmt(ref_path, sizeof ref_path, "%s/tests/reference/%s", g->source,
+            str_or(img, "reference", ""));
+    int number = 0;
+    sscanf(id, "hw%d", &number);
+    if (!own_passed) {
+        fmt(why, sizeof why, "your %s code causes this: it fails this image on its own too, "
+                             "with the reference of the earlier assignments (charged in %s)",
+            id, id);
+    } else if (number == 2) {
+        first_loss(as, n_as, "hw1", loss, sizeof loss);
+        fmt(why, sizeof why, "your hw1 causes this: with the reference hw1 your hw2 matches this "
+                             "image%s%s",
+            *loss ? "; hw1's first lost point: " : "", loss);
+    } else if (number == 3) {
+        /* one sealed render per earlier assignment alone: hw1 then hw2 */
+        job subs[2];
+        memset(subs, 0, sizeof subs);
+        bool ran[2] = {false, false};
+        int m = 0;
+        for (int k = 0; k < 2; k++) {
+            char refs[2] = {(char)('1' + k), '\0'}, own[4096], tag[32], prog[4300];
+            if (!own_dir(g, id, refs, own, sizeof own)) continue;
+            fmt(prog, sizeof prog, "%s/bin/%s", own, str_or(img, "program", ""));
+            if (!file_exists(prog)) continue;
+            fmt(tag, sizeof tag, ".ref%s", refs);
+            subs[m].args = graded->args;
+            image_job(g, img, dir, &subs[m], own, tag);
+            ran[k] = true;
+            m++;
+        }
+        run_jobs(subs, m, g->jobs);
+        /* matches[k]: the image matches with only hw(k+1)'s reference */
+        bool matches[2] = {false, false};
+        for (int k = 0, i = 0; k < 2; k++)
+            if (ran[k]) matches[k] = run_matches(&subs[i++], img, ref_path);
+        if (ran[0] && ran[1]) {
+            const char *culprit = matches[1] && !matches[0]   ? "hw2"
+                                  : matches[0] && !matches[1] ? "hw1"
+                                                              : NULL;
+            if (culprit) {
+                first_loss(as, n_as, culprit, loss, sizeof loss);
+                fmt(why, sizeof why, "your %s causes this: with the reference %s this image "
+                                     "matches, with your %s it does not%s%s",
+                    culprit, culprit, culprit, *loss ? "; its first lost point: " : "", loss);
+            } else if (matches[0] && matches[1])
+                fmt(why, sizeof why, "one of your hw1 or your hw2 causes this: the image matches "
+                                     "with either reference swapped in (most likely hw2, which "
+                                     "draws it)");
+            else {
+                char loss2[700];
+                first_loss(as, n_as, "hw1", loss, sizeof loss);
+                first_loss(as, n_as, "hw2", loss2, sizeof loss2);
+                fmt(why, sizeof why, "both your hw1 and your hw2 cause this: the image matches "
+                                     "only with both references swapped in, with neither alone "
+                                     "(hw1's first lost point: %s; hw2's: %s)",
+                    *loss ? loss : "none", *loss2 ? loss2 : "none");
+            }
+        }
+    }
+    if (!*why) return;
+    sbuf o = {0};
+    sb_printf(&o, "whose code: %s\n%s", why, it->output ? it->output : "");
+    free(it->output);
+    it->output = o.s;
+    free(it->reason);
+    it->reason = xstrdup(why);
+}
+
+/* ------------------------------------------------------------- outputs */
+
+static void mark_build_failed(const grader *g, assignment_result *a, const cJSON *asg,
+                              const char *log_path) {
+    char *log = read_file(log_path, 0);
+    sbuf tail = {0};
+    /* the compiler's error lines, at most 30 */
+    int lines = 0;
+    for (char *line = log ? strtok(log, "\n") : NULL; line && lines < 30; line = strtok(NULL, "\n"))
+        if (strstr(line, "error") || strstr(line, "Error")) {
+            sb_printf(&tail, "%s\n", line);
+            lines++;
+        }
+    free(log);
+    const cJSON *tests = cJSON_GetObjectItemCaseSensitive(asg, "tests");
+    const cJSON *images = cJSON_GetObjectItemCaseSensitive(asg, "images");
+    for (int pass = 0; pass < 2; pass++)
+        for (const cJSON *t = (pass ? images : tests) ? (pass ? images : tests)->child : NULL; t;
+             t = t->next) {
+            item *it = add_item(a);
+            char label[300];
+            fmt(label, sizeof label, "%s%s", pass ? "image " : "",
+                pass ? str_or(t, "name", "?") : t->string);
+            it->name = xstrdup(label);
+            it->is_image = pass;
+            it->max_score = pass ? num_or(t, "points", g->default_points)
+                                 : (cJSON_IsNumber(t) ? t->valuedouble : g->default_points);
+            it->status = xstrdup("BUILD");
+            it->reason = xstrdup("your code does not compile");
+            sbuf o = {0};
+            sb_printf(&o, "your code for %s does not compile, so nothing could be tested.\n%s",
+                      a->id, sb_str(&tail));
+            it->output = o.s;
+            junit_case(it, a->id, NULL);
+        }
+    free(tail.s);
+}
+
+/* The grader's reports go through the atomic write of common/ras_io.h: a
+ * full disk or a kill leaves the previous report whole, never half of one. */
+static FILE *report_begin(ras_io_report *r) {
+    memset(r, 0, sizeof *r);
+    return ras_io_report_open(r);
+}
+
+static bool report_end(ras_io_report *r, const char *path) {
+    ras_error err = {{0}};
+    if (ras_io_report_commit(r, path, &err)) return true;
+    fprintf(stderr, "raster101-grade: %s\n", err.msg);
+    return false;
+}
+
+static bool write_outputs(const grader *g, assignment_result *as, int n, double total,
+                          double max_total) {
+    char path[4096];
+    /* results.json — Gradescope */
+    cJSON *root = cJSON_CreateObject();
+    cJSON_AddNumberToObject(root, "score", total);
+    cJSON_AddNumberToObject(root, "max_score", max_total);
+    sbuf summary = {0};
+    cJSON *tests = cJSON_AddArrayToObject(root, "tests");
+    cJSON *extra = cJSON_AddObjectToObject(root, "extra_data");
+    for (int i = 0; i < n; i++) {
+        assignment_result *a = &as[i];
+        cJSON *ea = cJSON_AddObjectToObject(extra, a->id);
+        cJSON_AddBoolToObject(ea, "graded", a->graded);
+        cJSON_AddNumberToObject(ea, "score", a->score);
+        cJSON_AddNumberToObject(ea, "max_score", a->max_score);
+        if (a->note) cJSON_AddStringToObject(ea, "note", a->note);
+        if (a->graded)
+            sb_printf(&summary, "%s: %g / %g\n", a->id, a->score, a->max_score);
+        else
+            sb_printf(&summary, "%s: not graded (%s)\n", a->id, a->note ? a->note : "");
+        for (int k = 0; k < a->n_items; k++) {
+            item *it = &a->items[k];
+            if (!it->counted) continue;
+            cJSON *t = cJSON_CreateObject();
+            char name[400];
+            fmt(name, sizeof name, "%s: %s%s", a->id, it->name,
+                it->default_weight ? " (default weight)" : "");
+            cJSON_AddStringToObject(t, "name", name);
+            cJSON_AddNumberToObject(t, "score", it->score);
+            cJSON_AddNumberToObject(t, "max_score", it->max_score);
+            cJSON_AddStringToObject(t, "status", it->score >= it->max_score ? "passed" : "failed");
+            cJSON_AddStringToObject(t, "output", it->output ? it->output : "");
+            cJSON_AddStringToObject(t, "visibility", "visible");
+            cJSON_AddItemToArray(tests, t);
+        }
+    }
+    cJSON_AddStringToObject(root, "output", sb_str(&summary));
+    char *json = cJSON_Print(root);
+    fmt(path, sizeof path, "%s/results.json", g->out);
+    ras_io_report rep;
+    bool ok = true;
+    FILE *f = report_begin(&rep);
+    if (f) {
+        fprintf(f, "%s\n", json);
+        ok &= report_end(&rep, path);
+    }
+    free(json);
+    cJSON_Delete(root);
+    free(summary.s);
+
+    /* scores.csv — one row per item, for tests/grading/grade-all */
+    fmt(path, sizeof path, "%s/scores.csv", g->out);
+    f = report_begin(&rep);
+    if (f) {
+        fprintf(f, "assignment,item,score,max_score,status\n");
+        for (int i = 0; i < n; i++) {
+            for (int k = 0; k < as[i].n_items; k++) {
+                item *it = &as[i].items[k];
+                if (it->counted)
+                    fprintf(f, "%s,%s,%g,%g,%s\n", as[i].id, it->name, it->score, it->max_score,
+                            it->status);
+            }
+            if (as[i].graded)
+                fprintf(f, "%s,total,%g,%g,\n", as[i].id, as[i].score, as[i].max_score);
+        }
+        fprintf(f, "all,total,%g,%g,\n", total, max_total);
+        ok &= report_end(&rep, path);
+    }
+
+    /* failures.txt — every item that lost points, with what it said (for
+     * tests/grading/run-mutants and for a quick read) */
+    fmt(path, sizeof path, "%s/failures.txt", g->out);
+    f = report_begin(&rep);
+    if (f) {
+        for (int i = 0; i < n; i++)
+            for (int k = 0; k < as[i].n_items; k++) {
+                item *it = &as[i].items[k];
+                if (it->counted && it->score < it->max_score)
+                    fprintf(f, "== %s: %s (%s)\n%s\n", as[i].id, it->name, it->status,
+                            it->output ? it->output : "");
+            }
+        ok &= report_end(&rep, path);
+    }
+
+    /* hwN/cmocka.xml — JUnit, one suite per assignment */
+    for (int i = 0; i < n; i++) {
+        if (!as[i].graded) continue;
+        fmt(path, sizeof path, "%s/%s/cmocka.xml", g->out, as[i].id);
+        f = report_begin(&rep);
+        if (!f) continue;
+        int n_tests = 0, n_fail = 0;
+        for (int k = 0; k < as[i].n_items; k++)
+            if (!as[i].items[k].is_image && as[i].items[k].counted) {
+                n_tests++;
+                n_fail += !as[i].items[k].passed;
+            }
+        fprintf(f,
+                "<?xml version=\"1.0\" encoding=\"UTF-8\" ?>\n<testsuites>\n"
+                "  <testsuite name=\"%s\" tests=\"%d\" failures=\"%d\" errors=\"0\" "
+                "skipped=\"0\">\n",
+                as[i].id, n_tests, n_fail);
+        for (int k = 0; k < as[i].n_items; k++)
+            if (!as[i].items[k].is_image && as[i].items[k].counted && as[i].items[k].xml)
+                fputs(as[i].items[k].xml, f);
+        fprintf(f, "  </testsuite>\n</testsuites>\n");
+        ok &= report_end(&rep, path);
+    }
+
+    /* report.md */
+    fmt(path, sizeof path, "%s/report.md", g->out);
+    f = report_begin(&rep);
+    if (!f) return false;
+    fprintf(f, "# Raster101 grade report\n\n**Total: %g / %g**", total, max_total);
+    if (strcmp(g->variant, "ref") == 0) fprintf(f, " (reference solutions graded as the student)");
+    fprintf(f, "\n\n| assignment | points |\n|---|---|\n");
+    for (int i = 0; i < n; i++) {
+        if (as[i].graded)
+            fprintf(f, "| %s %s | %g / %g |\n", as[i].id, as[i].title, as[i].score,
+                    as[i].max_score);
+        else
+            fprintf(f, "| %s %s | not graded: %s |\n", as[i].id, as[i].title,
+                    as[i].note ? as[i].note : "");
+    }
+    for (int i = 0; i < n; i++) {
+        assignment_result *a = &as[i];
+        if (!a->graded) continue;
+        fprintf(f, "\n## %s — %s: %g / %g\n\n", a->id, a->title, a->score, a->max_score);
+        if (a->note) fprintf(f, "_%s_\n\n", a->note);
+        fprintf(f, "| | test | points | why |\n|---|---|---|---|\n");
+        for (int k = 0; k < a->n_items; k++) {
+            item *it = &a->items[k];
+            fprintf(f, "| %s | `%s`%s | ", it->status, it->name,
+                    it->default_weight ? " (default weight)" : "");
+            if (it->counted)
+                fprintf(f, "%g / %g | ", it->score, it->max_score);
+            else
+                fprintf(f, "not counted | ");
+            for (const char *c = it->reason ? it->reason : ""; *c; c++)
+                fputc(*c == '|' ? '/' : *c, f);
+            fprintf(f, " |\n");
+        }
+        for (int k = 0; k < a->n_items; k++) {
+            item *it = &a->items[k];
+            if (it->is_image && it->img_expected) {
+                fprintf(f, "\n### %s — %s (%g / %g)\n\n", it->name, it->status, it->score,
+                        it->max_score);
+                fprintf(f, "| reference | yours | difference |\n|---|---|---|\n");
+                fprintf(f, "| ![reference](%s) | %s%s%s | %s%s%s |\n", it->img_expected,
+                        it->img_got ? "![yours](" : "(no image)", it->img_got ? it->img_got : "",
+                        it->img_got ? ")" : "", it->img_diff ? "![difference](" : "",
+                        it->img_diff ? it->img_diff : "", it->img_diff ? ")" : "");
+                if (it->img_crop)
+                    fprintf(f,
+                            "\nWorst region (reference | yours | difference):\n\n"
+                            "![worst region](%s)\n",
+                            it->img_crop);
+                if (it->buf_name && it->buf_ref)
+                    fprintf(f,
+                            "\nThe first buffer that differs, **%s** (reference | yours | "
+                            "difference):\n\n| ![reference](%s) | %s%s%s | %s%s%s |\n|---|---|---|"
+                            "\n",
+                            it->buf_name, it->buf_ref, it->buf_got ? "![yours](" : "",
+                            it->buf_got ? it->buf_got : "", it->buf_got ? ")" : "",
+                            it->buf_diff ? "![difference](" : "", it->buf_diff ? it->buf_diff : "",
+                            it->buf_diff ? ")" : "");
+                fprintf(f, "\n```\n%s\n```\n", it->output ? it->output : "");
+            }
+        }
+        bool any_fail = false;
+        for (int k = 0; k < a->n_items; k++)
+            any_fail |= !a->items[k].is_image && a->items[k].score < a->items[k].max_score &&
+                        a->items[k].counted;
+        if (any_fail) {
+            fprintf(f, "\n### What the failing tests said\n");
+            for (int k = 0; k < a->n_items; k++) {
+                item *it = &a->items[k];
+                if (it->is_image || !it->counted || it->score >= it->max_score) continue;
+                fprintf(f, "\n**`%s`** (%s)\n\n```\n%s\n```\n", it->name, it->status,
+                        it->output ? it->output : "");
+            }
+        }
+    }
+    ok &= report_end(&rep, path);
+    return ok;
+}
+
+static void print_table(const grader *g, assignment_result *as, int n, double total,
+                        double max_total) {
+    bool defaults = false;
+    for (int i = 0; i < n; i++) {
+        assignment_result *a = &as[i];
+        if (!a->graded) {
+            printf("%-4s %-48s not graded: %s\n", a->id, a->title, a->note ? a->note : "");
+            continue;
+        }
+        printf("%s  %s\n", a->id, a->title);
+        if (a->note) printf("  note: %s\n", a->note);
+        for (int k = 0; k < a->n_items; k++) {
+            item *it = &a->items[k];
+            char name[300];
+            fmt(name, sizeof name, "%s%s", it->name, it->default_weight ? " *" : "");
+            defaults |= it->default_weight;
+            if (it->counted)
+                printf("  %-7s %-50.50s %5g / %-3g %s\n", it->status, name, it->score,
+                       it->max_score, it->reason ? it->reason : "");
+            else
+                printf("  %-7s %-50.50s   (not counted) %s\n", it->status, name,
+                       it->reason ? it->reason : "");
+        }
+        printf("  %-58s %5g / %-3g (%.1f s)\n", "total", a->score, a->max_score, a->seconds);
+    }
+    if (defaults)
+        printf("* not in tests/grading/rubric.json: scored with the default weight (%g point%s)\n",
+               g->default_points, g->default_points == 1 ? "" : "s");
+    printf("TOTAL %g / %g%s\n", total, max_total,
+           strcmp(g->variant, "ref") == 0 ? "   (reference solutions graded as the student)" : "");
+    printf("report: %s/report.md   Gradescope: %s/results.json\n", g->out, g->out);
+}
+
+/* ------------------------------------------------------------- main */
+
+/* A random number from the kernel (the variants a grading draws must not be
+ * predictable from the time or the process id). */
+static unsigned random_u32(void) {
+    unsigned v = 0;
+    int fd = open("/dev/urandom", O_RDONLY | O_CLOEXEC);
+    if (fd < 0 || read(fd, &v, sizeof v) != (ssize_t)sizeof v) v = (unsigned)time(NULL) ^ (unsigned)getpid();
+    if (fd >= 0) close(fd);
+    return v;
+}
+
+static void usage(FILE *f) {
+    fputs("usage: raster101-grade --source SRC --build BUILD --out OUT [--rubric FILE]\n"
+          "         [--hw hwN]... [--variant student|ref] [--build-failed hwN=LOG]...\n"
+          "         [--expect full|POINTS] [--own OWN]\n"
+          "         (tests/grading/grade passes --work, --student-tree, --student-build, --own)\n"
+          "       raster101-grade --list RUBRIC   (assignments and their programs)\n",
+          f);
+}
+
+/* Prints one argument error (what was expected, what came) and the usage. */
+__attribute__((format(printf, 1, 2))) static int arg_error(const char *fmt_, ...) {
+    va_list ap;
+    va_start(ap, fmt_);
+    fputs("raster101-grade: ", stderr);
+    vfprintf(stderr, fmt_, ap);
+    va_end(ap);
+    fputc('\n', stderr);
+    usage(stderr);
+    return 2;
+}
+
+static bool is_dir(const char *path) {
+    struct stat st;
+    return stat(path, &st) == 0 && S_ISDIR(st.st_mode);
+}
+
+int main(int argc, char **argv) {
+    grader g = {.variant = "student"};
+    const char *rubric_path = NULL, *expect = NULL, *list = NULL;
+    static const char *const with_value[] = {
+        "--source", "--build",        "--out",           "--rubric", "--variant",
+        "--expect", "--hw",           "--list",          "--build-failed",
+        "--work",   "--student-tree", "--student-build", "--sandbox-uid", "--jobs", "--own", "--sanitized-build"};
+    g.sandbox_uid = -1;
+    g.jobs = 2;
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
+        if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
+            usage(stdout);
+            return 0;
+        }
+        bool known = false;
+        for (size_t k = 0; k < sizeof with_value / sizeof *with_value; k++)
+            known |= !strcmp(a, with_value[k]);
+        if (!known)
+            return arg_error("unknown argument '%s'%s; expected one of the options below", a,
+                             a[0] == '-' ? "" : " (every value follows its option)");
+        if (!v || (v[0] == '-' && v[1] == '-'))
+            return arg_error("option '%s' needs a value; got %s", a,
+                             v ? "another option" : "the end of the command line");
+        i++;
+        if (!strcmp(a, "--source"))
+            g.source = v;
+        else if (!strcmp(a, "--build"))
+            g.build = v;
+        else if (!strcmp(a, "--out"))
+            g.out = v;
+        else if (!strcmp(a, "--rubric"))
+            rubric_path = v;
+        else if (!strcmp(a, "--variant")) {
+            if (strcmp(v, "student") && strcmp(v, "ref"))
+                return arg_error("--variant expects student or ref; got '%s'", v);
+            g.variant = v;
+        } else if (!strcmp(a, "--expect")) {
+            char *end = NULL;
+            double points = strtod(v, &end);
+            if (strcmp(v, "full") && (end == v || *end || !isfinite(points) || points < 0))
+                return arg_error("--expect expects full or a number of points (0 or more); "
+                                 "got '%s'",
+                                 v);
+            expect = v;
+        } else if (!strcmp(a, "--hw")) {
+            if (g.n_only == 8) return arg_error("at most 8 --hw options; got more (%s)", v);
+            g.only[g.n_only++] = v;
+        } else if (!strcmp(a, "--list"))
+            list = v;
+        else if (!strcmp(a, "--work"))
+            g.work = v;
+        else if (!strcmp(a, "--own"))
+            g.own = v;
+        else if (!strcmp(a, "--sanitized-build"))
+            g.sanitized = v;
+        else if (!strcmp(a, "--jobs")) {
+            g.jobs = atoi(v);
+            if (g.jobs < 1 || g.jobs > 64)
+                return arg_error("--jobs expects 1 to 64 runs at once; got '%s'", v);
+        }
+        else if (!strcmp(a, "--student-tree"))
+            g.student_tree = v;
+        else if (!strcmp(a, "--student-build"))
+            g.student_build = v;
+        else if (!strcmp(a, "--sandbox-uid")) {
+            char *end = NULL;
+            g.sandbox_uid = strtol(v, &end, 10);
+            if (end == v || *end || g.sandbox_uid < 1000)
+                return arg_error("--sandbox-uid expects a uid of 1000 or more; got '%s'", v);
+        }
+        else { /* --build-failed */
+            if (g.n_failed == 8 || !strchr(v, '=') || v[0] == '=')
+                return arg_error("--build-failed expects hwN=LOG (at most 8 of them); got '%s'", v);
+            char *hw = xstrdup(v);
+            char *eq = strchr(hw, '=');
+            *eq = '\0';
+            g.failed_hw[g.n_failed] = hw;
+            g.failed_log[g.n_failed++] = eq + 1;
+        }
+    }
+    if (list) { /* --list RUBRIC: "hwN program..." per assignment, for tests/grading/grade */
+        char *t = read_file(list, 0);
+        cJSON *r = t ? cJSON_Parse(t) : NULL;
+        free(t);
+        const cJSON *as = cJSON_GetObjectItemCaseSensitive(r, "assignments");
+        if (!cJSON_IsArray(as)) {
+            fprintf(stderr, "raster101-grade: %s: missing, not JSON or no \"assignments\"\n", list);
+            return 2;
+        }
+        for (const cJSON *a = as->child; a; a = a->next) {
+            printf("%s", str_or(a, "id", "?"));
+            name_list progs = {0};
+            const cJSON *imgs = cJSON_GetObjectItemCaseSensitive(a, "images");
+            for (const cJSON *i = imgs ? imgs->child : NULL; i; i = i->next)
+                if (!names_has(&progs, str_or(i, "program", ""))) {
+                    names_add(&progs, str_or(i, "program", ""));
+                    printf(" %s", str_or(i, "program", ""));
+                }
+            printf("\n");
+            names_free(&progs);
+        }
+        cJSON_Delete(r);
+        return 0;
+    }
+    if (!g.source || !g.build || !g.out)
+        return arg_error("expected --source, --build and --out; %s is missing",
+                         !g.source  ? "--source"
+                         : !g.build ? "--build"
+                                    : "--out");
+    if (!is_dir(g.source))
+        return arg_error("--source expects the project folder; '%s' is not a folder", g.source);
+    if (!is_dir(g.build))
+        return arg_error("--build expects a build folder (cmake -B BUILD); '%s' is not a "
+                         "folder",
+                         g.build);
+    char default_rubric[4096];
+    if (!rubric_path) {
+        fmt(default_rubric, sizeof default_rubric, "%s/tests/grading/rubric.json", g.source);
+        rubric_path = default_rubric;
+    }
+    char *text = read_file(rubric_path, 0);
+    g.rubric = text ? cJSON_Parse(text) : NULL;
+    free(text);
+    const cJSON *asgs = cJSON_GetObjectItemCaseSensitive(g.rubric, "assignments");
+    if (!cJSON_IsArray(asgs)) {
+        fprintf(stderr, "raster101-grade: %s: %s\n", rubric_path,
+                g.rubric ? "no \"assignments\" array" : "missing or not valid JSON");
+        return 2;
+    }
+    g.default_points = num_or(g.rubric, "default_points", 1);
+    g.test_limit = num_or(g.rubric, "test_time_limit_s", 10);
+    g.render_limit = num_or(g.rubric, "render_time_limit_s", 60);
+    g.mem_mb = (long)num_or(g.rubric, "memory_limit_mb", 4096);
+    if (getenv("RAS_GRADE_NO_MEMORY_LIMIT")) g.mem_mb = 0; /* sanitizer builds */
+    /* Every --hw must be an assignment of the rubric: a typo would grade
+     * nothing and report 0 / 0 as a success. */
+    for (int i = 0; i < g.n_only; i++) {
+        bool found = false;
+        sbuf ids = {0};
+        for (const cJSON *asg = asgs->child; asg; asg = asg->next) {
+            found |= !strcmp(g.only[i], str_or(asg, "id", ""));
+            sb_printf(&ids, "%s%s", ids.len ? ", " : "", str_or(asg, "id", "?"));
+        }
+        if (!found) {
+            fprintf(stderr, "raster101-grade: --hw expects an assignment of %s (%s); got '%s'\n",
+                    rubric_path, ids.s ? ids.s : "none", g.only[i]);
+            free(ids.s);
+            cJSON_Delete(g.rubric);
+            return 2;
+        }
+        free(ids.s);
+    }
+    mkdirs(g.out);
+    if (!is_dir(g.out) || access(g.out, W_OK) != 0) {
+        int e = errno;
+        fprintf(stderr,
+                "raster101-grade: --out expects a folder it can create and write; '%s' is "
+                "not (%s): choose another --out\n",
+                g.out, file_exists(g.out) && !is_dir(g.out) ? "it is a file" : strerror(e));
+        cJSON_Delete(g.rubric);
+        return 2;
+    }
+
+    /* The student's side: tests/grading/grade makes it (a sandboxed build of a
+     * pristine copy); without it there is nothing to grade. */
+    if (!g.work || !g.student_tree || !g.student_build) {
+        fprintf(stderr,
+                "raster101-grade: expected --work, --student-tree and --student-build (the "
+                "sandbox's folders, which tests/grading/grade makes); %s is missing: run tests/grading/grade\n",
+                !g.work ? "--work" : !g.student_tree ? "--student-tree" : "--student-build");
+        cJSON_Delete(g.rubric);
+        return 2;
+    }
+    int n = cJSON_GetArraySize(asgs);
+    assignment_result *as = calloc((size_t)n + 1, sizeof *as);
+    /* The integration part: the images with points again, rendered by the
+     * student's whole chain, each failure attributed (attribute_image). */
+    assignment_result integration = {.graded = true};
+    integration.id = xstrdup("integration");
+    integration.title = xstrdup("Your assignments together: the whole chain");
+    double integration_points = num_or(g.rubric, "integration_points_per_image", 0);
+    double total = 0, max_total = 0;
+    int k = 0;
+    for (const cJSON *asg = asgs->child; asg; asg = asg->next) {
+        const char *id = str_or(asg, "id", "?");
+        bool wanted = g.n_only == 0;
+        for (int i = 0; i < g.n_only; i++)
+            wanted |= !strcmp(g.only[i], id);
+        if (!wanted) continue;
+        assignment_result *a = &as[k++];
+        a->id = xstrdup(id);
+        a->title = xstrdup(str_or(asg, "title", ""));
+        double t0 = now_s();
+        char dir[4096], test_bin[4096];
+        fmt(dir, sizeof dir, "%s/%s", g.out, id);
+        fmt(test_bin, sizeof test_bin, "%s/tests/test_%s_worker", g.student_build, id);
+        const char *failed_log = NULL;
+        for (int i = 0; i < g.n_failed; i++)
+            if (!strcmp(g.failed_hw[i], id)) failed_log = g.failed_log[i];
+        const cJSON *images = cJSON_GetObjectItemCaseSensitive(asg, "images");
+        bool any_program = false;
+        for (const cJSON *img = images ? images->child : NULL; img; img = img->next) {
+            char p[4096];
+            fmt(p, sizeof p, "%s/bin/%s", g.student_build, str_or(img, "program", ""));
+            any_program |= file_exists(p);
+        }
+        mkdirs(dir);
+        if (failed_log) {
+            a->graded = true;
+            a->note = xstrdup("the code does not compile");
+            mark_build_failed(&g, a, asg, failed_log);
+        } else if (!file_exists(test_bin) && !any_program) {
+            a->note = xstrdup("not in this build yet");
+        } else {
+            a->graded = true;
+            if (file_exists(test_bin))
+                grade_tests(&g, a, asg, dir);
+            else
+                a->note = xstrdup("no test program built; images only");
+            int n_img = cJSON_GetArraySize(images);
+            /* runs[0, n_img): the graded runs, on the assignment's own code
+             * where it could be linked; then the whole-chain runs of the
+             * images with points (the integration part), whole_at[i] */
+            job *runs = calloc(2 * (size_t)n_img + 1, sizeof *runs);
+            int *whole_at = calloc((size_t)n_img + 1, sizeof *whole_at);
+            bool *sealed = calloc((size_t)n_img + 1, sizeof *sealed);
+            if (!runs || !whole_at || !sealed) abort();
+            char own[4096];
+            bool has_own = own_dir(&g, id, NULL, own, sizeof own);
+            int i = 0, n_runs = n_img;
+            for (const cJSON *img = images ? images->child : NULL; img; img = img->next, i++) {
+                /* "choose_args": one of the lists, drawn for this grading */
+                const cJSON *choose = cJSON_GetObjectItemCaseSensitive(img, "choose_args");
+                int nc = cJSON_IsArray(choose) ? cJSON_GetArraySize(choose) : 0;
+                runs[i].args = nc > 0 ? cJSON_GetArrayItem(choose, (int)(random_u32() % (unsigned)nc))
+                                      : cJSON_GetObjectItemCaseSensitive(img, "args");
+                char p[4300];
+                fmt(p, sizeof p, "%s/bin/%s", own, str_or(img, "program", ""));
+                sealed[i] = has_own && file_exists(p);
+                image_job(&g, img, dir, &runs[i], sealed[i] ? own : NULL, "");
+                whole_at[i] = -1;
+                if (sealed[i] && num_or(img, "points", g.default_points) > 0) {
+                    whole_at[i] = n_runs;
+                    runs[n_runs].args = runs[i].args;
+                    image_job(&g, img, dir, &runs[n_runs++], NULL, ".whole");
+                }
+            }
+            run_jobs(runs, n_runs, g.jobs);
+            i = 0;
+            const char *crash_hint = str_or(asg, "crash_hint", "look for an out-of-bounds access");
+            for (const cJSON *img = images ? images->child : NULL; img; img = img->next, i++) {
+                bool own_passed = grade_image(&g, a, img, dir, id, crash_hint, &runs[i], sealed[i],
+                                              false);
+                if (whole_at[i] < 0) continue;
+                bool whole_passed = grade_image(&g, &integration, img, dir, id,
+                                                "a crash in one of your assignments (the "
+                                                "attribution below says which)",
+                                                &runs[whole_at[i]], false, true);
+                item *it = &integration.items[integration.n_items - 1];
+                it->score = it->score > 0 ? integration_points : 0;
+                it->max_score = integration_points;
+                if (!whole_passed || it->score < it->max_score)
+                    attribute_image(&g, it, img, dir, id, &runs[i], own_passed, as, k);
+            }
+            free(runs);
+            free(whole_at);
+            free(sealed);
+        }
+        for (int i = 0; i < a->n_items; i++)
+            if (a->items[i].counted) {
+                a->score += a->items[i].score;
+                a->max_score += a->items[i].max_score;
+            }
+        a->seconds = now_s() - t0;
+        total += a->score;
+        max_total += a->max_score;
+    }
+    if (integration.n_items > 0) {
+        integration.note = xstrdup("the images with points again, rendered by your whole chain "
+                                   "(your hw1 → hw2 → hw3); a failure says whose code causes it");
+        for (int i = 0; i < integration.n_items; i++)
+            if (integration.items[i].counted) {
+                integration.score += integration.items[i].score;
+                integration.max_score += integration.items[i].max_score;
+            }
+        total += integration.score;
+        max_total += integration.max_score;
+        char idir[4200];
+        fmt(idir, sizeof idir, "%s/integration", g.out);
+        mkdirs(idir);
+        as[k++] = integration;
+    } else {
+        free(integration.items);
+        free(integration.id);
+        free(integration.title);
+    }
+    bool written = write_outputs(&g, as, k, total, max_total);
+    print_table(&g, as, k, total, max_total);
+    /* Freed although the process ends: the sanitizer CI step runs this tool
+     * and counts any leak as a failure. */
+    assignment_results_free(as, k);
+    cJSON_Delete(g.rubric);
+    for (int i = 0; i < g.n_failed; i++)
+        free((char *)g.failed_hw[i]);
+    if (!written) {
+        fprintf(stderr, "raster101-grade: the reports in %s could not all be written (see "
+                        "above); the grade is not complete\n",
+                g.out);
+        return 2;
+    }
+    if (expect) {
+        double want = !strcmp(expect, "full") ? max_total : atof(expect);
+        if (fabs(total - want) > 1e-9 || max_total <= 0) {
+            fprintf(stderr, "raster101-grade: expected %s (%g points), got %g / %g\n", expect, want,
+                    total, max_total);
+            return 1;
+        }
+    }
+    return 0;
+}

@@ -1,0 +1,91 @@
+#!/usr/bin/env python3
+"""include_graph_test.py — ctest include_graph: the include rules of the tree.
+
+    tests/include_graph_test.py SOURCE_DIR
+
+1. No student-visible file includes from solution/ or fast/. Student-visible:
+   every .c/.h under an assignment folder (hw*/) outside its solution/ and
+   fast/ folders, i.e. what the handout ships of it. An include is from
+   solution/ or fast/ when its path goes through such a folder
+   ("solution/shading.c", "../hw3_shading/fast/fast_render.h") or when its
+   file exists only there (`#include "fast_render.h"` found through an
+   include directory the build adds).
+2. Nothing in common/ includes from an assignment or from tests/: the core is
+   the "GPU" the assignments plug into, and it is built and shipped alone. An
+   include of common/ must name a file of common/ (or a system header, <...>).
+
+Prints each offending line as FILE:LINE: #include "..." — the rule it breaks;
+exit 0 when the graph holds, 1 when it does not, 2 on bad arguments.
+"""
+import os
+import re
+import sys
+
+INCLUDE = re.compile(r'^\s*#\s*include\s*"([^"]+)"')
+SOURCES = (".c", ".h", ".cpp")
+
+
+def files_under(root, top):
+    for d, dirs, names in os.walk(os.path.join(root, top)):
+        dirs[:] = sorted(x for x in dirs if not x.startswith("build"))
+        for n in sorted(names):
+            if n.endswith(SOURCES):
+                yield os.path.relpath(os.path.join(d, n), root)
+
+
+def includes(root, rel):
+    with open(os.path.join(root, rel), encoding="utf-8", errors="replace") as f:
+        for no, line in enumerate(f, 1):
+            m = INCLUDE.match(line)
+            if m:
+                yield no, m.group(1)
+
+
+def hidden(rel):
+    """True for a file in an assignment's solution/ or fast/ folder."""
+    parts = rel.split(os.sep)
+    return len(parts) > 2 and parts[0].startswith("hw") and parts[1] in ("solution", "fast")
+
+
+def main():
+    if len(sys.argv) != 2 or not os.path.isdir(sys.argv[1]):
+        print("usage: include_graph_test.py SOURCE_DIR", file=sys.stderr)
+        return 2
+    root = os.path.abspath(sys.argv[1])
+    hw_dirs = sorted(d for d in os.listdir(root) if d.startswith("hw") and os.path.isdir(os.path.join(root, d)))
+    hw_files = [f for d in hw_dirs for f in files_under(root, d)]
+    common_files = list(files_under(root, "common"))
+    # Names a build could find through an include directory: those that exist
+    # only in solution/ or fast/ are hidden names.
+    visible_names = {os.path.basename(f) for f in hw_files + common_files if not hidden(f)}
+    hidden_names = {os.path.basename(f) for f in hw_files if hidden(f)} - visible_names
+    common_names = {os.path.basename(f) for f in common_files}
+
+    bad = []
+    checked = 0
+    for rel in hw_files:
+        if hidden(rel):
+            continue
+        for no, inc in includes(root, rel):
+            checked += 1
+            target = os.path.normpath(os.path.join(os.path.dirname(rel), inc))
+            through = {"solution", "fast"} & set(inc.split("/"))
+            if through or hidden(target) or os.path.basename(inc) in hidden_names:
+                bad.append(f'{rel}:{no}: #include "{inc}" — a student-visible file includes from '
+                           f'{"/".join(sorted(through)) or "solution/ or fast/"} (the handout has neither)')
+    for rel in common_files:
+        for no, inc in includes(root, rel):
+            checked += 1
+            target = os.path.normpath(os.path.join(os.path.dirname(rel), inc))
+            if not target.startswith("common" + os.sep) or os.path.basename(inc) not in common_names:
+                bad.append(f'{rel}:{no}: #include "{inc}" — common/ includes a file that is not in '
+                           f'common/ (an assignment\'s or tests/\'s): the core names no assignment')
+    for line in bad:
+        print(line)
+    print(f"include_graph: {checked} includes in {len(hw_files)} assignment and {len(common_files)} "
+          f"common files; {len(bad)} break the rules")
+    return 1 if bad else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
