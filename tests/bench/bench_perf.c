@@ -34,6 +34,8 @@
  *                  llvmpipe on one thread, 1x and MSAA 4x (several minutes)
  *     --count-frames teaching|fast  the counting side of --instructions
  *     --no-llvmpipe  leave llvmpipe out
+ *     --filter nearest|bilinear|trilinear  texture lookups of every frame
+ *                  (default: the scene's, bilinear); like the three below
  *     --shader NAME, --aa none|msaa|ssaa, --threads 1|2
  *                  only those rows, no process timing and no report (for
  *                  profiling one configuration under perf or callgrind;
@@ -44,7 +46,8 @@
 
 #if __has_include(<valgrind/callgrind.h>)
 #include <valgrind/callgrind.h> /* CALLGRIND_ZERO_STATS, CALLGRIND_DUMP_STATS_AT */
-#else /* no valgrind headers (make test does not install them): the requests do nothing */
+#else /* no valgrind headers (scripts/install-deps installs them): the requests do nothing,
+       * and ctest teaching_instructions says it found no counted frame */
 #define CALLGRIND_ZERO_STATS
 #define CALLGRIND_DUMP_STATS_AT(name) ((void)(name))
 #endif
@@ -108,6 +111,10 @@ static double cpu_ms(void) {
     return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
 }
 
+/* --filter: the texture lookups of every frame (default: the scene's). */
+static bool bench_filter_set;
+static texture_filter bench_filter;
+
 static bool render(const ras_scene *scene, ras_scene_assets *assets, hw3_shader shader, ras_aa_mode aa, bool plain, int threads,
                    ras_image *out, ras_counters *k, uint64_t *shaded, double *ms, double *cpu) {
     hw3_render_options opt = hw3_render_defaults();
@@ -116,6 +123,7 @@ static bool render(const ras_scene *scene, ras_scene_assets *assets, hw3_shader 
     hw3_renderer fast = hw3_fast_renderer(&settings);
     opt.renderer = plain ? NULL : &fast;
     opt.shader = shader;
+    if (bench_filter_set) opt.filter = bench_filter;
     opt.aa = aa;
     if (aa != RAS_AA_NONE) {
         ras_error e = {{0}};
@@ -288,14 +296,15 @@ static void machine_name(char *buf, size_t size) {
 
 /* ---- instructions (callgrind) --------------------------------------------- */
 
-/* --count-frames: one frame of every shader at 1x and MSAA 4x, each after a
+/* --count-frames: one frame of every shader at 1x and MSAA 4x (only 1x with
+ * --aa none: tests/bench/teaching_instructions_test.sh), each after a
  * warm-up frame, between a zeroing of callgrind's counters and a dump named
  * SHADER_none / SHADER_msaa. */
 static int count_frames(const ras_scene *scene, ras_scene_assets *assets, bool plain,
-                        ras_image *img) {
+                        bool only_1x, ras_image *img) {
     const ras_aa_mode aas[2] = {RAS_AA_NONE, RAS_AA_MSAA};
     for (int s = 0; s < HW3_SHADER_COUNT; s++)
-        for (int a = 0; a < 2; a++) {
+        for (int a = 0; a < (only_1x ? 1 : 2); a++) {
             ras_counters k;
             uint64_t shaded;
             double ms, cpu;
@@ -312,8 +321,9 @@ static int count_frames(const ras_scene *scene, ras_scene_assets *assets, bool p
     return 0;
 }
 
-/* instr[shader][aa][renderer]: 0 teaching pipeline, 1 fast path, 2 llvmpipe. */
-static uint64_t instr[HW3_SHADER_COUNT][2][3];
+/* instr[shader][aa][renderer]: 0 teaching pipeline, 1 fast path, 2 llvmpipe,
+ * 3 teaching pipeline with nearest lookups (the course framework's). */
+static uint64_t instr[HW3_SHADER_COUNT][2][4];
 
 /* Runs argv under callgrind (LP_NUM_THREADS=1) and reads its dumps into
  * instr[..][..][who]. */
@@ -402,6 +412,55 @@ static bool same_check(const llvmpipe_check *a, const llvmpipe_check *b) {
     return a->covered_ours == b->covered_ours && a->covered_llvmpipe == b->covered_llvmpipe &&
            a->covered_one == b->covered_one && a->mean_diff == b->mean_diff &&
            a->bad_fraction == b->bad_fraction && a->max_diff == b->max_diff && a->pass == b->pass;
+}
+
+/* The course's C++ framework (GAMES101, a completed solution built -O2),
+ * measured in issue 18 on the spot cow, 700×700, one thread: one frame's
+ * instructions counted with callgrind, million. The framework cannot be
+ * built here (it is not ours to ship: Eigen, OpenCV 4 C++ and the course's
+ * code), so its figures are these constants; they hold for the spot cow only. */
+static const double course_framework_minstr[HW3_SHADER_COUNT] = {
+    [HW3_SHADER_NORMAL] = 76.6,       [HW3_SHADER_PHONG] = 143.0,
+    [HW3_SHADER_TEXTURE] = 168.3,     [HW3_SHADER_BUMP] = 125.1,
+    [HW3_SHADER_DISPLACEMENT] = 178.6,
+};
+static bool bench_on_spot; /* --spot: the framework's figures apply */
+
+/* The teaching pipeline's instructions beside the framework's (1x). */
+static void report_framework(FILE *f) {
+    bool counted = true;
+    for (int s = 0; s < HW3_SHADER_COUNT; s++) counted = counted && instr[s][0][0] && instr[s][0][3];
+    if (!counted) return;
+    fprintf(f, "\n### The teaching pipeline against the course's framework\n\n");
+    if (!bench_on_spot) {
+        fprintf(f, "The course framework's figures are for the spot cow: run `make bench-perf "
+                   "INSTRUCTIONS=1 SPOT=…/spot` to compare. The teaching pipeline on this model, "
+                   "1x, million instructions: ");
+        for (int s = 0; s < HW3_SHADER_COUNT; s++)
+            fprintf(f, "%s%s %.1f (nearest lookups %.1f)", s ? ", " : "",
+                    hw3_shader_name((hw3_shader)s), instr[s][0][0] / 1e6, instr[s][0][3] / 1e6);
+        fprintf(f, ".\n");
+        return;
+    }
+    fprintf(f, "One frame at 1x on one thread, million instructions (callgrind). The framework: "
+               "GAMES101's C++ code, a completed solution built -O2, measured once (issue 18) — "
+               "its texture lookups read the nearest texel; the teaching pipeline's default is "
+               "bilinear (4 texels), so it is also counted with `--filter nearest`, the same work "
+               "as the framework's. `tests/bench/teaching_instructions_test.sh` (ctest "
+               "`teaching_instructions`) keeps these counts from growing.\n\n"
+               "| shader | framework | teaching, bilinear (default) | ÷ framework | teaching, "
+               "nearest | ÷ framework |\n|---|---:|---:|---:|---:|---:|\n");
+    int at_or_below = 0, at_or_below_nearest = 0;
+    for (int s = 0; s < HW3_SHADER_COUNT; s++) {
+        double fw = course_framework_minstr[s], b = instr[s][0][0] / 1e6, n = instr[s][0][3] / 1e6;
+        fprintf(f, "| %s | %.1f | %.1f | %.2f | %.1f | %.2f |\n", hw3_shader_name((hw3_shader)s), fw,
+                b, b / fw, n, n / fw);
+        at_or_below += b <= fw;
+        at_or_below_nearest += n <= fw;
+    }
+    fprintf(f, "\nAt or below the framework's count: %d of %d shaders with bilinear lookups, %d of "
+               "%d with nearest.\n",
+            at_or_below, HW3_SHADER_COUNT, at_or_below_nearest, HW3_SHADER_COUNT);
 }
 
 /* The side-by-side tables of docs/performance.md: times, ratios, who is faster,
@@ -592,6 +651,14 @@ int main(int argc, char **argv) {
                 return 2;
             }
         }
+        else if (!strcmp(argv[i], "--filter") && i + 1 < argc) {
+            ras_error e = {{0}};
+            if (!hw3_filter_parse(argv[++i], &bench_filter, &e)) {
+                fprintf(stderr, "bench_perf: %s\n", e.msg);
+                return 2;
+            }
+            bench_filter_set = true;
+        }
         else if (!strcmp(argv[i], "--shader") && i + 1 < argc) {
             i++;
             for (int sh = 0; sh < HW3_SHADER_COUNT; sh++)
@@ -627,13 +694,15 @@ int main(int argc, char **argv) {
         } else {
             fprintf(stderr, "usage: bench_perf [--spot DIR] [--frames N] [--out FILE] [--csv FILE] "
                             "[--quick] [--no-llvmpipe] [--instructions] [--shader NAME] "
-                            "[--aa none|msaa|ssaa] [--threads 1|2]\n");
+                            "[--aa none|msaa|ssaa] [--threads 1|2] "
+                            "[--filter nearest|bilinear|trilinear]\n");
             return 2;
         }
     }
     if (quick) frames = 3;
     /* A filtered run has no full table: no goals, no report. */
-    bool filtered = only_shader >= 0 || only_aa >= 0 || only_threads > 0;
+    bool filtered = only_shader >= 0 || only_aa >= 0 || only_threads > 0 || bench_filter_set;
+    bench_on_spot = spot && *spot;
     if (filtered) out_path = csv_path = NULL;
 
     char model[1200], texture[1200], tmp_obj[256] = "";
@@ -665,7 +734,7 @@ int main(int argc, char **argv) {
     if (!expected || !img) return 1;
 
     if (count_mode >= 0) { /* the counting side of --instructions, under callgrind */
-        int rc = count_frames(scene, assets, count_mode == 0, img);
+        int rc = count_frames(scene, assets, count_mode == 0, only_aa == 0, img);
         if (tmp_obj[0]) remove(tmp_obj);
         return rc;
     }
@@ -748,10 +817,12 @@ int main(int argc, char **argv) {
                             (char *)spot, NULL};
         char *fast[] = {self, "--count-frames", "fast", have_spot ? "--spot" : NULL, (char *)spot,
                         NULL};
+        char *nearest[] = {self, "--count-frames", "teaching", "--filter", "nearest",
+                           have_spot ? "--spot" : NULL, (char *)spot, NULL};
         char *llvmpipe[] = {llvm_prog, "--count", "--model", model, have_spot ? "--texture" : NULL,
                             texture, NULL};
         fprintf(stderr, "bench_perf: counting instructions with callgrind (minutes)\n");
-        if (!callgrind(teaching, 0) || !callgrind(fast, 1) ||
+        if (!callgrind(teaching, 0) || !callgrind(fast, 1) || !callgrind(nearest, 3) ||
             (llvm_renderer[0] && !callgrind(llvmpipe, 2)))
             return 1;
         for (int i = 0; i < row_count; i++) {
@@ -896,6 +967,7 @@ int main(int argc, char **argv) {
                     p_plain.median, p_plain.max_rss_kb);
         }
         if (any_llvm) report_llvmpipe(f, llvm_renderer);
+        report_framework(f);
         fprintf(f, "\nEvery fast image was compared with the plain image of the same row "
                    "byte for byte: %s. The benchmark process peaked at %ld KiB RSS.\n",
                 all_identical ? "all identical" : "**SOME DIFFER**", self.ru_maxrss);
