@@ -17,11 +17,7 @@
 #include "ras_app.h"
 #include "scene.h"
 
-#include "ras_dump.h" /* ras_dump_buffer: the buffer view */
-
-#include <math.h>   /* INFINITY */
 #include <stdio.h>  /* fprintf, snprintf */
-#include <string.h> /* strcmp */
 
 typedef struct hw3 {
     hw3_render_options opt;
@@ -55,14 +51,7 @@ static bool prepare(ras_app *app, ras_error *err) {
 /* The frame: the settings as hw3's render options, then hw3_render. */
 static bool render(ras_app *app, ras_error *err) {
     hw3 *h = app->user;
-    const ras_app_settings *s = &app->set;
-    h->opt.shader = (hw3_shader)(s->shader - RAS_SHADER_NORMAL);
-    h->opt.filter = (texture_filter)s->filter;
-    h->opt.aa = s->aa;
-    h->opt.pattern = s->pattern;
-    h->opt.depth = s->depth;
-    h->opt.angle_deg = s->angle;
-    h->opt.affine = s->affine;
+    hw3_render_options_apply(&h->opt, &app->set);
     h->opt.dump_dir = app->cli.dump;
     h->opt.step = app->step.on;
     h->opt.step_triangles = app->step.limit;
@@ -80,19 +69,9 @@ static bool render(ras_app *app, ras_error *err) {
     return ok;
 }
 
-/* The buffer view's normal and uv: what the last frame's fragment stage
- * handed each pixel's shader. */
+/* The buffer view's normal and uv: the last frame's fragment buffers. */
 static bool buffer(const ras_app *app, const char *name, ras_dump_buffer *out) {
-    const hw3 *h = app->user;
-    const hw3_gbuffer *g = &h->capture.gbuffer;
-    bool normal = !strcmp(name, "normal");
-    const float *data = normal ? g->normal : !strcmp(name, "uv") ? g->uv : NULL;
-    if (!data) return false;
-    *out = (ras_dump_buffer){.name = name, .width = g->width, .height = g->height, .samples = 1,
-                             .channels = 3, .data = data,
-                             .style = normal ? RAS_DUMP_VECTOR : RAS_DUMP_UNIT,
-                             .empty = INFINITY, .has_empty = true};
-    return true;
+    return hw3_capture_buffer(&((const hw3 *)app->user)->capture, name, out);
 }
 
 /* p: the w = 1 pitfall (affine interpolation) on and off. */

@@ -307,6 +307,28 @@ static void gbuffer_destroy(hw3_gbuffer *g) {
     free(g->view_depth);
 }
 
+void hw3_render_options_apply(hw3_render_options *opt, const ras_app_settings *s) {
+    opt->shader = (hw3_shader)(s->shader - RAS_SHADER_NORMAL);
+    opt->filter = (texture_filter)s->filter;
+    opt->aa = s->aa;
+    opt->pattern = s->pattern;
+    opt->depth = s->depth;
+    opt->angle_deg = s->angle;
+    opt->affine = s->affine;
+}
+
+bool hw3_capture_buffer(const hw3_capture *capture, const char *name, ras_dump_buffer *out) {
+    const hw3_gbuffer *g = &capture->gbuffer;
+    bool normal = !strcmp(name, "normal");
+    const float *data = normal ? g->normal : !strcmp(name, "uv") ? g->uv : NULL;
+    if (!data) return false;
+    *out = (ras_dump_buffer){.name = name, .width = g->width, .height = g->height, .samples = 1,
+                             .channels = 3, .data = data,
+                             .style = normal ? RAS_DUMP_VECTOR : RAS_DUMP_UNIT,
+                             .empty = INFINITY, .has_empty = true};
+    return true;
+}
+
 void hw3_capture_release(hw3_capture *capture) {
     if (!capture) return;
     ras_pipeline_destroy(capture->pipeline);

@@ -28,6 +28,8 @@
 #ifndef HW3_SCENE_H
 #define HW3_SCENE_H
 
+#include "ras_app.h"  /* ras_app_settings */
+#include "ras_dump.h" /* ras_dump_buffer */
 #include "ras_error.h"
 #include "ras_mesh.h"
 #include "ras_pipeline.h"
@@ -134,6 +136,10 @@ typedef struct hw3_capture {
     hw3_gbuffer gbuffer;
 } hw3_capture;
 void hw3_capture_release(hw3_capture *capture);
+/* The window's buffer view of a capture's fragment buffers: "normal" and
+ * "uv" — what the frame's fragment stage handed each pixel's shader. False
+ * for any other name, or a buffer the frame did not make. */
+bool hw3_capture_buffer(const hw3_capture *capture, const char *name, ras_dump_buffer *out);
 
 /* One frame as hw3_render has set it up for the teaching loop: the scene,
  * its options, the fragment stage (shader, varyings, per-scene payload
@@ -180,6 +186,11 @@ hw3_render_options hw3_render_defaults(void);
  * culling, edge functions and depth format; the rest from hw3_render_defaults(). "flat"
  * (hw2's unlit colour) has no hw3 shader: it gives the default, normal. */
 hw3_render_options hw3_render_options_from_ras(const ras_scene *rs);
+
+/* The program's settings (ras_app.h: the scene's, then the options') as
+ * render options: shader, filter, anti-aliasing and pattern, depth format,
+ * angle, affine interpolation. The shader is one of hw3's five. */
+void hw3_render_options_apply(hw3_render_options *opt, const ras_app_settings *settings);
 
 /* The varyings a frame interpolates: the shader's (hw3_shader_varyings), less
  * those no object of the scene uses — no UVs when no object has a map the
