@@ -263,7 +263,7 @@ vec3s ras_texture_texel(const ras_texture *tex, int level, int i, int j) {
  * give 0 under REPEAT (no meaningful texel) and the nearer edge under CLAMP
  * for infinities; finite values of any size are reduced in double first
  * (fmod is exact), so the int conversion below only sees values in range. */
-static int coord_to_index(ras_wrap wrap, float t, int n) {
+static inline int coord_to_index(ras_wrap wrap, float t, int n) {
     /* float * int (<= 2^14) is exact in double's 53-bit mantissa. */
     double p = (double)t * (double)n;
     if (fabs(p) < 0x1p30) {
