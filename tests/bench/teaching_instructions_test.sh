@@ -20,7 +20,7 @@ budgets=${2:?budgets file}
 compiler=${3:?compiler id and version}
 build_type=${4:?build type}
 record=${5:-}
-libc=$(ldd --version 2>/dev/null | head -1 | awk '{print $NF}')
+libc=$(getconf GNU_LIBC_VERSION 2>/dev/null | awk '{print $2}' || true) # not ldd | head: SIGPIPE under pipefail
 toolchain="$compiler, $build_type, glibc $libc"
 
 if ! command -v valgrind >/dev/null; then
