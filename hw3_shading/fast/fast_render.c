@@ -676,21 +676,11 @@ typedef struct lanes4 {
     vf4 diffuse[HW3_MAX_LIGHTS], specular[HW3_MAX_LIGHTS];
 } lanes4;
 
-/* Everything up to the colour map: the weights, the varyings and, per light,
- * the terms that do not involve kd. Then the texels the lookups will read are
- * prefetched, and shade_finish (called after the other half-queue's prepare)
- * finds them in cache. */
-static void shade_prepare(worker *w, const queued *const *q, int lanes, lanes4 *S) {
-    const frame *fr = w->fr;
-    const fragment_shader_payload *pay = &w->pay[q[0]->r->object];
-    S->q = q;
-    S->lanes = lanes;
-    /* gather: four fragments' screen barycentrics and corner w, one record
-     * per vector, transposed into one vector per field (unused lanes repeat
-     * lane 0) */
-    const queued *e[4];
-    for (int i = 0; i < 4; i++)
-        e[i] = q[i < lanes ? i : 0];
+/* The gather: four fragments' screen barycentrics and corner w, one record
+ * per vector, transposed into one vector per field (unused lanes repeat lane
+ * 0, as e[] does), then persp_bary in lanes. */
+static inline __attribute__((always_inline)) v3x4 weights_x4(const frame *fr,
+                                                             const queued *const e[4]) {
     v3x4 bs, wv;
     vf4 pad;
     bs.x = vf4_load(&e[0]->bary.x), bs.y = vf4_load(&e[1]->bary.x);
@@ -699,22 +689,21 @@ static void shade_prepare(worker *w, const queued *const *q, int lanes, lanes4 *
     wv.x = vf4_load(e[0]->r->w3), wv.y = vf4_load(e[1]->r->w3);
     wv.z = vf4_load(e[2]->r->w3), pad = vf4_load(e[3]->r->w3);
     vf4_transpose(&wv.x, &wv.y, &wv.z, &pad);
-    vi4 odd = {0, 0, 0, 0};
-    /* persp_bary */
-    v3x4 b = bs;
-    if (fr->stage->perspective) {
-        v3x4 p = {bs.x / wv.x, bs.y / wv.y, bs.z / wv.z};
-        vf4 sum = p.x + p.y + p.z;
-        vi4 ok = (sum > vf4_splat(0.0f)) & (sum <= vf4_splat(FLT_MAX)); /* > 0 and finite */
-        v3x4 s = v3_scale(p, vf4_splat(1.0f) / sum);
-        b = (v3x4){vf4_select(ok, s.x, bs.x), vf4_select(ok, s.y, bs.y), vf4_select(ok, s.z, bs.z)};
-    }
-    /* The varyings, one fragment per vector: lane j of lo/hi is varying j
-     * (normal xyz, view position x | view position yz, uv), interpolated as
-     * a0·b.x + a1·b.y + a2·b.z — interp3's and interp2's operations in
-     * their order — then transposed to one vector per varying. */
-    vf4 lo[4], hi[4];
-    bool want_hi = fr->batch != BATCH_NORMAL;
+    if (!fr->stage->perspective) return bs;
+    v3x4 p = {bs.x / wv.x, bs.y / wv.y, bs.z / wv.z};
+    vf4 sum = p.x + p.y + p.z;
+    vi4 ok = (sum > vf4_splat(0.0f)) & (sum <= vf4_splat(FLT_MAX)); /* > 0 and finite */
+    v3x4 s = v3_scale(p, vf4_splat(1.0f) / sum);
+    return (v3x4){vf4_select(ok, s.x, bs.x), vf4_select(ok, s.y, bs.y), vf4_select(ok, s.z, bs.z)};
+}
+
+/* The varyings, one fragment per vector: lane j of lo/hi is varying j
+ * (normal xyz, view position x | view position yz, uv), interpolated as
+ * a0·b.x + a1·b.y + a2·b.z — interp3's and interp2's operations in their
+ * order — then transposed to one vector per varying. hi only with want_hi
+ * (the Normal shader reads the normal alone). */
+static inline __attribute__((always_inline)) void
+varyings_x4(const queued *const e[4], v3x4 b, bool want_hi, vf4 lo[4], vf4 hi[4]) {
     for (int i = 0; i < 4; i++) {
         const float(*a)[8] = e[i]->r->attr;
         vf4 bx = vf4_splat(b.x[i]), by = vf4_splat(b.y[i]), bz = vf4_splat(b.z[i]);
@@ -729,57 +718,26 @@ static void shade_prepare(worker *w, const queued *const *q, int lanes, lanes4 *
     }
     vf4_transpose(&lo[0], &lo[1], &lo[2], &lo[3]);
     if (want_hi) vf4_transpose(&hi[0], &hi[1], &hi[2], &hi[3]);
-    S->b = b;
-    v3x4 normal = v3_normalize((v3x4){lo[0], lo[1], lo[2]}, &odd); /* payload->normal */
-    for (int i = 0; i < lanes; i++) {
-        w->k.varyings_interpolated += fr->varyings_per_fragment;
-        w->k.fragments_shaded++;
-    }
-    if (fr->batch == BATCH_NORMAL) {
-        /* normal_fragment_shader: (normalize(n) + 1) · 0.5 */
-        v3x4 n = v3_normalize(normal, &odd);
-        S->color = v3_scale(v3_add(n, v3_splat((vec3s){{1.0f, 1.0f, 1.0f}})), vf4_splat(0.5f));
-        S->odd = odd;
-        return;
-    }
-    v3x4 point = {lo[3], hi[0], hi[1]}; /* payload->view_pos */
-    S->u = hi[2];
-    S->v = hi[3];
-    if (fr->batch == BATCH_BUMP) {
-        /* bump_fragment_shader: (bump_normal + 1) · 0.5 */
-        vf4 h;
-        v3x4 n = bump_normal_x4(pay, normal, S->u, S->v, lanes, &odd, &h);
-        count_heights(pay, 3, (uint64_t)lanes);
-        S->color = v3_scale(v3_add(n, v3_splat((vec3s){{1.0f, 1.0f, 1.0f}})), vf4_splat(0.5f));
-        S->odd = odd;
-        return;
-    }
-    if (fr->batch == BATCH_DISPLACEMENT) {
-        /* displacement_fragment_shader: the point p + n·(kn·h), then
-         * Blinn-Phong with bump_normal's normal (below) */
-        vf4 h;
-        v3x4 bumped = bump_normal_x4(pay, normal, S->u, S->v, lanes, &odd, &h);
-        count_heights(pay, 4, (uint64_t)lanes);
-        v3x4 n = v3_normalize(normal, &odd);
-        vf4 s = vf4_splat(pay->kn) * h;
-        point = (v3x4){point.x + n.x * s, point.y + n.y * s, point.z + n.z * s};
-        normal = bumped;
-    }
-    /* fast_blinn_phong, up to kd */
+}
+
+/* fast_blinn_phong up to kd, in lanes: per light, I/r², max(0, n·l) and the
+ * specular power (powf lane by lane, only where it can be non-zero). */
+static inline __attribute__((always_inline)) void
+light_terms_x4(const fragment_shader_payload *pay, float spec_zero, int lanes, v3x4 normal,
+               v3x4 point, vi4 *odd, lanes4 *S) {
     if (pay->counters) {
         pay->counters->stages_run |= RAS_STAGE_LIGHTING;
         pay->counters->lighting_evaluations += (uint64_t)pay->light_count * (uint64_t)lanes;
     }
-    float spec_zero = fr->spec_zero[q[0]->r->object];
-    v3x4 n = v3_normalize(normal, &odd);
-    v3x4 v = v3_normalize((v3x4){-point.x, -point.y, -point.z}, &odd);
+    v3x4 n = v3_normalize(normal, odd);
+    v3x4 v = v3_normalize((v3x4){-point.x, -point.y, -point.z}, odd);
     vf4 zero = vf4_splat(0.0f);
     for (int li = 0; li < pay->light_count; li++) {
         const light *L = &pay->lights[li];
         v3x4 to_light = v3_sub(v3_splat(L->position), point);
         vf4 r2 = v3_dot(to_light, to_light);
-        v3x4 l = v3_normalize(to_light, &odd);
-        v3x4 h = v3_normalize(v3_add(l, v), &odd);
+        v3x4 l = v3_normalize(to_light, odd);
+        v3x4 h = v3_normalize(v3_add(l, v), odd);
         if (!memcmp(&L->intensity.x, &L->intensity.y, sizeof(float)) &&
             !memcmp(&L->intensity.x, &L->intensity.z, sizeof(float))) {
             /* a white light (the classic scene's): the three quotients have
@@ -799,6 +757,65 @@ static void shade_prepare(worker *w, const queued *const *q, int lanes, lanes4 *
                 if (lit[i]) specular[i] = powf(x[i], pay->p);
         S->specular[li] = specular;
     }
+}
+
+/* (n + 1) · 0.5: the Normal and bump shaders' colour */
+static inline v3x4 normal_colour_x4(v3x4 n) {
+    return v3_scale(v3_add(n, v3_splat((vec3s){{1.0f, 1.0f, 1.0f}})), vf4_splat(0.5f));
+}
+
+/* Everything up to the colour map: the weights, the varyings and, per light,
+ * the terms that do not involve kd. Then the texels the lookups will read are
+ * prefetched, and shade_finish (called after the other half-queue's prepare)
+ * finds them in cache. */
+static void shade_prepare(worker *w, const queued *const *q, int lanes, lanes4 *S) {
+    const frame *fr = w->fr;
+    const fragment_shader_payload *pay = &w->pay[q[0]->r->object];
+    S->q = q;
+    S->lanes = lanes;
+    const queued *e[4];
+    for (int i = 0; i < 4; i++)
+        e[i] = q[i < lanes ? i : 0];
+    v3x4 b = weights_x4(fr, e);
+    vf4 lo[4], hi[4];
+    varyings_x4(e, b, fr->batch != BATCH_NORMAL, lo, hi);
+    S->b = b;
+    vi4 odd = {0, 0, 0, 0};
+    v3x4 normal = v3_normalize((v3x4){lo[0], lo[1], lo[2]}, &odd); /* payload->normal */
+    for (int i = 0; i < lanes; i++) {
+        w->k.varyings_interpolated += fr->varyings_per_fragment;
+        w->k.fragments_shaded++;
+    }
+    if (fr->batch == BATCH_NORMAL) {
+        /* normal_fragment_shader: (normalize(n) + 1) · 0.5 */
+        S->color = normal_colour_x4(v3_normalize(normal, &odd));
+        S->odd = odd;
+        return;
+    }
+    v3x4 point = {lo[3], hi[0], hi[1]}; /* payload->view_pos */
+    S->u = hi[2];
+    S->v = hi[3];
+    if (fr->batch == BATCH_BUMP) {
+        /* bump_fragment_shader: (bump_normal + 1) · 0.5 */
+        vf4 h;
+        v3x4 n = bump_normal_x4(pay, normal, S->u, S->v, lanes, &odd, &h);
+        count_heights(pay, 3, (uint64_t)lanes);
+        S->color = normal_colour_x4(n);
+        S->odd = odd;
+        return;
+    }
+    if (fr->batch == BATCH_DISPLACEMENT) {
+        /* displacement_fragment_shader: the point p + n·(kn·h), then
+         * Blinn-Phong with bump_normal's normal (below) */
+        vf4 h;
+        v3x4 bumped = bump_normal_x4(pay, normal, S->u, S->v, lanes, &odd, &h);
+        count_heights(pay, 4, (uint64_t)lanes);
+        v3x4 n = v3_normalize(normal, &odd);
+        vf4 s = vf4_splat(pay->kn) * h;
+        point = (v3x4){point.x + n.x * s, point.y + n.y * s, point.z + n.z * s};
+        normal = bumped;
+    }
+    light_terms_x4(pay, fr->spec_zero[q[0]->r->object], lanes, normal, point, &odd, S);
     S->odd = odd;
     if (fr->batch == BATCH_TEXTURE && pay->texture) {
         /* the texels the lookups will read (nearest filtering reads one of
@@ -1884,57 +1901,44 @@ static int thread_count(const hw3_fast_settings *s) {
     return n < 1 ? 1 : n > MAX_THREADS ? MAX_THREADS : n;
 }
 
-static bool fast_draw(const hw3_renderer *self, const hw3_frame *frame_in, ras_image *out,
-                      ras_counters *k, ras_error *err) {
-    const hw3_fast_settings *settings = self->user;
-    const hw3_scene *scene = frame_in->scene;
-    const hw3_render_options *opt = frame_in->opt;
-    const hw3_fragment_stage *stage = frame_in->stage;
-    const mat4s *models = frame_in->models;
-    mat4s view = frame_in->view, projection = frame_in->projection;
-    int width = scene->width, height = scene->height;
-    if (width < 1 || height < 1 || width > RAS_IMAGE_MAX_SIDE || height > RAS_IMAGE_MAX_SIDE)
-        return ras_error_set(err, "frame size %dx%d is out of range", width, height);
-    ras_sample_pattern pattern = opt->aa == RAS_AA_NONE ? ras_sample_pattern_center() : opt->pattern;
-    if (pattern.count < 1 || pattern.count > RAS_MAX_SAMPLES)
-        return ras_error_set(err, "the sample pattern is empty: build it with ras_sample_pattern_make");
-    double t0 = ras_now_ms();
-    frame fr = {.scene = scene, .stage = stage, .width = width, .height = height,
-                .n = pattern.count, .ssaa = opt->aa == RAS_AA_SSAA, .pattern = pattern,
-                .varyings = stage->varyings, .out = out};
-    for (int s = 0; s <= fr.n; s++) {
-        vec2s o = s < fr.n ? pattern.offsets[s] : (vec2s){{0.5f, 0.5f}};
-        fr.off_x[s] = llround((double)o.x * SUBPIXEL_ONE);
-        fr.off_y[s] = llround((double)o.y * SUBPIXEL_ONE);
+/* The frame's sample offsets in sub-pixels (the centre's at [n]), the box
+ * they span (block rejection's corners), the sample at the centre if there is
+ * one, and what shading needs per frame. */
+static void plan_samples(frame *fr, const ras_sample_pattern *pattern) {
+    const hw3_scene *scene = fr->scene;
+    for (int s = 0; s <= fr->n; s++) {
+        vec2s o = s < fr->n ? pattern->offsets[s] : (vec2s){{0.5f, 0.5f}};
+        fr->off_x[s] = llround((double)o.x * SUBPIXEL_ONE);
+        fr->off_y[s] = llround((double)o.y * SUBPIXEL_ONE);
     }
     for (int o = 0; o < scene->object_count; o++)
-        fr.spec_zero[o] = spec_zero_of(scene->objects[o].p);
-    fr.omin_x = fr.omax_x = fr.off_x[0];
-    fr.omin_y = fr.omax_y = fr.off_y[0];
-    for (int k = 1; k <= fr.n; k++) {
-        fr.omin_x = fr.off_x[k] < fr.omin_x ? fr.off_x[k] : fr.omin_x;
-        fr.omax_x = fr.off_x[k] > fr.omax_x ? fr.off_x[k] : fr.omax_x;
-        fr.omin_y = fr.off_y[k] < fr.omin_y ? fr.off_y[k] : fr.omin_y;
-        fr.omax_y = fr.off_y[k] > fr.omax_y ? fr.off_y[k] : fr.omax_y;
+        fr->spec_zero[o] = spec_zero_of(scene->objects[o].p);
+    fr->omin_x = fr->omax_x = fr->off_x[0];
+    fr->omin_y = fr->omax_y = fr->off_y[0];
+    for (int k = 1; k <= fr->n; k++) {
+        fr->omin_x = fr->off_x[k] < fr->omin_x ? fr->off_x[k] : fr->omin_x;
+        fr->omax_x = fr->off_x[k] > fr->omax_x ? fr->off_x[k] : fr->omax_x;
+        fr->omin_y = fr->off_y[k] < fr->omin_y ? fr->off_y[k] : fr->omin_y;
+        fr->omax_y = fr->off_y[k] > fr->omax_y ? fr->off_y[k] : fr->omax_y;
     }
-    fr.centre_sample = -1;
-    for (int s = 0; s < fr.n && fr.centre_sample < 0; s++)
-        if (fr.off_x[s] == fr.off_x[fr.n] && fr.off_y[s] == fr.off_y[fr.n]) fr.centre_sample = s;
-    fr.batch = batch_kind(scene, opt, stage);
-    fr.varyings_per_fragment = (uint64_t)(!!(stage->varyings & RAS_VARYING_NORMAL) +
-                                          !!(stage->varyings & RAS_VARYING_VIEW_POS) +
-                                          !!(stage->varyings & RAS_VARYING_UV));
+    fr->centre_sample = -1;
+    for (int s = 0; s < fr->n && fr->centre_sample < 0; s++)
+        if (fr->off_x[s] == fr->off_x[fr->n] && fr->off_y[s] == fr->off_y[fr->n])
+            fr->centre_sample = s;
+    const hw3_fragment_stage *stage = fr->stage;
+    fr->varyings_per_fragment = (uint64_t)(!!(stage->varyings & RAS_VARYING_NORMAL) +
+                                           !!(stage->varyings & RAS_VARYING_VIEW_POS) +
+                                           !!(stage->varyings & RAS_VARYING_UV));
+}
 
-    /* 1. the setup plan: vertex chunks, triangle chunks (worker_main runs them) */
+/* The setup plan that worker_main runs: where each object's vertices and
+ * triangles start, the vertex chunks, and a record list per triangle chunk;
+ * the arrays setup fills. The vertex stage is counted here (every vertex is
+ * transformed). False: out of memory (what was allocated is freed by
+ * free_frame). */
+static bool plan_setup(frame *fr, ras_counters *k) {
+    const hw3_scene *scene = fr->scene;
     int objects = scene->object_count;
-    fr.models = models;
-    fr.view = view;
-    fr.projection = projection;
-    fr.tiles_x = (width + TILE - 1) / TILE;
-    fr.tiles_y = (height + TILE - 1) / TILE;
-    int tiles = fr.tiles_x * fr.tiles_y;
-    int threads = thread_count(settings);
-    if (threads > tiles) threads = tiles;
     size_t vertices = 0, vchunks = 0;
     for (int o = 0; o < objects; o++) {
         const ras_mesh *mesh = scene->objects[o].mesh;
@@ -1944,44 +1948,177 @@ static bool fast_draw(const hw3_renderer *self, const hw3_frame *frame_in, ras_i
         k->vertices_transformed += mesh->vertex_count;
         if (mesh->triangle_count) k->stages_run |= RAS_STAGE_CLIP | RAS_STAGE_SETUP;
     }
-    fr.clip_base = malloc(((size_t)objects + 1) * sizeof *fr.clip_base);
-    fr.tri_first = malloc(((size_t)objects + 1) * sizeof *fr.tri_first);
-    fr.vchunk_obj = malloc((vchunks + 1) * sizeof *fr.vchunk_obj);
-    fr.vchunk_start = malloc((vchunks + 1) * sizeof *fr.vchunk_start);
-    fr.clip = malloc((vertices + 1) * sizeof *fr.clip);
-    fr.screen = malloc((vertices + 1) * sizeof *fr.screen);
-    fr.vflags = malloc(vertices + 1);
-    fr.voutcode = malloc(vertices + 1);
-    fr.bin_start = calloc((size_t)tiles + 1, sizeof *fr.bin_start);
-    worker *workers = calloc((size_t)threads, sizeof *workers);
-    bool ok = fr.clip_base && fr.tri_first && fr.vchunk_obj && fr.vchunk_start && fr.clip &&
-              fr.screen && fr.vflags && fr.voutcode && fr.bin_start && workers;
-    if (ok) {
-        size_t v = 0, t = 0;
-        int c = 0;
-        for (int o = 0; o < objects; o++) {
-            const ras_mesh *mesh = scene->objects[o].mesh;
-            fr.clip_base[o] = v;
-            fr.tri_first[o] = t;
-            for (size_t start = 0; start < mesh->vertex_count; start += VERTEX_CHUNK) {
-                fr.vchunk_obj[c] = o;
-                fr.vchunk_start[c++] = start;
-            }
-            v += mesh->vertex_count;
-            t += mesh->triangle_count;
+    fr->clip_base = malloc(((size_t)objects + 1) * sizeof *fr->clip_base);
+    fr->tri_first = calloc((size_t)objects + 1, sizeof *fr->tri_first); /* read by the error */
+    fr->vchunk_obj = malloc((vchunks + 1) * sizeof *fr->vchunk_obj);
+    fr->vchunk_start = malloc((vchunks + 1) * sizeof *fr->vchunk_start);
+    fr->clip = malloc((vertices + 1) * sizeof *fr->clip);
+    fr->screen = malloc((vertices + 1) * sizeof *fr->screen);
+    fr->vflags = malloc(vertices + 1);
+    fr->voutcode = malloc(vertices + 1);
+    fr->bin_start = calloc((size_t)fr->tiles_x * fr->tiles_y + 1, sizeof *fr->bin_start);
+    if (!(fr->clip_base && fr->tri_first && fr->vchunk_obj && fr->vchunk_start && fr->clip &&
+          fr->screen && fr->vflags && fr->voutcode && fr->bin_start))
+        return false;
+    size_t v = 0, t = 0;
+    int c = 0;
+    for (int o = 0; o < objects; o++) {
+        const ras_mesh *mesh = scene->objects[o].mesh;
+        fr->clip_base[o] = v;
+        fr->tri_first[o] = t;
+        for (size_t start = 0; start < mesh->vertex_count; start += VERTEX_CHUNK) {
+            fr->vchunk_obj[c] = o;
+            fr->vchunk_start[c++] = start;
         }
-        fr.tri_first[objects] = t;
-        fr.vchunks = c;
-        fr.tchunks = (int)((t + TRIANGLE_CHUNK - 1) / TRIANGLE_CHUNK);
-        fr.lists = calloc((size_t)fr.tchunks + 1, sizeof *fr.lists);
-        ok = fr.lists != NULL;
-        for (int i = 0; ok && i < fr.tchunks; i++) {
-            /* room for the chunk's triangles and a few clipped pieces */
-            fr.lists[i].capacity = TRIANGLE_CHUNK + TRIANGLE_CHUNK / 4;
-            fr.lists[i].tri = malloc(fr.lists[i].capacity * sizeof *fr.lists[i].tri);
-            ok = fr.lists[i].tri != NULL;
-        }
+        v += mesh->vertex_count;
+        t += mesh->triangle_count;
     }
+    fr->tri_first[objects] = t;
+    fr->vchunks = c;
+    fr->tchunks = (int)((t + TRIANGLE_CHUNK - 1) / TRIANGLE_CHUNK);
+    fr->lists = calloc((size_t)fr->tchunks + 1, sizeof *fr->lists);
+    if (!fr->lists) return false;
+    for (int i = 0; i < fr->tchunks; i++) {
+        /* room for the chunk's triangles and a few clipped pieces */
+        fr->lists[i].capacity = TRIANGLE_CHUNK + TRIANGLE_CHUNK / 4;
+        fr->lists[i].tri = malloc(fr->lists[i].capacity * sizeof *fr->lists[i].tri);
+        if (!fr->lists[i].tri) return false;
+    }
+    return true;
+}
+
+/* One worker's tile buffers, fragment list and sample owners, and its
+ * payloads (one per object, counting into the worker's counters). False: out
+ * of memory (free_frame frees what was allocated). */
+static bool worker_init(worker *w, frame *fr, size_t tile_samples) {
+    const hw3_scene *scene = fr->scene;
+    w->fr = fr;
+    w->color = malloc((tile_samples + 2) * sizeof *w->color); /* + 2: resolve4 */
+    /* DEPTH_PAD more: draw_in_tile_1x32 loads and stores four depths at
+     * a time, and a block row's last lanes may lie past the tile's last
+     * sample (they are read and written back unchanged) */
+    w->depth = malloc((tile_samples + DEPTH_PAD) * sizeof *w->depth);
+    /* room for a tile's worth of fragments; defer_fragment grows it */
+    w->frag_cap = (size_t)TILE * TILE;
+    w->frags = malloc(w->frag_cap * sizeof *w->frags);
+    w->owner = malloc(tile_samples * sizeof *w->owner);
+    if (!(w->color && w->depth && w->frags && w->owner)) return false;
+    for (int i = 0; i < DEPTH_PAD; i++) w->depth[tile_samples + i] = INFINITY;
+    for (int o = 0; o < scene->object_count; o++) {
+        const hw3_object *ob = &scene->objects[o];
+        fragment_shader_payload *p = &w->pay[o];
+        *p = fr->stage->base;
+        p->color = ob->color;
+        p->texture = ob->texture;
+        p->height_map = ob->height_map;
+        p->kh = ob->kh;
+        p->kn = ob->kn;
+        p->ka = ob->ka;
+        p->ks = ob->ks;
+        p->p = ob->p;
+        p->counters = &w->k;
+    }
+    return true;
+}
+
+/* The calling thread is worker 0; the others get threads of their own
+ * (fewer workers, if some fail to start, is only slower). False: the frame
+ * failed (out of memory somewhere). */
+static bool run_workers(frame *fr, worker *workers, int threads) {
+    int started = 1;
+    for (; started < threads; started++)
+        if (pthread_create(&workers[started].thread, NULL, worker_main, &workers[started]))
+            break;
+    worker_main(&workers[0]);
+    for (int i = 1; i < started; i++) pthread_join(workers[i].thread, NULL);
+    return !atomic_load(&fr->failed);
+}
+
+/* The workers' counters, setup's and the tiles', added into k, with the
+ * buffers they used; *settings->shaded gets the fragments really shaded. */
+static void sum_counters(const frame *fr, const worker *workers, int threads,
+                         size_t tile_samples, const hw3_fast_settings *settings,
+                         ras_counters *k) {
+    for (int i = 0; i < threads; i++) {
+        const ras_counters *s = &workers[i].ks;
+        k->stages_run |= s->stages_run;
+        k->triangles_in += s->triangles_in;
+        k->triangles_rejected_nonfinite += s->triangles_rejected_nonfinite;
+        k->triangles_clipped_away += s->triangles_clipped_away;
+        k->triangles_clip_split += s->triangles_clip_split;
+        k->triangles_rasterized += s->triangles_rasterized;
+        k->triangles_degenerate += s->triangles_degenerate;
+        const ras_counters *c = &workers[i].k;
+        k->stages_run |= c->stages_run;
+        k->samples_tested += c->samples_tested;
+        k->samples_covered += c->samples_covered;
+        k->depth_tests_passed += c->depth_tests_passed;
+        k->fragments_shaded += c->fragments_shaded;
+        k->varyings_interpolated += c->varyings_interpolated;
+        k->texels_fetched += c->texels_fetched;
+        k->lighting_evaluations += c->lighting_evaluations;
+    }
+    if (fr->n > 1) k->stages_run |= RAS_STAGE_RESOLVE;
+    k->buffer_bytes = (size_t)threads * tile_samples * (sizeof(vec3s) + sizeof(float));
+    uint64_t shaded = 0;
+    for (int i = 0; i < threads; i++) {
+        shaded += workers[i].shaded;
+        k->buffer_bytes += tile_samples * sizeof(int32_t) + workers[i].frag_cap * sizeof(queued);
+    }
+    if (settings && settings->shaded) *settings->shaded = shaded;
+}
+
+/* Everything fast_draw allocated (NULL-safe: a frame that failed halfway). */
+static void free_frame(frame *fr, worker *workers, int threads) {
+    for (int i = 0; workers && i < threads; i++) {
+        free(workers[i].color);
+        free(workers[i].depth);
+        free(workers[i].frags);
+        free(workers[i].owner);
+    }
+    free(workers);
+    for (int i = 0; fr->lists && i < fr->tchunks; i++)
+        free(fr->lists[i].tri);
+    free(fr->lists);
+    free(fr->bin_start);
+    free(fr->bin_tri);
+    free(fr->clip);
+    free(fr->screen);
+    free(fr->vflags);
+    free(fr->voutcode);
+    free(fr->clip_base);
+    free(fr->tri_first);
+    free(fr->vchunk_obj);
+    free(fr->vchunk_start);
+}
+
+/* One frame: plan, set up and bin (worker_main, shared out), tiles on the
+ * workers, then the counters and times as the teaching pipeline reports them. */
+static bool fast_draw(const hw3_renderer *self, const hw3_frame *frame_in, ras_image *out,
+                      ras_counters *k, ras_error *err) {
+    const hw3_fast_settings *settings = self->user;
+    const hw3_scene *scene = frame_in->scene;
+    const hw3_render_options *opt = frame_in->opt;
+    int width = scene->width, height = scene->height;
+    if (width < 1 || height < 1 || width > RAS_IMAGE_MAX_SIDE || height > RAS_IMAGE_MAX_SIDE)
+        return ras_error_set(err, "frame size %dx%d is out of range", width, height);
+    ras_sample_pattern pattern = opt->aa == RAS_AA_NONE ? ras_sample_pattern_center() : opt->pattern;
+    if (pattern.count < 1 || pattern.count > RAS_MAX_SAMPLES)
+        return ras_error_set(err, "the sample pattern is empty: build it with ras_sample_pattern_make");
+    double t0 = ras_now_ms();
+    frame fr = {.scene = scene, .stage = frame_in->stage, .width = width, .height = height,
+                .n = pattern.count, .ssaa = opt->aa == RAS_AA_SSAA, .pattern = pattern,
+                .varyings = frame_in->stage->varyings, .out = out,
+                .models = frame_in->models, .view = frame_in->view,
+                .projection = frame_in->projection,
+                .tiles_x = (width + TILE - 1) / TILE, .tiles_y = (height + TILE - 1) / TILE};
+    plan_samples(&fr, &pattern);
+    fr.batch = batch_kind(scene, opt, frame_in->stage);
+    int tiles = fr.tiles_x * fr.tiles_y;
+    int threads = thread_count(settings);
+    if (threads > tiles) threads = tiles;
+    worker *workers = calloc((size_t)threads, sizeof *workers);
+    bool ok = plan_setup(&fr, k) && workers;
     atomic_init(&fr.next_vchunk, 0);
     atomic_init(&fr.vchunks_done, 0);
     atomic_init(&fr.next_tchunk, 0);
@@ -1990,103 +2127,15 @@ static bool fast_draw(const hw3_renderer *self, const hw3_frame *frame_in, ras_i
     atomic_init(&fr.failed, false);
     atomic_init(&fr.next_tile, 0);
     fr.t_setup = t0;
-
-    /* 3. tiles on the workers */
     size_t tile_samples = (size_t)TILE * TILE * (size_t)fr.n;
-    for (int i = 0; ok && i < threads; i++) {
-        worker *w = &workers[i];
-        w->fr = &fr;
-        w->color = malloc((tile_samples + 2) * sizeof *w->color); /* + 2: resolve4 */
-        /* DEPTH_PAD more: draw_in_tile_1x32 loads and stores four depths at
-         * a time, and a block row's last lanes may lie past the tile's last
-         * sample (they are read and written back unchanged) */
-        w->depth = malloc((tile_samples + DEPTH_PAD) * sizeof *w->depth);
-        ok = w->color && w->depth;
-        for (int i = 0; ok && i < DEPTH_PAD; i++) w->depth[tile_samples + i] = INFINITY;
-        {
-            /* room for a tile's worth of fragments; defer_fragment grows it */
-            w->frag_cap = (size_t)TILE * TILE;
-            w->frags = malloc(w->frag_cap * sizeof *w->frags);
-            w->owner = malloc(tile_samples * sizeof *w->owner);
-            ok = ok && w->frags && w->owner;
-        }
-        for (int o = 0; o < scene->object_count; o++) {
-            const hw3_object *ob = &scene->objects[o];
-            fragment_shader_payload *p = &w->pay[o];
-            *p = stage->base;
-            p->color = ob->color;
-            p->texture = ob->texture;
-            p->height_map = ob->height_map;
-            p->kh = ob->kh;
-            p->kn = ob->kn;
-            p->ka = ob->ka;
-            p->ks = ob->ks;
-            p->p = ob->p;
-            p->counters = &w->k;
-        }
-    }
-    if (ok) {
-        int started = 1;
-        for (; started < threads; started++)
-            if (pthread_create(&workers[started].thread, NULL, worker_main, &workers[started]))
-                break; /* fewer workers is only slower */
-        worker_main(&workers[0]);
-        for (int i = 1; i < started; i++) pthread_join(workers[i].thread, NULL);
-        ok = !atomic_load(&fr.failed);
-    }
-    if (ok) {
-        for (int i = 0; i < threads; i++) {
-            const ras_counters *s = &workers[i].ks;
-            k->stages_run |= s->stages_run;
-            k->triangles_in += s->triangles_in;
-            k->triangles_rejected_nonfinite += s->triangles_rejected_nonfinite;
-            k->triangles_clipped_away += s->triangles_clipped_away;
-            k->triangles_clip_split += s->triangles_clip_split;
-            k->triangles_rasterized += s->triangles_rasterized;
-            k->triangles_degenerate += s->triangles_degenerate;
-            const ras_counters *c = &workers[i].k;
-            k->stages_run |= c->stages_run;
-            k->samples_tested += c->samples_tested;
-            k->samples_covered += c->samples_covered;
-            k->depth_tests_passed += c->depth_tests_passed;
-            k->fragments_shaded += c->fragments_shaded;
-            k->varyings_interpolated += c->varyings_interpolated;
-            k->texels_fetched += c->texels_fetched;
-            k->lighting_evaluations += c->lighting_evaluations;
-        }
-        if (fr.n > 1) k->stages_run |= RAS_STAGE_RESOLVE;
-        k->buffer_bytes = (size_t)threads * tile_samples * (sizeof(vec3s) + sizeof(float));
-        uint64_t shaded = 0;
-        for (int i = 0; i < threads; i++) {
-            shaded += workers[i].shaded;
-            k->buffer_bytes +=
-                tile_samples * sizeof(int32_t) + workers[i].frag_cap * sizeof(queued);
-        }
-        if (settings && settings->shaded) *settings->shaded = shaded;
-    } else {
+    for (int i = 0; ok && i < threads; i++) ok = worker_init(&workers[i], &fr, tile_samples);
+    if (ok) ok = run_workers(&fr, workers, threads);
+    if (ok)
+        sum_counters(&fr, workers, threads, tile_samples, settings, k);
+    else
         ras_error_set(err, "out of memory drawing %zu triangles",
-                      fr.tri_first ? fr.tri_first[objects] : (size_t)0);
-    }
-    for (int i = 0; workers && i < threads; i++) {
-        free(workers[i].color);
-        free(workers[i].depth);
-        free(workers[i].frags);
-        free(workers[i].owner);
-    }
-    free(workers);
-    for (int i = 0; fr.lists && i < fr.tchunks; i++)
-        free(fr.lists[i].tri);
-    free(fr.lists);
-    free(fr.bin_start);
-    free(fr.bin_tri);
-    free(fr.clip);
-    free(fr.screen);
-    free(fr.vflags);
-    free(fr.voutcode);
-    free(fr.clip_base);
-    free(fr.tri_first);
-    free(fr.vchunk_obj);
-    free(fr.vchunk_start);
+                      fr.tri_first ? fr.tri_first[scene->object_count] : (size_t)0);
+    free_frame(&fr, workers, threads);
     double t1 = fr.t_setup, t2 = ras_now_ms();
     k->ms_vertex += t1 - t0;
     k->ms_raster += t2 - t1;
