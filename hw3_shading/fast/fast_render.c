@@ -277,6 +277,10 @@ typedef struct frame {
     double t_setup;     /* when setup ended (ms_vertex) */
     ras_image *out;
     int batch; /* BATCH_*: shade through the queue, four at a time */
+    /* One sample per pixel and a batched shader: a fragment that passes the
+     * depth test is recorded at its pixel (frags[base]), replacing the one
+     * it hides, instead of appended (see shade_deferred). */
+    bool per_pixel;
 } frame;
 
 /* A visible fragment waiting to be shaded: its colour goes to the tile
@@ -318,6 +322,11 @@ typedef struct worker {
      * depend on the object's material and textures, not on the fragment). */
     ras_counters per_fragment[HW3_MAX_OBJECTS];
     bool per_fragment_known[HW3_MAX_OBJECTS];
+    /* Batched shaders: per object, the fragments that passed a depth test
+     * but were hidden by the end of their tile, counted as shaded (not
+     * shaded) when the worker is done. per_pixel mode adds every pass and
+     * takes back the ones still visible. */
+    int64_t hidden[HW3_MAX_OBJECTS];
 } worker;
 
 /* perspective_correct_barycentric (solution/shading.c), inlined. */
@@ -938,23 +947,38 @@ static inline void defer_fragment(worker *w, const fast_tri *r, vec3s bary, int 
         w->owner[base + __builtin_ctzll(m)] = i;
 }
 
-/* What shading a fragment adds to the counters (shade_prepare, shade_finish,
- * texture_sample), for a fragment shade_deferred need not shade: the
- * counters stay the teaching pipeline's, which shades every fragment that
- * passes a depth test. */
-static void count_unshaded(worker *w, const queued *f) {
+/* defer_fragment for a pixel's one sample (n = 1; mask 1). In per_pixel mode
+ * the fragment is written at its pixel, over the one it hides (shade_pixels
+ * fills in the rest), and counted as hidden until shade_pixels finds it. */
+static inline void defer_pixel(worker *w, const fast_tri *r, vec3s bary, int base) {
+    if (!w->fr->per_pixel) {
+        defer_fragment(w, r, bary, base, 1);
+        return;
+    }
+    queued *f = &w->frags[base];
+    f->r = r;
+    f->bary = bary;
+    f->pad = 0.0f;
+    w->hidden[r->object]++;
+}
+
+/* What shading `count` fragments of object o adds to the counters
+ * (shade_prepare, shade_finish, texture_sample), for fragments
+ * shade_deferred need not shade: the counters stay the teaching pipeline's,
+ * which shades every fragment that passes a depth test. */
+static void count_unshaded(worker *w, int o, uint64_t count) {
     const frame *fr = w->fr;
-    const fragment_shader_payload *pay = &w->pay[f->r->object];
-    w->k.fragments_shaded++;
-    w->k.varyings_interpolated += fr->varyings_per_fragment;
-    if (fr->batch == BATCH_BUMP) count_heights(pay, 3, 1);
-    if (fr->batch == BATCH_DISPLACEMENT) count_heights(pay, 4, 1);
+    const fragment_shader_payload *pay = &w->pay[o];
+    w->k.fragments_shaded += count;
+    w->k.varyings_interpolated += fr->varyings_per_fragment * count;
+    if (fr->batch == BATCH_BUMP) count_heights(pay, 3, count);
+    if (fr->batch == BATCH_DISPLACEMENT) count_heights(pay, 4, count);
     if (fr->batch == BATCH_NORMAL || fr->batch == BATCH_BUMP || !pay->counters) return;
     pay->counters->stages_run |= RAS_STAGE_LIGHTING;
-    pay->counters->lighting_evaluations += (uint64_t)pay->light_count;
+    pay->counters->lighting_evaluations += (uint64_t)pay->light_count * count;
     if (fr->batch == BATCH_TEXTURE && pay->texture) {
         pay->counters->stages_run |= RAS_STAGE_TEXTURE;
-        pay->counters->texels_fetched += pay->filter == FILTER_BILINEAR ? 4 : 1;
+        pay->counters->texels_fetched += (pay->filter == FILTER_BILINEAR ? 4 : 1) * count;
     }
 }
 
@@ -1002,6 +1026,29 @@ static void count_unshaded_scalar(worker *w, const queued *f) {
     w->k.lighting_evaluations += d->lighting_evaluations;
 }
 
+/* The end of a tile in per_pixel mode: frags[s] is the last fragment that
+ * passed the depth test at pixel s (written where the depth is below +inf),
+ * the one whose colour the immediate order leaves there. Each is shaded
+ * once; shading is a pure function of the fragment, so the order (here the
+ * pixels', not the drawing's) changes no colour. The ones they replaced are
+ * counted as shaded (hidden[]) when the worker is done. */
+static void shade_pixels(worker *w) {
+    const vf4 inf = vf4_splat(INFINITY);
+    for (int s0 = 0; s0 < TILE * TILE; s0 += 4) {
+        unsigned drawn = ~vi4_sign_bits(vf4_load(&w->depth[s0]) == inf) & 0xFu;
+        for (; drawn; drawn &= drawn - 1) {
+            int s = s0 + __builtin_ctz(drawn);
+            queued *f = &w->frags[s];
+            f->base = s;
+            f->object = f->r->object;
+            f->mask = 1;
+            w->hidden[f->object]--;
+            queue_fragment(w, f);
+        }
+    }
+    flush_queue(w);
+}
+
 /* The end of a tile: a sample's colour is that of the last fragment to pass
  * its depth test (strict <, in drawing order), so each sample's owner gives
  * it. Fragments that own no sample any more (hidden by later ones: about 40 %
@@ -1009,6 +1056,10 @@ static void count_unshaded_scalar(worker *w, const queued *f) {
  * drawing order, for exactly the samples they own. Every colour is what the
  * immediate order would have left there, bit for bit. */
 static void shade_deferred(worker *w) {
+    if (w->fr->per_pixel) {
+        shade_pixels(w);
+        return;
+    }
     const int n = w->fr->n;
     const bool batch = w->fr->batch != BATCH_NONE;
     /* With one sample a fragment (mask 1) still owns its sample when it is
@@ -1041,7 +1092,7 @@ static void shade_deferred(worker *w) {
         if (batch && f->mask)
             queue_fragment(w, f);
         else if (batch)
-            count_unshaded(w, f);
+            w->hidden[f->object]++; /* counted when the worker is done */
         else if (f->mask)
             shade_scalar(w, f);
         else
@@ -1188,6 +1239,8 @@ static inline vi4 lanes_of(unsigned m) {
     vi4 bits = {1, 2, 4, 8};
     return (bits & (vi4){(int)m, (int)m, (int)m, (int)m}) != 0;
 }
+#else
+#define BARY_X4 0
 #endif
 
 static inline __attribute__((always_inline)) void
@@ -1215,7 +1268,10 @@ draw_pixel_samples(worker *w, const fast_tri *r, int x, int y, int tx0, int ty0,
     if (fr->ssaa) {
         for (int k = 0; k < n; k++) {
             if (!(visible >> k & 1)) continue;
-            defer_fragment(w, r, bary[k], base + k, 1);
+            if (n == 1)
+                defer_pixel(w, r, bary[k], base + k);
+            else
+                defer_fragment(w, r, bary[k], base + k, 1);
         }
         return;
     }
@@ -1239,7 +1295,10 @@ draw_pixel_samples(worker *w, const fast_tri *r, int x, int y, int tx0, int ty0,
         }
         bc = bary[best];
     }
-    defer_fragment(w, r, bc, base, visible);
+    if (n == 1)
+        defer_pixel(w, r, bc, base);
+    else
+        defer_fragment(w, r, bc, base, visible);
 }
 
 #if BARY_X4
@@ -1454,14 +1513,6 @@ static bool draw_in_tile_1x32(worker *w, const fast_tri *r, int tx0, int ty0, in
                 vi4 lo = elo[0] | elo[1] | elo[2], hi = ehi[0] | ehi[1] | ehi[2];
                 /* covered: E − thr >= 0 on every edge, so the or is >= 0 */
                 unsigned covered = ~(vi4_sign_bits(lo) | vi4_sign_bits(hi) << 4) & row_lanes;
-                for (int k = 0; k < 3; k++) {
-                    elo[k] += vstepy[k];
-                    ehi[k] += vstepy[k];
-                }
-                if (!covered) {
-                    for (int k = 0; k < 3; k++) e[k] += bstep[k];
-                    continue;
-                }
                 int base_row = (y - ty0) * TILE + (bx0 - tx0);
                 for (; covered; covered &= covered - 1) {
                     int i = __builtin_ctz(covered);
@@ -1473,9 +1524,13 @@ static bool draw_in_tile_1x32(worker *w, const fast_tri *r, int tx0, int ty0, in
                     if (!(z < w->depth[base])) continue;
                     w->k.depth_tests_passed++;
                     w->depth[base] = z;
-                    defer_fragment(w, r, bary, base, 1);
+                    defer_pixel(w, r, bary, base);
                 }
                 for (int k = 0; k < 3; k++) e[k] += bstep[k];
+                for (int k = 0; k < 3; k++) {
+                    elo[k] += vstepy[k];
+                    ehi[k] += vstepy[k];
+                }
             }
         }
     }
@@ -1877,6 +1932,8 @@ static void *worker_main(void *arg) {
         if (tile >= tiles) break;
         do_tile(w, tile);
     }
+    for (int o = 0; o < fr->scene->object_count; o++)
+        if (w->hidden[o]) count_unshaded(w, o, (uint64_t)w->hidden[o]);
 #if defined(__SSE2__)
     _mm_sfence(); /* put_row's and fill_row's streaming stores, before the join */
 #endif
@@ -2114,6 +2171,8 @@ static bool fast_draw(const hw3_renderer *self, const hw3_frame *frame_in, ras_i
                 .tiles_x = (width + TILE - 1) / TILE, .tiles_y = (height + TILE - 1) / TILE};
     plan_samples(&fr, &pattern);
     fr.batch = batch_kind(scene, opt, frame_in->stage);
+    /* frags holds a tile's pixels from the start (worker_init) */
+    fr.per_pixel = fr.n == 1 && fr.batch != BATCH_NONE;
     int tiles = fr.tiles_x * fr.tiles_y;
     int threads = thread_count(settings);
     if (threads > tiles) threads = tiles;
