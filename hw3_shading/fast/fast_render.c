@@ -76,9 +76,12 @@ typedef struct fast_tri {
     ras_triangle t; /* the whole triangle: the scalar shaders' */
 } fast_tri;
 
-static int64_t floor_div(int64_t a, int64_t b) { /* b > 0 */
-    int64_t q = a / b;
-    return (a % b != 0 && a < 0) ? q - 1 : q;
+/* floor(a / 256) for a sub-pixel coordinate (|a| <= 2^28 within the
+ * fixed-point limit): shifted while offset to a positive value, where >> is
+ * exact floor division (on a negative value C leaves it to the compiler). */
+static inline int64_t floor_px(int64_t a) {
+    const int64_t offset = (int64_t)1 << 40; /* a multiple of 256 */
+    return ((a + offset) >> SUBPIXEL_BITS) - (offset >> SUBPIXEL_BITS);
 }
 
 static int clamp_int(int64_t v, int lo, int hi) { return v < lo ? lo : v > hi ? hi : (int)v; }
@@ -126,12 +129,12 @@ static bool setup_fixed(fast_tri *r, int width, int height) {
         miny = Y[i] < miny ? Y[i] : miny;
         maxy = Y[i] > maxy ? Y[i] : maxy;
     }
-    r->x0 = clamp_int(floor_div(minx, SUBPIXEL_ONE), 0, width - 1);
-    r->x1 = clamp_int(floor_div(maxx, SUBPIXEL_ONE), 0, width - 1);
-    r->y0 = clamp_int(floor_div(miny, SUBPIXEL_ONE), 0, height - 1);
-    r->y1 = clamp_int(floor_div(maxy, SUBPIXEL_ONE), 0, height - 1);
-    if (floor_div(maxx, SUBPIXEL_ONE) < 0 || floor_div(minx, SUBPIXEL_ONE) >= width ||
-        floor_div(maxy, SUBPIXEL_ONE) < 0 || floor_div(miny, SUBPIXEL_ONE) >= height)
+    r->x0 = clamp_int(floor_px(minx), 0, width - 1);
+    r->x1 = clamp_int(floor_px(maxx), 0, width - 1);
+    r->y0 = clamp_int(floor_px(miny), 0, height - 1);
+    r->y1 = clamp_int(floor_px(maxy), 0, height - 1);
+    if (floor_px(maxx) < 0 || floor_px(minx) >= width ||
+        floor_px(maxy) < 0 || floor_px(miny) >= height)
         r->x1 = r->x0 - 1;
     return true;
 }
@@ -893,12 +896,18 @@ static void shade_finish(worker *w, lanes4 *S) {
     for (int i = 0; i < lanes; i++) {
         vec3s c = {{color.x[i], color.y[i], color.z[i]}};
         if (S->odd[i]) c = shade_silent(w, q[i]->r, q[i]->bary);
-        if (q[i]->mask == 0xF && fr->n == 4) { /* a whole pixel of 4x */
-            put4(&w->color[q[i]->base], c);
+        vec3s *dst = &w->color[q[i]->base];
+        uint64_t mask = q[i]->mask;
+        if (mask == 1) { /* one sample: 1x, SSAA */
+            *dst = c;
             continue;
         }
-        for (uint64_t m = q[i]->mask; m; m &= m - 1)
-            w->color[q[i]->base + __builtin_ctzll(m)] = c;
+        if (mask == 0xF && fr->n == 4) { /* a whole pixel of 4x */
+            put4(dst, c);
+            continue;
+        }
+        for (; mask; mask &= mask - 1)
+            dst[__builtin_ctzll(mask)] = c;
     }
 }
 
@@ -1448,12 +1457,17 @@ draw_in_tile_n(worker *w, const fast_tri *r, int tx0, int ty0, int x0, int y0, i
  * the box, exactly. */
 static bool edges_fit_31(const fast_tri *r, int64_t px0, int64_t px1, int64_t py0, int64_t py1) {
     const int64_t lim = (int64_t)1 << 30;
-    for (int k = 0; k < 3; k++)
-        for (int c = 0; c < 4; c++) {
-            int64_t px = c & 1 ? px1 : px0, py = c & 2 ? py1 : py0;
-            int64_t v = r->a[k] * px + r->b[k] * py + r->c[k] - r->thr[k];
-            if (v >= lim || v <= -lim) return false;
-        }
+    /* -lim < v < lim <=> v + lim - 1 in [0, 2·lim - 2], one unsigned test */
+    const uint64_t span = 2 * (uint64_t)lim - 2;
+    for (int k = 0; k < 3; k++) {
+        /* the corners from one of them and the steps across the box */
+        int64_t v00 = r->a[k] * px0 + r->b[k] * py0 + r->c[k] - r->thr[k] + (lim - 1);
+        int64_t dx = r->a[k] * (px1 - px0), dy = r->b[k] * (py1 - py0);
+        int64_t v10 = v00 + dx, v01 = v00 + dy, v11 = v10 + dy;
+        if (((uint64_t)v00 > span) | ((uint64_t)v10 > span) | ((uint64_t)v01 > span) |
+            ((uint64_t)v11 > span))
+            return false;
+    }
     return true;
 }
 
@@ -1477,12 +1491,15 @@ static bool draw_in_tile_1x32(worker *w, const fast_tri *r, int tx0, int ty0, in
         return false;
     const int64_t step[3] = {r->a[0] * SUBPIXEL_ONE, r->a[1] * SUBPIXEL_ONE,
                              r->a[2] * SUBPIXEL_ONE};
-    vi4 ramp_lo[3], ramp_hi[3]; /* i · step for lanes i = 0..3 and 4..7 */
-    for (int k = 0; k < 3; k++)
-        for (int i = 0; i < 4; i++) {
-            ramp_lo[k][i] = (int)(i * step[k]);
-            ramp_hi[k][i] = (int)((i + 4) * step[k]);
-        }
+    /* i · step for lanes i = 0..3 and 4..7, in int32: up to 7 steps is the
+     * difference of two values in the checked box, so it fits */
+    vi4 ramp_lo[3], ramp_hi[3];
+    for (int k = 0; k < 3; k++) {
+        int st = (int)step[k];
+        vi4 sv = {st, st, st, st};
+        ramp_lo[k] = sv * (vi4){0, 1, 2, 3};
+        ramp_hi[k] = ramp_lo[k] + (sv << 2);
+    }
     vi4 vstepy[3]; /* a row's step */
     int64_t bstep[3];
     for (int k = 0; k < 3; k++) {
@@ -1710,6 +1727,25 @@ static void fill_row(vec3s *dst, vec3s c, int count) {
         dst[i] = c;
 }
 
+/* count copies of c into the tile's colour buffer (cached: it is read back
+ * soon), four samples as three vector stores; count is a multiple of 4 and
+ * the buffer 16-byte aligned (malloc's). */
+static void fill_colour(vec3s *dst, vec3s c, int count) {
+#if defined(__SSE2__)
+    __m128 v0 = _mm_setr_ps(c.x, c.y, c.z, c.x), v1 = _mm_setr_ps(c.y, c.z, c.x, c.y),
+           v2 = _mm_setr_ps(c.z, c.x, c.y, c.z);
+    float *d = &dst[0].x;
+    for (int i = 0; i < 3 * count; i += 12) {
+        _mm_store_ps(d + i, v0);
+        _mm_store_ps(d + i + 4, v1);
+        _mm_store_ps(d + i + 8, v2);
+    }
+#else
+    for (int i = 0; i < count; i++)
+        dst[i] = c;
+#endif
+}
+
 /* hw2's resolve_pixel (solution/rasterizer.c) for four samples, in lanes:
  * ((((0 + c0) + c1) + c2) + c3) · (1/4), glms_vec3_add's and _scale's
  * operations lane by lane. Stores 16 bytes at dst (the next pixel's x is
@@ -1748,12 +1784,7 @@ static void do_tile(worker *w, int tile) {
                      tx1 - tx0 + 1);
         return;
     }
-    /* With one sample a colour is written exactly where a depth test passed,
-     * and a passed depth is below +inf: the colour buffer need not be cleared,
-     * the resolve below puts the clear colour where the depth is still +inf. */
-    if (n > 1)
-        for (int i = 0; i < TILE * TILE * n; i++)
-            w->color[i] = clear;
+    fill_colour(w->color, clear, TILE * TILE * n);
     for (int i = 0; i < TILE * TILE * n; i++)
         w->depth[i] = INFINITY;
     for (size_t j = first; j < end; j++) {
@@ -1782,17 +1813,6 @@ static void do_tile(worker *w, int tile) {
         vec3s *dst = &fr->out->pixels[(size_t)(fr->height - 1 - y) * (size_t)fr->width];
         const vec3s *src = &w->color[(size_t)(y - ty0) * TILE * (size_t)n];
         if (n == 1) {
-            vec3s *row = &w->color[(size_t)(y - ty0) * TILE];
-            const float *depth = &w->depth[(size_t)(y - ty0) * TILE];
-            const int count = tx1 - tx0 + 1;
-            const vf4 inf = vf4_splat(INFINITY);
-            for (int x = 0; x < count; x += 4) { /* four depths at a time (the row has 64) */
-                unsigned clear4 = vi4_sign_bits(vf4_load(&depth[x]) == inf);
-                for (; clear4; clear4 &= clear4 - 1) {
-                    int k = x + __builtin_ctz(clear4);
-                    if (k < count) row[k] = clear;
-                }
-            }
             put_row(&dst[tx0], src, tx1 - tx0 + 1);
         } else {
             /* resolve_pixel reads screen pixel (x, y) of the view at row
