@@ -959,15 +959,19 @@ static inline void defer_fragment(worker *w, const fast_tri *r, vec3s bary, int 
 /* defer_fragment for a pixel's one sample (n = 1; mask 1). In per_pixel mode
  * the fragment is written at its pixel, over the one it hides (shade_pixels
  * fills in the rest), and counted as hidden until shade_pixels finds it. */
+static inline void put_pixel(worker *w, const fast_tri *r, vec3s bary, int base) {
+    queued *f = &w->frags[base];
+    f->r = r;
+    f->bary = bary;
+    f->pad = 0.0f;
+}
+
 static inline void defer_pixel(worker *w, const fast_tri *r, vec3s bary, int base) {
     if (!w->fr->per_pixel) {
         defer_fragment(w, r, bary, base, 1);
         return;
     }
-    queued *f = &w->frags[base];
-    f->r = r;
-    f->bary = bary;
-    f->pad = 0.0f;
+    put_pixel(w, r, bary, base);
     w->hidden[r->object]++;
 }
 
@@ -1151,14 +1155,25 @@ static inline float ratio_to_float(int64_t e, const fast_tri *r) {
     uint64_t bits;
     memcpy(&bits, &q, sizeof bits);
     uint32_t low = (uint32_t)(bits & 0x1FFFFFFFu);
-    if (low - (0x10000000u - 8u) > 16u) return (float)q;
-    return (float)((double)e / (double)r->area2);
+    if (__builtin_expect(low - (0x10000000u - 8u) <= 16u, 0))
+        return (float)((double)e / (double)r->area2);
+    return (float)q;
 }
 
 static inline vec3s bary_of(const fast_tri *r, const int64_t e[3]) {
     float l0 = ratio_to_float(e[0], r);
     float l1 = ratio_to_float(e[1], r);
     float l2 = ratio_to_float(e[2], r);
+    return r->order[1] == 1 ? (vec3s){{l0, l1, l2}} : (vec3s){{l0, l2, l1}};
+}
+
+/* The reference's barycentrics, divided as it does: at 1x the divider
+ * runs beside the rest of a pixel's work. */
+static inline vec3s bary_div(const fast_tri *r, const int64_t e[3]) {
+    double a = (double)r->area2;
+    float l0 = (float)((double)e[0] / a);
+    float l1 = (float)((double)e[1] / a);
+    float l2 = (float)((double)e[2] / a);
     return r->order[1] == 1 ? (vec3s){{l0, l1, l2}} : (vec3s){{l0, l2, l1}};
 }
 
@@ -1507,6 +1522,9 @@ static bool draw_in_tile_1x32(worker *w, const fast_tri *r, int tx0, int ty0, in
         int sy = (int)bstep[k];
         vstepy[k] = (vi4){sy, sy, sy, sy};
     }
+    /* counted here, added once (the stores below could alias w's fields) */
+    const bool per_pixel = fr->per_pixel;
+    uint64_t covered_n = 0, passed_n = 0;
     bool small = (x1 - x0) < BLOCK && (y1 - y0) < BLOCK;
     for (int by0 = y0; by0 <= y1; by0 += BLOCK) {
         int by1 = by0 + BLOCK - 1 < y1 ? by0 + BLOCK - 1 : y1;
@@ -1535,13 +1553,16 @@ static bool draw_in_tile_1x32(worker *w, const fast_tri *r, int tx0, int ty0, in
                     int i = __builtin_ctz(covered);
                     int64_t ep[3] = {e[0] + i * step[0], e[1] + i * step[1], e[2] + i * step[2]};
                     int base = base_row + i;
-                    w->k.samples_covered++;
-                    vec3s bary = bary_of(r, ep);
+                    covered_n++;
+                    vec3s bary = bary_div(r, ep);
                     float z = depth_of(r, bary);
                     if (!(z < w->depth[base])) continue;
-                    w->k.depth_tests_passed++;
+                    passed_n++;
                     w->depth[base] = z;
-                    defer_pixel(w, r, bary, base);
+                    if (per_pixel)
+                        put_pixel(w, r, bary, base);
+                    else
+                        defer_fragment(w, r, bary, base, 1);
                 }
                 for (int k = 0; k < 3; k++) e[k] += bstep[k];
                 for (int k = 0; k < 3; k++) {
@@ -1551,6 +1572,9 @@ static bool draw_in_tile_1x32(worker *w, const fast_tri *r, int tx0, int ty0, in
             }
         }
     }
+    w->k.samples_covered += covered_n;
+    w->k.depth_tests_passed += passed_n;
+    if (per_pixel) w->hidden[r->object] += (int64_t)passed_n;
     return true;
 }
 
