@@ -144,9 +144,15 @@ typedef struct tri_list {
     size_t count, capacity;
 } tri_list;
 
+/* ras_pipeline.c's clip_vertex_finite (ras_vec4_finite(p_clip) &&
+ * ras_vec3_finite(color) && ...): its fifteen isfinite in one expression,
+ * without a call and a branch each. */
 static bool clip_vertex_finite(const ras_clip_vertex *v) {
-    return ras_vec4_finite(v->p_clip) && ras_vec3_finite(v->color) &&
-           ras_vec3_finite(v->normal) && ras_vec2_finite(v->uv) && ras_vec3_finite(v->view_pos);
+    const vec4s p = v->p_clip;
+    const vec3s c = v->color, n = v->normal, q = v->view_pos;
+    return isfinite(p.x) & isfinite(p.y) & isfinite(p.z) & isfinite(p.w) & isfinite(c.x) &
+           isfinite(c.y) & isfinite(c.z) & isfinite(n.x) & isfinite(n.y) & isfinite(n.z) &
+           isfinite(v->uv.x) & isfinite(v->uv.y) & isfinite(q.x) & isfinite(q.y) & isfinite(q.z);
 }
 
 /* ras_pipeline_draw_clip_triangle + the reference rasterizer's prologue, with
