@@ -73,7 +73,9 @@ typedef struct fast_tri {
      * position xyz and uv — copies of t's floats, in t's vertex order. */
     _Alignas(16) float w3[4];
     _Alignas(16) float attr[3][8];
-    ras_triangle t; /* the whole triangle: the scalar shaders' */
+    /* the rest of ras_triangle: screen x, y (trilinear's gradients) and
+     * depth z, clip w; hw3 interpolates no vertex colour */
+    vec4s v[3];
 } fast_tri;
 
 /* floor(a / 256) for a sub-pixel coordinate (|a| <= 2^28 within the
@@ -104,8 +106,8 @@ static inline int64_t round_half_away(double x) {
 static bool setup_fixed(fast_tri *r, int width, int height) {
     int64_t X[3], Y[3];
     for (int i = 0; i < 3; i++) {
-        X[i] = round_half_away((double)r->t.v[i].x * SUBPIXEL_ONE);
-        Y[i] = round_half_away((double)r->t.v[i].y * SUBPIXEL_ONE);
+        X[i] = round_half_away((double)r->v[i].x * SUBPIXEL_ONE);
+        Y[i] = round_half_away((double)r->v[i].y * SUBPIXEL_ONE);
     }
     int64_t area2 = (X[1] - X[0]) * (Y[2] - Y[0]) - (X[2] - X[0]) * (Y[1] - Y[0]);
     if (area2 == 0) return false;
@@ -198,31 +200,32 @@ static bool setup_triangle(tri_list *L, const ras_clip_vertex *a, const ras_clip
             L->capacity = cap;
         }
         fast_tri *r = &L->tri[L->count];
+        /* the corners' screen position and varyings: poly is a, b, c
+         * unless clipped */
+        const vec4s *pos[3];
+        const ras_clip_vertex *in[3] = {a, b, c};
+        ras_triangle t;
         bool set;
         if (cr == RAS_CLIP_INSIDE) {
-            /* poly is a, b, c: ras_setup_triangle's viewport per corner, and
-             * its finiteness test (the varyings passed VERTEX_FINITE) */
-            const ras_clip_vertex *in[3] = {a, b, c};
-            for (int v = 0; v < 3; v++) {
-                r->t.v[v] = *screen[v];
-                r->t.color[v] = in[v]->color;
-                r->t.normal[v] = in[v]->normal;
-                r->t.uv[v] = in[v]->uv;
-                r->t.view_pos[v] = in[v]->view_pos;
-            }
+            /* ras_setup_triangle's viewport per corner, and its finiteness
+             * test (the varyings passed VERTEX_FINITE) */
+            for (int v = 0; v < 3; v++) pos[v] = screen[v];
             set = flags[0] & flags[1] & flags[2] & SCREEN_FINITE;
         } else {
-            set = ras_setup_triangle(&poly[0], &poly[i], &poly[i + 1], width, height, &r->t);
+            set = ras_setup_triangle(&poly[0], &poly[i], &poly[i + 1], width, height, &t);
+            in[0] = &poly[0], in[1] = &poly[i], in[2] = &poly[i + 1];
+            for (int v = 0; v < 3; v++) pos[v] = &t.v[v];
         }
         if (!set) {
             k->triangles_rejected_nonfinite++;
             continue;
         }
         k->triangles_rasterized++; /* hw3 draws with RAS_CULL_NONE */
+        for (int v = 0; v < 3; v++) r->v[v] = *pos[v];
         bool in_range = true;
         for (int v = 0; v < 3; v++)
-            in_range = in_range && fabsf(r->t.v[v].x) <= FIXED_LIMIT_PX &&
-                       fabsf(r->t.v[v].y) <= FIXED_LIMIT_PX;
+            in_range = in_range && fabsf(r->v[v].x) <= FIXED_LIMIT_PX &&
+                       fabsf(r->v[v].y) <= FIXED_LIMIT_PX;
         /* The guard band (stage2_clip.h) keeps screen coordinates within 9
          * viewports, so the reference never leaves its fixed-point path here. */
         if (!in_range) continue;
@@ -233,12 +236,14 @@ static bool setup_triangle(tri_list *L, const ras_clip_vertex *a, const ras_clip
         if (r->x1 < r->x0) continue; /* off screen: nothing tested */
         r->object = object;
         for (int v = 0; v < 3; v++) {
-            r->w3[v] = r->t.v[v].w;
-            r->z[v] = r->t.v[v].z;
+            r->w3[v] = r->v[v].w;
+            r->z[v] = r->v[v].z;
+            /* ras_setup_triangle copies the varyings as they are */
             float *a = r->attr[v];
-            a[0] = r->t.normal[v].x, a[1] = r->t.normal[v].y, a[2] = r->t.normal[v].z;
-            a[3] = r->t.view_pos[v].x, a[4] = r->t.view_pos[v].y, a[5] = r->t.view_pos[v].z;
-            a[6] = r->t.uv[v].x, a[7] = r->t.uv[v].y;
+            const ras_clip_vertex *c = in[v];
+            a[0] = c->normal.x, a[1] = c->normal.y, a[2] = c->normal.z;
+            a[3] = c->view_pos.x, a[4] = c->view_pos.y, a[5] = c->view_pos.z;
+            a[6] = c->uv.x, a[7] = c->uv.y;
         }
         r->w3[3] = 0.0f;
         L->count++;
@@ -338,23 +343,28 @@ typedef struct worker {
     int64_t hidden[HW3_MAX_OBJECTS];
 } worker;
 
-/* perspective_correct_barycentric (solution/shading.c), inlined. */
-static inline vec3s persp_bary(const ras_triangle *t, vec3s bs) {
-    vec3s b = {{bs.x / t->v[0].w, bs.y / t->v[1].w, bs.z / t->v[2].w}};
+/* perspective_correct_barycentric (solution/shading.c), inlined; w: the
+ * corners' clip w. */
+static inline vec3s persp_bary(const float w[3], vec3s bs) {
+    vec3s b = {{bs.x / w[0], bs.y / w[1], bs.z / w[2]}};
     float sum = b.x + b.y + b.z;
     if (!(sum > 0.0f) || !isfinite(sum)) return bs;
     return glms_vec3_scale(b, 1.0f / sum);
 }
 
-static inline vec3s interp3(vec3s b, const vec3s attr[3]) {
-    vec3s r = glms_vec3_scale(attr[0], b.x);
-    r = glms_vec3_muladds(attr[1], b.y, r);
-    return glms_vec3_muladds(attr[2], b.z, r);
+/* The reference's interpolation of a varying (a0·b.x + a1·b.y + a2·b.z per
+ * component, in that order: glms_vec3_scale then two glms_vec3_muladds, or
+ * the same sums written out) from the record's packed varyings, float `at`
+ * on (0 normal, 3 view position, 6 uv). */
+static inline vec3s interp3(vec3s b, const float attr[3][8], int at) {
+    vec3s r;
+    for (int c = 0; c < 3; c++)
+        r.raw[c] = attr[0][at + c] * b.x + attr[1][at + c] * b.y + attr[2][at + c] * b.z;
+    return r;
 }
-
-static inline vec2s interp2(vec3s b, const vec2s attr[3]) {
-    return (vec2s){{attr[0].x * b.x + attr[1].x * b.y + attr[2].x * b.z,
-                    attr[0].y * b.x + attr[1].y * b.y + attr[2].y * b.z}};
+static inline vec2s interp2(vec3s b, const float attr[3][8], int at) {
+    return (vec2s){{attr[0][at] * b.x + attr[1][at] * b.y + attr[2][at] * b.z,
+                    attr[0][at + 1] * b.x + attr[1][at + 1] * b.y + attr[2][at + 1] * b.z}};
 }
 
 /* powf(x, p) is +0 for 0 <= x <= spec_zero_of(p): x <= 2^(-151/p) (rounded
@@ -401,27 +411,27 @@ static vec3s fast_blinn_phong(const fragment_shader_payload *payload, vec3s kd, 
 
 static vec3s shade(worker *w, const fast_tri *r, vec3s bary) {
     const frame *fr = w->fr;
-    const ras_triangle *t = &r->t;
     fragment_shader_payload *pay = &w->pay[r->object];
     bool persp = fr->stage->perspective;
     unsigned vary = fr->varyings;
-    vec3s b = persp ? persp_bary(t, bary) : bary;
-    if (vary & RAS_VARYING_NORMAL) pay->normal = glms_vec3_normalize(interp3(b, t->normal));
-    if (vary & RAS_VARYING_VIEW_POS) pay->view_pos = interp3(b, t->view_pos);
+    vec3s b = persp ? persp_bary(r->w3, bary) : bary;
+    if (vary & RAS_VARYING_NORMAL) pay->normal = glms_vec3_normalize(interp3(b, r->attr, 0));
+    if (vary & RAS_VARYING_VIEW_POS) pay->view_pos = interp3(b, r->attr, 3);
     if (vary & RAS_VARYING_UV) {
-        pay->uv = interp2(b, t->uv);
+        pay->uv = interp2(b, r->attr, 6);
         if (pay->filter == FILTER_TRILINEAR) {
             /* scene.c's bary_gradients and finite difference */
-            float area2 = ras_triangle_area2(t);
+            const vec4s *v = r->v;
+            float area2 = (v[1].x - v[0].x) * (v[2].y - v[0].y) -
+                          (v[2].x - v[0].x) * (v[1].y - v[0].y); /* ras_triangle_area2 */
             float inv = area2 != 0.0f ? 1.0f / area2 : 0.0f;
-            const vec4s *v = t->v;
             vec3s d_dx = {{-(v[2].y - v[1].y) * inv, -(v[0].y - v[2].y) * inv,
                            -(v[1].y - v[0].y) * inv}};
             vec3s d_dy = {{(v[2].x - v[1].x) * inv, (v[0].x - v[2].x) * inv,
                            (v[1].x - v[0].x) * inv}};
             vec3s bx = glms_vec3_add(bary, d_dx), by = glms_vec3_add(bary, d_dy);
-            vec2s uv_x = interp2(persp ? persp_bary(t, bx) : bx, t->uv);
-            vec2s uv_y = interp2(persp ? persp_bary(t, by) : by, t->uv);
+            vec2s uv_x = interp2(persp ? persp_bary(r->w3, bx) : bx, r->attr, 6);
+            vec2s uv_y = interp2(persp ? persp_bary(r->w3, by) : by, r->attr, 6);
             pay->duv_dx = glms_vec2_sub(uv_x, pay->uv);
             pay->duv_dy = glms_vec2_sub(uv_y, pay->uv);
         }
