@@ -949,6 +949,18 @@ static inline void queue_fragment(worker *w, const queued *f) {
     w->shaded++;
 }
 
+/* Fragment i owns the samples `mask` of tile sample index base; four
+ * samples in a row (a whole pixel of 4x, the common case) are one store. */
+static inline void set_owner(worker *w, int base, uint64_t mask, int32_t i) {
+    if (mask == 0xF) {
+        int32_t four[4] = {i, i, i, i};
+        memcpy(&w->owner[base], four, sizeof four);
+        return;
+    }
+    for (uint64_t m = mask; m; m &= m - 1)
+        w->owner[base + __builtin_ctzll(m)] = i;
+}
+
 /* A fragment that passed the depth test at the samples `mask` (of tile
  * sample index `base`), kept until the tile is drawn: only the samples it
  * still owns then take its colour (shade_deferred). */
@@ -968,8 +980,7 @@ static inline void defer_fragment(worker *w, const fast_tri *r, vec3s bary, int 
     }
     int32_t i = (int32_t)w->nfrag++;
     w->frags[i] = (queued){r, bary, 0.0f, base, r->object, mask};
-    for (uint64_t m = mask; m; m &= m - 1)
-        w->owner[base + __builtin_ctzll(m)] = i;
+    set_owner(w, base, mask, i);
 }
 
 /* defer_fragment for a pixel's one sample (n = 1; mask 1). In per_pixel mode
@@ -1231,8 +1242,7 @@ static inline void defer_fragment_v(worker *w, const fast_tri *r, vf4 bv, int ba
     f->base = base;
     f->object = r->object;
     f->mask = mask;
-    for (uint64_t m = mask; m; m &= m - 1)
-        w->owner[base + __builtin_ctzll(m)] = i;
+    set_owner(w, base, mask, i);
 }
 
 #if defined(__SSE2__)
@@ -1272,7 +1282,10 @@ static inline unsigned bary_depth_x4(const fast_tri *r, const vi4 e[3], v3x4 *b,
 
 /* bits set in a 4-bit mask (no popcnt instruction in the x86-64 baseline:
  * __builtin_popcount calls libgcc) */
-static inline int popcount4(unsigned m) { return (int)(0x4332322132212110ull >> (4 * m) & 0xF); }
+static inline int popcount4(unsigned m) {
+    static const unsigned char bits[16] = {0, 1, 1, 2, 1, 2, 2, 3, 1, 2, 2, 3, 2, 3, 3, 4};
+    return bits[m & 0xF];
+}
 
 /* lane i all ones where bit i of m is set */
 static inline vi4 lanes_of(unsigned m) {
@@ -1510,8 +1523,9 @@ static bool edges_fit_31(const fast_tri *r, int64_t px0, int64_t px1, int64_t py
  * integers (exact arithmetic well inside the range), and a covered pixel's
  * barycentrics, depth test and fragment are draw_pixel_samples' for n = 1.
  * False: the values may not fit; draw with draw_in_tile_n. */
-static bool draw_in_tile_1x32(worker *w, const fast_tri *r, int tx0, int ty0, int x0, int y0,
-                              int x1, int y1) {
+static inline __attribute__((always_inline)) bool
+draw_in_tile_1x32(worker *w, const fast_tri *r, int tx0, int ty0, int x0, int y0,
+                  int x1, int y1) {
     const frame *fr = w->fr;
     const int64_t cx = fr->off_x[0], cy = fr->off_y[0];
     /* x1 + 7: a block row's eight lanes may run past x1; y1 + 1: the
@@ -1602,7 +1616,7 @@ static bool draw_in_tile_1x32(worker *w, const fast_tri *r, int tx0, int ty0, in
  * exact int64 edge values back (lane + thr) and go through
  * draw_pixel_samples as before. False: the values may not fit. */
 static bool draw_in_tile_4x32(worker *w, const fast_tri *r, int tx0, int ty0, int x0, int y0,
-                              int x1, int y1) {
+                  int x1, int y1) {
     const frame *fr = w->fr;
     const int n = 4;
     const int64_t omin_x = fr->omin_x, omax_x = fr->omax_x, omin_y = fr->omin_y,
