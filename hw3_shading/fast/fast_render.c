@@ -1280,18 +1280,6 @@ static inline unsigned bary_depth_x4(const fast_tri *r, const vi4 e[3], v3x4 *b,
     return near;
 }
 
-/* bits set in a 4-bit mask (no popcnt instruction in the x86-64 baseline:
- * __builtin_popcount calls libgcc) */
-static inline int popcount4(unsigned m) {
-    static const unsigned char bits[16] = {0, 1, 1, 2, 1, 2, 2, 3, 1, 2, 2, 3, 2, 3, 3, 4};
-    return bits[m & 0xF];
-}
-
-/* lane i all ones where bit i of m is set */
-static inline vi4 lanes_of(unsigned m) {
-    vi4 bits = {1, 2, 4, 8};
-    return (bits & (vi4){(int)m, (int)m, (int)m, (int)m}) != 0;
-}
 #else
 #define BARY_X4 0
 #endif
@@ -1362,7 +1350,7 @@ draw_pixel_samples(worker *w, const fast_tri *r, int x, int y, int tx0, int ty0,
  * depths at once, then draw_pixel_samples' choice of the shading point. */
 static inline __attribute__((always_inline)) void
 draw_pixel4_v(worker *w, const fast_tri *r, int x, int y, int tx0, int ty0, const vi4 ev[3],
-              const vi4 thrv[3], unsigned covered, const int64_t ec[10]) {
+              const vi4 thrv[3], vi4 covv, unsigned covered, const int64_t ec[10], vi4 *counts) {
     const frame *fr = w->fr;
     int base = ((y - ty0) * TILE + (x - tx0)) * 4;
     vi4 E[3] = {ev[0] + thrv[0], ev[1] + thrv[1], ev[2] + thrv[2]};
@@ -1378,11 +1366,11 @@ draw_pixel4_v(worker *w, const fast_tri *r, int x, int y, int tx0, int ty0, cons
     }
     float *dp = &w->depth[base];
     vf4 old = vf4_load(dp);
-    vi4 pass = (z < old) & lanes_of(covered);
+    vi4 pass = (z < old) & covv;
     unsigned visible = vi4_sign_bits(pass);
-    w->k.samples_covered += (uint64_t)popcount4(covered);
+    counts[0] -= covv; /* samples_covered and depth_tests_passed, per lane */
     if (!visible) return;
-    w->k.depth_tests_passed += (uint64_t)popcount4(visible);
+    counts[1] -= pass;
     vf4 nz = vf4_select(pass, z, old);
     memcpy(dp, &nz, sizeof nz);
     vf4 bv[4] = {b.x, b.y, b.z, vf4_splat(0.0f)};
@@ -1616,7 +1604,7 @@ draw_in_tile_1x32(worker *w, const fast_tri *r, int tx0, int ty0, int x0, int y0
  * exact int64 edge values back (lane + thr) and go through
  * draw_pixel_samples as before. False: the values may not fit. */
 static bool draw_in_tile_4x32(worker *w, const fast_tri *r, int tx0, int ty0, int x0, int y0,
-                  int x1, int y1) {
+                              int x1, int y1) {
     const frame *fr = w->fr;
     const int n = 4;
     const int64_t omin_x = fr->omin_x, omax_x = fr->omax_x, omin_y = fr->omin_y,
@@ -1651,6 +1639,9 @@ static bool draw_in_tile_4x32(worker *w, const fast_tri *r, int tx0, int ty0, in
         vstepy[i] = (vi4){sy, sy, sy, sy};
         thrv[i] = (vi4){t, t, t, t};
     }
+    /* samples covered and depth tests passed, counted per lane (a true
+     * lane is −1, subtracted) and added to the counters at the end */
+    vi4 counts[2] = {{0, 0, 0, 0}, {0, 0, 0, 0}};
 #endif
     bool small = (x1 - x0) < BLOCK && (y1 - y0) < BLOCK;
     for (int by0 = y0; by0 <= y1; by0 += BLOCK) {
@@ -1677,10 +1668,11 @@ static bool draw_in_tile_4x32(worker *w, const fast_tri *r, int tx0, int ty0, in
             for (int y = by0; y <= by1; y++) {
                 vi4 ev[3] = {evrow[0], evrow[1], evrow[2]};
                 for (int x = bx0; x <= bx1; x++) {
-                    unsigned covered = ~vi4_sign_bits(ev[0] | ev[1] | ev[2]) & 0xFu;
+                    vi4 covv = (ev[0] | ev[1] | ev[2]) > -1; /* E − thr >= 0 on all three */
+                    unsigned covered = vi4_sign_bits(covv);
                     if (covered) {
                         ec[3] = x - bx0;
-                        draw_pixel4_v(w, r, x, y, tx0, ty0, ev, thrv, covered, ec);
+                        draw_pixel4_v(w, r, x, y, tx0, ty0, ev, thrv, covv, covered, ec, counts);
                     }
                     for (int i = 0; i < 3; i++) ev[i] += vstep[i];
                 }
@@ -1715,6 +1707,10 @@ static bool draw_in_tile_4x32(worker *w, const fast_tri *r, int tx0, int ty0, in
             }
         }
     }
+#if BARY_X4
+    w->k.samples_covered += (uint64_t)(counts[0][0] + counts[0][1] + counts[0][2] + counts[0][3]);
+    w->k.depth_tests_passed += (uint64_t)(counts[1][0] + counts[1][1] + counts[1][2] + counts[1][3]);
+#endif
     return true;
 }
 
