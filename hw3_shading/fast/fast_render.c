@@ -1350,7 +1350,7 @@ draw_pixel_samples(worker *w, const fast_tri *r, int x, int y, int tx0, int ty0,
  * depths at once, then draw_pixel_samples' choice of the shading point. */
 static inline __attribute__((always_inline)) void
 draw_pixel4_v(worker *w, const fast_tri *r, int x, int y, int tx0, int ty0, const vi4 ev[3],
-              const vi4 thrv[3], vi4 covv, unsigned covered, const int64_t ec[10], vi4 *counts) {
+              const vi4 thrv[3], vi4 covv, unsigned covered, const int64_t dcen[3], vi4 *counts) {
     const frame *fr = w->fr;
     int base = ((y - ty0) * TILE + (x - tx0)) * 4;
     vi4 E[3] = {ev[0] + thrv[0], ev[1] + thrv[1], ev[2] + thrv[2]};
@@ -1386,13 +1386,11 @@ draw_pixel4_v(worker *w, const fast_tri *r, int x, int y, int tx0, int ty0, cons
         defer_fragment_v(w, r, bv[fr->centre_sample], base, visible);
         return;
     }
-    /* the centre's edge values: ec[0..2] at the pixel's corner, plus ec[3]
-     * times the step, plus the centre's offset ec[4..6] */
-    int64_t c0 = ec[0] + ec[3] * ec[7] + ec[4], c1 = ec[1] + ec[3] * ec[8] + ec[5],
-            c2 = ec[2] + ec[3] * ec[9] + ec[6];
-    if (c0 >= r->thr[0] && c1 >= r->thr[1] && c2 >= r->thr[2]) {
-        int64_t e3[3] = {c0, c1, c2};
-        defer_fragment(w, r, bary_of(r, e3), base, visible);
+    /* the centre's E − thr: sample 0's plus the centre's offset from it */
+    int64_t c0 = ev[0][0] + dcen[0], c1 = ev[1][0] + dcen[1], c2 = ev[2][0] + dcen[2];
+    if ((c0 | c1 | c2) >= 0) { /* covered (the sign bits, as for the samples) */
+        int64_t e3[3] = {c0 + r->thr[0], c1 + r->thr[1], c2 + r->thr[2]};
+        defer_fragment(w, r, bary_div(r, e3), base, visible);
     } else {
         int best = -1;
         float best_d2 = 0;
@@ -1631,11 +1629,11 @@ static bool draw_in_tile_4x32(worker *w, const fast_tri *r, int tx0, int ty0, in
     /* per edge: the samples' offsets from sample 0 (differences of two
      * values in the box: they fit), a row's step, thr */
     vi4 dlane[3], vstepy[3], thrv[3];
-    int64_t bstep[3];
+    int64_t dcen[3]; /* the centre's offset from sample 0 */
     for (int i = 0; i < 3; i++) {
         for (int k = 0; k < n; k++) dlane[i][k] = (int)(off[k][i] - off[0][i]);
-        bstep[i] = r->b[i] * SUBPIXEL_ONE;
-        int sy = (int)bstep[i], t = (int)r->thr[i];
+        dcen[i] = off[n][i] - off[0][i];
+        int sy = (int)(r->b[i] * SUBPIXEL_ONE), t = (int)r->thr[i];
         vstepy[i] = (vi4){sy, sy, sy, sy};
         thrv[i] = (vi4){t, t, t, t};
     }
@@ -1654,32 +1652,24 @@ static bool draw_in_tile_4x32(worker *w, const fast_tri *r, int tx0, int ty0, in
 #if BARY_X4
             /* E − thr at the four samples of pixel (bx0, by0), then one
              * vector addition per row and per pixel (exact: every value
-             * used lies in the checked box; the rows' corners in int64) */
-            int64_t ec[10]; /* draw_pixel4_v's centre: corner, dx, offset, step */
+             * used lies in the checked box) */
             vi4 evrow[3];
             for (int i = 0; i < 3; i++) {
-                ec[i] = r->a[i] * ((int64_t)bx0 * SUBPIXEL_ONE) +
-                        r->b[i] * ((int64_t)by0 * SUBPIXEL_ONE) + r->c[i];
-                int st = (int)(ec[i] + off[0][i] - r->thr[i]);
+                int64_t corner = r->a[i] * ((int64_t)bx0 * SUBPIXEL_ONE) +
+                                 r->b[i] * ((int64_t)by0 * SUBPIXEL_ONE) + r->c[i];
+                int st = (int)(corner + off[0][i] - r->thr[i]);
                 evrow[i] = (vi4){st, st, st, st} + dlane[i];
-                ec[4 + i] = off[n][i];
-                ec[7 + i] = step[i];
             }
             for (int y = by0; y <= by1; y++) {
                 vi4 ev[3] = {evrow[0], evrow[1], evrow[2]};
                 for (int x = bx0; x <= bx1; x++) {
                     vi4 covv = (ev[0] | ev[1] | ev[2]) > -1; /* E − thr >= 0 on all three */
                     unsigned covered = vi4_sign_bits(covv);
-                    if (covered) {
-                        ec[3] = x - bx0;
-                        draw_pixel4_v(w, r, x, y, tx0, ty0, ev, thrv, covv, covered, ec, counts);
-                    }
+                    if (covered)
+                        draw_pixel4_v(w, r, x, y, tx0, ty0, ev, thrv, covv, covered, dcen, counts);
                     for (int i = 0; i < 3; i++) ev[i] += vstep[i];
                 }
-                for (int i = 0; i < 3; i++) {
-                    evrow[i] += vstepy[i];
-                    ec[i] += bstep[i];
-                }
+                for (int i = 0; i < 3; i++) evrow[i] += vstepy[i];
             }
             continue;
 #endif
