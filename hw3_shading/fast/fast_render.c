@@ -1250,9 +1250,10 @@ static inline void defer_fragment_v(worker *w, const fast_tri *r, vf4 bv, int ba
 /* ratio_to_float for four points at once: e (int32 lanes, exact: every
  * caller's values fit) to double, times RN(1/area2), to float — the scalar
  * steps lane by lane (cvtdq2pd, mulpd, cvtpd2ps round like cvtsi2sd, mulsd,
- * cvtsd2ss). Returns the lanes whose product lies within 8 of a float
- * rounding boundary (ratio_to_float divides there): the caller redoes them. */
-static inline unsigned ratios_x4(vi4 e, __m128d inv, vf4 *out) {
+ * cvtsd2ss). Returns the lanes (all ones) whose product lies within 8 of a
+ * float rounding boundary (ratio_to_float divides there): the caller redoes
+ * them. */
+static inline vi4 ratios_x4(vi4 e, __m128d inv, vf4 *out) {
     __m128i ei = (__m128i)e;
     __m128d qlo = _mm_mul_pd(_mm_cvtepi32_pd(ei), inv);
     __m128d qhi = _mm_mul_pd(_mm_cvtepi32_pd(_mm_shuffle_epi32(ei, _MM_SHUFFLE(3, 2, 3, 2))), inv);
@@ -1263,7 +1264,8 @@ static inline unsigned ratios_x4(vi4 e, __m128d inv, vf4 *out) {
     __m128i vhi = _mm_sub_epi32(_mm_and_si128(_mm_castpd_si128(qhi), m), c);
     vi4 v = (vi4)_mm_castps_si128(_mm_shuffle_ps(_mm_castsi128_ps(vlo), _mm_castsi128_ps(vhi),
                                                  _MM_SHUFFLE(2, 0, 2, 0)));
-    return vi4_sign_bits((v > -1) & (v < 17)); /* (uint32)(low29 − …) <= 16 */
+    /* (uint32)(low29 − …) <= 16, as a signed compare with the sign flipped */
+    return (v ^ INT32_MIN) < INT32_MIN + 17;
 }
 
 /* bary_of and depth_of for four points (lanes) whose edge values E are e[k]:
@@ -1272,12 +1274,12 @@ static inline unsigned ratios_x4(vi4 e, __m128d inv, vf4 *out) {
 static inline unsigned bary_depth_x4(const fast_tri *r, const vi4 e[3], v3x4 *b, vf4 *z) {
     __m128d inv = _mm_set1_pd(r->inv_area2);
     vf4 l0, l1, l2;
-    unsigned near = ratios_x4(e[0], inv, &l0);
+    vi4 near = ratios_x4(e[0], inv, &l0);
     near |= ratios_x4(e[1], inv, &l1);
     near |= ratios_x4(e[2], inv, &l2);
     *b = r->order[1] == 1 ? (v3x4){l0, l1, l2} : (v3x4){l0, l2, l1};
     *z = b->x * vf4_splat(r->z[0]) + b->y * vf4_splat(r->z[1]) + b->z * vf4_splat(r->z[2]);
-    return near;
+    return vi4_sign_bits(near);
 }
 
 #else
