@@ -1533,12 +1533,11 @@ draw_in_tile_1x32(worker *w, const fast_tri *r, int tx0, int ty0, int x0, int y0
         ramp_lo[k] = sv * (vi4){0, 1, 2, 3};
         ramp_hi[k] = ramp_lo[k] + (sv << 2);
     }
-    vi4 vstepy[3]; /* a row's step */
-    int64_t bstep[3];
+    vi4 vstepy[3], thrv[3]; /* a row's step, thr */
     for (int k = 0; k < 3; k++) {
-        bstep[k] = r->b[k] * SUBPIXEL_ONE;
-        int sy = (int)bstep[k];
+        int sy = (int)(r->b[k] * SUBPIXEL_ONE), t = (int)r->thr[k];
         vstepy[k] = (vi4){sy, sy, sy, sy};
+        thrv[k] = (vi4){t, t, t, t};
     }
     /* counted here, added once (the stores below could alias w's fields) */
     const bool per_pixel = fr->per_pixel;
@@ -1551,14 +1550,13 @@ draw_in_tile_1x32(worker *w, const fast_tri *r, int tx0, int ty0, int x0, int y0
             if (!small && block_outside(fr, r, bx0, by0, bx1, by1, cx, cx, cy, cy)) continue;
             unsigned row_lanes = (1u << (bx1 - bx0 + 1)) - 1;
             int64_t px = (int64_t)bx0 * SUBPIXEL_ONE + cx;
-            int64_t py0 = (int64_t)by0 * SUBPIXEL_ONE + cy, e[3];
+            int64_t py0 = (int64_t)by0 * SUBPIXEL_ONE + cy;
             /* E − thr of the block row's eight pixels, per edge: at the
              * block's first row, then one vector addition per row (exact:
              * every value used lies in the checked box) */
             vi4 elo[3], ehi[3];
             for (int k = 0; k < 3; k++) {
-                e[k] = r->a[k] * px + r->b[k] * py0 + r->c[k];
-                int start = (int)(e[k] - r->thr[k]);
+                int start = (int)(r->a[k] * px + r->b[k] * py0 + r->c[k] - r->thr[k]);
                 elo[k] = (vi4){start, start, start, start} + ramp_lo[k];
                 ehi[k] = (vi4){start, start, start, start} + ramp_hi[k];
             }
@@ -1567,9 +1565,16 @@ draw_in_tile_1x32(worker *w, const fast_tri *r, int tx0, int ty0, int x0, int y0
                 /* covered: E − thr >= 0 on every edge, so the or is >= 0 */
                 unsigned covered = ~(vi4_sign_bits(lo) | vi4_sign_bits(hi) << 4) & row_lanes;
                 int base_row = (y - ty0) * TILE + (bx0 - tx0);
+                int32_t erow[3][BLOCK]; /* the row's E (lanes + thr: they fit) */
+                if (covered)
+                    for (int k = 0; k < 3; k++) {
+                        vi4 lo_k = elo[k] + thrv[k], hi_k = ehi[k] + thrv[k];
+                        memcpy(&erow[k][0], &lo_k, sizeof lo_k);
+                        memcpy(&erow[k][4], &hi_k, sizeof hi_k);
+                    }
                 for (; covered; covered &= covered - 1) {
                     int i = __builtin_ctz(covered);
-                    int64_t ep[3] = {e[0] + i * step[0], e[1] + i * step[1], e[2] + i * step[2]};
+                    int64_t ep[3] = {erow[0][i], erow[1][i], erow[2][i]};
                     int base = base_row + i;
                     covered_n++;
                     vec3s bary = bary_div(r, ep);
@@ -1582,7 +1587,6 @@ draw_in_tile_1x32(worker *w, const fast_tri *r, int tx0, int ty0, int x0, int y0
                     else
                         defer_fragment(w, r, bary, base, 1);
                 }
-                for (int k = 0; k < 3; k++) e[k] += bstep[k];
                 for (int k = 0; k < 3; k++) {
                     elo[k] += vstepy[k];
                     ehi[k] += vstepy[k];
