@@ -810,10 +810,8 @@ static void shade_prepare(worker *w, const queued *const *q, int lanes, lanes4 *
     S->b = b;
     vi4 odd = {0, 0, 0, 0};
     v3x4 normal = v3_normalize((v3x4){lo[0], lo[1], lo[2]}, &odd); /* payload->normal */
-    for (int i = 0; i < lanes; i++) {
-        w->k.varyings_interpolated += fr->varyings_per_fragment;
-        w->k.fragments_shaded++;
-    }
+    w->k.varyings_interpolated += fr->varyings_per_fragment * (uint64_t)lanes;
+    w->k.fragments_shaded += (uint64_t)lanes;
     if (fr->batch == BATCH_NORMAL) {
         /* normal_fragment_shader: (normalize(n) + 1) · 0.5 */
         S->color = normal_colour_x4(v3_normalize(normal, &odd));
@@ -909,9 +907,10 @@ static void shade_finish(worker *w, lanes4 *S) {
             color = v3_add(color, v3_scale(v3_mul(ks, S->irradiance[li]), S->specular[li]));
         }
     }
+    unsigned odd = vi4_sign_bits(S->odd);
     for (int i = 0; i < lanes; i++) {
         vec3s c = {{color.x[i], color.y[i], color.z[i]}};
-        if (S->odd[i]) c = shade_silent(w, q[i]->r, q[i]->bary);
+        if (__builtin_expect(odd >> i & 1, 0)) c = shade_silent(w, q[i]->r, q[i]->bary);
         vec3s *dst = &w->color[q[i]->base];
         uint64_t mask = q[i]->mask;
         if (mask == 1) { /* one sample: 1x, SSAA */
