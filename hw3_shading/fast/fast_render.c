@@ -98,7 +98,8 @@ static bool is_top_left(int64_t dx, int64_t dy) { return dy < 0 || (dy == 0 && d
 static inline int64_t round_half_away(double x) {
     int64_t t = (int64_t)x;
     double frac = x - (double)t;
-    return frac >= 0.5 ? t + 1 : frac <= -0.5 ? t - 1 : t;
+    /* without branches: which way a fraction goes is a coin toss */
+    return t + (int64_t)(frac >= 0.5) - (int64_t)(frac <= -0.5);
 }
 
 /* The reference rasterizer's setup_fixed, into a record. False: degenerate.
@@ -312,7 +313,7 @@ _Static_assert(offsetof(queued, pad) == offsetof(queued, bary) + 3 * sizeof(floa
                "queued.pad must follow bary");
 
 #define QUEUE 8
-#define DEPTH_PAD 8 /* floats past a tile's depth samples */
+#define DEPTH_PAD 8 /* floats past a tile's depth samples (one is used) */
 
 typedef struct worker {
     frame *fr;
@@ -969,7 +970,7 @@ static inline void defer_fragment(worker *w, const fast_tri *r, vec3s bary, int 
         size_t cap = 2 * w->frag_cap;
         /* owner indices are int32: past that (80 GB of fragments) the frame
          * fails like any other allocation */
-        queued *grown = cap <= INT32_MAX ? realloc(w->frags, cap * sizeof *grown) : NULL;
+        queued *grown = cap <= INT32_MAX ? realloc(w->frags, (cap + 1) * sizeof *grown) : NULL;
         if (!grown) { /* the frame fails with "out of memory" */
             atomic_store(&w->fr->failed, true);
             return;
@@ -1511,8 +1512,8 @@ static bool edges_fit_31(const fast_tri *r, int64_t px0, int64_t px1, int64_t py
  * barycentrics, depth test and fragment are draw_pixel_samples' for n = 1.
  * False: the values may not fit; draw with draw_in_tile_n. */
 static inline __attribute__((always_inline)) bool
-draw_in_tile_1x32(worker *w, const fast_tri *r, int tx0, int ty0, int x0, int y0,
-                  int x1, int y1) {
+draw_in_tile_1x32(worker *w, const fast_tri *r, int tx0, int ty0, int x0, int y0, int x1, int y1,
+                  const bool per_pixel) {
     const frame *fr = w->fr;
     const int64_t cx = fr->off_x[0], cy = fr->off_y[0];
     /* x1 + 7: a block row's eight lanes may run past x1; y1 + 1: the
@@ -1539,7 +1540,6 @@ draw_in_tile_1x32(worker *w, const fast_tri *r, int tx0, int ty0, int x0, int y0
         thrv[k] = (vi4){t, t, t, t};
     }
     /* counted here, added once (the stores below could alias w's fields) */
-    const bool per_pixel = fr->per_pixel;
     uint64_t covered_n = 0, passed_n = 0;
     bool small = (x1 - x0) < BLOCK && (y1 - y0) < BLOCK;
     for (int by0 = y0; by0 <= y1; by0 += BLOCK) {
@@ -1578,13 +1578,25 @@ draw_in_tile_1x32(worker *w, const fast_tri *r, int tx0, int ty0, int x0, int y0
                     covered_n++;
                     vec3s bary = bary_div(r, ep);
                     float z = depth_of(r, bary);
+                    if (per_pixel) {
+                        /* without a branch on the depth test (it fails for
+                         * about one covered pixel in five, unpredictably): a
+                         * failing fragment and its depth go to the spare
+                         * slots past the tile's pixels, never read */
+                        unsigned pass = z < w->depth[base];
+                        unsigned keep = 0u - pass; /* all ones when passed */
+                        /* pass ? base : TILE * TILE, as masks: GCC turns a
+                         * select back into the branch this avoids */
+                        int at = (int)(((unsigned)base & keep) | (TILE * TILE & ~keep));
+                        passed_n += pass;
+                        w->depth[at] = z;
+                        put_pixel(w, r, bary, at);
+                        continue;
+                    }
                     if (!(z < w->depth[base])) continue;
                     passed_n++;
                     w->depth[base] = z;
-                    if (per_pixel)
-                        put_pixel(w, r, bary, base);
-                    else
-                        defer_fragment(w, r, bary, base, 1);
+                    defer_fragment(w, r, bary, base, 1);
                 }
                 for (int k = 0; k < 3; k++) {
                     elo[k] += vstepy[k];
@@ -1719,7 +1731,10 @@ static void draw_in_tile(worker *w, const fast_tri *r, int tx0, int ty0, int tx1
     w->k.samples_tested += (uint64_t)(x1 - x0 + 1) * (uint64_t)(y1 - y0 + 1) * (uint64_t)n;
     switch (n) {
     case 1:
-        if (w->fr->centre_sample == 0 && draw_in_tile_1x32(w, r, tx0, ty0, x0, y0, x1, y1))
+        /* per_pixel a constant in each copy: no test per pixel */
+        if (w->fr->centre_sample == 0 &&
+            (w->fr->per_pixel ? draw_in_tile_1x32(w, r, tx0, ty0, x0, y0, x1, y1, true)
+                              : draw_in_tile_1x32(w, r, tx0, ty0, x0, y0, x1, y1, false)))
             break;
         draw_in_tile_n(w, r, tx0, ty0, x0, y0, x1, y1, 1);
         break;
@@ -2116,13 +2131,13 @@ static bool worker_init(worker *w, frame *fr, size_t tile_samples) {
     const hw3_scene *scene = fr->scene;
     w->fr = fr;
     w->color = malloc((tile_samples + 2) * sizeof *w->color); /* + 2: resolve4 */
-    /* DEPTH_PAD more: draw_in_tile_1x32 loads and stores four depths at
-     * a time, and a block row's last lanes may lie past the tile's last
-     * sample (they are read and written back unchanged) */
+    /* DEPTH_PAD more: the first is draw_in_tile_1x32's spare slot for the
+     * depth of a fragment that failed the test (written, never read) */
     w->depth = malloc((tile_samples + DEPTH_PAD) * sizeof *w->depth);
-    /* room for a tile's worth of fragments; defer_fragment grows it */
+    /* room for a tile's worth of fragments; defer_fragment grows it. One
+     * more: per_pixel's spare record for fragments that fail the depth test */
     w->frag_cap = (size_t)TILE * TILE;
-    w->frags = malloc(w->frag_cap * sizeof *w->frags);
+    w->frags = malloc((w->frag_cap + 1) * sizeof *w->frags);
     w->owner = malloc(tile_samples * sizeof *w->owner);
     if (!(w->color && w->depth && w->frags && w->owner)) return false;
     for (int i = 0; i < DEPTH_PAD; i++) w->depth[tile_samples + i] = INFINITY;
