@@ -1559,49 +1559,52 @@ draw_in_tile_1x32(worker *w, const fast_tri *r, int tx0, int ty0, int x0, int y0
                 elo[k] = (vi4){start, start, start, start} + ramp_lo[k];
                 ehi[k] = (vi4){start, start, start, start} + ramp_hi[k];
             }
-            for (int y = by0; y <= by1; y++) {
+            /* The block's coverage first, all its rows without a branch
+             * (a row's covered count is unpredictable, and so is whether it
+             * has any): eight bits a row in one mask, each row's E (lanes +
+             * thr: they fit) stored; then the covered pixels, one loop. */
+            int32_t eblk[BLOCK][3][BLOCK];
+            uint64_t covered = 0;
+            for (int j = 0; j <= by1 - by0; j++) {
                 vi4 lo = elo[0] | elo[1] | elo[2], hi = ehi[0] | ehi[1] | ehi[2];
                 /* covered: E − thr >= 0 on every edge, so the or is >= 0 */
-                unsigned covered = ~(vi4_sign_bits(lo) | vi4_sign_bits(hi) << 4) & row_lanes;
-                int base_row = (y - ty0) * TILE + (bx0 - tx0);
-                int32_t erow[3][BLOCK]; /* the row's E (lanes + thr: they fit) */
-                if (covered)
-                    for (int k = 0; k < 3; k++) {
-                        vi4 lo_k = elo[k] + thrv[k], hi_k = ehi[k] + thrv[k];
-                        memcpy(&erow[k][0], &lo_k, sizeof lo_k);
-                        memcpy(&erow[k][4], &hi_k, sizeof hi_k);
-                    }
-                for (; covered; covered &= covered - 1) {
-                    int i = __builtin_ctz(covered);
-                    int64_t ep[3] = {erow[0][i], erow[1][i], erow[2][i]};
-                    int base = base_row + i;
-                    covered_n++;
-                    vec3s bary = bary_div(r, ep);
-                    float z = depth_of(r, bary);
-                    if (per_pixel) {
-                        /* without a branch on the depth test (it fails for
-                         * about one covered pixel in five, unpredictably): a
-                         * failing fragment and its depth go to the spare
-                         * slots past the tile's pixels, never read */
-                        unsigned pass = z < w->depth[base];
-                        unsigned keep = 0u - pass; /* all ones when passed */
-                        /* pass ? base : TILE * TILE, as masks: GCC turns a
-                         * select back into the branch this avoids */
-                        int at = (int)(((unsigned)base & keep) | (TILE * TILE & ~keep));
-                        passed_n += pass;
-                        w->depth[at] = z;
-                        put_pixel(w, r, bary, at);
-                        continue;
-                    }
-                    if (!(z < w->depth[base])) continue;
-                    passed_n++;
-                    w->depth[base] = z;
-                    defer_fragment(w, r, bary, base, 1);
-                }
+                unsigned row = ~(vi4_sign_bits(lo) | vi4_sign_bits(hi) << 4) & row_lanes;
+                covered |= (uint64_t)row << (BLOCK * j);
                 for (int k = 0; k < 3; k++) {
+                    vi4 lo_k = elo[k] + thrv[k], hi_k = ehi[k] + thrv[k];
+                    memcpy(&eblk[j][k][0], &lo_k, sizeof lo_k);
+                    memcpy(&eblk[j][k][4], &hi_k, sizeof hi_k);
                     elo[k] += vstepy[k];
                     ehi[k] += vstepy[k];
                 }
+            }
+            const int base_blk = (by0 - ty0) * TILE + (bx0 - tx0);
+            for (; covered; covered &= covered - 1) {
+                int bit = __builtin_ctzll(covered), j = bit / BLOCK, i = bit % BLOCK;
+                int64_t ep[3] = {eblk[j][0][i], eblk[j][1][i], eblk[j][2][i]};
+                int base = base_blk + j * TILE + i;
+                covered_n++;
+                vec3s bary = bary_div(r, ep);
+                float z = depth_of(r, bary);
+                if (per_pixel) {
+                    /* without a branch on the depth test (it fails for
+                     * about one covered pixel in five, unpredictably): a
+                     * failing fragment and its depth go to the spare slots
+                     * past the tile's pixels, never read */
+                    unsigned pass = z < w->depth[base];
+                    unsigned keep = 0u - pass; /* all ones when passed */
+                    /* pass ? base : TILE * TILE, as masks: GCC turns a
+                     * select back into the branch this avoids */
+                    int at = (int)(((unsigned)base & keep) | (TILE * TILE & ~keep));
+                    passed_n += pass;
+                    w->depth[at] = z;
+                    put_pixel(w, r, bary, at);
+                    continue;
+                }
+                if (!(z < w->depth[base])) continue;
+                passed_n++;
+                w->depth[base] = z;
+                defer_fragment(w, r, bary, base, 1);
             }
         }
     }
