@@ -1681,13 +1681,28 @@ static bool draw_in_tile_4x32(worker *w, const fast_tri *r, int tx0, int ty0, in
                 evrow[i] = (vi4){st, st, st, st} + dlane[i];
             }
             for (int y = by0; y <= by1; y++) {
+                /* the row's coverage first, without a branch per pixel
+                 * (whether a pixel has a covered sample is unpredictable):
+                 * four bits a pixel, each pixel's E − thr stored; then the
+                 * pixels with a covered sample */
                 vi4 ev[3] = {evrow[0], evrow[1], evrow[2]};
-                for (int x = bx0; x <= bx1; x++) {
-                    vi4 covv = (ev[0] | ev[1] | ev[2]) > -1; /* E − thr >= 0 on all three */
-                    unsigned covered = vi4_sign_bits(covv);
-                    if (covered)
-                        draw_pixel4_v(w, r, x, y, tx0, ty0, ev, thrv, covv, covered, dcen, counts);
-                    for (int i = 0; i < 3; i++) ev[i] += vstep[i];
+                vi4 erow[BLOCK][3];
+                uint32_t mask = 0;
+                for (int i = 0; i <= bx1 - bx0; i++) {
+                    /* covered: E − thr >= 0 on all three edges */
+                    mask |= (uint32_t)vi4_sign_bits((ev[0] | ev[1] | ev[2]) > -1) << (4 * i);
+                    for (int k = 0; k < 3; k++) {
+                        erow[i][k] = ev[k];
+                        ev[k] += vstep[k];
+                    }
+                }
+                uint32_t any = mask | mask >> 1 | mask >> 2 | mask >> 3;
+                for (any &= 0x11111111u; any; any &= any - 1) {
+                    int i = __builtin_ctz(any) / 4;
+                    const vi4 *e = erow[i];
+                    vi4 covv = (e[0] | e[1] | e[2]) > -1;
+                    draw_pixel4_v(w, r, bx0 + i, y, tx0, ty0, e, thrv, covv, mask >> (4 * i) & 0xFu,
+                                  dcen, counts);
                 }
                 for (int i = 0; i < 3; i++) evrow[i] += vstepy[i];
             }
