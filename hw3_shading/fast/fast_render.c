@@ -1074,10 +1074,15 @@ static void count_unshaded_scalar(worker *w, const queued *f) {
  * counted as shaded (hidden[]) when the worker is done. */
 static void shade_pixels(worker *w) {
     const vf4 inf = vf4_splat(INFINITY);
-    for (int s0 = 0; s0 < TILE * TILE; s0 += 4) {
-        unsigned drawn = ~vi4_sign_bits(vf4_load(&w->depth[s0]) == inf) & 0xFu;
-        for (; drawn; drawn &= drawn - 1) {
-            int s = s0 + __builtin_ctz(drawn);
+    _Static_assert(TILE == 64, "shade_pixels keeps a tile row in a 64-bit mask");
+    for (int row = 0; row < TILE * TILE; row += TILE) {
+        /* a row's 64 pixels into one mask first: one loop exit per row, not
+         * one per four pixels */
+        uint64_t drawn = 0;
+        for (int x = 0; x < TILE; x += 4)
+            drawn |= (uint64_t)vi4_sign_bits(vf4_load(&w->depth[row + x]) == inf) << x;
+        for (drawn = ~drawn; drawn; drawn &= drawn - 1) {
+            int s = row + __builtin_ctzll(drawn);
             queued *f = &w->frags[s];
             f->base = s;
             f->object = f->r->object;
