@@ -1513,8 +1513,10 @@ static bool edges_fit_31(const fast_tri *r, int64_t px0, int64_t px1, int64_t py
  * triangle; not a screen-filling one): the coverage of eight pixels of a
  * block row is two 4-lane int32 additions and ors per edge and a sign mask,
  * instead of eight pixels of int64 arithmetic. The values are the same
- * integers (exact arithmetic well inside the range), and a covered pixel's
- * barycentrics, depth test and fragment are draw_pixel_samples' for n = 1.
+ * integers (exact arithmetic well inside the range). A covered pixel's
+ * barycentrics are the reference's divisions (bary_div), its depth test and
+ * fragment draw_pixel_samples' for n = 1; with per_pixel (a constant in each
+ * inlined copy) the fragment goes to its pixel, without a branch on the test.
  * False: the values may not fit; draw with draw_in_tile_n. */
 static inline __attribute__((always_inline)) bool
 draw_in_tile_1x32(worker *w, const fast_tri *r, int tx0, int ty0, int x0, int y0, int x1, int y1,
