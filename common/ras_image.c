@@ -239,6 +239,115 @@ static bool text_field(const uint8_t *d, size_t len, const char *key, long *out)
     return false;
 }
 
+/* Radiance HDR: after the header's blank line, "-Y H +X W" (or a variant). */
+static bool radiance_size(const uint8_t *d, size_t len, long *w, long *h) {
+    const uint8_t *end = d + (len < 65536 ? len : 65536);
+    for (const uint8_t *q = d; q + 2 < end; q++)
+        if (q[0] == '\n' && q[1] == '\n') {
+            char line[64];
+            size_t n = 0;
+            for (q += 2; q < end && *q != '\n' && n + 1 < sizeof line; q++) line[n++] = (char)*q;
+            line[n] = '\0';
+            char a[3], b[3];
+            long v1, v2;
+            if (sscanf(line, "%2s %ld %2s %ld", a, &v1, b, &v2) != 4) return false;
+            bool y_first = a[1] == 'Y';
+            *h = y_first ? v1 : v2;
+            *w = y_first ? v2 : v1;
+            return true;
+        }
+    return false;
+}
+
+/* OpenEXR: the dataWindow attribute (a box, inclusive corners). */
+static bool exr_size(const uint8_t *d, size_t len, long *w, long *h) {
+    static const char key[] = "dataWindow\0box2i\0";
+    for (size_t i = 8; i + sizeof key - 1 + 20 <= len && i < 65536; i++)
+        if (!memcmp(d + i, key, sizeof key - 1)) {
+            const uint8_t *b = d + i + sizeof key - 1 + 4; /* after the size */
+            *w = (long)(int32_t)le32(b + 8) - (long)(int32_t)le32(b) + 1;
+            *h = (long)(int32_t)le32(b + 12) - (long)(int32_t)le32(b + 4) + 1;
+            return true;
+        }
+    return false;
+}
+
+/* WebP: the size sits in a different place in each of the three chunk kinds. */
+static bool webp_size(const uint8_t *d, long *w, long *h) {
+    if (!memcmp(d + 12, "VP8 ", 4)) {
+        *w = (d[26] | d[27] << 8) & 0x3fff;
+        *h = (d[28] | d[29] << 8) & 0x3fff;
+        return true;
+    }
+    if (!memcmp(d + 12, "VP8L", 4)) {
+        uint32_t b = le32(d + 21);
+        *w = (long)(b & 0x3fff) + 1;
+        *h = (long)((b >> 14) & 0x3fff) + 1;
+        return true;
+    }
+    if (!memcmp(d + 12, "VP8X", 4)) {
+        *w = (long)(d[24] | d[25] << 8 | d[26] << 16) + 1;
+        *h = (long)(d[27] | d[28] << 8 | d[29] << 16) + 1;
+        return true;
+    }
+    return false;
+}
+
+/* TIFF: tags 256 (width) and 257 (height) of the first IFD, in the file's
+ * byte order. */
+static bool tiff_size(const uint8_t *d, size_t len, long *w, long *h) {
+    bool le = d[0] == 'I';
+    uint32_t off = le ? le32(d + 4) : be32(d + 4);
+    if ((size_t)off + 2 > len) return false;
+    unsigned n = le ? (unsigned)(d[off] | d[off + 1] << 8) : (unsigned)(d[off] << 8 | d[off + 1]);
+    long got[2] = {-1, -1};
+    for (unsigned k = 0; k < n && (size_t)off + 2 + 12 * (k + 1) <= len; k++) {
+        const uint8_t *e = d + off + 2 + 12 * k;
+        unsigned tag = le ? (unsigned)(e[0] | e[1] << 8) : (unsigned)(e[0] << 8 | e[1]);
+        unsigned type = le ? (unsigned)(e[2] | e[3] << 8) : (unsigned)(e[2] << 8 | e[3]);
+        if (tag != 256 && tag != 257) continue;
+        long v = type == 3 ? (le ? (long)(e[8] | e[9] << 8) : (long)(e[8] << 8 | e[9]))
+                           : (long)(le ? le32(e + 8) : be32(e + 8));
+        got[tag - 256] = v;
+    }
+    if (got[0] < 0 || got[1] < 0) return false;
+    *w = got[0];
+    *h = got[1];
+    return true;
+}
+
+/* JPEG 2000 file format: the ihdr box (height first). */
+static bool jp2_size(const uint8_t *d, size_t len, long *w, long *h) {
+    for (size_t i = 12; i + 16 <= len && i < 4096; i++)
+        if (!memcmp(d + i, "ihdr", 4)) {
+            *h = (long)be32(d + i + 4);
+            *w = (long)be32(d + i + 8);
+            return true;
+        }
+    return false;
+}
+
+/* JPEG: walk the markers to a SOFn (start of frame) segment. */
+static bool jpeg_size(const uint8_t *d, size_t len, long *w, long *h) {
+    size_t i = 2;
+    while (i + 4 <= len) {
+        if (d[i] != 0xFF) return false;
+        uint8_t m = d[i + 1];
+        if (m == 0xFF) { i++; continue; }
+        if (m == 0x01 || (m >= 0xD0 && m <= 0xD7)) { i += 2; continue; }
+        size_t seg = (size_t)(d[i + 2] << 8 | d[i + 3]);
+        if (m >= 0xC0 && m <= 0xCF && m != 0xC4 && m != 0xC8 && m != 0xCC) {
+            if (i + 9 > len) return false;
+            *h = d[i + 5] << 8 | d[i + 6];
+            *w = d[i + 7] << 8 | d[i + 8];
+            return true;
+        }
+        if (seg < 2) return false;
+        i += 2 + seg;
+    }
+    return false;
+}
+
 bool ras_image_peek_size(const uint8_t *d, size_t len, long *w, long *h) {
     if (len >= 24 && !memcmp(d, "\x89PNG\r\n\x1a\n", 8) && !memcmp(d + 12, "IHDR", 4)) {
         *w = (long)be32(d + 16);
@@ -255,113 +364,25 @@ bool ras_image_peek_size(const uint8_t *d, size_t len, long *w, long *h) {
         return pnm_size(d, len, w, h);
     if (len >= 3 && d[0] == 'P' && d[1] == '7') /* PAM: WIDTH and HEIGHT lines */
         return text_field(d, len, "\nWIDTH ", w) && text_field(d, len, "\nHEIGHT ", h);
-    if (len >= 10 && (!memcmp(d, "#?RADIANCE", 10) || !memcmp(d, "#?RGBE", 6))) {
-        /* Radiance HDR: after the header's blank line, "-Y H +X W" (or a variant). */
-        const uint8_t *end = d + (len < 65536 ? len : 65536);
-        for (const uint8_t *q = d; q + 2 < end; q++)
-            if (q[0] == '\n' && q[1] == '\n') {
-                char line[64];
-                size_t n = 0;
-                for (q += 2; q < end && *q != '\n' && n + 1 < sizeof line; q++) line[n++] = (char)*q;
-                line[n] = '\0';
-                char a[3], b[3];
-                long v1, v2;
-                if (sscanf(line, "%2s %ld %2s %ld", a, &v1, b, &v2) != 4) return false;
-                bool y_first = a[1] == 'Y';
-                *h = y_first ? v1 : v2;
-                *w = y_first ? v2 : v1;
-                return true;
-            }
-        return false;
-    }
+    if (len >= 10 && (!memcmp(d, "#?RADIANCE", 10) || !memcmp(d, "#?RGBE", 6)))
+        return radiance_size(d, len, w, h);
     if (len >= 24 && d[0] == 0xFF && d[1] == 0x4F && d[2] == 0xFF && d[3] == 0x51) {
         /* JPEG 2000 codestream: the SIZ segment, image size minus its offset. */
         *w = (long)be32(d + 8) - (long)be32(d + 16);
         *h = (long)be32(d + 12) - (long)be32(d + 20);
         return true;
     }
-    if (len >= 8 && le32(d) == 0x01312f76u) { /* OpenEXR: the dataWindow attribute */
-        static const char key[] = "dataWindow\0box2i\0";
-        for (size_t i = 8; i + sizeof key - 1 + 20 <= len && i < 65536; i++)
-            if (!memcmp(d + i, key, sizeof key - 1)) {
-                const uint8_t *b = d + i + sizeof key - 1 + 4; /* after the size */
-                *w = (long)(int32_t)le32(b + 8) - (long)(int32_t)le32(b) + 1;
-                *h = (long)(int32_t)le32(b + 12) - (long)(int32_t)le32(b + 4) + 1;
-                return true;
-            }
-        return false;
-    }
-    if (len >= 30 && !memcmp(d, "RIFF", 4) && !memcmp(d + 8, "WEBP", 4)) {
-        if (!memcmp(d + 12, "VP8 ", 4)) {
-            *w = (d[26] | d[27] << 8) & 0x3fff;
-            *h = (d[28] | d[29] << 8) & 0x3fff;
-            return true;
-        }
-        if (!memcmp(d + 12, "VP8L", 4)) {
-            uint32_t b = le32(d + 21);
-            *w = (long)(b & 0x3fff) + 1;
-            *h = (long)((b >> 14) & 0x3fff) + 1;
-            return true;
-        }
-        if (!memcmp(d + 12, "VP8X", 4)) {
-            *w = (long)(d[24] | d[25] << 8 | d[26] << 16) + 1;
-            *h = (long)(d[27] | d[28] << 8 | d[29] << 16) + 1;
-            return true;
-        }
-        return false;
-    }
-    if (len >= 8 && (!memcmp(d, "II*\0", 4) || !memcmp(d, "MM\0*", 4))) { /* TIFF, first IFD */
-        bool le = d[0] == 'I';
-        uint32_t off = le ? le32(d + 4) : be32(d + 4);
-        if ((size_t)off + 2 > len) return false;
-        unsigned n = le ? (unsigned)(d[off] | d[off + 1] << 8) : (unsigned)(d[off] << 8 | d[off + 1]);
-        long got[2] = {-1, -1};
-        for (unsigned k = 0; k < n && (size_t)off + 2 + 12 * (k + 1) <= len; k++) {
-            const uint8_t *e = d + off + 2 + 12 * k;
-            unsigned tag = le ? (unsigned)(e[0] | e[1] << 8) : (unsigned)(e[0] << 8 | e[1]);
-            unsigned type = le ? (unsigned)(e[2] | e[3] << 8) : (unsigned)(e[2] << 8 | e[3]);
-            if (tag != 256 && tag != 257) continue;
-            long v = type == 3 ? (le ? (long)(e[8] | e[9] << 8) : (long)(e[8] << 8 | e[9]))
-                               : (long)(le ? le32(e + 8) : be32(e + 8));
-            got[tag - 256] = v;
-        }
-        if (got[0] < 0 || got[1] < 0) return false;
-        *w = got[0];
-        *h = got[1];
-        return true;
-    }
+    if (len >= 8 && le32(d) == 0x01312f76u) return exr_size(d, len, w, h);
+    if (len >= 30 && !memcmp(d, "RIFF", 4) && !memcmp(d + 8, "WEBP", 4)) return webp_size(d, w, h);
+    if (len >= 8 && (!memcmp(d, "II*\0", 4) || !memcmp(d, "MM\0*", 4))) /* TIFF */
+        return tiff_size(d, len, w, h);
     if (len >= 12 && be32(d) == 0x59a66a95u) { /* Sun raster */
         *w = (long)be32(d + 4);
         *h = (long)be32(d + 8);
         return true;
     }
-    if (len >= 48 && !memcmp(d, "\0\0\0\x0cjP  \r\n\x87\n", 12)) { /* JPEG 2000: the ihdr box */
-        for (size_t i = 12; i + 16 <= len && i < 4096; i++)
-            if (!memcmp(d + i, "ihdr", 4)) {
-                *h = (long)be32(d + i + 4);
-                *w = (long)be32(d + i + 8);
-                return true;
-            }
-        return false;
-    }
-    if (len >= 4 && d[0] == 0xFF && d[1] == 0xD8) { /* JPEG: walk the markers to a SOFn */
-        size_t i = 2;
-        while (i + 4 <= len) {
-            if (d[i] != 0xFF) return false;
-            uint8_t m = d[i + 1];
-            if (m == 0xFF) { i++; continue; }
-            if (m == 0x01 || (m >= 0xD0 && m <= 0xD7)) { i += 2; continue; }
-            size_t seg = (size_t)(d[i + 2] << 8 | d[i + 3]);
-            if (m >= 0xC0 && m <= 0xCF && m != 0xC4 && m != 0xC8 && m != 0xCC) {
-                if (i + 9 > len) return false;
-                *h = d[i + 5] << 8 | d[i + 6];
-                *w = d[i + 7] << 8 | d[i + 8];
-                return true;
-            }
-            if (seg < 2) return false;
-            i += 2 + seg;
-        }
-    }
+    if (len >= 48 && !memcmp(d, "\0\0\0\x0cjP  \r\n\x87\n", 12)) return jp2_size(d, len, w, h);
+    if (len >= 4 && d[0] == 0xFF && d[1] == 0xD8) return jpeg_size(d, len, w, h);
     return false;
 }
 

@@ -77,12 +77,17 @@ typedef struct fast_tri {
      * position xyz and uv — copies of t's floats, in t's vertex order. */
     _Alignas(16) float w3[4];
     _Alignas(16) float attr[3][8];
-    ras_triangle t; /* the whole triangle: the scalar shaders' */
+    /* the rest of ras_triangle: screen x, y (trilinear's gradients) and
+     * depth z, clip w; hw3 interpolates no vertex colour */
+    vec4s v[3];
 } fast_tri;
 
-static int64_t floor_div(int64_t a, int64_t b) { /* b > 0 */
-    int64_t q = a / b;
-    return (a % b != 0 && a < 0) ? q - 1 : q;
+/* floor(a / 256) for a sub-pixel coordinate (|a| <= 2^28 within the
+ * fixed-point limit): shifted while offset to a positive value, where >> is
+ * exact floor division (on a negative value C leaves it to the compiler). */
+static inline int64_t floor_px(int64_t a) {
+    const int64_t offset = (int64_t)1 << 40; /* a multiple of 256 */
+    return ((a + offset) >> SUBPIXEL_BITS) - (offset >> SUBPIXEL_BITS);
 }
 
 static int clamp_int(int64_t v, int lo, int hi) { return v < lo ? lo : v > hi ? hi : (int)v; }
@@ -97,7 +102,8 @@ static bool is_top_left(int64_t dx, int64_t dy) { return dy < 0 || (dy == 0 && d
 static inline int64_t round_half_away(double x) {
     int64_t t = (int64_t)x;
     double frac = x - (double)t;
-    return frac >= 0.5 ? t + 1 : frac <= -0.5 ? t - 1 : t;
+    /* without branches: which way a fraction goes is a coin toss */
+    return t + (int64_t)(frac >= 0.5) - (int64_t)(frac <= -0.5);
 }
 
 /* The reference rasterizer's setup_fixed, into a record. False: degenerate.
@@ -105,8 +111,8 @@ static inline int64_t round_half_away(double x) {
 static bool setup_fixed(fast_tri *r, int width, int height) {
     int64_t X[3], Y[3];
     for (int i = 0; i < 3; i++) {
-        X[i] = round_half_away((double)r->t.v[i].x * SUBPIXEL_ONE);
-        Y[i] = round_half_away((double)r->t.v[i].y * SUBPIXEL_ONE);
+        X[i] = round_half_away((double)r->v[i].x * SUBPIXEL_ONE);
+        Y[i] = round_half_away((double)r->v[i].y * SUBPIXEL_ONE);
     }
     int64_t area2 = (X[1] - X[0]) * (Y[2] - Y[0]) - (X[2] - X[0]) * (Y[1] - Y[0]);
     if (area2 == 0) return false;
@@ -130,12 +136,12 @@ static bool setup_fixed(fast_tri *r, int width, int height) {
         miny = Y[i] < miny ? Y[i] : miny;
         maxy = Y[i] > maxy ? Y[i] : maxy;
     }
-    r->x0 = clamp_int(floor_div(minx, SUBPIXEL_ONE), 0, width - 1);
-    r->x1 = clamp_int(floor_div(maxx, SUBPIXEL_ONE), 0, width - 1);
-    r->y0 = clamp_int(floor_div(miny, SUBPIXEL_ONE), 0, height - 1);
-    r->y1 = clamp_int(floor_div(maxy, SUBPIXEL_ONE), 0, height - 1);
-    if (floor_div(maxx, SUBPIXEL_ONE) < 0 || floor_div(minx, SUBPIXEL_ONE) >= width ||
-        floor_div(maxy, SUBPIXEL_ONE) < 0 || floor_div(miny, SUBPIXEL_ONE) >= height)
+    r->x0 = clamp_int(floor_px(minx), 0, width - 1);
+    r->x1 = clamp_int(floor_px(maxx), 0, width - 1);
+    r->y0 = clamp_int(floor_px(miny), 0, height - 1);
+    r->y1 = clamp_int(floor_px(maxy), 0, height - 1);
+    if (floor_px(maxx) < 0 || floor_px(minx) >= width ||
+        floor_px(maxy) < 0 || floor_px(miny) >= height)
         r->x1 = r->x0 - 1;
     return true;
 }
@@ -145,9 +151,15 @@ typedef struct tri_list {
     size_t count, capacity;
 } tri_list;
 
+/* ras_pipeline.c's clip_vertex_finite (ras_vec4_finite(p_clip) &&
+ * ras_vec3_finite(color) && ...): its fifteen isfinite in one expression,
+ * without a call and a branch each. */
 static bool clip_vertex_finite(const ras_clip_vertex *v) {
-    return ras_vec4_finite(v->p_clip) && ras_vec3_finite(v->color) &&
-           ras_vec3_finite(v->normal) && ras_vec2_finite(v->uv) && ras_vec3_finite(v->view_pos);
+    const vec4s p = v->p_clip;
+    const vec3s c = v->color, n = v->normal, q = v->view_pos;
+    return isfinite(p.x) & isfinite(p.y) & isfinite(p.z) & isfinite(p.w) & isfinite(c.x) &
+           isfinite(c.y) & isfinite(c.z) & isfinite(n.x) & isfinite(n.y) & isfinite(n.z) &
+           isfinite(v->uv.x) & isfinite(v->uv.y) & isfinite(q.x) & isfinite(q.y) & isfinite(q.z);
 }
 
 /* ras_pipeline_draw_clip_triangle + the reference rasterizer's prologue, with
@@ -193,31 +205,32 @@ static bool setup_triangle(tri_list *L, const ras_clip_vertex *a, const ras_clip
             L->capacity = cap;
         }
         fast_tri *r = &L->tri[L->count];
+        /* the corners' screen position and varyings: poly is a, b, c
+         * unless clipped */
+        const vec4s *pos[3];
+        const ras_clip_vertex *in[3] = {a, b, c};
+        ras_triangle t;
         bool set;
         if (cr == RAS_CLIP_INSIDE) {
-            /* poly is a, b, c: ras_setup_triangle's viewport per corner, and
-             * its finiteness test (the varyings passed VERTEX_FINITE) */
-            const ras_clip_vertex *in[3] = {a, b, c};
-            for (int v = 0; v < 3; v++) {
-                r->t.v[v] = *screen[v];
-                r->t.color[v] = in[v]->color;
-                r->t.normal[v] = in[v]->normal;
-                r->t.uv[v] = in[v]->uv;
-                r->t.view_pos[v] = in[v]->view_pos;
-            }
+            /* ras_setup_triangle's viewport per corner, and its finiteness
+             * test (the varyings passed VERTEX_FINITE) */
+            for (int v = 0; v < 3; v++) pos[v] = screen[v];
             set = flags[0] & flags[1] & flags[2] & SCREEN_FINITE;
         } else {
-            set = ras_setup_triangle(&poly[0], &poly[i], &poly[i + 1], width, height, &r->t);
+            set = ras_setup_triangle(&poly[0], &poly[i], &poly[i + 1], width, height, &t);
+            in[0] = &poly[0], in[1] = &poly[i], in[2] = &poly[i + 1];
+            for (int v = 0; v < 3; v++) pos[v] = &t.v[v];
         }
         if (!set) {
             k->triangles_rejected_nonfinite++;
             continue;
         }
         k->triangles_rasterized++; /* hw3 draws with RAS_CULL_NONE */
+        for (int v = 0; v < 3; v++) r->v[v] = *pos[v];
         bool in_range = true;
         for (int v = 0; v < 3; v++)
-            in_range = in_range && fabsf(r->t.v[v].x) <= FIXED_LIMIT_PX &&
-                       fabsf(r->t.v[v].y) <= FIXED_LIMIT_PX;
+            in_range = in_range && fabsf(r->v[v].x) <= FIXED_LIMIT_PX &&
+                       fabsf(r->v[v].y) <= FIXED_LIMIT_PX;
         /* The guard band (stage2_clip.h) keeps screen coordinates within 9
          * viewports, so the reference never leaves its fixed-point path here. */
         if (!in_range) continue;
@@ -228,12 +241,14 @@ static bool setup_triangle(tri_list *L, const ras_clip_vertex *a, const ras_clip
         if (r->x1 < r->x0) continue; /* off screen: nothing tested */
         r->object = object;
         for (int v = 0; v < 3; v++) {
-            r->w3[v] = r->t.v[v].w;
-            r->z[v] = r->t.v[v].z;
+            r->w3[v] = r->v[v].w;
+            r->z[v] = r->v[v].z;
+            /* ras_setup_triangle copies the varyings as they are */
             float *a = r->attr[v];
-            a[0] = r->t.normal[v].x, a[1] = r->t.normal[v].y, a[2] = r->t.normal[v].z;
-            a[3] = r->t.view_pos[v].x, a[4] = r->t.view_pos[v].y, a[5] = r->t.view_pos[v].z;
-            a[6] = r->t.uv[v].x, a[7] = r->t.uv[v].y;
+            const ras_clip_vertex *c = in[v];
+            a[0] = c->normal.x, a[1] = c->normal.y, a[2] = c->normal.z;
+            a[3] = c->view_pos.x, a[4] = c->view_pos.y, a[5] = c->view_pos.z;
+            a[6] = c->uv.x, a[7] = c->uv.y;
         }
         r->w3[3] = 0.0f;
         L->count++;
@@ -282,6 +297,10 @@ typedef struct frame {
     double t_setup;     /* when setup ended (ms_vertex) */
     ras_image *out;
     int batch; /* BATCH_*: shade through the queue, four at a time */
+    /* One sample per pixel and a batched shader: a fragment that passes the
+     * depth test is recorded at its pixel (frags[base]), replacing the one
+     * it hides, instead of appended (see shade_deferred). */
+    bool per_pixel;
 } frame;
 
 /* A visible fragment waiting to be shaded: its colour goes to the tile
@@ -299,7 +318,7 @@ _Static_assert(offsetof(queued, pad) == offsetof(queued, bary) + 3 * sizeof(floa
                "queued.pad must follow bary");
 
 #define QUEUE 8
-#define DEPTH_PAD 8 /* floats past a tile's depth samples */
+#define DEPTH_PAD 8 /* floats past a tile's depth samples (one is used) */
 
 typedef struct worker {
     frame *fr;
@@ -323,25 +342,35 @@ typedef struct worker {
      * depend on the object's material and textures, not on the fragment). */
     ras_counters per_fragment[FAST_MAX_OBJECTS];
     bool per_fragment_known[FAST_MAX_OBJECTS];
+    /* Batched shaders: per object, the fragments that passed a depth test
+     * but were hidden by the end of their tile, counted as shaded (not
+     * shaded) when the worker is done. per_pixel mode adds every pass and
+     * takes back the ones still visible. */
+    int64_t hidden[FAST_MAX_OBJECTS];
 } worker;
 
-/* perspective_correct_barycentric (solution/shading.c), inlined. */
-static inline vec3s persp_bary(const ras_triangle *t, vec3s bs) {
-    vec3s b = {{bs.x / t->v[0].w, bs.y / t->v[1].w, bs.z / t->v[2].w}};
+/* perspective_correct_barycentric (solution/shading.c), inlined; w: the
+ * corners' clip w. */
+static inline vec3s persp_bary(const float w[3], vec3s bs) {
+    vec3s b = {{bs.x / w[0], bs.y / w[1], bs.z / w[2]}};
     float sum = b.x + b.y + b.z;
     if (!(sum > 0.0f) || !isfinite(sum)) return bs;
     return glms_vec3_scale(b, 1.0f / sum);
 }
 
-static inline vec3s interp3(vec3s b, const vec3s attr[3]) {
-    vec3s r = glms_vec3_scale(attr[0], b.x);
-    r = glms_vec3_muladds(attr[1], b.y, r);
-    return glms_vec3_muladds(attr[2], b.z, r);
+/* The reference's interpolation of a varying (a0·b.x + a1·b.y + a2·b.z per
+ * component, in that order: glms_vec3_scale then two glms_vec3_muladds, or
+ * the same sums written out) from the record's packed varyings, float `at`
+ * on (0 normal, 3 view position, 6 uv). */
+static inline vec3s interp3(vec3s b, const float attr[3][8], int at) {
+    vec3s r;
+    for (int c = 0; c < 3; c++)
+        r.raw[c] = attr[0][at + c] * b.x + attr[1][at + c] * b.y + attr[2][at + c] * b.z;
+    return r;
 }
-
-static inline vec2s interp2(vec3s b, const vec2s attr[3]) {
-    return (vec2s){{attr[0].x * b.x + attr[1].x * b.y + attr[2].x * b.z,
-                    attr[0].y * b.x + attr[1].y * b.y + attr[2].y * b.z}};
+static inline vec2s interp2(vec3s b, const float attr[3][8], int at) {
+    return (vec2s){{attr[0][at] * b.x + attr[1][at] * b.y + attr[2][at] * b.z,
+                    attr[0][at + 1] * b.x + attr[1][at + 1] * b.y + attr[2][at + 1] * b.z}};
 }
 
 /* powf(x, p) is +0 for 0 <= x <= spec_zero_of(p): x <= 2^(-151/p) (rounded
@@ -388,27 +417,27 @@ static vec3s fast_blinn_phong(const fragment_shader_payload *payload, vec3s kd, 
 
 static vec3s shade(worker *w, const fast_tri *r, vec3s bary) {
     const frame *fr = w->fr;
-    const ras_triangle *t = &r->t;
     fragment_shader_payload *pay = &w->pay[r->object];
     bool persp = fr->stage->perspective;
     unsigned vary = fr->varyings;
-    vec3s b = persp ? persp_bary(t, bary) : bary;
-    if (vary & RAS_VARYING_NORMAL) pay->normal = glms_vec3_normalize(interp3(b, t->normal));
-    if (vary & RAS_VARYING_VIEW_POS) pay->view_pos = interp3(b, t->view_pos);
+    vec3s b = persp ? persp_bary(r->w3, bary) : bary;
+    if (vary & RAS_VARYING_NORMAL) pay->normal = glms_vec3_normalize(interp3(b, r->attr, 0));
+    if (vary & RAS_VARYING_VIEW_POS) pay->view_pos = interp3(b, r->attr, 3);
     if (vary & RAS_VARYING_UV) {
-        pay->uv = interp2(b, t->uv);
+        pay->uv = interp2(b, r->attr, 6);
         if (pay->filter == FILTER_TRILINEAR) {
             /* scene.c's bary_gradients and finite difference */
-            float area2 = ras_triangle_area2(t);
+            const vec4s *v = r->v;
+            float area2 = (v[1].x - v[0].x) * (v[2].y - v[0].y) -
+                          (v[2].x - v[0].x) * (v[1].y - v[0].y); /* ras_triangle_area2 */
             float inv = area2 != 0.0f ? 1.0f / area2 : 0.0f;
-            const vec4s *v = t->v;
             vec3s d_dx = {{-(v[2].y - v[1].y) * inv, -(v[0].y - v[2].y) * inv,
                            -(v[1].y - v[0].y) * inv}};
             vec3s d_dy = {{(v[2].x - v[1].x) * inv, (v[0].x - v[2].x) * inv,
                            (v[1].x - v[0].x) * inv}};
             vec3s bx = glms_vec3_add(bary, d_dx), by = glms_vec3_add(bary, d_dy);
-            vec2s uv_x = interp2(persp ? persp_bary(t, bx) : bx, t->uv);
-            vec2s uv_y = interp2(persp ? persp_bary(t, by) : by, t->uv);
+            vec2s uv_x = interp2(persp ? persp_bary(r->w3, bx) : bx, r->attr, 6);
+            vec2s uv_y = interp2(persp ? persp_bary(r->w3, by) : by, r->attr, 6);
             pay->duv_dx = glms_vec2_sub(uv_x, pay->uv);
             pay->duv_dy = glms_vec2_sub(uv_y, pay->uv);
         }
@@ -681,21 +710,11 @@ typedef struct lanes4 {
     vf4 diffuse[HW3_MAX_LIGHTS], specular[HW3_MAX_LIGHTS];
 } lanes4;
 
-/* Everything up to the colour map: the weights, the varyings and, per light,
- * the terms that do not involve kd. Then the texels the lookups will read are
- * prefetched, and shade_finish (called after the other half-queue's prepare)
- * finds them in cache. */
-static void shade_prepare(worker *w, const queued *const *q, int lanes, lanes4 *S) {
-    const frame *fr = w->fr;
-    const fragment_shader_payload *pay = &w->pay[q[0]->r->object];
-    S->q = q;
-    S->lanes = lanes;
-    /* gather: four fragments' screen barycentrics and corner w, one record
-     * per vector, transposed into one vector per field (unused lanes repeat
-     * lane 0) */
-    const queued *e[4];
-    for (int i = 0; i < 4; i++)
-        e[i] = q[i < lanes ? i : 0];
+/* The gather: four fragments' screen barycentrics and corner w, one record
+ * per vector, transposed into one vector per field (unused lanes repeat lane
+ * 0, as e[] does), then persp_bary in lanes. */
+static inline __attribute__((always_inline)) v3x4 weights_x4(const frame *fr,
+                                                             const queued *const e[4]) {
     v3x4 bs, wv;
     vf4 pad;
     bs.x = vf4_load(&e[0]->bary.x), bs.y = vf4_load(&e[1]->bary.x);
@@ -704,22 +723,21 @@ static void shade_prepare(worker *w, const queued *const *q, int lanes, lanes4 *
     wv.x = vf4_load(e[0]->r->w3), wv.y = vf4_load(e[1]->r->w3);
     wv.z = vf4_load(e[2]->r->w3), pad = vf4_load(e[3]->r->w3);
     vf4_transpose(&wv.x, &wv.y, &wv.z, &pad);
-    vi4 odd = {0, 0, 0, 0};
-    /* persp_bary */
-    v3x4 b = bs;
-    if (fr->stage->perspective) {
-        v3x4 p = {bs.x / wv.x, bs.y / wv.y, bs.z / wv.z};
-        vf4 sum = p.x + p.y + p.z;
-        vi4 ok = (sum > vf4_splat(0.0f)) & (sum <= vf4_splat(FLT_MAX)); /* > 0 and finite */
-        v3x4 s = v3_scale(p, vf4_splat(1.0f) / sum);
-        b = (v3x4){vf4_select(ok, s.x, bs.x), vf4_select(ok, s.y, bs.y), vf4_select(ok, s.z, bs.z)};
-    }
-    /* The varyings, one fragment per vector: lane j of lo/hi is varying j
-     * (normal xyz, view position x | view position yz, uv), interpolated as
-     * a0·b.x + a1·b.y + a2·b.z — interp3's and interp2's operations in
-     * their order — then transposed to one vector per varying. */
-    vf4 lo[4], hi[4];
-    bool want_hi = fr->batch != BATCH_NORMAL;
+    if (!fr->stage->perspective) return bs;
+    v3x4 p = {bs.x / wv.x, bs.y / wv.y, bs.z / wv.z};
+    vf4 sum = p.x + p.y + p.z;
+    vi4 ok = (sum > vf4_splat(0.0f)) & (sum <= vf4_splat(FLT_MAX)); /* > 0 and finite */
+    v3x4 s = v3_scale(p, vf4_splat(1.0f) / sum);
+    return (v3x4){vf4_select(ok, s.x, bs.x), vf4_select(ok, s.y, bs.y), vf4_select(ok, s.z, bs.z)};
+}
+
+/* The varyings, one fragment per vector: lane j of lo/hi is varying j
+ * (normal xyz, view position x | view position yz, uv), interpolated as
+ * a0·b.x + a1·b.y + a2·b.z — interp3's and interp2's operations in their
+ * order — then transposed to one vector per varying. hi only with want_hi
+ * (the Normal shader reads the normal alone). */
+static inline __attribute__((always_inline)) void
+varyings_x4(const queued *const e[4], v3x4 b, bool want_hi, vf4 lo[4], vf4 hi[4]) {
     for (int i = 0; i < 4; i++) {
         const float(*a)[8] = e[i]->r->attr;
         vf4 bx = vf4_splat(b.x[i]), by = vf4_splat(b.y[i]), bz = vf4_splat(b.z[i]);
@@ -734,57 +752,26 @@ static void shade_prepare(worker *w, const queued *const *q, int lanes, lanes4 *
     }
     vf4_transpose(&lo[0], &lo[1], &lo[2], &lo[3]);
     if (want_hi) vf4_transpose(&hi[0], &hi[1], &hi[2], &hi[3]);
-    S->b = b;
-    v3x4 normal = v3_normalize((v3x4){lo[0], lo[1], lo[2]}, &odd); /* payload->normal */
-    for (int i = 0; i < lanes; i++) {
-        w->k.varyings_interpolated += fr->varyings_per_fragment;
-        w->k.fragments_shaded++;
-    }
-    if (fr->batch == BATCH_NORMAL) {
-        /* normal_fragment_shader: (normalize(n) + 1) · 0.5 */
-        v3x4 n = v3_normalize(normal, &odd);
-        S->color = v3_scale(v3_add(n, v3_splat((vec3s){{1.0f, 1.0f, 1.0f}})), vf4_splat(0.5f));
-        S->odd = odd;
-        return;
-    }
-    v3x4 point = {lo[3], hi[0], hi[1]}; /* payload->view_pos */
-    S->u = hi[2];
-    S->v = hi[3];
-    if (fr->batch == BATCH_BUMP) {
-        /* bump_fragment_shader: (bump_normal + 1) · 0.5 */
-        vf4 h;
-        v3x4 n = bump_normal_x4(pay, normal, S->u, S->v, lanes, &odd, &h);
-        count_heights(pay, 3, (uint64_t)lanes);
-        S->color = v3_scale(v3_add(n, v3_splat((vec3s){{1.0f, 1.0f, 1.0f}})), vf4_splat(0.5f));
-        S->odd = odd;
-        return;
-    }
-    if (fr->batch == BATCH_DISPLACEMENT) {
-        /* displacement_fragment_shader: the point p + n·(kn·h), then
-         * Blinn-Phong with bump_normal's normal (below) */
-        vf4 h;
-        v3x4 bumped = bump_normal_x4(pay, normal, S->u, S->v, lanes, &odd, &h);
-        count_heights(pay, 4, (uint64_t)lanes);
-        v3x4 n = v3_normalize(normal, &odd);
-        vf4 s = vf4_splat(pay->kn) * h;
-        point = (v3x4){point.x + n.x * s, point.y + n.y * s, point.z + n.z * s};
-        normal = bumped;
-    }
-    /* fast_blinn_phong, up to kd */
+}
+
+/* fast_blinn_phong up to kd, in lanes: per light, I/r², max(0, n·l) and the
+ * specular power (powf lane by lane, only where it can be non-zero). */
+static inline __attribute__((always_inline)) void
+light_terms_x4(const fragment_shader_payload *pay, float spec_zero, int lanes, v3x4 normal,
+               v3x4 point, vi4 *odd, lanes4 *S) {
     if (pay->counters) {
         pay->counters->stages_run |= RAS_STAGE_LIGHTING;
         pay->counters->lighting_evaluations += (uint64_t)pay->light_count * (uint64_t)lanes;
     }
-    float spec_zero = fr->spec_zero[q[0]->r->object];
-    v3x4 n = v3_normalize(normal, &odd);
-    v3x4 v = v3_normalize((v3x4){-point.x, -point.y, -point.z}, &odd);
+    v3x4 n = v3_normalize(normal, odd);
+    v3x4 v = v3_normalize((v3x4){-point.x, -point.y, -point.z}, odd);
     vf4 zero = vf4_splat(0.0f);
     for (int li = 0; li < pay->light_count; li++) {
         const light *L = &pay->lights[li];
         v3x4 to_light = v3_sub(v3_splat(L->position), point);
         vf4 r2 = v3_dot(to_light, to_light);
-        v3x4 l = v3_normalize(to_light, &odd);
-        v3x4 h = v3_normalize(v3_add(l, v), &odd);
+        v3x4 l = v3_normalize(to_light, odd);
+        v3x4 h = v3_normalize(v3_add(l, v), odd);
         if (!memcmp(&L->intensity.x, &L->intensity.y, sizeof(float)) &&
             !memcmp(&L->intensity.x, &L->intensity.z, sizeof(float))) {
             /* a white light (the classic scene's): the three quotients have
@@ -804,6 +791,63 @@ static void shade_prepare(worker *w, const queued *const *q, int lanes, lanes4 *
                 if (lit[i]) specular[i] = powf(x[i], pay->p);
         S->specular[li] = specular;
     }
+}
+
+/* (n + 1) · 0.5: the Normal and bump shaders' colour */
+static inline v3x4 normal_colour_x4(v3x4 n) {
+    return v3_scale(v3_add(n, v3_splat((vec3s){{1.0f, 1.0f, 1.0f}})), vf4_splat(0.5f));
+}
+
+/* Everything up to the colour map: the weights, the varyings and, per light,
+ * the terms that do not involve kd. Then the texels the lookups will read are
+ * prefetched, and shade_finish (called after the other half-queue's prepare)
+ * finds them in cache. */
+static void shade_prepare(worker *w, const queued *const *q, int lanes, lanes4 *S) {
+    const frame *fr = w->fr;
+    const fragment_shader_payload *pay = &w->pay[q[0]->r->object];
+    S->q = q;
+    S->lanes = lanes;
+    const queued *e[4];
+    for (int i = 0; i < 4; i++)
+        e[i] = q[i < lanes ? i : 0];
+    v3x4 b = weights_x4(fr, e);
+    vf4 lo[4], hi[4];
+    varyings_x4(e, b, fr->batch != BATCH_NORMAL, lo, hi);
+    S->b = b;
+    vi4 odd = {0, 0, 0, 0};
+    v3x4 normal = v3_normalize((v3x4){lo[0], lo[1], lo[2]}, &odd); /* payload->normal */
+    w->k.varyings_interpolated += fr->varyings_per_fragment * (uint64_t)lanes;
+    w->k.fragments_shaded += (uint64_t)lanes;
+    if (fr->batch == BATCH_NORMAL) {
+        /* normal_fragment_shader: (normalize(n) + 1) · 0.5 */
+        S->color = normal_colour_x4(v3_normalize(normal, &odd));
+        S->odd = odd;
+        return;
+    }
+    v3x4 point = {lo[3], hi[0], hi[1]}; /* payload->view_pos */
+    S->u = hi[2];
+    S->v = hi[3];
+    if (fr->batch == BATCH_BUMP) {
+        /* bump_fragment_shader: (bump_normal + 1) · 0.5 */
+        vf4 h;
+        v3x4 n = bump_normal_x4(pay, normal, S->u, S->v, lanes, &odd, &h);
+        count_heights(pay, 3, (uint64_t)lanes);
+        S->color = normal_colour_x4(n);
+        S->odd = odd;
+        return;
+    }
+    if (fr->batch == BATCH_DISPLACEMENT) {
+        /* displacement_fragment_shader: the point p + n·(kn·h), then
+         * Blinn-Phong with bump_normal's normal (below) */
+        vf4 h;
+        v3x4 bumped = bump_normal_x4(pay, normal, S->u, S->v, lanes, &odd, &h);
+        count_heights(pay, 4, (uint64_t)lanes);
+        v3x4 n = v3_normalize(normal, &odd);
+        vf4 s = vf4_splat(pay->kn) * h;
+        point = (v3x4){point.x + n.x * s, point.y + n.y * s, point.z + n.z * s};
+        normal = bumped;
+    }
+    light_terms_x4(pay, fr->spec_zero[q[0]->r->object], lanes, normal, point, &odd, S);
     S->odd = odd;
     if (fr->batch == BATCH_TEXTURE && pay->texture) {
         /* the texels the lookups will read (nearest filtering reads one of
@@ -869,15 +913,22 @@ static void shade_finish(worker *w, lanes4 *S) {
             color = v3_add(color, v3_scale(v3_mul(ks, S->irradiance[li]), S->specular[li]));
         }
     }
+    unsigned odd = vi4_sign_bits(S->odd);
     for (int i = 0; i < lanes; i++) {
         vec3s c = {{color.x[i], color.y[i], color.z[i]}};
-        if (S->odd[i]) c = shade_silent(w, q[i]->r, q[i]->bary);
-        if (q[i]->mask == 0xF && fr->n == 4) { /* a whole pixel of 4x */
-            put4(&w->color[q[i]->base], c);
+        if (__builtin_expect(odd >> i & 1, 0)) c = shade_silent(w, q[i]->r, q[i]->bary);
+        vec3s *dst = &w->color[q[i]->base];
+        uint64_t mask = q[i]->mask;
+        if (mask == 1) { /* one sample: 1x, SSAA */
+            *dst = c;
             continue;
         }
-        for (uint64_t m = q[i]->mask; m; m &= m - 1)
-            w->color[q[i]->base + __builtin_ctzll(m)] = c;
+        if (mask == 0xF && fr->n == 4) { /* a whole pixel of 4x */
+            put4(dst, c);
+            continue;
+        }
+        for (; mask; mask &= mask - 1)
+            dst[__builtin_ctzll(mask)] = c;
     }
 }
 
@@ -903,6 +954,18 @@ static inline void queue_fragment(worker *w, const queued *f) {
     w->shaded++;
 }
 
+/* Fragment i owns the samples `mask` of tile sample index base; four
+ * samples in a row (a whole pixel of 4x, the common case) are one store. */
+static inline void set_owner(worker *w, int base, uint64_t mask, int32_t i) {
+    if (mask == 0xF) {
+        int32_t four[4] = {i, i, i, i};
+        memcpy(&w->owner[base], four, sizeof four);
+        return;
+    }
+    for (uint64_t m = mask; m; m &= m - 1)
+        w->owner[base + __builtin_ctzll(m)] = i;
+}
+
 /* A fragment that passed the depth test at the samples `mask` (of tile
  * sample index `base`), kept until the tile is drawn: only the samples it
  * still owns then take its colour (shade_deferred). */
@@ -912,7 +975,7 @@ static inline void defer_fragment(worker *w, const fast_tri *r, vec3s bary, int 
         size_t cap = 2 * w->frag_cap;
         /* owner indices are int32: past that (80 GB of fragments) the frame
          * fails like any other allocation */
-        queued *grown = cap <= INT32_MAX ? realloc(w->frags, cap * sizeof *grown) : NULL;
+        queued *grown = cap <= INT32_MAX ? realloc(w->frags, (cap + 1) * sizeof *grown) : NULL;
         if (!grown) { /* the frame fails with "out of memory" */
             atomic_store(&w->fr->failed, true);
             return;
@@ -922,27 +985,45 @@ static inline void defer_fragment(worker *w, const fast_tri *r, vec3s bary, int 
     }
     int32_t i = (int32_t)w->nfrag++;
     w->frags[i] = (queued){r, bary, 0.0f, base, r->object, mask};
-    for (uint64_t m = mask; m; m &= m - 1)
-        w->owner[base + __builtin_ctzll(m)] = i;
+    set_owner(w, base, mask, i);
 }
 
-/* What shading a fragment adds to the counters (shade_prepare, shade_finish,
- * texture_sample), for a fragment shade_deferred need not shade: the
- * counters stay the teaching pipeline's, which shades every fragment that
- * passes a depth test. */
-static void count_unshaded(worker *w, const queued *f) {
+/* defer_fragment for a pixel's one sample (n = 1; mask 1). In per_pixel mode
+ * the fragment is written at its pixel, over the one it hides (shade_pixels
+ * fills in the rest), and counted as hidden until shade_pixels finds it. */
+static inline void put_pixel(worker *w, const fast_tri *r, vec3s bary, int base) {
+    queued *f = &w->frags[base];
+    f->r = r;
+    f->bary = bary;
+    f->pad = 0.0f;
+}
+
+static inline void defer_pixel(worker *w, const fast_tri *r, vec3s bary, int base) {
+    if (!w->fr->per_pixel) {
+        defer_fragment(w, r, bary, base, 1);
+        return;
+    }
+    put_pixel(w, r, bary, base);
+    w->hidden[r->object]++;
+}
+
+/* What shading `count` fragments of object o adds to the counters
+ * (shade_prepare, shade_finish, texture_sample), for fragments
+ * shade_deferred need not shade: the counters stay the teaching pipeline's,
+ * which shades every fragment that passes a depth test. */
+static void count_unshaded(worker *w, int o, uint64_t count) {
     const frame *fr = w->fr;
-    const fragment_shader_payload *pay = &w->pay[f->r->object];
-    w->k.fragments_shaded++;
-    w->k.varyings_interpolated += fr->varyings_per_fragment;
-    if (fr->batch == BATCH_BUMP) count_heights(pay, 3, 1);
-    if (fr->batch == BATCH_DISPLACEMENT) count_heights(pay, 4, 1);
+    const fragment_shader_payload *pay = &w->pay[o];
+    w->k.fragments_shaded += count;
+    w->k.varyings_interpolated += fr->varyings_per_fragment * count;
+    if (fr->batch == BATCH_BUMP) count_heights(pay, 3, count);
+    if (fr->batch == BATCH_DISPLACEMENT) count_heights(pay, 4, count);
     if (fr->batch == BATCH_NORMAL || fr->batch == BATCH_BUMP || !pay->counters) return;
     pay->counters->stages_run |= RAS_STAGE_LIGHTING;
-    pay->counters->lighting_evaluations += (uint64_t)pay->light_count;
+    pay->counters->lighting_evaluations += (uint64_t)pay->light_count * count;
     if (fr->batch == BATCH_TEXTURE && pay->texture) {
         pay->counters->stages_run |= RAS_STAGE_TEXTURE;
-        pay->counters->texels_fetched += pay->filter == FILTER_BILINEAR ? 4 : 1;
+        pay->counters->texels_fetched += (pay->filter == FILTER_BILINEAR ? 4 : 1) * count;
     }
 }
 
@@ -990,6 +1071,34 @@ static void count_unshaded_scalar(worker *w, const queued *f) {
     w->k.lighting_evaluations += d->lighting_evaluations;
 }
 
+/* The end of a tile in per_pixel mode: frags[s] is the last fragment that
+ * passed the depth test at pixel s (written where the depth is below +inf),
+ * the one whose colour the immediate order leaves there. Each is shaded
+ * once; shading is a pure function of the fragment, so the order (here the
+ * pixels', not the drawing's) changes no colour. The ones they replaced are
+ * counted as shaded (hidden[]) when the worker is done. */
+static void shade_pixels(worker *w) {
+    const vf4 inf = vf4_splat(INFINITY);
+    _Static_assert(TILE == 64, "shade_pixels keeps a tile row in a 64-bit mask");
+    for (int row = 0; row < TILE * TILE; row += TILE) {
+        /* a row's 64 pixels into one mask first: one loop exit per row, not
+         * one per four pixels */
+        uint64_t drawn = 0;
+        for (int x = 0; x < TILE; x += 4)
+            drawn |= (uint64_t)vi4_sign_bits(vf4_load(&w->depth[row + x]) == inf) << x;
+        for (drawn = ~drawn; drawn; drawn &= drawn - 1) {
+            int s = row + __builtin_ctzll(drawn);
+            queued *f = &w->frags[s];
+            f->base = s;
+            f->object = f->r->object;
+            f->mask = 1;
+            w->hidden[f->object]--;
+            queue_fragment(w, f);
+        }
+    }
+    flush_queue(w);
+}
+
 /* The end of a tile: a sample's colour is that of the last fragment to pass
  * its depth test (strict <, in drawing order), so each sample's owner gives
  * it. Fragments that own no sample any more (hidden by later ones: about 40 %
@@ -997,6 +1106,10 @@ static void count_unshaded_scalar(worker *w, const queued *f) {
  * drawing order, for exactly the samples they own. Every colour is what the
  * immediate order would have left there, bit for bit. */
 static void shade_deferred(worker *w) {
+    if (w->fr->per_pixel) {
+        shade_pixels(w);
+        return;
+    }
     const int n = w->fr->n;
     const bool batch = w->fr->batch != BATCH_NONE;
     /* With one sample a fragment (mask 1) still owns its sample when it is
@@ -1029,7 +1142,7 @@ static void shade_deferred(worker *w) {
         if (batch && f->mask)
             queue_fragment(w, f);
         else if (batch)
-            count_unshaded(w, f);
+            w->hidden[f->object]++; /* counted when the worker is done */
         else if (f->mask)
             shade_scalar(w, f);
         else
@@ -1079,14 +1192,25 @@ static inline float ratio_to_float(int64_t e, const fast_tri *r) {
     uint64_t bits;
     memcpy(&bits, &q, sizeof bits);
     uint32_t low = (uint32_t)(bits & 0x1FFFFFFFu);
-    if (low - (0x10000000u - 8u) > 16u) return (float)q;
-    return (float)((double)e / (double)r->area2);
+    if (__builtin_expect(low - (0x10000000u - 8u) <= 16u, 0))
+        return (float)((double)e / (double)r->area2);
+    return (float)q;
 }
 
 static inline vec3s bary_of(const fast_tri *r, const int64_t e[3]) {
     float l0 = ratio_to_float(e[0], r);
     float l1 = ratio_to_float(e[1], r);
     float l2 = ratio_to_float(e[2], r);
+    return r->order[1] == 1 ? (vec3s){{l0, l1, l2}} : (vec3s){{l0, l2, l1}};
+}
+
+/* The reference's barycentrics, divided as it does: at 1x the divider
+ * runs beside the rest of a pixel's work. */
+static inline vec3s bary_div(const fast_tri *r, const int64_t e[3]) {
+    double a = (double)r->area2;
+    float l0 = (float)((double)e[0] / a);
+    float l1 = (float)((double)e[1] / a);
+    float l2 = (float)((double)e[2] / a);
     return r->order[1] == 1 ? (vec3s){{l0, l1, l2}} : (vec3s){{l0, l2, l1}};
 }
 
@@ -1128,8 +1252,7 @@ static inline void defer_fragment_v(worker *w, const fast_tri *r, vf4 bv, int ba
     f->base = base;
     f->object = r->object;
     f->mask = mask;
-    for (uint64_t m = mask; m; m &= m - 1)
-        w->owner[base + __builtin_ctzll(m)] = i;
+    set_owner(w, base, mask, i);
 }
 
 #if defined(__SSE2__)
@@ -1137,9 +1260,10 @@ static inline void defer_fragment_v(worker *w, const fast_tri *r, vf4 bv, int ba
 /* ratio_to_float for four points at once: e (int32 lanes, exact: every
  * caller's values fit) to double, times RN(1/area2), to float — the scalar
  * steps lane by lane (cvtdq2pd, mulpd, cvtpd2ps round like cvtsi2sd, mulsd,
- * cvtsd2ss). Returns the lanes whose product lies within 8 of a float
- * rounding boundary (ratio_to_float divides there): the caller redoes them. */
-static inline unsigned ratios_x4(vi4 e, __m128d inv, vf4 *out) {
+ * cvtsd2ss). Returns the lanes (all ones) whose product lies within 8 of a
+ * float rounding boundary (ratio_to_float divides there): the caller redoes
+ * them. */
+static inline vi4 ratios_x4(vi4 e, __m128d inv, vf4 *out) {
     __m128i ei = (__m128i)e;
     __m128d qlo = _mm_mul_pd(_mm_cvtepi32_pd(ei), inv);
     __m128d qhi = _mm_mul_pd(_mm_cvtepi32_pd(_mm_shuffle_epi32(ei, _MM_SHUFFLE(3, 2, 3, 2))), inv);
@@ -1150,7 +1274,8 @@ static inline unsigned ratios_x4(vi4 e, __m128d inv, vf4 *out) {
     __m128i vhi = _mm_sub_epi32(_mm_and_si128(_mm_castpd_si128(qhi), m), c);
     vi4 v = (vi4)_mm_castps_si128(_mm_shuffle_ps(_mm_castsi128_ps(vlo), _mm_castsi128_ps(vhi),
                                                  _MM_SHUFFLE(2, 0, 2, 0)));
-    return vi4_sign_bits((v > -1) & (v < 17)); /* (uint32)(low29 − …) <= 16 */
+    /* (uint32)(low29 − …) <= 16, as a signed compare with the sign flipped */
+    return (v ^ INT32_MIN) < INT32_MIN + 17;
 }
 
 /* bary_of and depth_of for four points (lanes) whose edge values E are e[k]:
@@ -1159,23 +1284,16 @@ static inline unsigned ratios_x4(vi4 e, __m128d inv, vf4 *out) {
 static inline unsigned bary_depth_x4(const fast_tri *r, const vi4 e[3], v3x4 *b, vf4 *z) {
     __m128d inv = _mm_set1_pd(r->inv_area2);
     vf4 l0, l1, l2;
-    unsigned near = ratios_x4(e[0], inv, &l0);
+    vi4 near = ratios_x4(e[0], inv, &l0);
     near |= ratios_x4(e[1], inv, &l1);
     near |= ratios_x4(e[2], inv, &l2);
     *b = r->order[1] == 1 ? (v3x4){l0, l1, l2} : (v3x4){l0, l2, l1};
     *z = b->x * vf4_splat(r->z[0]) + b->y * vf4_splat(r->z[1]) + b->z * vf4_splat(r->z[2]);
-    return near;
+    return vi4_sign_bits(near);
 }
 
-/* bits set in a 4-bit mask (no popcnt instruction in the x86-64 baseline:
- * __builtin_popcount calls libgcc) */
-static inline int popcount4(unsigned m) { return (int)(0x4332322132212110ull >> (4 * m) & 0xF); }
-
-/* lane i all ones where bit i of m is set */
-static inline vi4 lanes_of(unsigned m) {
-    vi4 bits = {1, 2, 4, 8};
-    return (bits & (vi4){(int)m, (int)m, (int)m, (int)m}) != 0;
-}
+#else
+#define BARY_X4 0
 #endif
 
 static inline __attribute__((always_inline)) void
@@ -1203,7 +1321,10 @@ draw_pixel_samples(worker *w, const fast_tri *r, int x, int y, int tx0, int ty0,
     if (fr->ssaa) {
         for (int k = 0; k < n; k++) {
             if (!(visible >> k & 1)) continue;
-            defer_fragment(w, r, bary[k], base + k, 1);
+            if (n == 1)
+                defer_pixel(w, r, bary[k], base + k);
+            else
+                defer_fragment(w, r, bary[k], base + k, 1);
         }
         return;
     }
@@ -1227,7 +1348,10 @@ draw_pixel_samples(worker *w, const fast_tri *r, int x, int y, int tx0, int ty0,
         }
         bc = bary[best];
     }
-    defer_fragment(w, r, bc, base, visible);
+    if (n == 1)
+        defer_pixel(w, r, bc, base);
+    else
+        defer_fragment(w, r, bc, base, visible);
 }
 
 #if BARY_X4
@@ -1238,7 +1362,7 @@ draw_pixel_samples(worker *w, const fast_tri *r, int x, int y, int tx0, int ty0,
  * depths at once, then draw_pixel_samples' choice of the shading point. */
 static inline __attribute__((always_inline)) void
 draw_pixel4_v(worker *w, const fast_tri *r, int x, int y, int tx0, int ty0, const vi4 ev[3],
-              const vi4 thrv[3], unsigned covered, const int64_t ec[10]) {
+              const vi4 thrv[3], vi4 covv, unsigned covered, const int64_t dcen[3], vi4 *counts) {
     const frame *fr = w->fr;
     int base = ((y - ty0) * TILE + (x - tx0)) * 4;
     vi4 E[3] = {ev[0] + thrv[0], ev[1] + thrv[1], ev[2] + thrv[2]};
@@ -1254,11 +1378,11 @@ draw_pixel4_v(worker *w, const fast_tri *r, int x, int y, int tx0, int ty0, cons
     }
     float *dp = &w->depth[base];
     vf4 old = vf4_load(dp);
-    vi4 pass = (z < old) & lanes_of(covered);
+    vi4 pass = (z < old) & covv;
     unsigned visible = vi4_sign_bits(pass);
-    w->k.samples_covered += (uint64_t)popcount4(covered);
+    counts[0] -= covv; /* samples_covered and depth_tests_passed, per lane */
     if (!visible) return;
-    w->k.depth_tests_passed += (uint64_t)popcount4(visible);
+    counts[1] -= pass;
     vf4 nz = vf4_select(pass, z, old);
     memcpy(dp, &nz, sizeof nz);
     vf4 bv[4] = {b.x, b.y, b.z, vf4_splat(0.0f)};
@@ -1274,13 +1398,11 @@ draw_pixel4_v(worker *w, const fast_tri *r, int x, int y, int tx0, int ty0, cons
         defer_fragment_v(w, r, bv[fr->centre_sample], base, visible);
         return;
     }
-    /* the centre's edge values: ec[0..2] at the pixel's corner, plus ec[3]
-     * times the step, plus the centre's offset ec[4..6] */
-    int64_t c0 = ec[0] + ec[3] * ec[7] + ec[4], c1 = ec[1] + ec[3] * ec[8] + ec[5],
-            c2 = ec[2] + ec[3] * ec[9] + ec[6];
-    if (c0 >= r->thr[0] && c1 >= r->thr[1] && c2 >= r->thr[2]) {
-        int64_t e3[3] = {c0, c1, c2};
-        defer_fragment(w, r, bary_of(r, e3), base, visible);
+    /* the centre's E − thr: sample 0's plus the centre's offset from it */
+    int64_t c0 = ev[0][0] + dcen[0], c1 = ev[1][0] + dcen[1], c2 = ev[2][0] + dcen[2];
+    if ((c0 | c1 | c2) >= 0) { /* covered (the sign bits, as for the samples) */
+        int64_t e3[3] = {c0 + r->thr[0], c1 + r->thr[1], c2 + r->thr[2]};
+        defer_fragment(w, r, bary_div(r, e3), base, visible);
     } else {
         int best = -1;
         float best_d2 = 0;
@@ -1377,12 +1499,17 @@ draw_in_tile_n(worker *w, const fast_tri *r, int tx0, int ty0, int x0, int y0, i
  * the box, exactly. */
 static bool edges_fit_31(const fast_tri *r, int64_t px0, int64_t px1, int64_t py0, int64_t py1) {
     const int64_t lim = (int64_t)1 << 30;
-    for (int k = 0; k < 3; k++)
-        for (int c = 0; c < 4; c++) {
-            int64_t px = c & 1 ? px1 : px0, py = c & 2 ? py1 : py0;
-            int64_t v = r->a[k] * px + r->b[k] * py + r->c[k] - r->thr[k];
-            if (v >= lim || v <= -lim) return false;
-        }
+    /* -lim < v < lim <=> v + lim - 1 in [0, 2·lim - 2], one unsigned test */
+    const uint64_t span = 2 * (uint64_t)lim - 2;
+    for (int k = 0; k < 3; k++) {
+        /* the corners from one of them and the steps across the box */
+        int64_t v00 = r->a[k] * px0 + r->b[k] * py0 + r->c[k] - r->thr[k] + (lim - 1);
+        int64_t dx = r->a[k] * (px1 - px0), dy = r->b[k] * (py1 - py0);
+        int64_t v10 = v00 + dx, v01 = v00 + dy, v11 = v10 + dy;
+        if (((uint64_t)v00 > span) | ((uint64_t)v10 > span) | ((uint64_t)v01 > span) |
+            ((uint64_t)v11 > span))
+            return false;
+    }
     return true;
 }
 
@@ -1391,11 +1518,14 @@ static bool edges_fit_31(const fast_tri *r, int64_t px0, int64_t px1, int64_t py
  * triangle; not a screen-filling one): the coverage of eight pixels of a
  * block row is two 4-lane int32 additions and ors per edge and a sign mask,
  * instead of eight pixels of int64 arithmetic. The values are the same
- * integers (exact arithmetic well inside the range), and a covered pixel's
- * barycentrics, depth test and fragment are draw_pixel_samples' for n = 1.
+ * integers (exact arithmetic well inside the range). A covered pixel's
+ * barycentrics are the reference's divisions (bary_div), its depth test and
+ * fragment draw_pixel_samples' for n = 1; with per_pixel (a constant in each
+ * inlined copy) the fragment goes to its pixel, without a branch on the test.
  * False: the values may not fit; draw with draw_in_tile_n. */
-static bool draw_in_tile_1x32(worker *w, const fast_tri *r, int tx0, int ty0, int x0, int y0,
-                              int x1, int y1) {
+static inline __attribute__((always_inline)) bool
+draw_in_tile_1x32(worker *w, const fast_tri *r, int tx0, int ty0, int x0, int y0, int x1, int y1,
+                  const bool per_pixel) {
     const frame *fr = w->fr;
     const int64_t cx = fr->off_x[0], cy = fr->off_y[0];
     /* x1 + 7: a block row's eight lanes may run past x1; y1 + 1: the
@@ -1406,19 +1536,23 @@ static bool draw_in_tile_1x32(worker *w, const fast_tri *r, int tx0, int ty0, in
         return false;
     const int64_t step[3] = {r->a[0] * SUBPIXEL_ONE, r->a[1] * SUBPIXEL_ONE,
                              r->a[2] * SUBPIXEL_ONE};
-    vi4 ramp_lo[3], ramp_hi[3]; /* i · step for lanes i = 0..3 and 4..7 */
-    for (int k = 0; k < 3; k++)
-        for (int i = 0; i < 4; i++) {
-            ramp_lo[k][i] = (int)(i * step[k]);
-            ramp_hi[k][i] = (int)((i + 4) * step[k]);
-        }
-    vi4 vstepy[3]; /* a row's step */
-    int64_t bstep[3];
+    /* i · step for lanes i = 0..3 and 4..7, in int32: up to 7 steps is the
+     * difference of two values in the checked box, so it fits */
+    vi4 ramp_lo[3], ramp_hi[3];
     for (int k = 0; k < 3; k++) {
-        bstep[k] = r->b[k] * SUBPIXEL_ONE;
-        int sy = (int)bstep[k];
-        vstepy[k] = (vi4){sy, sy, sy, sy};
+        int st = (int)step[k];
+        vi4 sv = {st, st, st, st};
+        ramp_lo[k] = sv * (vi4){0, 1, 2, 3};
+        ramp_hi[k] = ramp_lo[k] + (sv << 2);
     }
+    vi4 vstepy[3], thrv[3]; /* a row's step, thr */
+    for (int k = 0; k < 3; k++) {
+        int sy = (int)(r->b[k] * SUBPIXEL_ONE), t = (int)r->thr[k];
+        vstepy[k] = (vi4){sy, sy, sy, sy};
+        thrv[k] = (vi4){t, t, t, t};
+    }
+    /* counted here, added once (the stores below could alias w's fields) */
+    uint64_t covered_n = 0, passed_n = 0;
     bool small = (x1 - x0) < BLOCK && (y1 - y0) < BLOCK;
     for (int by0 = y0; by0 <= y1; by0 += BLOCK) {
         int by1 = by0 + BLOCK - 1 < y1 ? by0 + BLOCK - 1 : y1;
@@ -1427,46 +1561,68 @@ static bool draw_in_tile_1x32(worker *w, const fast_tri *r, int tx0, int ty0, in
             if (!small && block_outside(fr, r, bx0, by0, bx1, by1, cx, cx, cy, cy)) continue;
             unsigned row_lanes = (1u << (bx1 - bx0 + 1)) - 1;
             int64_t px = (int64_t)bx0 * SUBPIXEL_ONE + cx;
-            int64_t py0 = (int64_t)by0 * SUBPIXEL_ONE + cy, e[3];
+            int64_t py0 = (int64_t)by0 * SUBPIXEL_ONE + cy;
             /* E − thr of the block row's eight pixels, per edge: at the
              * block's first row, then one vector addition per row (exact:
              * every value used lies in the checked box) */
             vi4 elo[3], ehi[3];
             for (int k = 0; k < 3; k++) {
-                e[k] = r->a[k] * px + r->b[k] * py0 + r->c[k];
-                int start = (int)(e[k] - r->thr[k]);
+                int start = (int)(r->a[k] * px + r->b[k] * py0 + r->c[k] - r->thr[k]);
                 elo[k] = (vi4){start, start, start, start} + ramp_lo[k];
                 ehi[k] = (vi4){start, start, start, start} + ramp_hi[k];
             }
-            for (int y = by0; y <= by1; y++) {
+            /* The block's coverage first, all its rows without a branch
+             * (a row's covered count is unpredictable, and so is whether it
+             * has any): eight bits a row in one mask, each row's E (lanes +
+             * thr: they fit) stored; then the covered pixels, one loop. */
+            int32_t eblk[BLOCK][3][BLOCK];
+            uint64_t covered = 0;
+            for (int j = 0; j <= by1 - by0; j++) {
                 vi4 lo = elo[0] | elo[1] | elo[2], hi = ehi[0] | ehi[1] | ehi[2];
                 /* covered: E − thr >= 0 on every edge, so the or is >= 0 */
-                unsigned covered = ~(vi4_sign_bits(lo) | vi4_sign_bits(hi) << 4) & row_lanes;
+                unsigned row = ~(vi4_sign_bits(lo) | vi4_sign_bits(hi) << 4) & row_lanes;
+                covered |= (uint64_t)row << (BLOCK * j);
                 for (int k = 0; k < 3; k++) {
+                    vi4 lo_k = elo[k] + thrv[k], hi_k = ehi[k] + thrv[k];
+                    memcpy(&eblk[j][k][0], &lo_k, sizeof lo_k);
+                    memcpy(&eblk[j][k][4], &hi_k, sizeof hi_k);
                     elo[k] += vstepy[k];
                     ehi[k] += vstepy[k];
                 }
-                if (!covered) {
-                    for (int k = 0; k < 3; k++) e[k] += bstep[k];
+            }
+            const int base_blk = (by0 - ty0) * TILE + (bx0 - tx0);
+            for (; covered; covered &= covered - 1) {
+                int bit = __builtin_ctzll(covered), j = bit / BLOCK, i = bit % BLOCK;
+                int64_t ep[3] = {eblk[j][0][i], eblk[j][1][i], eblk[j][2][i]};
+                int base = base_blk + j * TILE + i;
+                covered_n++;
+                vec3s bary = bary_div(r, ep);
+                float z = depth_of(r, bary);
+                if (per_pixel) {
+                    /* without a branch on the depth test (it fails for
+                     * about one covered pixel in five, unpredictably): a
+                     * failing fragment and its depth go to the spare slots
+                     * past the tile's pixels, never read */
+                    unsigned pass = z < w->depth[base];
+                    unsigned keep = 0u - pass; /* all ones when passed */
+                    /* pass ? base : TILE * TILE, as masks: GCC turns a
+                     * select back into the branch this avoids */
+                    int at = (int)(((unsigned)base & keep) | (TILE * TILE & ~keep));
+                    passed_n += pass;
+                    w->depth[at] = z;
+                    put_pixel(w, r, bary, at);
                     continue;
                 }
-                int base_row = (y - ty0) * TILE + (bx0 - tx0);
-                for (; covered; covered &= covered - 1) {
-                    int i = __builtin_ctz(covered);
-                    int64_t ep[3] = {e[0] + i * step[0], e[1] + i * step[1], e[2] + i * step[2]};
-                    int base = base_row + i;
-                    w->k.samples_covered++;
-                    vec3s bary = bary_of(r, ep);
-                    float z = depth_of(r, bary);
-                    if (!(z < w->depth[base])) continue;
-                    w->k.depth_tests_passed++;
-                    w->depth[base] = z;
-                    defer_fragment(w, r, bary, base, 1);
-                }
-                for (int k = 0; k < 3; k++) e[k] += bstep[k];
+                if (!(z < w->depth[base])) continue;
+                passed_n++;
+                w->depth[base] = z;
+                defer_fragment(w, r, bary, base, 1);
             }
         }
     }
+    w->k.samples_covered += covered_n;
+    w->k.depth_tests_passed += passed_n;
+    if (per_pixel) w->hidden[r->object] += (int64_t)passed_n;
     return true;
 }
 
@@ -1505,14 +1661,17 @@ static bool draw_in_tile_4x32(worker *w, const fast_tri *r, int tx0, int ty0, in
     /* per edge: the samples' offsets from sample 0 (differences of two
      * values in the box: they fit), a row's step, thr */
     vi4 dlane[3], vstepy[3], thrv[3];
-    int64_t bstep[3];
+    int64_t dcen[3]; /* the centre's offset from sample 0 */
     for (int i = 0; i < 3; i++) {
         for (int k = 0; k < n; k++) dlane[i][k] = (int)(off[k][i] - off[0][i]);
-        bstep[i] = r->b[i] * SUBPIXEL_ONE;
-        int sy = (int)bstep[i], t = (int)r->thr[i];
+        dcen[i] = off[n][i] - off[0][i];
+        int sy = (int)(r->b[i] * SUBPIXEL_ONE), t = (int)r->thr[i];
         vstepy[i] = (vi4){sy, sy, sy, sy};
         thrv[i] = (vi4){t, t, t, t};
     }
+    /* samples covered and depth tests passed, counted per lane (a true
+     * lane is −1, subtracted) and added to the counters at the end */
+    vi4 counts[2] = {{0, 0, 0, 0}, {0, 0, 0, 0}};
 #endif
     bool small = (x1 - x0) < BLOCK && (y1 - y0) < BLOCK;
     for (int by0 = y0; by0 <= y1; by0 += BLOCK) {
@@ -1525,31 +1684,39 @@ static bool draw_in_tile_4x32(worker *w, const fast_tri *r, int tx0, int ty0, in
 #if BARY_X4
             /* E − thr at the four samples of pixel (bx0, by0), then one
              * vector addition per row and per pixel (exact: every value
-             * used lies in the checked box; the rows' corners in int64) */
-            int64_t ec[10]; /* draw_pixel4_v's centre: corner, dx, offset, step */
+             * used lies in the checked box) */
             vi4 evrow[3];
             for (int i = 0; i < 3; i++) {
-                ec[i] = r->a[i] * ((int64_t)bx0 * SUBPIXEL_ONE) +
-                        r->b[i] * ((int64_t)by0 * SUBPIXEL_ONE) + r->c[i];
-                int st = (int)(ec[i] + off[0][i] - r->thr[i]);
+                int64_t corner = r->a[i] * ((int64_t)bx0 * SUBPIXEL_ONE) +
+                                 r->b[i] * ((int64_t)by0 * SUBPIXEL_ONE) + r->c[i];
+                int st = (int)(corner + off[0][i] - r->thr[i]);
                 evrow[i] = (vi4){st, st, st, st} + dlane[i];
-                ec[4 + i] = off[n][i];
-                ec[7 + i] = step[i];
             }
             for (int y = by0; y <= by1; y++) {
+                /* the row's coverage first, without a branch per pixel
+                 * (whether a pixel has a covered sample is unpredictable):
+                 * four bits a pixel, each pixel's E − thr stored; then the
+                 * pixels with a covered sample */
                 vi4 ev[3] = {evrow[0], evrow[1], evrow[2]};
-                for (int x = bx0; x <= bx1; x++) {
-                    unsigned covered = ~vi4_sign_bits(ev[0] | ev[1] | ev[2]) & 0xFu;
-                    if (covered) {
-                        ec[3] = x - bx0;
-                        draw_pixel4_v(w, r, x, y, tx0, ty0, ev, thrv, covered, ec);
+                vi4 erow[BLOCK][3];
+                uint32_t mask = 0;
+                for (int i = 0; i <= bx1 - bx0; i++) {
+                    /* covered: E − thr >= 0 on all three edges */
+                    mask |= (uint32_t)vi4_sign_bits((ev[0] | ev[1] | ev[2]) > -1) << (4 * i);
+                    for (int k = 0; k < 3; k++) {
+                        erow[i][k] = ev[k];
+                        ev[k] += vstep[k];
                     }
-                    for (int i = 0; i < 3; i++) ev[i] += vstep[i];
                 }
-                for (int i = 0; i < 3; i++) {
-                    evrow[i] += vstepy[i];
-                    ec[i] += bstep[i];
+                uint32_t any = mask | mask >> 1 | mask >> 2 | mask >> 3;
+                for (any &= 0x11111111u; any; any &= any - 1) {
+                    int i = __builtin_ctz(any) / 4;
+                    const vi4 *e = erow[i];
+                    vi4 covv = (e[0] | e[1] | e[2]) > -1;
+                    draw_pixel4_v(w, r, bx0 + i, y, tx0, ty0, e, thrv, covv, mask >> (4 * i) & 0xFu,
+                                  dcen, counts);
                 }
+                for (int i = 0; i < 3; i++) evrow[i] += vstepy[i];
             }
             continue;
 #endif
@@ -1577,6 +1744,10 @@ static bool draw_in_tile_4x32(worker *w, const fast_tri *r, int tx0, int ty0, in
             }
         }
     }
+#if BARY_X4
+    w->k.samples_covered += (uint64_t)(counts[0][0] + counts[0][1] + counts[0][2] + counts[0][3]);
+    w->k.depth_tests_passed += (uint64_t)(counts[1][0] + counts[1][1] + counts[1][2] + counts[1][3]);
+#endif
     return true;
 }
 
@@ -1590,7 +1761,10 @@ static void draw_in_tile(worker *w, const fast_tri *r, int tx0, int ty0, int tx1
     w->k.samples_tested += (uint64_t)(x1 - x0 + 1) * (uint64_t)(y1 - y0 + 1) * (uint64_t)n;
     switch (n) {
     case 1:
-        if (w->fr->centre_sample == 0 && draw_in_tile_1x32(w, r, tx0, ty0, x0, y0, x1, y1))
+        /* per_pixel a constant in each copy: no test per pixel */
+        if (w->fr->centre_sample == 0 &&
+            (w->fr->per_pixel ? draw_in_tile_1x32(w, r, tx0, ty0, x0, y0, x1, y1, true)
+                              : draw_in_tile_1x32(w, r, tx0, ty0, x0, y0, x1, y1, false)))
             break;
         draw_in_tile_n(w, r, tx0, ty0, x0, y0, x1, y1, 1);
         break;
@@ -1643,6 +1817,25 @@ static void fill_row(vec3s *dst, vec3s c, int count) {
         dst[i] = c;
 }
 
+/* count copies of c into the tile's colour buffer (cached: it is read back
+ * soon), four samples as three vector stores; count is a multiple of 4 and
+ * the buffer 16-byte aligned (malloc's). */
+static void fill_colour(vec3s *dst, vec3s c, int count) {
+#if defined(__SSE2__)
+    __m128 v0 = _mm_setr_ps(c.x, c.y, c.z, c.x), v1 = _mm_setr_ps(c.y, c.z, c.x, c.y),
+           v2 = _mm_setr_ps(c.z, c.x, c.y, c.z);
+    float *d = &dst[0].x;
+    for (int i = 0; i < 3 * count; i += 12) {
+        _mm_store_ps(d + i, v0);
+        _mm_store_ps(d + i + 4, v1);
+        _mm_store_ps(d + i + 8, v2);
+    }
+#else
+    for (int i = 0; i < count; i++)
+        dst[i] = c;
+#endif
+}
+
 /* hw2's resolve_pixel (solution/rasterizer.c) for four samples, in lanes:
  * ((((0 + c0) + c1) + c2) + c3) · (1/4), glms_vec3_add's and _scale's
  * operations lane by lane. Stores 16 bytes at dst (the next pixel's x is
@@ -1681,12 +1874,7 @@ static void do_tile(worker *w, int tile) {
                      tx1 - tx0 + 1);
         return;
     }
-    /* With one sample a colour is written exactly where a depth test passed,
-     * and a passed depth is below +inf: the colour buffer need not be cleared,
-     * the resolve below puts the clear colour where the depth is still +inf. */
-    if (n > 1)
-        for (int i = 0; i < TILE * TILE * n; i++)
-            w->color[i] = clear;
+    fill_colour(w->color, clear, TILE * TILE * n);
     for (int i = 0; i < TILE * TILE * n; i++)
         w->depth[i] = INFINITY;
     for (size_t j = first; j < end; j++) {
@@ -1715,17 +1903,6 @@ static void do_tile(worker *w, int tile) {
         vec3s *dst = &fr->out->pixels[(size_t)(fr->height - 1 - y) * (size_t)fr->width];
         const vec3s *src = &w->color[(size_t)(y - ty0) * TILE * (size_t)n];
         if (n == 1) {
-            vec3s *row = &w->color[(size_t)(y - ty0) * TILE];
-            const float *depth = &w->depth[(size_t)(y - ty0) * TILE];
-            const int count = tx1 - tx0 + 1;
-            const vf4 inf = vf4_splat(INFINITY);
-            for (int x = 0; x < count; x += 4) { /* four depths at a time (the row has 64) */
-                unsigned clear4 = vi4_sign_bits(vf4_load(&depth[x]) == inf);
-                for (; clear4; clear4 &= clear4 - 1) {
-                    int k = x + __builtin_ctz(clear4);
-                    if (k < count) row[k] = clear;
-                }
-            }
             put_row(&dst[tx0], src, tx1 - tx0 + 1);
         } else {
             /* resolve_pixel reads screen pixel (x, y) of the view at row
@@ -1865,6 +2042,8 @@ static void *worker_main(void *arg) {
         if (tile >= tiles) break;
         do_tile(w, tile);
     }
+    for (int o = 0; o < fr->scene->object_count; o++)
+        if (w->hidden[o]) count_unshaded(w, o, (uint64_t)w->hidden[o]);
 #if defined(__SSE2__)
     _mm_sfence(); /* put_row's and fill_row's streaming stores, before the join */
 #endif
@@ -1892,14 +2071,196 @@ static int thread_count(const hw3_fast_settings *s) {
     return n < 1 ? 1 : n > MAX_THREADS ? MAX_THREADS : n;
 }
 
+/* The frame's sample offsets in sub-pixels (the centre's at [n]), the box
+ * they span (block rejection's corners), the sample at the centre if there is
+ * one, and what shading needs per frame. */
+static void plan_samples(frame *fr, const ras_sample_pattern *pattern) {
+    const ras_scene *scene = fr->scene;
+    for (int s = 0; s <= fr->n; s++) {
+        vec2s o = s < fr->n ? pattern->offsets[s] : (vec2s){{0.5f, 0.5f}};
+        fr->off_x[s] = llround((double)o.x * SUBPIXEL_ONE);
+        fr->off_y[s] = llround((double)o.y * SUBPIXEL_ONE);
+    }
+    for (int o = 0; o < scene->object_count; o++)
+        fr->spec_zero[o] = spec_zero_of(scene->objects[o].material.p);
+    fr->omin_x = fr->omax_x = fr->off_x[0];
+    fr->omin_y = fr->omax_y = fr->off_y[0];
+    for (int k = 1; k <= fr->n; k++) {
+        fr->omin_x = fr->off_x[k] < fr->omin_x ? fr->off_x[k] : fr->omin_x;
+        fr->omax_x = fr->off_x[k] > fr->omax_x ? fr->off_x[k] : fr->omax_x;
+        fr->omin_y = fr->off_y[k] < fr->omin_y ? fr->off_y[k] : fr->omin_y;
+        fr->omax_y = fr->off_y[k] > fr->omax_y ? fr->off_y[k] : fr->omax_y;
+    }
+    fr->centre_sample = -1;
+    for (int s = 0; s < fr->n && fr->centre_sample < 0; s++)
+        if (fr->off_x[s] == fr->off_x[fr->n] && fr->off_y[s] == fr->off_y[fr->n])
+            fr->centre_sample = s;
+    const hw3_fragment_stage *stage = fr->stage;
+    fr->varyings_per_fragment = (uint64_t)(!!(stage->varyings & RAS_VARYING_NORMAL) +
+                                           !!(stage->varyings & RAS_VARYING_VIEW_POS) +
+                                           !!(stage->varyings & RAS_VARYING_UV));
+}
+
+/* The setup plan that worker_main runs: where each object's vertices and
+ * triangles start, the vertex chunks, and a record list per triangle chunk;
+ * the arrays setup fills. The vertex stage is counted here (every vertex is
+ * transformed). False: out of memory (what was allocated is freed by
+ * free_frame). */
+static bool plan_setup(frame *fr, ras_counters *k) {
+    const ras_scene *scene = fr->scene;
+    int objects = scene->object_count;
+    size_t vertices = 0, vchunks = 0;
+    for (int o = 0; o < objects; o++) {
+        const ras_mesh *mesh = fr->assets->meshes[o];
+        vertices += mesh->vertex_count;
+        vchunks += (mesh->vertex_count + VERTEX_CHUNK - 1) / VERTEX_CHUNK;
+        k->stages_run |= RAS_STAGE_VERTEX;
+        k->vertices_transformed += mesh->vertex_count;
+        if (mesh->triangle_count) k->stages_run |= RAS_STAGE_CLIP | RAS_STAGE_SETUP;
+    }
+    fr->clip_base = malloc(((size_t)objects + 1) * sizeof *fr->clip_base);
+    fr->tri_first = calloc((size_t)objects + 1, sizeof *fr->tri_first); /* read by the error */
+    fr->vchunk_obj = malloc((vchunks + 1) * sizeof *fr->vchunk_obj);
+    fr->vchunk_start = malloc((vchunks + 1) * sizeof *fr->vchunk_start);
+    fr->clip = malloc((vertices + 1) * sizeof *fr->clip);
+    fr->screen = malloc((vertices + 1) * sizeof *fr->screen);
+    fr->vflags = malloc(vertices + 1);
+    fr->voutcode = malloc(vertices + 1);
+    fr->bin_start = calloc((size_t)fr->tiles_x * fr->tiles_y + 1, sizeof *fr->bin_start);
+    if (!(fr->clip_base && fr->tri_first && fr->vchunk_obj && fr->vchunk_start && fr->clip &&
+          fr->screen && fr->vflags && fr->voutcode && fr->bin_start))
+        return false;
+    size_t v = 0, t = 0;
+    int c = 0;
+    for (int o = 0; o < objects; o++) {
+        const ras_mesh *mesh = fr->assets->meshes[o];
+        fr->clip_base[o] = v;
+        fr->tri_first[o] = t;
+        for (size_t start = 0; start < mesh->vertex_count; start += VERTEX_CHUNK) {
+            fr->vchunk_obj[c] = o;
+            fr->vchunk_start[c++] = start;
+        }
+        v += mesh->vertex_count;
+        t += mesh->triangle_count;
+    }
+    fr->tri_first[objects] = t;
+    fr->vchunks = c;
+    fr->tchunks = (int)((t + TRIANGLE_CHUNK - 1) / TRIANGLE_CHUNK);
+    fr->lists = calloc((size_t)fr->tchunks + 1, sizeof *fr->lists);
+    if (!fr->lists) return false;
+    for (int i = 0; i < fr->tchunks; i++) {
+        /* room for the chunk's triangles and a few clipped pieces */
+        fr->lists[i].capacity = TRIANGLE_CHUNK + TRIANGLE_CHUNK / 4;
+        fr->lists[i].tri = malloc(fr->lists[i].capacity * sizeof *fr->lists[i].tri);
+        if (!fr->lists[i].tri) return false;
+    }
+    return true;
+}
+
+/* One worker's tile buffers, fragment list and sample owners, and its
+ * payloads (one per object, counting into the worker's counters). False: out
+ * of memory (free_frame frees what was allocated). */
+static bool worker_init(worker *w, frame *fr, size_t tile_samples) {
+    const ras_scene *scene = fr->scene;
+    w->fr = fr;
+    w->color = malloc((tile_samples + 2) * sizeof *w->color); /* + 2: resolve4 */
+    /* DEPTH_PAD more: the first is draw_in_tile_1x32's spare slot for the
+     * depth of a fragment that failed the test (written, never read) */
+    w->depth = malloc((tile_samples + DEPTH_PAD) * sizeof *w->depth);
+    /* room for a tile's worth of fragments; defer_fragment grows it. One
+     * more: per_pixel's spare record for fragments that fail the depth test */
+    w->frag_cap = (size_t)TILE * TILE;
+    w->frags = malloc((w->frag_cap + 1) * sizeof *w->frags);
+    w->owner = malloc(tile_samples * sizeof *w->owner);
+    if (!(w->color && w->depth && w->frags && w->owner)) return false;
+    for (int i = 0; i < DEPTH_PAD; i++) w->depth[tile_samples + i] = INFINITY;
+    for (int o = 0; o < scene->object_count; o++) {
+        fragment_shader_payload *p = &w->pay[o];
+        *p = fr->stage->base;
+        hw3_object_material(scene, fr->assets, o, p);
+        p->counters = &w->k;
+    }
+    return true;
+}
+
+/* The calling thread is worker 0; the others get threads of their own
+ * (fewer workers, if some fail to start, is only slower). False: the frame
+ * failed (out of memory somewhere). */
+static bool run_workers(frame *fr, worker *workers, int threads) {
+    int started = 1;
+    for (; started < threads; started++)
+        if (pthread_create(&workers[started].thread, NULL, worker_main, &workers[started]))
+            break;
+    worker_main(&workers[0]);
+    for (int i = 1; i < started; i++) pthread_join(workers[i].thread, NULL);
+    return !atomic_load(&fr->failed);
+}
+
+/* The workers' counters, setup's and the tiles', added into k, with the
+ * buffers they used; *settings->shaded gets the fragments really shaded. */
+static void sum_counters(const frame *fr, const worker *workers, int threads,
+                         size_t tile_samples, const hw3_fast_settings *settings,
+                         ras_counters *k) {
+    for (int i = 0; i < threads; i++) {
+        const ras_counters *s = &workers[i].ks;
+        k->stages_run |= s->stages_run;
+        k->triangles_in += s->triangles_in;
+        k->triangles_rejected_nonfinite += s->triangles_rejected_nonfinite;
+        k->triangles_clipped_away += s->triangles_clipped_away;
+        k->triangles_clip_split += s->triangles_clip_split;
+        k->triangles_rasterized += s->triangles_rasterized;
+        k->triangles_degenerate += s->triangles_degenerate;
+        const ras_counters *c = &workers[i].k;
+        k->stages_run |= c->stages_run;
+        k->samples_tested += c->samples_tested;
+        k->samples_covered += c->samples_covered;
+        k->depth_tests_passed += c->depth_tests_passed;
+        k->fragments_shaded += c->fragments_shaded;
+        k->varyings_interpolated += c->varyings_interpolated;
+        k->texels_fetched += c->texels_fetched;
+        k->lighting_evaluations += c->lighting_evaluations;
+    }
+    if (fr->n > 1) k->stages_run |= RAS_STAGE_RESOLVE;
+    k->buffer_bytes = (size_t)threads * tile_samples * (sizeof(vec3s) + sizeof(float));
+    uint64_t shaded = 0;
+    for (int i = 0; i < threads; i++) {
+        shaded += workers[i].shaded;
+        k->buffer_bytes += tile_samples * sizeof(int32_t) + workers[i].frag_cap * sizeof(queued);
+    }
+    if (settings && settings->shaded) *settings->shaded = shaded;
+}
+
+/* Everything fast_draw allocated (NULL-safe: a frame that failed halfway). */
+static void free_frame(frame *fr, worker *workers, int threads) {
+    for (int i = 0; workers && i < threads; i++) {
+        free(workers[i].color);
+        free(workers[i].depth);
+        free(workers[i].frags);
+        free(workers[i].owner);
+    }
+    free(workers);
+    for (int i = 0; fr->lists && i < fr->tchunks; i++)
+        free(fr->lists[i].tri);
+    free(fr->lists);
+    free(fr->bin_start);
+    free(fr->bin_tri);
+    free(fr->clip);
+    free(fr->screen);
+    free(fr->vflags);
+    free(fr->voutcode);
+    free(fr->clip_base);
+    free(fr->tri_first);
+    free(fr->vchunk_obj);
+    free(fr->vchunk_start);
+}
+
+/* One frame: plan, set up and bin (worker_main, shared out), tiles on the
+ * workers, then the counters and times as the teaching pipeline reports them. */
 static bool fast_draw(const hw3_renderer *self, const hw3_frame *frame_in, ras_image *out,
                       ras_counters *k, ras_error *err) {
     const hw3_fast_settings *settings = self->user;
     const ras_scene *scene = frame_in->scene;
     const hw3_render_options *opt = frame_in->opt;
-    const hw3_fragment_stage *stage = frame_in->stage;
-    const mat4s *models = frame_in->models;
-    mat4s view = frame_in->view, projection = frame_in->projection;
     int width = scene->width, height = scene->height;
     if (width < 1 || height < 1 || width > RAS_IMAGE_MAX_SIDE || height > RAS_IMAGE_MAX_SIDE)
         return ras_error_set(err, "frame size %dx%d is out of range", width, height);
@@ -1907,89 +2268,21 @@ static bool fast_draw(const hw3_renderer *self, const hw3_frame *frame_in, ras_i
     if (pattern.count < 1 || pattern.count > RAS_MAX_SAMPLES)
         return ras_error_set(err, "the sample pattern is empty: build it with ras_sample_pattern_make");
     double t0 = ras_now_ms();
-    frame fr = {.scene = scene, .assets = frame_in->assets, .stage = stage, .width = width, .height = height,
+    frame fr = {.scene = scene, .assets = frame_in->assets, .stage = frame_in->stage, .width = width, .height = height,
                 .n = pattern.count, .ssaa = opt->aa == RAS_AA_SSAA, .pattern = pattern,
-                .varyings = stage->varyings, .out = out};
-    for (int s = 0; s <= fr.n; s++) {
-        vec2s o = s < fr.n ? pattern.offsets[s] : (vec2s){{0.5f, 0.5f}};
-        fr.off_x[s] = llround((double)o.x * SUBPIXEL_ONE);
-        fr.off_y[s] = llround((double)o.y * SUBPIXEL_ONE);
-    }
-    for (int o = 0; o < scene->object_count; o++)
-        fr.spec_zero[o] = spec_zero_of(scene->objects[o].material.p);
-    fr.omin_x = fr.omax_x = fr.off_x[0];
-    fr.omin_y = fr.omax_y = fr.off_y[0];
-    for (int k = 1; k <= fr.n; k++) {
-        fr.omin_x = fr.off_x[k] < fr.omin_x ? fr.off_x[k] : fr.omin_x;
-        fr.omax_x = fr.off_x[k] > fr.omax_x ? fr.off_x[k] : fr.omax_x;
-        fr.omin_y = fr.off_y[k] < fr.omin_y ? fr.off_y[k] : fr.omin_y;
-        fr.omax_y = fr.off_y[k] > fr.omax_y ? fr.off_y[k] : fr.omax_y;
-    }
-    fr.centre_sample = -1;
-    for (int s = 0; s < fr.n && fr.centre_sample < 0; s++)
-        if (fr.off_x[s] == fr.off_x[fr.n] && fr.off_y[s] == fr.off_y[fr.n]) fr.centre_sample = s;
-    fr.batch = batch_kind(scene, opt, stage);
-    fr.varyings_per_fragment = (uint64_t)(!!(stage->varyings & RAS_VARYING_NORMAL) +
-                                          !!(stage->varyings & RAS_VARYING_VIEW_POS) +
-                                          !!(stage->varyings & RAS_VARYING_UV));
-
-    /* 1. the setup plan: vertex chunks, triangle chunks (worker_main runs them) */
-    int objects = scene->object_count;
-    fr.models = models;
-    fr.view = view;
-    fr.projection = projection;
-    fr.tiles_x = (width + TILE - 1) / TILE;
-    fr.tiles_y = (height + TILE - 1) / TILE;
+                .varyings = frame_in->stage->varyings, .out = out,
+                .models = frame_in->models, .view = frame_in->view,
+                .projection = frame_in->projection,
+                .tiles_x = (width + TILE - 1) / TILE, .tiles_y = (height + TILE - 1) / TILE};
+    plan_samples(&fr, &pattern);
+    fr.batch = batch_kind(scene, opt, frame_in->stage);
+    /* frags holds a tile's pixels from the start (worker_init) */
+    fr.per_pixel = fr.n == 1 && fr.batch != BATCH_NONE;
     int tiles = fr.tiles_x * fr.tiles_y;
     int threads = thread_count(settings);
     if (threads > tiles) threads = tiles;
-    size_t vertices = 0, vchunks = 0;
-    for (int o = 0; o < objects; o++) {
-        const ras_mesh *mesh = frame_in->assets->meshes[o];
-        vertices += mesh->vertex_count;
-        vchunks += (mesh->vertex_count + VERTEX_CHUNK - 1) / VERTEX_CHUNK;
-        k->stages_run |= RAS_STAGE_VERTEX;
-        k->vertices_transformed += mesh->vertex_count;
-        if (mesh->triangle_count) k->stages_run |= RAS_STAGE_CLIP | RAS_STAGE_SETUP;
-    }
-    fr.clip_base = malloc(((size_t)objects + 1) * sizeof *fr.clip_base);
-    fr.tri_first = malloc(((size_t)objects + 1) * sizeof *fr.tri_first);
-    fr.vchunk_obj = malloc((vchunks + 1) * sizeof *fr.vchunk_obj);
-    fr.vchunk_start = malloc((vchunks + 1) * sizeof *fr.vchunk_start);
-    fr.clip = malloc((vertices + 1) * sizeof *fr.clip);
-    fr.screen = malloc((vertices + 1) * sizeof *fr.screen);
-    fr.vflags = malloc(vertices + 1);
-    fr.voutcode = malloc(vertices + 1);
-    fr.bin_start = calloc((size_t)tiles + 1, sizeof *fr.bin_start);
     worker *workers = calloc((size_t)threads, sizeof *workers);
-    bool ok = fr.clip_base && fr.tri_first && fr.vchunk_obj && fr.vchunk_start && fr.clip &&
-              fr.screen && fr.vflags && fr.voutcode && fr.bin_start && workers;
-    if (ok) {
-        size_t v = 0, t = 0;
-        int c = 0;
-        for (int o = 0; o < objects; o++) {
-            const ras_mesh *mesh = frame_in->assets->meshes[o];
-            fr.clip_base[o] = v;
-            fr.tri_first[o] = t;
-            for (size_t start = 0; start < mesh->vertex_count; start += VERTEX_CHUNK) {
-                fr.vchunk_obj[c] = o;
-                fr.vchunk_start[c++] = start;
-            }
-            v += mesh->vertex_count;
-            t += mesh->triangle_count;
-        }
-        fr.tri_first[objects] = t;
-        fr.vchunks = c;
-        fr.tchunks = (int)((t + TRIANGLE_CHUNK - 1) / TRIANGLE_CHUNK);
-        fr.lists = calloc((size_t)fr.tchunks + 1, sizeof *fr.lists);
-        ok = fr.lists != NULL;
-        for (int i = 0; ok && i < fr.tchunks; i++) {
-            /* room for the chunk's triangles and a few clipped pieces */
-            fr.lists[i].capacity = TRIANGLE_CHUNK + TRIANGLE_CHUNK / 4;
-            fr.lists[i].tri = malloc(fr.lists[i].capacity * sizeof *fr.lists[i].tri);
-            ok = fr.lists[i].tri != NULL;
-        }
-    }
+    bool ok = plan_setup(&fr, k) && workers;
     atomic_init(&fr.next_vchunk, 0);
     atomic_init(&fr.vchunks_done, 0);
     atomic_init(&fr.next_tchunk, 0);
@@ -1998,95 +2291,15 @@ static bool fast_draw(const hw3_renderer *self, const hw3_frame *frame_in, ras_i
     atomic_init(&fr.failed, false);
     atomic_init(&fr.next_tile, 0);
     fr.t_setup = t0;
-
-    /* 3. tiles on the workers */
     size_t tile_samples = (size_t)TILE * TILE * (size_t)fr.n;
-    for (int i = 0; ok && i < threads; i++) {
-        worker *w = &workers[i];
-        w->fr = &fr;
-        w->color = malloc((tile_samples + 2) * sizeof *w->color); /* + 2: resolve4 */
-        /* DEPTH_PAD more: draw_in_tile_1x32 loads and stores four depths at
-         * a time, and a block row's last lanes may lie past the tile's last
-         * sample (they are read and written back unchanged) */
-        w->depth = malloc((tile_samples + DEPTH_PAD) * sizeof *w->depth);
-        ok = w->color && w->depth;
-        for (int i = 0; ok && i < DEPTH_PAD; i++) w->depth[tile_samples + i] = INFINITY;
-        {
-            /* room for a tile's worth of fragments; defer_fragment grows it */
-            w->frag_cap = (size_t)TILE * TILE;
-            w->frags = malloc(w->frag_cap * sizeof *w->frags);
-            w->owner = malloc(tile_samples * sizeof *w->owner);
-            ok = ok && w->frags && w->owner;
-        }
-        for (int o = 0; o < scene->object_count; o++) {
-            fragment_shader_payload *p = &w->pay[o];
-            *p = stage->base;
-            hw3_object_material(scene, frame_in->assets, o, p);
-            p->counters = &w->k;
-        }
-    }
-    if (ok) {
-        int started = 1;
-        for (; started < threads; started++)
-            if (pthread_create(&workers[started].thread, NULL, worker_main, &workers[started]))
-                break; /* fewer workers is only slower */
-        worker_main(&workers[0]);
-        for (int i = 1; i < started; i++) pthread_join(workers[i].thread, NULL);
-        ok = !atomic_load(&fr.failed);
-    }
-    if (ok) {
-        for (int i = 0; i < threads; i++) {
-            const ras_counters *s = &workers[i].ks;
-            k->stages_run |= s->stages_run;
-            k->triangles_in += s->triangles_in;
-            k->triangles_rejected_nonfinite += s->triangles_rejected_nonfinite;
-            k->triangles_clipped_away += s->triangles_clipped_away;
-            k->triangles_clip_split += s->triangles_clip_split;
-            k->triangles_rasterized += s->triangles_rasterized;
-            k->triangles_degenerate += s->triangles_degenerate;
-            const ras_counters *c = &workers[i].k;
-            k->stages_run |= c->stages_run;
-            k->samples_tested += c->samples_tested;
-            k->samples_covered += c->samples_covered;
-            k->depth_tests_passed += c->depth_tests_passed;
-            k->fragments_shaded += c->fragments_shaded;
-            k->varyings_interpolated += c->varyings_interpolated;
-            k->texels_fetched += c->texels_fetched;
-            k->lighting_evaluations += c->lighting_evaluations;
-        }
-        if (fr.n > 1) k->stages_run |= RAS_STAGE_RESOLVE;
-        k->buffer_bytes = (size_t)threads * tile_samples * (sizeof(vec3s) + sizeof(float));
-        uint64_t shaded = 0;
-        for (int i = 0; i < threads; i++) {
-            shaded += workers[i].shaded;
-            k->buffer_bytes +=
-                tile_samples * sizeof(int32_t) + workers[i].frag_cap * sizeof(queued);
-        }
-        if (settings && settings->shaded) *settings->shaded = shaded;
-    } else {
+    for (int i = 0; ok && i < threads; i++) ok = worker_init(&workers[i], &fr, tile_samples);
+    if (ok) ok = run_workers(&fr, workers, threads);
+    if (ok)
+        sum_counters(&fr, workers, threads, tile_samples, settings, k);
+    else
         ras_error_set(err, "out of memory drawing %zu triangles",
-                      fr.tri_first ? fr.tri_first[objects] : (size_t)0);
-    }
-    for (int i = 0; workers && i < threads; i++) {
-        free(workers[i].color);
-        free(workers[i].depth);
-        free(workers[i].frags);
-        free(workers[i].owner);
-    }
-    free(workers);
-    for (int i = 0; fr.lists && i < fr.tchunks; i++)
-        free(fr.lists[i].tri);
-    free(fr.lists);
-    free(fr.bin_start);
-    free(fr.bin_tri);
-    free(fr.clip);
-    free(fr.screen);
-    free(fr.vflags);
-    free(fr.voutcode);
-    free(fr.clip_base);
-    free(fr.tri_first);
-    free(fr.vchunk_obj);
-    free(fr.vchunk_start);
+                      fr.tri_first ? fr.tri_first[scene->object_count] : (size_t)0);
+    free_frame(&fr, workers, threads);
     double t1 = fr.t_setup, t2 = ras_now_ms();
     k->ms_vertex += t1 - t0;
     k->ms_raster += t2 - t1;

@@ -32,7 +32,7 @@
 static const char *const fast_copies[HW3_SHADER_COUNT] = {
     [HW3_SHADER_NORMAL] = "the normal lanes of shade_prepare (" FAST_C
                           "), its copy of normal_fragment_shader",
-    [HW3_SHADER_PHONG] = "fast_blinn_phong and its four-lane form in shade_prepare/shade_finish ("
+    [HW3_SHADER_PHONG] = "fast_blinn_phong and its four-lane form in light_terms_x4/shade_finish ("
                          FAST_C "), its copies of blinn_phong_lighting and phong_fragment_shader",
     [HW3_SHADER_TEXTURE] = "fast_blinn_phong and shade_finish (" FAST_C "), its copies of "
                            "blinn_phong_lighting and texture_fragment_shader, or "
@@ -43,16 +43,16 @@ static const char *const fast_copies[HW3_SHADER_COUNT] = {
                         "bump_fragment_shader, or axis_x4/footprint_of/bilinear_x4_blend, its "
                         "copy of texture_sample_bilinear",
     [HW3_SHADER_DISPLACEMENT] = "bump_normal_x4, the displacement lanes of shade_prepare and "
-                                "fast_blinn_phong's four-lane form (" FAST_C "), its copies of "
-                                "displacement_fragment_shader, bump_normal, height_sample and "
-                                "blinn_phong_lighting",
+                                "fast_blinn_phong's four-lane form in light_terms_x4 (" FAST_C
+                                "), its copies of displacement_fragment_shader, bump_normal, "
+                                "height_sample and blinn_phong_lighting",
 };
 /* What every shader shares. The normal shader is checked first: when it
  * differs, these may be the cause; when a later shader differs, they are not. */
 #define FAST_SHARED                                                                         \
     "; or, if the other shaders differ too, the shared copies: setup_fixed and draw_in_tile " \
     "(" FAST_C ") of rasterize_triangle (hw2_rasterize/solution/rasterizer.c), resolve4 of "  \
-    "resolve_pixel, persp_bary of perspective_correct_barycentric"
+    "resolve_pixel, persp_bary and weights_x4 of perspective_correct_barycentric"
 
 /* The program's default scene (scenes/hw3_default.json as built in) and its
  * meshes and textures; the tests change it, then put it back. */
