@@ -112,7 +112,7 @@ typedef struct setup {
     bool top_left[3];
     int x0, x1, y0, y1;             /* pixel bounding box on screen, inclusive both ends */
     vec2s off[RAS_MAX_SAMPLES + 1]; /* snapped sample offsets, then the centre */
-    int centre_sample;              /* a sample AT the centre (no AA: the one), or -1 */
+    int centre_sample;              /* the first sample at off[centre] (no AA: the one), or -1 */
 } setup;
 
 /* False for a triangle that snapped to a line or a point (it covers nothing),
@@ -136,13 +136,14 @@ static bool setup_triangle(setup *s, const ras_triangle *t, const ras_sample_pat
         if (area2 < 0) dx = -dx, dy = -dy;
         s->top_left[i] = dy < 0 || (dy == 0 && dx < 0);
     }
-    s->centre_sample = -1;
     for (int k = 0; k <= pat->count; k++) {
         vec2s o = k < pat->count ? pat->offsets[k] : (vec2s){{0.5f, 0.5f}};
         s->off[k] = (vec2s){{snap(o.x), snap(o.y)}};
-        if (k < pat->count && o.x == 0.5f && o.y == 0.5f && s->centre_sample < 0)
-            s->centre_sample = k;
     }
+    vec2s centre = s->off[pat->count];
+    s->centre_sample = -1;
+    for (int k = pat->count - 1; k >= 0; k--)
+        if (s->off[k].x == centre.x && s->off[k].y == centre.y) s->centre_sample = k;
     float minx = fminf(fminf(v[0].x, v[1].x), v[2].x), maxx = fmaxf(fmaxf(v[0].x, v[1].x), v[2].x);
     float miny = fminf(fminf(v[0].y, v[1].y), v[2].y), maxy = fmaxf(fmaxf(v[0].y, v[1].y), v[2].y);
     /* A pixel's samples lie in [x, x+1), so pixel floor(min) is the first that
@@ -178,17 +179,16 @@ static float depth_at(const ras_triangle *t, vec3s bary) {
 static void shading_point(const setup *s, const ras_sample_pattern *pat, int x, int y,
                           uint64_t visible, const vec3s *bary, ras_fragment *f) {
     int n = pat->count;
-    int c = s->centre_sample;
-    if (c >= 0 && (visible >> c & 1)) {
-        /* That sample's test and barycentrics are the centre's, already
-         * worked out: the same functions at the same point. */
-        f->bary = bary[c];
-        f->p = (vec2s){{(float)x + 0.5f, (float)y + 0.5f}};
-        return;
-    }
     float cx = (float)x + s->off[n].x, cy = (float)y + s->off[n].y;
-    if (inside_triangle(cx, cy, &s->g) && compute_barycentric_2d(cx, cy, &s->g, &f->bary) &&
-        !on_edge_not_ours(s, f->bary)) {
+    /* A visible sample AT the centre (no AA: the one sample) already passed
+     * the centre's test, and its barycentrics are the centre's: the same
+     * functions at the same point, not worked out twice. */
+    int c = s->centre_sample;
+    bool centre_visible = c >= 0 && (visible >> c & 1);
+    if (centre_visible) f->bary = bary[c];
+    if (centre_visible ||
+        (inside_triangle(cx, cy, &s->g) && compute_barycentric_2d(cx, cy, &s->g, &f->bary) &&
+         !on_edge_not_ours(s, f->bary))) {
         f->p = (vec2s){{(float)x + 0.5f, (float)y + 0.5f}};
         return;
     }
