@@ -9,7 +9,7 @@
 
 #include <math.h>   /* isfinite */
 #include <stdlib.h> /* calloc, realloc, free */
-#include <string.h> /* strcmp */
+#include <string.h> /* memcmp, strcmp */
 
 /* --dump's overdraw count: every fragment the rasterizer hands over is
  * counted at its pixel, then shaded by the real shader (or the vertex

@@ -268,11 +268,10 @@ static inline int coord_to_index(ras_wrap wrap, float t, int n) {
     double p = (double)t * (double)n;
     if (fabs(p) < 0x1p30) {
         /* The usual case, in ints: floor by truncation (a step down for a
-         * negative non-integer), then wrap — the same index as below
-         * without floor's and fmod's library calls. */
+         * negative non-integer), then wrap (clamp or repeat) — the same index
+         * as below without floor's and fmod's library calls. */
         int i = (int)p;
         if ((double)i > p) i--;
-        if (wrap == RAS_WRAP_CLAMP) return i < 0 ? 0 : i > n - 1 ? n - 1 : i;
         return ras_texture_wrap_index(wrap, i, n);
     }
     double x = floor(p);

@@ -212,12 +212,12 @@ typedef struct box_counts {
     uint64_t tested, covered, passed, shaded;
 } box_counts;
 
-/* Steps 2–6 for every pixel of the box, with n samples a pixel. */
-/* always_inline: called twice, it would otherwise stay a function, and
+/* Steps 2–6 for every pixel of the box, with n samples a pixel.
+ * always_inline: called twice, it would otherwise stay a function, and
  * through the pointer s every store to the depth buffer (a float) might
  * change the snapped triangle (floats too), so nothing could be hoisted. */
-__attribute__((always_inline)) static inline void draw_box(const setup *s, const ras_triangle *t, const ras_raster_ctx *ctx,
-                            int n, box_counts *c) {
+__attribute__((always_inline)) static inline void
+draw_box(const setup *s, const ras_triangle *t, const ras_raster_ctx *ctx, int n, box_counts *c) {
     ras_framebuffer *fb = ctx->fb;
     const ras_sample_pattern *pat = &ctx->pattern;
     ras_shade_fn shade = ctx->shade ? ctx->shade : ras_shade_vertex_color;
