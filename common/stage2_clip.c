@@ -5,7 +5,9 @@
 
 #define PLANE_COUNT 7
 
-/* Signed distance to plane k: >= 0 is inside. */
+/* Signed distance to plane k: >= 0 is inside. In float its sign is exact
+ * (a rounded sum or difference of two floats is 0 only when they are equal,
+ * and G = 8 scales exactly), which is all a plane test needs. */
 static inline float plane_distance(int k, vec4s p) {
     switch (k) {
     case 0: return p.w - RAS_CLIP_W_EPSILON;
@@ -18,14 +20,68 @@ static inline float plane_distance(int k, vec4s p) {
     }
 }
 
-static ras_clip_vertex lerp_vertex(const ras_clip_vertex *a, const ras_clip_vertex *b, float t) {
+/* The same in double, for where along an edge the plane lies: the distance
+ * of a far corner (w ~ 1e6) is then not rounded to float's 0.06 before it
+ * decides where a near-plane cut at w ~ 0.01 lands. */
+static inline double plane_distance_d(int k, const double p[4]) {
+    double gw = (double)RAS_CLIP_GUARD * p[3];
+    switch (k) {
+    case 0: return p[3] - (double)RAS_CLIP_W_EPSILON;
+    case 1: return p[3] - p[2];
+    case 2: return p[3] + p[2];
+    case 3: return gw - p[0];
+    case 4: return gw + p[0];
+    case 5: return gw - p[1];
+    default: return gw + p[1];
+    }
+}
+
+/* The point where the edge from `in` (inside plane k) to `out` (outside)
+ * crosses plane k. Position in double, rounded once to float, and then put
+ * exactly on the plane: the coordinate the plane constrains is set from the
+ * others (w = ε, z = ±w, x or y = ±G·w: exact in float, G being a power of
+ * two), so the plane equation holds with no rounding left. The attributes
+ * are interpolated in float with the same t (exact in clip space up to
+ * rounding; nothing downstream depends on them being on a plane). */
+static ras_clip_vertex cut_vertex(const ras_clip_vertex *in, const ras_clip_vertex *out, int k) {
+    const double a[4] = {in->p_clip.x, in->p_clip.y, in->p_clip.z, in->p_clip.w};
+    const double b[4] = {out->p_clip.x, out->p_clip.y, out->p_clip.z, out->p_clip.w};
+    double da = plane_distance_d(k, a), db = plane_distance_d(k, b);
+    /* da >= 0 > db (the float test's signs are exact), so t is in [0, 1) */
+    double t = da / (da - db);
+    float p[4];
+    for (int j = 0; j < 4; j++) p[j] = (float)(a[j] + t * (b[j] - a[j]));
+    switch (k) {
+    case 0: p[3] = RAS_CLIP_W_EPSILON; break;
+    case 1: p[2] = p[3]; break;
+    case 2: p[2] = -p[3]; break;
+    case 3: p[0] = RAS_CLIP_GUARD * p[3]; break;
+    case 4: p[0] = -RAS_CLIP_GUARD * p[3]; break;
+    case 5: p[1] = RAS_CLIP_GUARD * p[3]; break;
+    default: p[1] = -RAS_CLIP_GUARD * p[3]; break;
+    }
+    float tf = (float)t;
     ras_clip_vertex o;
-    o.p_clip = glms_vec4_lerp(a->p_clip, b->p_clip, t);
-    o.color = glms_vec3_lerp(a->color, b->color, t);
-    o.normal = glms_vec3_lerp(a->normal, b->normal, t);
-    o.uv = glms_vec2_lerp(a->uv, b->uv, t);
-    o.view_pos = glms_vec3_lerp(a->view_pos, b->view_pos, t);
+    o.p_clip = (vec4s){{p[0], p[1], p[2], p[3]}};
+    o.color = glms_vec3_lerp(in->color, out->color, tf);
+    o.normal = glms_vec3_lerp(in->normal, out->normal, tf);
+    o.uv = glms_vec2_lerp(in->uv, out->uv, tf);
+    o.view_pos = glms_vec3_lerp(in->view_pos, out->view_pos, tf);
     return o;
+}
+
+static inline float clampf(float v, float lo, float hi) { return v < lo ? lo : v > hi ? hi : v; }
+
+/* A corner cut by a later plane is a convex combination of corners inside
+ * every earlier plane, so it is inside them too — up to the last rounding
+ * of its coordinates (an ulp). That ulp is taken back here, so every corner
+ * keeps the promise of the header exactly. */
+static void into_volume(vec4s *p) {
+    if (!(p->w >= RAS_CLIP_W_EPSILON)) p->w = RAS_CLIP_W_EPSILON;
+    float g = RAS_CLIP_GUARD * p->w;
+    p->z = clampf(p->z, -p->w, p->w);
+    p->x = clampf(p->x, -g, g);
+    p->y = clampf(p->y, -g, g);
 }
 
 unsigned ras_clip_outcode(vec4s p_clip) {
@@ -58,26 +114,33 @@ ras_clip_result ras_clip_triangle(const ras_clip_vertex *a, const ras_clip_verte
     ras_clip_vertex tmp[RAS_CLIP_MAX_VERTICES];
     int n = 3;
     for (int k = 0; k < PLANE_COUNT && n > 0; k++) {
-        if (!(outside_any & (1u << k))) continue;
+        /* The planes the polygon as it is NOW crosses, not those the
+         * original corners crossed: a corner cut against an earlier plane
+         * is tested against this one like any other. */
+        bool crosses = false;
+        for (int i = 0; i < n && !crosses; i++)
+            crosses = !(plane_distance(k, out[i].p_clip) >= 0);
+        if (!crosses) continue;
         int m = 0;
         for (int i = 0; i < n; i++) {
             const ras_clip_vertex *p = &out[i], *q = &out[(i + 1) % n];
-            float dp = plane_distance(k, p->p_clip), dq = plane_distance(k, q->p_clip);
-            if (dp >= 0) tmp[m++] = *p;
-            /* Exactly one of the two inside: the edge crosses the plane. t is
-             * in [0, 1] and the denominator cannot be 0 because the signs differ.
+            bool p_in = plane_distance(k, p->p_clip) >= 0, q_in = plane_distance(k, q->p_clip) >= 0;
+            /* At most 3 + 7 corners for a convex polygon; the bound also
+             * holds the array should rounding make one not quite convex. */
+            if (p_in && m < RAS_CLIP_MAX_VERTICES) tmp[m++] = *p;
+            /* Exactly one of the two inside: the edge crosses the plane.
              * Always interpolate from the inside corner to the outside one: a
              * neighbour sharing this edge walks it the other way, and only a
              * direction-independent formula gives it the same cut point bit for
              * bit — otherwise the shared edge moves and the mesh cracks on
              * screen (tests/unit/test_hardcases.c, test_watertight_clipped_fan). */
-            if ((dp >= 0) != (dq >= 0))
-                tmp[m++] = dp >= 0 ? lerp_vertex(p, q, dp / (dp - dq))
-                                   : lerp_vertex(q, p, dq / (dq - dp));
+            if (p_in != q_in && m < RAS_CLIP_MAX_VERTICES)
+                tmp[m++] = p_in ? cut_vertex(p, q, k) : cut_vertex(q, p, k);
         }
         n = m;
         memcpy(out, tmp, (size_t)n * sizeof *out);
     }
+    for (int i = 0; i < n; i++) into_volume(&out[i].p_clip);
     *count = n >= 3 ? n : 0;
     return *count ? RAS_CLIP_SPLIT : RAS_CLIP_OUTSIDE;
 }

@@ -10,6 +10,16 @@
  *                                 the fixed-point range; the rasterizer clamps
  *                                 to the screen itself, so nothing visible is cut)
  * Attributes are interpolated linearly in clip space, which is exact there.
+ *
+ * The contract, for any finite input: every corner of a RAS_CLIP_SPLIT
+ * polygon is finite and inside all seven planes exactly (ras_clip_outcode
+ * gives 0; in particular w >= RAS_CLIP_W_EPSILON). A cut is computed in
+ * double and then put exactly on its plane (w = ε, z = ±w, x or y = ±G·w),
+ * the polygon is tested against each plane as it stands after the previous
+ * cuts (a new corner is clipped by every later plane it violates), and the
+ * last rounding of a corner cut by a later plane, which can leave it an ulp
+ * outside an earlier one, is clamped back. tests/unit/test_clip.c holds this
+ * over 300 000 random legal cameras and 200 000 raw clip-space triangles.
  */
 #ifndef STAGE2_CLIP_H
 #define STAGE2_CLIP_H

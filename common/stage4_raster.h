@@ -23,6 +23,15 @@
 #include "ras_triangle.h"
 #include "stage5_fragment.h"
 
+/* The rasterizer's exact range: screen x and y within ±2^17 px. There the
+ * reference's 1/256-px snap and its edge functions are exact (no rounding:
+ * hw2_rasterize/solution/rasterizer.c says why), so coverage is watertight.
+ * The pipeline never hands a rasterizer a triangle with a corner beyond it:
+ * the clipper's guard band keeps every corner within 4.5 frames of the
+ * origin (RAS_CLIP_GUARD, RAS_IMAGE_MAX_SIDE), and setup refuses what would
+ * still lie beyond (ras_raster_check_range). */
+#define RAS_RASTER_MAX_COORD 131072.0f
+
 typedef enum ras_aa_mode {
     RAS_AA_NONE, /* one sample at the pixel centre */
     RAS_AA_MSAA, /* coverage and depth per sample, shading once per pixel */
