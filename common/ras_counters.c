@@ -21,6 +21,7 @@ int ras_counters_format_json(const ras_counters *c, char *buf, size_t size) {
         "{\"stages_run\": [%s], \"vertices_transformed\": %llu, \"triangles_in\": %llu, "
         "\"triangles_clipped_away\": %llu, \"triangles_clip_split\": %llu, "
         "\"triangles_culled\": %llu, \"triangles_rejected_nonfinite\": %llu, "
+        "\"triangles_rejected_range\": %llu, "
         "\"triangles_degenerate\": %llu, \"triangles_rasterized\": %llu, "
         "\"samples_tested\": %llu, \"samples_covered\": %llu, \"depth_tests_passed\": %llu, "
         "\"fragments_shaded\": %llu, \"varyings_interpolated\": %llu, "
@@ -29,6 +30,7 @@ int ras_counters_format_json(const ras_counters *c, char *buf, size_t size) {
         "\"ms\": {\"vertex\": %.3f, \"raster\": %.3f, \"resolve\": %.3f, \"total\": %.3f}}",
         stages, U(vertices_transformed), U(triangles_in), U(triangles_clipped_away),
         U(triangles_clip_split), U(triangles_culled), U(triangles_rejected_nonfinite),
+        U(triangles_rejected_range),
         U(triangles_degenerate), U(triangles_rasterized), U(samples_tested),
         U(samples_covered), U(depth_tests_passed), U(fragments_shaded),
         U(varyings_interpolated), U(texels_fetched), U(mip_levels_built),

@@ -34,6 +34,7 @@ typedef struct ras_counters {
     uint64_t triangles_clip_split;    /* crossed a plane and were cut */
     uint64_t triangles_culled;
     uint64_t triangles_rejected_nonfinite; /* NaN/Inf in positions or varyings */
+    uint64_t triangles_rejected_range; /* a corner beyond RAS_RASTER_MAX_COORD (stage4_raster.h) */
     uint64_t triangles_degenerate;    /* zero area after snapping */
     uint64_t triangles_rasterized;
     uint64_t samples_tested;

@@ -28,6 +28,7 @@ static void reset_frame_state(ras_pipeline *p) {
     p->counters = (ras_counters){.buffer_bytes = p->fb->bytes};
     p->step_reached = 0;
     p->has_last = false;
+    p->has_refused = false;
     if (p->overdraw)
         for (long i = 0, n = (long)p->fb->width * p->fb->height; i < n; i++)
             p->overdraw[i] = 0;
@@ -121,6 +122,29 @@ static void draw_wire_polygon(ras_pipeline *p, const ras_clip_vertex *poly, int 
     }
 }
 
+void ras_pipeline_draw_screen_triangle(ras_pipeline *p, const ras_triangle *t) {
+    /* Beyond the rasterizer's exact range: refused, counted and located
+     * (stage4_raster.h), never drawn approximately. */
+    if (!ras_raster_check_range(t, p->has_refused ? NULL : &p->refused)) {
+        p->has_refused = true;
+        p->counters.triangles_rejected_range++;
+        return;
+    }
+    float area2 = ras_triangle_area2(t);
+    if ((p->config.cull == RAS_CULL_BACK && area2 < 0) ||
+        (p->config.cull == RAS_CULL_FRONT && area2 > 0)) {
+        p->counters.triangles_culled++;
+        return;
+    }
+    if (p->config.step) { /* the step view: the first step_triangles only */
+        if (p->step_reached++ >= p->config.step_triangles) return;
+        p->last_triangle = *t;
+        p->has_last = true;
+    }
+    p->counters.triangles_rasterized++;
+    p->config.rasterize(t, &p->raster);
+}
+
 static void raster_one(ras_pipeline *p, const ras_clip_vertex *a, const ras_clip_vertex *b,
                        const ras_clip_vertex *c) {
     ras_triangle t;
@@ -129,19 +153,7 @@ static void raster_one(ras_pipeline *p, const ras_clip_vertex *a, const ras_clip
         p->counters.triangles_rejected_nonfinite++;
         return;
     }
-    float area2 = ras_triangle_area2(&t);
-    if ((p->config.cull == RAS_CULL_BACK && area2 < 0) ||
-        (p->config.cull == RAS_CULL_FRONT && area2 > 0)) {
-        p->counters.triangles_culled++;
-        return;
-    }
-    if (p->config.step) { /* the step view: the first step_triangles only */
-        if (p->step_reached++ >= p->config.step_triangles) return;
-        p->last_triangle = t;
-        p->has_last = true;
-    }
-    p->counters.triangles_rasterized++;
-    p->config.rasterize(&t, &p->raster);
+    ras_pipeline_draw_screen_triangle(p, &t);
 }
 
 static bool clip_vertex_finite(const ras_clip_vertex *v) {

@@ -66,6 +66,11 @@ typedef struct ras_pipeline {
     long step_reached;
     bool has_last;
     ras_triangle last_triangle;
+    /* The first triangle of the frame refused for its range (stage4_raster.h:
+     * counters.triangles_rejected_range > 0), with which corner was where;
+     * has_refused false when none was. */
+    bool has_refused;
+    ras_error refused;
 } ras_pipeline;
 
 /* Checks the configuration (hooks present, sizes, sample counts) and
@@ -83,6 +88,12 @@ bool ras_pipeline_draw_mesh(ras_pipeline *p, const ras_mesh *mesh, mat4s model, 
 /* Stages 3–5 for a triangle already in clip space (tests, benchmarks). */
 void ras_pipeline_draw_clip_triangle(ras_pipeline *p, const ras_clip_vertex *a,
                                      const ras_clip_vertex *b, const ras_clip_vertex *c);
+
+/* Stage 4–5 for a triangle already in screen space, as every clipped and set
+ * up triangle goes (tests, direct callers): the rasterizer's range check
+ * (stage4_raster.h: refused, counted in triangles_rejected_range, the first
+ * refusal kept in p->refused), culling, the step view, the rasterize hook. */
+void ras_pipeline_draw_screen_triangle(ras_pipeline *p, const ras_triangle *t);
 
 /* Stage 6 into `out` (same size as the frame). */
 void ras_pipeline_end_frame(ras_pipeline *p, ras_image *out);

@@ -18,18 +18,29 @@
 #define STAGE4_RASTER_H
 
 #include "ras_counters.h"
+#include "ras_error.h"
 #include "ras_framebuffer.h"
 #include "ras_sample_pattern.h"
 #include "ras_triangle.h"
 #include "stage5_fragment.h"
 
-/* The rasterizer's exact range: screen x and y within ±2^17 px. There the
- * reference's 1/256-px snap and its edge functions are exact (no rounding:
- * hw2_rasterize/solution/rasterizer.c says why), so coverage is watertight.
- * The pipeline never hands a rasterizer a triangle with a corner beyond it:
- * the clipper's guard band keeps every corner within 4.5 frames of the
- * origin (RAS_CLIP_GUARD, RAS_IMAGE_MAX_SIDE), and setup refuses what would
- * still lie beyond (ras_raster_check_range). */
+/* THE RANGE of a rasterizer's input (part of this contract): every corner's
+ * screen x and y within ±RAS_RASTER_MAX_COORD = 2^17 px, inclusive. There the
+ * reference's 1/256-px snap and its double edge functions are exact (whole
+ * numbers of 2^-16 px² below 2^53 of them: hw2_rasterize/solution/
+ * rasterizer.c), so coverage is exact and watertight. Beyond it a triangle is
+ * REFUSED, not drawn approximately: the pipeline checks every triangle with
+ * ras_raster_check_range before it calls the rasterize hook (student's or
+ * reference's), draws nothing of a triangle out of range, counts it in
+ * triangles_rejected_range and keeps the first refusal's message, which names
+ * the corner and its position (ras_pipeline.refused). The fast renderer
+ * (hw3_shading/fast/) refuses and counts at the same point with the same
+ * test. From a scene it cannot happen: the clipper's guard band keeps every
+ * corner within 4.5 frames of RAS_IMAGE_MAX_SIDE = 16384 px (73 728 px); a
+ * screen-space caller meets it through ras_pipeline_draw_screen_triangle.
+ * A rasterizer called straight, outside the pipeline, with coordinates
+ * beyond the range is outside this contract (the reference then still clamps
+ * its box and never wraps, but its edge functions round). */
 #define RAS_RASTER_MAX_COORD 131072.0f
 
 typedef enum ras_aa_mode {
@@ -53,5 +64,19 @@ typedef void (*ras_rasterize_fn)(const ras_triangle *t, const ras_raster_ctx *ct
 typedef vec3s (*ras_resolve_fn)(const ras_framebuffer *fb, int x, int y);
 
 const char *ras_aa_mode_name(ras_aa_mode aa);
+
+/* True when every corner of t lies within ±RAS_RASTER_MAX_COORD in x and y
+ * (a NaN does not). Otherwise false, and err (may be NULL) says which corner
+ * is where, and the range. */
+bool ras_raster_check_range(const ras_triangle *t, ras_error *err);
+
+/* The same test without the message, for per-triangle loops. */
+static inline bool ras_raster_in_range(const ras_triangle *t) {
+    bool ok = true;
+    for (int i = 0; i < 3; i++)
+        ok &= t->v[i].x >= -RAS_RASTER_MAX_COORD && t->v[i].x <= RAS_RASTER_MAX_COORD &&
+              t->v[i].y >= -RAS_RASTER_MAX_COORD && t->v[i].y <= RAS_RASTER_MAX_COORD;
+    return ok;
+}
 
 #endif

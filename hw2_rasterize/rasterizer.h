@@ -9,6 +9,13 @@
  *
  * Conventions: screen y grows up; pixel (x, y) covers [x, x+1) × [y, y+1) and
  * its centre is (x + 0.5, y + 0.5); depth: smaller is closer.
+ *
+ * Range: the pipeline hands rasterize_triangle only triangles whose corners
+ * lie within ±RAS_RASTER_MAX_COORD = 2^17 px in x and y (stage4_raster.h);
+ * there coverage must be exact (the reference's 1/256-px snap makes its
+ * double edge functions exact). A triangle with a corner beyond is refused
+ * by the pipeline with a message naming the corner, and counted
+ * (triangles_rejected_range); it never reaches this code.
  */
 #ifndef HW2_RASTERIZER_H
 #define HW2_RASTERIZER_H

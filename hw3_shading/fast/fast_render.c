@@ -56,6 +56,8 @@
 #define SUBPIXEL_BITS 8 /* as hw2_rasterize/solution/rasterizer.c */
 #define SUBPIXEL_ONE (1 << SUBPIXEL_BITS)
 #define FIXED_LIMIT_PX (1 << 20)
+_Static_assert(RAS_RASTER_MAX_COORD <= FIXED_LIMIT_PX,
+               "the fast path's int64 edge functions must hold the rasterizer's whole range");
 
 /* ---- triangle records ------------------------------------------------------ */
 
@@ -225,15 +227,21 @@ static bool setup_triangle(tri_list *L, const ras_clip_vertex *a, const ras_clip
             k->triangles_rejected_nonfinite++;
             continue;
         }
-        k->triangles_rasterized++; /* hw3 draws with RAS_CULL_NONE */
         for (int v = 0; v < 3; v++) r->v[v] = *pos[v];
-        bool in_range = true;
-        for (int v = 0; v < 3; v++)
-            in_range = in_range && fabsf(r->v[v].x) <= FIXED_LIMIT_PX &&
-                       fabsf(r->v[v].y) <= FIXED_LIMIT_PX;
-        /* The guard band (stage2_clip.h) keeps screen coordinates within 9
-         * viewports, so the reference never leaves its fixed-point path here. */
-        if (!in_range) continue;
+        /* The rasterizer's range (stage4_raster.h), tested where and as the
+         * teaching pipeline tests it (ras_raster_check_range, before the
+         * rasterize hook): a triangle beyond it is refused and counted by
+         * both, never skipped by one and drawn by the other. The guard band
+         * (stage2_clip.h) keeps every corner within 4.5 frames, so no frame
+         * the pipeline makes reaches it; the fixed-point arithmetic below
+         * holds to FIXED_LIMIT_PX, further still. */
+        ras_triangle rt;
+        for (int v = 0; v < 3; v++) rt.v[v] = r->v[v];
+        if (!ras_raster_in_range(&rt)) {
+            k->triangles_rejected_range++;
+            continue;
+        }
+        k->triangles_rasterized++; /* hw3 draws with RAS_CULL_NONE */
         if (!setup_fixed(r, width, height)) {
             k->triangles_degenerate++;
             continue;
@@ -2206,6 +2214,7 @@ static void sum_counters(const frame *fr, const worker *workers, int threads,
         k->stages_run |= s->stages_run;
         k->triangles_in += s->triangles_in;
         k->triangles_rejected_nonfinite += s->triangles_rejected_nonfinite;
+        k->triangles_rejected_range += s->triangles_rejected_range;
         k->triangles_clipped_away += s->triangles_clipped_away;
         k->triangles_clip_split += s->triangles_clip_split;
         k->triangles_rasterized += s->triangles_rasterized;

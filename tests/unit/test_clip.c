@@ -379,6 +379,99 @@ static void test_clip_contract_random_clip_space(void **state) {
     CHECK(bad == 0, "%ld corners outside the clipper's contract; first: %s", bad, first);
 }
 
+/* ---- the rasterizer's range ------------------------------------------------- */
+
+/* Samples of a 64x32 frame covered when the screen-space triangle
+ * (x[i], y[i]) goes through the pipeline's stage 4 (its range check, then
+ * hw2's reference rasterizer); *k gets the counters, *refused the pipeline's
+ * message when it refused the triangle ("" otherwise). */
+static long draw_screen(const double x[3], const double y[3], bool *covered, ras_counters *k,
+                        char *refused, size_t size) {
+    ras_pipeline_config cfg = {.width = 64, .height = 32, .rasterize = rasterize_triangle,
+                               .resolve = resolve_pixel};
+    ras_error err;
+    ras_pipeline *p = ras_pipeline_create(&cfg, &err);
+    if (!p) fail_msg("test setup: %s", err.msg);
+    ras_triangle t = {0};
+    for (int i = 0; i < 3; i++) {
+        t.v[i] = (vec4s){{(float)x[i], (float)y[i], 0.5f, 1.0f}};
+        t.color[i] = (vec3s){{1, 1, 1}};
+    }
+    ras_pipeline_draw_screen_triangle(p, &t);
+    long n = 0;
+    for (int py = 0; py < 32; py++)
+        for (int px = 0; px < 64; px++)
+            n += covered[py * 64 + px] =
+                p->fb->depth[ras_fb_sample_index(p->fb, px, py, 0)] != INFINITY;
+    *k = p->counters;
+    snprintf(refused, size, "%s", p->has_refused ? p->refused.msg : "");
+    ras_pipeline_destroy(p);
+    return n;
+}
+
+/* A wedge whose far corners lie exactly at -2^17 and +2^17 px is drawn
+ * exactly: every pixel centre as an exact integer edge test on the 1/256 px
+ * grid says (the corners are on that grid, so snapping moves nothing; no
+ * centre lies on an edge, so the fill rule does not enter). One float step
+ * further out, the pipeline refuses the same wedge, counts it, and its
+ * message names the corner and where it is. */
+static void test_raster_range_at_limit(void **state) {
+    (void)state;
+    const double L = RAS_RASTER_MAX_COORD;
+    double x[3] = {-L, L, 32.25}, y[3] = {-130.5, 153.75, 22.75};
+    int64_t X[3], Y[3];
+    for (int i = 0; i < 3; i++) X[i] = (int64_t)(x[i] * 256), Y[i] = (int64_t)(y[i] * 256);
+    int64_t area = (X[1] - X[0]) * (Y[2] - Y[0]) - (X[2] - X[0]) * (Y[1] - Y[0]);
+    bool got[64 * 32];
+    ras_counters k;
+    char refused[sizeof(ras_error)];
+    long lit = draw_screen(x, y, got, &k, refused, sizeof refused);
+    long expected = 0, wrong = 0;
+    for (int py = 0; py < 32; py++)
+        for (int px = 0; px < 64; px++) {
+            int64_t sx = px * 256 + 128, sy = py * 256 + 128;
+            bool in = true;
+            for (int e = 0; e < 3; e++) {
+                int a = (e + 1) % 3, b = (e + 2) % 3;
+                /* |terms| < 2^26 * 2^26: exact in int64 */
+                int64_t E = (X[b] - X[a]) * (sy - Y[a]) - (Y[b] - Y[a]) * (sx - X[a]);
+                CHECK(E != 0, "test setup: centre (%d, %d) lies on an edge", px, py);
+                in = in && (area > 0 ? E > 0 : E < 0);
+            }
+            expected += in;
+            wrong += in != got[py * 64 + px];
+        }
+    printf("wedge with corners at +-2^17 px: %ld pixels lit, %ld expected, %ld wrong\n", lit,
+           expected, wrong);
+    CHECK(expected > 0 && expected < 64 * 32, "test setup: %ld of the frame expected", expected);
+    CHECK(wrong == 0 && k.triangles_rejected_range == 0 && !*refused,
+          "corners exactly at the rasterizer's range +-%.0f px: %ld pixels wrong (%ld lit, "
+          "%ld expected), %llu refused; expected exact coverage, nothing refused",
+          L, wrong, lit, expected, (unsigned long long)k.triangles_rejected_range);
+
+    for (int corner = 0; corner < 2; corner++) {
+        double xs[3] = {x[0], x[1], x[2]};
+        xs[corner] = nextafterf((float)xs[corner], corner ? INFINITY : -INFINITY);
+        lit = draw_screen(xs, y, got, &k, refused, sizeof refused);
+        CHECK(lit == 0 && k.triangles_rejected_range == 1 && k.triangles_rasterized == 0 &&
+                  k.samples_tested == 0,
+              "corner %d one float step beyond the range (%.9g px): %ld pixels lit, %llu "
+              "refused, %llu rasterized; expected it refused and nothing drawn",
+              corner, xs[corner], lit, (unsigned long long)k.triangles_rejected_range,
+              (unsigned long long)k.triangles_rasterized);
+        char where[64];
+        snprintf(where, sizeof where, "corner %d at screen (%.9g,", corner,
+                 (double)(float)xs[corner]);
+        CHECK(strstr(refused, where) && strstr(refused, "131072"),
+              "the refusal should name %s and the range 131072, got: \"%s\"", where, refused);
+        printf("refused: %s\n", refused);
+    }
+    /* A NaN is out of every range too (the pipeline rejects it earlier). */
+    ras_triangle t = {0};
+    t.v[2].y = NAN;
+    CHECK(!ras_raster_check_range(&t, NULL), "a NaN corner passed the range check");
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_clip_scene_tip_near_far_edge),
@@ -386,6 +479,7 @@ int main(void) {
         cmocka_unit_test(test_clip_scene_found_by_search),
         cmocka_unit_test(test_clip_contract_random_cameras),
         cmocka_unit_test(test_clip_contract_random_clip_space),
+        cmocka_unit_test(test_raster_range_at_limit),
     };
     return RAS_RUN_TESTS("clip", tests, NULL, NULL);
 }

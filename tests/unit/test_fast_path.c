@@ -92,6 +92,7 @@ static void check_same_counters(const ras_counters *a, const ras_counters *b, co
     SAME(triangles_clip_split);
     SAME(triangles_culled);
     SAME(triangles_rejected_nonfinite);
+    SAME(triangles_rejected_range);
     SAME(triangles_degenerate);
     SAME(triangles_rasterized);
     SAME(samples_tested);
