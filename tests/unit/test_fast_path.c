@@ -275,12 +275,80 @@ static void test_fast_path_clamp_coloured_light_no_light(void **state) {
     scene->width = scene->height = 700;
 }
 
+/* Extreme but legal cameras (issue #27): near 0.1 and 0.01 with far 1e6,
+ * triangles whose tip lies within 0.05 of the eye and whose far edge lies at
+ * 900 000, and a floor 1e6 wide seen from 1e-3 above it with near 1e-4 (far
+ * 1e6 is the largest a scene file takes). The
+ * clipper cuts them at the near and far planes and the guard band; the old
+ * float cut sent corners with w ~ 0 beyond 2^20 px, which the fast path
+ * silently skipped while the teaching pipeline drew them. Both must now
+ * draw the same pixels and count the same work, on every shader and AA. */
+#define MATERIAL                                                                            \
+    "\"material\": {\"color\": [0.8, 0.6, 0.3], \"texture\": {\"builtin\": \"checker\", "       \
+    "\"size\": 64, \"squares\": 8}, \"height_map\": {\"builtin\": \"bumps\", \"size\": 64, "  \
+    "\"bumps\": 4}, \"ks\": 0.5, \"kh\": 4, \"kn\": 0.05}"
+static const char *const extreme_scenes[] = {
+    "{\"image\": {\"width\": 160, \"height\": 120},"
+    " \"camera\": {\"eye\": [0, 0, 5], \"fov_deg\": 45, \"near\": 0.1, \"far\": 1e6},"
+    " \"lights\": [{\"position\": [0, 20, 10], \"intensity\": 600}],"
+    " \"objects\": [{\"shape\": \"triangle\", \"vertices\": [[0.01, 0.01, 4.95],"
+    " [-50, -1, -900000], [50, -1, -900000]], " MATERIAL "}]}",
+    "{\"image\": {\"width\": 160, \"height\": 120},"
+    " \"camera\": {\"eye\": [0, 0, 5], \"fov_deg\": 45, \"near\": 0.01, \"far\": 1e6},"
+    " \"lights\": [{\"position\": [0, 20, 10], \"intensity\": 600}],"
+    " \"objects\": [{\"shape\": \"triangle\", \"vertices\": [[0.01, 0.01, 4.995],"
+    " [-50, -1, -900000], [50, -1, -900000]], " MATERIAL "},"
+    " {\"shape\": \"triangle\", \"vertices\": [[0.0116474076, -0.0897293307, 4.99015045],"
+    " [73827.3668, -70968.9836, -548216.739], [6956.36316, -6231.19753, -65193.7945]], "
+    MATERIAL "}]}",
+    "{\"image\": {\"width\": 128, \"height\": 96},"
+    " \"camera\": {\"eye\": [0.3, -0.999, 5], \"look_at\": [0.5, -1, -100], \"fov_deg\": 100,"
+    " \"near\": 1e-4, \"far\": 1e6},"
+    " \"lights\": [{\"position\": [0, 20, 10], \"intensity\": 600}],"
+    " \"objects\": [{\"shape\": \"plane\", \"size\": 1e6, \"divisions\": 3,"
+    " \"transform\": {\"translate\": [0, -1, 0]}, " MATERIAL "}]}",
+};
+
+static void test_fast_path_extreme_cameras(void **state) {
+    (void)state;
+    ras_scene *kept_scene = scene;
+    ras_scene_assets *kept_assets = assets;
+    for (size_t i = 0; i < sizeof extreme_scenes / sizeof *extreme_scenes; i++) {
+        ras_error err = {{0}};
+        char name[32];
+        snprintf(name, sizeof name, "extreme camera %zu", i);
+        scene = ras_scene_parse(extreme_scenes[i], name, NULL, &err);
+        assets = scene ? ras_scene_load_assets(scene, &err) : NULL;
+        if (!assets) {
+            ras_scene_destroy(scene);
+            scene = kept_scene, assets = kept_assets; /* the group teardown frees those */
+            fail_msg("test setup: %s", err.msg);
+        }
+        hw3_render_options opt = options(RAS_PATTERN_STANDARD, 4);
+        ras_counters k;
+        render(opt, true, 1, teaching_img, &k, NULL);
+        printf("%s: %llu triangles split by the clipper, %llu rasterized, %llu samples "
+               "covered, %llu refused for range\n",
+               name, (unsigned long long)k.triangles_clip_split,
+               (unsigned long long)k.triangles_rasterized,
+               (unsigned long long)k.samples_covered,
+               (unsigned long long)k.triangles_rejected_range);
+        assert_true(k.triangles_clip_split > 0 && k.samples_covered > 0);
+        check_all(name, opt);
+        ras_scene_assets_destroy(assets);
+        ras_scene_destroy(scene);
+    }
+    scene = kept_scene;
+    assets = kept_assets;
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_fast_path_default_scene),
         cmocka_unit_test(test_fast_path_odd_size_trilinear),
         cmocka_unit_test(test_fast_path_clipping_affine),
         cmocka_unit_test(test_fast_path_clamp_coloured_light_no_light),
+        cmocka_unit_test(test_fast_path_extreme_cameras),
     };
     return RAS_RUN_TESTS("fast_path", tests, group_setup, group_teardown);
 }
