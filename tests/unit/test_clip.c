@@ -8,7 +8,7 @@
  *             hw2's reference rasterizer) and compared pixel by pixel with an
  *             independent ray cast in double precision;
  *   contract  a randomized search (fixed seed, a fixed number of scenes, no
- *             timing) over legal cameras — near from 1e-6, far up to 1e12 —
+ *             timing) over legal cameras — near from 1e-12, far up to 1e6 —
  *             and triangles around, in front of, behind and far from the eye:
  *             every corner the clipper emits is finite, has w >= ε, lies on
  *             the inner side of all seven planes, and lands inside the
@@ -257,26 +257,28 @@ static bool corner_in_contract(vec4s p, char *why, size_t size) {
     return true;
 }
 
-/* A random legal scene: near 1e-6..1, far up to 1e12 (and more than near),
- * a fov of 1..170°, corners anywhere from just around the eye to beyond the
- * far plane, in front and behind. */
+/* A random legal scene (what a scene file takes: near > 0, far > near and
+ * at most 1e6, coordinates within ±1e6): near from 1e-12 to 1, far up to
+ * 1e6 (a quarter of them exactly 1e6), a fov of 1..170°, frames up to
+ * RAS_IMAGE_MAX_SIDE, corners anywhere from just around the eye to beyond
+ * the far plane, in front and behind. */
 static void random_scene(rng *g, scene *s) {
     s->eye[0] = rng_uniform(g, -10, 10);
     s->eye[1] = rng_uniform(g, -10, 10);
     s->eye[2] = rng_uniform(g, -10, 10);
     s->fov_deg = rng_uniform(g, 1, 170);
-    s->width = 1 + (int)rng_uniform(g, 0, 16384);
-    s->height = 1 + (int)rng_uniform(g, 0, 16384);
-    s->z_near = rng_log(g, -6, 0);
-    s->z_far = s->z_near * rng_log(g, 0.5, 12);
+    s->width = 1 + (int)rng_uniform(g, 0, RAS_IMAGE_MAX_SIDE);
+    s->height = 1 + (int)rng_uniform(g, 0, RAS_IMAGE_MAX_SIDE);
+    s->z_near = rng_log(g, -12, 0);
+    s->z_far = rng_uniform(g, 0, 1) < 0.25 ? 1e6 : fmin(1e6, s->z_near * rng_log(g, 0.3, 12));
     for (int i = 0; i < 3; i++) {
         /* distance ahead: from behind the eye to past far, log-spread */
         double kind = rng_uniform(g, 0, 1);
         double ahead = kind < 0.15   ? -rng_log(g, -6, 3)
                        : kind < 0.5  ? s->z_near * rng_uniform(g, 0, 3)
-                       : kind < 0.85 ? rng_log(g, -6, 1) * s->z_far
-                                     : rng_log(g, -3, 6);
-        double side = rng_log(g, -6, 6);
+                       : kind < 0.85 ? fmin(rng_log(g, -6, 0.1) * s->z_far, 9.9e5)
+                                     : rng_log(g, -3, 5.9);
+        double side = rng_log(g, -6, 5.9);
         double xs = side * rng_uniform(g, -1, 1), ys = side * rng_uniform(g, -1, 1);
         s->tri[i][0] = s->eye[0] + xs;
         s->tri[i][1] = s->eye[1] + ys;
