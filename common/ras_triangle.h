@@ -13,6 +13,11 @@
 
 #include "ras_math.h"
 
+/* The sub-pixel grid a rasterizer snaps corners to before coverage: 1/256 px
+ * (8 bits, as D3D and llvmpipe; hw2's reference and the fast renderer).
+ * Stage 3 takes inverse_w depth at the snapped positions (stage3_setup.h). */
+#define RAS_SUBPIXEL_ONE 256.0
+
 typedef struct ras_triangle {
     vec4s v[3];        /* screen x, y; depth z; clip w */
     vec3s color[3];    /* [0, 1] */

@@ -3,6 +3,8 @@
 
 #include "ras_names.h"
 
+#include <math.h> /* round, fabs, isfinite */
+
 const char *ras_depth_format_name(ras_depth_format format) {
     return ras_name_of(&ras_names_depth, (int)format);
 }
@@ -37,6 +39,51 @@ vec4s ras_viewport(vec4s p_clip, int width, int height) {
     return ras_viewport_depth(p_clip, width, height, RAS_DEPTH_Z01, 0.0f);
 }
 
+/* x or y as the rasterizer snaps it: to the nearest 1/RAS_SUBPIXEL_ONE px,
+ * half away from zero (hw2_rasterize/solution/rasterizer.c, snap; the fast
+ * renderer's setup_fixed). */
+static double snapped(float v) { return round((double)v * RAS_SUBPIXEL_ONE) / RAS_SUBPIXEL_ONE; }
+
+/* RAS_DEPTH_INV_W: the snap carried into depth. The rasterizer computes
+ * coverage AND the barycentrics it interpolates depth with on the snapped
+ * corners; with each corner's depth taken at its unsnapped position, the
+ * depth plane it interpolates is tilted by up to 1/512 px of slope per
+ * corner, differently for two triangles of one surface or of two parallel
+ * ones, and that costs -near/w its order at relative gaps of 1e-6 (issue
+ * #27). So each corner gets the depth of the triangle's own plane — -near/w
+ * is affine in screen space — at its snapped position: the plane through the
+ * corners in double (from the clip-space values, before any float rounding
+ * of the viewport), evaluated at the snapped x and y, rounded once. A
+ * triangle so thin that this moves a corner's depth by more than the
+ * triangle's own depth range (its plane is not defined by its corners to
+ * that precision) keeps the unsnapped depths. */
+static void inv_w_at_snapped_corners(const ras_clip_vertex *const in[3], int width, int height,
+                                     float z_near, ras_triangle *out) {
+    double x[3], y[3], z[3], lo = 0, hi = -1;
+    for (int i = 0; i < 3; i++) {
+        vec4s p = in[i]->p_clip;
+        double w = p.w;
+        x[i] = ((double)p.x / w + 1.0) * 0.5 * width;
+        y[i] = ((double)p.y / w + 1.0) * 0.5 * height;
+        z[i] = -(double)z_near / w;
+        lo = i ? fmin(lo, z[i]) : z[i];
+        hi = i ? fmax(hi, z[i]) : z[i];
+    }
+    double ax = x[1] - x[0], ay = y[1] - y[0], az = z[1] - z[0];
+    double bx = x[2] - x[0], by = y[2] - y[0], bz = z[2] - z[0];
+    double det = ax * by - ay * bx;
+    if (!(det != 0) || !isfinite(det)) return;
+    double gx = (az * by - bz * ay) / det, gy = (bz * ax - az * bx) / det;
+    float moved[3];
+    for (int i = 0; i < 3; i++) {
+        double dz = gx * (snapped(out->v[i].x) - x[i]) + gy * (snapped(out->v[i].y) - y[i]);
+        if (!isfinite(dz) || fabs(dz) > hi - lo) return;
+        double d = z[i] + dz;
+        moved[i] = (float)(d < -1 ? -1 : d > 0 ? 0 : d);
+    }
+    for (int i = 0; i < 3; i++) out->v[i].z = moved[i];
+}
+
 bool ras_setup_triangle_depth(const ras_clip_vertex *a, const ras_clip_vertex *b,
                               const ras_clip_vertex *c, int width, int height,
                               ras_depth_format format, float z_near, ras_triangle *out) {
@@ -52,6 +99,7 @@ bool ras_setup_triangle_depth(const ras_clip_vertex *a, const ras_clip_vertex *b
             !ras_vec3_finite(out->view_pos[i]))
             return false;
     }
+    if (format == RAS_DEPTH_INV_W) inv_w_at_snapped_corners(in, width, height, z_near, out);
     return true;
 }
 

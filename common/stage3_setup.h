@@ -22,10 +22,22 @@
  *         instead of the projection's z row, the divide and 1 − z, which
  *         each round near 1 by about as much as two distant surfaces differ;
  *       - far surfaces get values near 0, where floats are dense: relative
- *         precision is the same at every distance (two surfaces keep their
- *         order when they differ by more than a few 1e-7 of their distance),
- *         while Z01's step near 1 is a fixed 6e-8, i.e. z_near·δ/d² collapses
- *         with the distance d.
+ *         precision is the same at every distance, while Z01's step near 1 is
+ *         a fixed 6e-8, i.e. z_near·δ/d² collapses with the distance d;
+ *       - each corner's depth is taken at the position the rasterizer snaps
+ *         it to (1/RAS_SUBPIXEL_ONE px), on the triangle's own depth plane
+ *         (computed in double; ras_setup_triangle_depth), so depth is
+ *         interpolated from the same positions as coverage. Without that the
+ *         snap tilts each triangle's depth plane its own way by up to 1/512
+ *         px of slope, and two parallel surfaces swapped order at gaps of
+ *         1e-6 to 4e-6 of their distance.
+ *     Measured (docs/accuracy.md §5b: parallel planes at distances 1–1000,
+ *     tilts 0–85°, turned so that their corners snap differently): two
+ *     surfaces keep their order as far as their float clip-space corners
+ *     carry it — everywhere from a gap of 4e-6 of their distance, and at
+ *     1e-6 within 0.03% of the samples of what the exact depths of those
+ *     corners, rounded once, keep; below a few 1e-7 the gap is a few float
+ *     steps and nothing keeps it.
  *     z_near must be the projection's near distance (the w of a point on the
  *     near plane); a vertex the clipper cut a rounding error nearer than that
  *     is clamped to −1. The far plane is still clipped by stage 2; the
@@ -67,7 +79,11 @@ vec4s ras_viewport_depth(vec4s p_clip, int width, int height, ras_depth_format f
 bool ras_setup_triangle(const ras_clip_vertex *a, const ras_clip_vertex *b,
                         const ras_clip_vertex *c, int width, int height, ras_triangle *out);
 
-/* The same with the depth in `format` (see ras_viewport_depth). */
+/* The same with the depth in `format` (see ras_viewport_depth). With
+ * RAS_DEPTH_INV_W each corner's z is the triangle's depth plane at the
+ * corner's snapped x, y (see above; a triangle too thin to define its plane
+ * that finely keeps ras_viewport_depth's z); x, y, w and Z01 depth are
+ * ras_viewport_depth's. */
 bool ras_setup_triangle_depth(const ras_clip_vertex *a, const ras_clip_vertex *b,
                               const ras_clip_vertex *c, int width, int height,
                               ras_depth_format format, float z_near, ras_triangle *out);
