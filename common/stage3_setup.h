@@ -35,9 +35,10 @@
  *     tilts 0–85°, turned so that their corners snap differently): two
  *     surfaces keep their order as far as their float clip-space corners
  *     carry it — everywhere from a gap of 4e-6 of their distance, and at
- *     1e-6 within 0.03% of the samples of what the exact depths of those
- *     corners, rounded once, keep; below a few 1e-7 the gap is a few float
- *     steps and nothing keeps it.
+ *     1e-6 within 0.2% of the samples of what the exact depths of those
+ *     corners, rounded once, keep (at 3e-7 about as well as those exact
+ *     depths on average); below that the gap is one or two float steps and
+ *     nothing keeps it.
  *     z_near must be the projection's near distance (the w of a point on the
  *     near plane); a vertex the clipper cut a rounding error nearer than that
  *     is clamped to −1. The far plane is still clipped by stage 2; the

@@ -36,7 +36,7 @@
 
 #include "fast_simd.h" /* vf4, v3x4: four fragments at once */
 
-#include <math.h>      /* llround, fabsf, isfinite */
+#include <math.h>      /* llround, isfinite */
 #include <pthread.h>   /* pthread_create, pthread_join */
 #include <sched.h>     /* sched_yield */
 #include <stdatomic.h> /* atomic_int */

@@ -2042,7 +2042,10 @@ static bool write_markdown(const char *path, const char *machine_name, const cha
                 "transform in float, on the steep tilts) already loses %.2f%% of the samples "
                 "on average. Below 3e-7 the gap is one or two float steps and no format keeps "
                 "it: the bound itself loses %.2f%% at 1.4e-7 and %.2f%% at 1e-7, and after "
-                "(%.2f%%, %.2f%%) is no better than before (%.2f%%, %.2f%%) there — the cell "
+                "(%.2f%%, %.2f%%) is no better than before (%.2f%%, %.2f%%) there, on a "
+                "full run a little worse: the corrected corner depth follows each cut "
+                "corner's float position, which before cancelled between two planes cut "
+                "along the same line — the cell "
                 "issue #27 quoted (%g, %g°, gap %.2g) is before %.2f%%, after %.2f%%, bound "
                 "%.2f%% in this geometry. z01 is unchanged (its reference buffers too): its "
                 "loss is its encoding's (section 5), far larger than the snap's.\n",
