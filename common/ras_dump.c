@@ -165,11 +165,79 @@ void ras_dump_paint(const ras_dump_buffer *b, uint8_t *rgb, char *text, size_t s
     if (text && size) legend_text(b, &s, text, size);
 }
 
+/* A PFM file image (what --dump writes: "PF" RGB or "Pf" grey, width and
+ * height, the scale ±1 whose sign is the byte order, then the rows bottom
+ * first) → malloc'd floats, top row first, RGB order: read here rather than
+ * by OpenCV, whose PFM decoder goes through a temporary file in /tmp that
+ * its errors leave behind. The header's size is checked against the bytes
+ * that follow it, so no header can ask for more than the file holds. */
+static float *pfm_decode(const uint8_t *d, size_t len, int *width, int *height, int *channels,
+                         char *msg, size_t msg_size) {
+    if (len < 3 || d[0] != 'P' || (d[1] != 'F' && d[1] != 'f')) {
+        snprintf(msg, msg_size, "not a PFM file (expected 'PF' or 'Pf' first, as --dump writes)");
+        return NULL;
+    }
+    int ch = d[1] == 'F' ? 3 : 1;
+    size_t i = 2;
+    double v[3];
+    for (int k = 0; k < 3; k++) {
+        while (i < len && (d[i] == ' ' || d[i] == '\t' || d[i] == '\r' || d[i] == '\n')) i++;
+        char num[40];
+        size_t n = 0;
+        while (i < len && n + 1 < sizeof num && d[i] > ' ' && d[i] < 127) num[n++] = (char)d[i++];
+        num[n] = '\0';
+        char *end = NULL;
+        v[k] = n ? strtod(num, &end) : NAN;
+        if (!n || *end || !isfinite(v[k]) || (k < 2 && (v[k] < 1 || v[k] > 1 << 20 || v[k] != floor(v[k])))) {
+            snprintf(msg, msg_size, "its PFM header is damaged (expected WIDTH HEIGHT SCALE, whole "
+                                    "sizes 1..%d and a finite scale)", 1 << 20);
+            return NULL;
+        }
+    }
+    if (i >= len || (d[i] != '\n' && d[i] != ' ' && d[i] != '\r' && d[i] != '\t') ||
+        fabs(v[2]) != 1.0) {
+        snprintf(msg, msg_size, "its PFM header is not one --dump writes (expected the scale "
+                                "-1 or 1 and one whitespace byte before the data)");
+        return NULL;
+    }
+    i++;
+    size_t w = (size_t)v[0], h = (size_t)v[1], row = w * (size_t)ch;
+    if ((len - i) / sizeof(float) / h < row) {
+        snprintf(msg, msg_size, "its header says %zux%zu with %d channel%s, more than the %zu "
+                 "bytes that follow it hold; the file is truncated",
+                 w, h, ch, ch > 1 ? "s" : "", len - i);
+        return NULL;
+    }
+    float *out = malloc(w * h * (size_t)ch * sizeof *out);
+    if (!out) {
+        snprintf(msg, msg_size, "out of memory for a %zux%zu buffer", w, h);
+        return NULL;
+    }
+    const uint16_t one = 1;
+    bool swap = (v[2] < 0) != (*(const uint8_t *)&one == 1); /* the file's order is not ours */
+    for (size_t r = 0; r < h; r++) {
+        const uint8_t *src = d + i + (h - 1 - r) * row * sizeof(float);
+        for (size_t k = 0; k < row; k++) {
+            uint8_t b[4];
+            memcpy(b, src + 4 * k, 4);
+            if (swap) {
+                uint8_t t = b[0]; b[0] = b[3]; b[3] = t;
+                t = b[1]; b[1] = b[2]; b[2] = t;
+            }
+            memcpy(&out[r * row + k], b, 4);
+        }
+    }
+    *width = (int)w;
+    *height = (int)h;
+    *channels = ch;
+    return out;
+}
+
 static bool same_floats(const void *data, size_t len, void *ctx, ras_error *err) {
     const ras_dump_buffer *b = ctx;
     char msg[256] = "";
     int w = 0, h = 0, ch = 0;
-    float *back = cv_bridge_decode_f32(data, len, &w, &h, &ch, msg, sizeof msg);
+    float *back = pfm_decode(data, len, &w, &h, &ch, msg, sizeof msg);
     size_t n = (size_t)b->width * b->samples * b->height * b->channels;
     bool ok = back && w == b->width * b->samples && h == b->height && ch == b->channels &&
               memcmp(back, b->data, n * sizeof(float)) == 0;
@@ -313,10 +381,25 @@ float *ras_dump_read_pfm(const char *path, int *width, int *height, int *channel
                         : ras_io_read_file(path, "buffer file", (size_t)1 << 30, &len, err);
     if (!data) return NULL;
     char msg[256] = "";
-    float *f = cv_bridge_decode_f32(data, len, width, height, channels, msg, sizeof msg);
+    float *f = pfm_decode(data, len, width, height, channels, msg, sizeof msg);
     free(data);
     if (!f) ras_error_set(err, "could not read the buffer file '%s': %s", path, msg);
     return f;
+}
+
+bool ras_dump_check_input_dir(const char *dir, ras_error *err) {
+    struct stat st;
+    if (stat(dir, &st) != 0)
+        return ras_error_set(err,
+                             "--buffers: cannot open the folder '%s' (%s); expected the folder "
+                             "of a --dump run — check the path",
+                             dir, strerror(errno));
+    if (!S_ISDIR(st.st_mode))
+        return ras_error_set(err,
+                             "--buffers: '%s' is not a folder; expected the folder of a --dump "
+                             "run",
+                             dir);
+    return true;
 }
 
 bool ras_dump_prepare_dir(const char *dir, ras_error *err) {

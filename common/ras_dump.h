@@ -66,8 +66,14 @@ void ras_dump_paint(const ras_dump_buffer *b, uint8_t *rgb, char *legend, size_t
 
 /* Reads an exact float file back: malloc'd floats (free them), its size and
  * channels. A path ending in .gz is gunzipped first (the reference buffers
- * ship compressed), at most 256 MiB of it. */
+ * ship compressed), at most 256 MiB of it. The PFM is decoded here, its
+ * header's size checked against the bytes that follow (OpenCV is not used:
+ * its PFM decoder leaves /tmp/__opencv_temp.* files when it fails). */
 float *ras_dump_read_pfm(const char *path, int *width, int *height, int *channels, ras_error *err);
+
+/* A folder given to raster101-compare --buffers exists and is a folder:
+ * false and err naming it otherwise (an error, not a mismatch). */
+bool ras_dump_check_input_dir(const char *dir, ras_error *err);
 
 /* The buffers a dump may hold, in the order a frame makes them (NULL-ended):
  * the first one that differs from the reference is where to look first. */

@@ -576,11 +576,35 @@ case(C, ["--metric", "exact", "--diff", IN_COPY, REF, IN_COPY], 2,
 case(C, ["--metric", "exact", "--crop", os.path.join(WORK, ".", "ref.png"), REF, IN_COPY], 2,
      "would overwrite one of the images", absent=(), hard=True)
 
+# ---- issue 27: raster101-compare --buffers: bad folders and files are errors ----
+# A PFM whose header claims 100000² was handed to OpenCV, which left a
+# /tmp/__opencv_temp.* file each run and said its raw error; a mistyped
+# folder was called a mismatch (exit 1).
+PFM_DIR = path("pfm-bomb")
+os.makedirs(PFM_DIR)
+with open(os.path.join(PFM_DIR, "depth.pfm"), "wb") as f:
+    f.write(b"Pf\n100000 100000\n-1.0\n" + b"\x00" * 64)
+GOOD_DUMP = path("dump-" + PROGRAMS[1 % len(PROGRAMS)])  # written by a good case above
+CV_TMP = path("opencv-tmp")  # where OpenCV puts its temporary files (OPENCV_TEMP_PATH)
+os.makedirs(CV_TMP)
+case(C, ["--buffers", PFM_DIR, PFM_DIR], 2,
+     "depth.pfm': its header says 100000x100000 with 1 channel, more than the 64 bytes",
+     absent=(), hard=True, env={"OPENCV_TEMP_PATH": CV_TMP})
+case(C, ["--buffers", path("no-such-dump"), PFM_DIR], 2,
+     "--buffers: cannot open the folder '%s' (No such file or directory)" % path("no-such-dump"),
+     absent=(), hard=True)
+case(C, ["--buffers", PFM_DIR, REF], 2, "--buffers: '%s' is not a folder" % REF, absent=(),
+     hard=True)
+
 with concurrent.futures.ThreadPoolExecutor(max_workers=max(2, os.cpu_count() or 2)) as pool:
     for result in pool.map(check, cases):
         if result:
             failures.append(result)
             print(result)
+
+if os.listdir(CV_TMP):
+    failures.append(f"FAIL: OpenCV temporary files left: {os.listdir(CV_TMP)}")
+    print(failures[-1])
 
 def signal_during_write(sig):
     """SIGINT/SIGTERM while the temporary file exists (the write held in fsync
