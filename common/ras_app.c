@@ -575,7 +575,10 @@ static bool set_up(ras_app *app, ras_image **expected, char *ref_path, size_t si
                                                            cli->height_map, cli->fit, err)
                             : ras_scene_load_or_builtin(cli->scene, h->scene, err);
     if (!app->scene) return false;
-    if (h->load_assets && !(app->assets = ras_scene_load_assets(app->scene, err))) return false;
+    if (h->load_assets &&
+        !(app->assets = h->without_maps ? ras_scene_load_meshes(app->scene, err)
+                                        : ras_scene_load_assets(app->scene, err)))
+        return false;
     if (!ras_app_resolve(h, &app->cli, app->scene, &app->set, err) ||
         (h->prepare && !h->prepare(app, err)))
         return false;

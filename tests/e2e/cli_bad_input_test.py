@@ -200,7 +200,6 @@ shared = [
     (["--scene", EMPTY, "-o", OUT], 2, "expected a JSON object"),
     (["--scene", BINARY, "-o", OUT], 2, "binary.json"),
     (["--scene", HUGE_NUMBER_SCENE, "-o", OUT], 2, "image.width"),
-    (["--scene", CORRUPT_TEXTURE_SCENE, "-o", OUT], 2, "corrupt.png"),
 ] + [(["--size", size, "-o", OUT], 2, f"--size expects WIDTHxHEIGHT between 1x1 and "
       f"8192x8192, e.g. --size 700x700; got '{size}'")
      for size in ["0", "99999", "10x10junk"]]
@@ -575,6 +574,18 @@ case(C, ["--metric", "exact", "--diff", IN_COPY, REF, IN_COPY], 2,
      hard=True)
 case(C, ["--metric", "exact", "--crop", os.path.join(WORK, ".", "ref.png"), REF, IN_COPY], 2,
      "would overwrite one of the images", absent=(), hard=True)
+
+# ---- issue 27: only what a program draws is loaded ----
+# hw1 and hw2 draw flat colours: a scene's texture and height map (here a
+# 16384² PNG bomb and a missing file) are never read; hw3 refuses the bomb.
+MAP_SCENE = write("bomb_maps.json", '{"shader": "texture", "objects": [{"shape": "cube", '
+                  '"material": {"texture": {"file": "%s"}, "height_map": {"file": '
+                  '"no-such-map.png"}}}]}' % BOMB16K)
+for prog in (H1, H2):
+    case(prog, ["--scene", MAP_SCENE, "--size", "16x16", "-o", OUT], 0, "wrote", absent=(),
+         present=(OUT,), hard=True)
+case(H3, ["--scene", MAP_SCENE, "-o", OUT], "nonzero", OVER, hard=True, keep=REF)
+case(H3, ["--scene", CORRUPT_TEXTURE_SCENE, "-o", OUT], 2, "corrupt.png")
 
 # ---- issue 27: raster101-compare --buffers: bad folders and files are errors ----
 # A PFM whose header claims 100000² was handed to OpenCV, which left a
