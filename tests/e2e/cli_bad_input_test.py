@@ -562,6 +562,76 @@ GRID_OBJ = write("grid.obj", "".join("v %d %d 0\n" % (i % 100, i // 100) for i i
 case(H3, ["--model", GRID_OBJ, "-o", OUT], 2, "the importer did not finish", hard=True, keep=REF,
      env={"RAS_MESH_IMPORT_SECONDS": "0.000001"})
 
+# ---- issue 27: model guards by content, counts from the data's structure ----
+import base64
+import json
+DEEP_TEXT = open(DEEP_GLTF).read()
+for name in ("deep.vrm", "deep_gltf_without_extension"):  # a glb container name, no name
+    case(H3, ["--model", write(name, DEEP_TEXT), "-o", OUT], "nonzero",
+         f"{name}': its node tree is nested deeper than that", hard=True, keep=REF)
+case(H3, ["--model", write("deep_dae_as.txt", open(DEEP_DAE).read()), "-o", OUT], "nonzero",
+     NESTED, hard=True, keep=REF)
+# A valid two-level glTF 1.0 (nodes keyed by id, children by id) renders,
+# with its extension and without (was "not a tree").
+TRI = base64.b64encode(struct.pack("<9f", 0, 0, 0, 1, 0, 0, 0, 1, 0)).decode()
+GLTF1 = json.dumps({
+    "asset": {"version": "1.0"}, "scene": "s", "scenes": {"s": {"nodes": ["root"]}},
+    "nodes": {"root": {"children": ["leaf"]}, "leaf": {"meshes": ["m"]}},
+    "meshes": {"m": {"primitives": [{"attributes": {"POSITION": "acc"}, "mode": 4}]}},
+    "accessors": {"acc": {"bufferView": "bv", "byteOffset": 0, "byteStride": 12,
+                          "componentType": 5126, "count": 3, "type": "VEC3",
+                          "min": [0, 0, 0], "max": [1, 1, 0]}},
+    "bufferViews": {"bv": {"buffer": "b", "byteOffset": 0, "byteLength": 36, "target": 34962}},
+    "buffers": {"b": {"byteLength": 36, "type": "arraybuffer",
+                      "uri": "data:application/octet-stream;base64," + TRI}}})
+for name in ("gltf1.gltf", "gltf1_no_extension"):
+    case(H3, ["--model", write(name, GLTF1), "--size", "16x16", "-o", OUT], 0, "wrote",
+         absent=(), present=(OUT,), hard=True)
+# A glb whose JSON chunk length says 0x7ffffff0 (assimp filled 2 GiB in 39 s),
+# and one whose total length is more than the file.
+JS = open(deep_gltf("glb_src.gltf", 3), "rb").read()
+JS += b" " * (-len(JS) % 4)
+case(H3, ["--model", write("lie.glb", b"glTF" + struct.pack("<III", 2, 20 + len(JS), 0x7ffffff0) +
+                           b"JSON" + JS), "-o", OUT], "nonzero",
+     "its JSON chunk's length says 2147483632 bytes, but the file has only", hard=True, keep=REF)
+case(H3, ["--model", write("lie_total.vrm", b"glTF" + struct.pack("<III", 2, 1 << 30, len(JS)) +
+                           b"JSON" + JS), "-o", OUT], "nonzero",
+     "its header's total length says 1073741824 bytes", hard=True, keep=REF)
+# External references stay inside the model's folder, as regular files.
+SRC_GLTF = json.loads(open(deep_gltf("uri_src.gltf", 2)).read())
+for k, (uri, said) in enumerate((("../../../../../../../../etc/passwd", "points outside the model's folder"),
+                  ("/etc/passwd", "points outside the model's folder"),
+                  ("file:///etc/passwd", "points outside the model's folder"),
+                  ("fifo.obj", "is not a regular file"))):
+    SRC_GLTF["buffers"][0]["uri"] = uri
+    case(H3, ["--model", write(f"uri{k}.gltf", json.dumps(SRC_GLTF)), "-o", OUT], "nonzero",
+         "buffers[0].uri '%s' %s" % (uri, said), hard=True, keep=REF)
+    SRC_GLTF["buffers"][0]["uri"] = "data:application/octet-stream;base64," + TRI
+os.symlink("/etc/passwd", path("link.bin"))
+SRC_GLTF["buffers"][0]["uri"] = "link.bin"
+case(H3, ["--model", write("uri_link.gltf", json.dumps(SRC_GLTF)), "-o", OUT], "nonzero",
+     "buffers[0].uri 'link.bin' points outside the model's folder", hard=True, keep=REF)
+# A PLY face of 10^9 indices in 189 bytes (std::bad_alloc, 16 GB under ASan),
+# ASCII and binary, whatever the name.
+PLY_HEAD = ("ply\nformat %s 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+            "property float z\nelement face 1\nproperty list %s int vertex_indices\nend_header\n")
+PLY_LIST = write("list.ply", PLY_HEAD % ("ascii", "uchar") + "0 0 0\n1 0 0\n0 1 0\n1000000000 0 1 2\n")
+PLY_LIST_BIN = write("list_bin.dat", (PLY_HEAD % ("binary_little_endian", "uint")).encode() +
+                     struct.pack("<9f", 0, 0, 0, 1, 0, 0, 0, 1, 0) + struct.pack("<I4I", 10**9, 0, 1, 2, 0))
+for bomb in (PLY_LIST, PLY_LIST_BIN):
+    case(H3, ["--model", bomb, "-o", OUT], "nonzero",
+         "a list in its PLY element 'face' declares 1000000000 items", hard=True, keep=REF)
+case(H3, ["--model", write("list_ok.ply", PLY_HEAD % ("ascii", "uchar") +
+                           "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"), "--size", "16x16", "-o", OUT], 0,
+     "wrote", absent=(), present=(OUT,), hard=True)
+
+# assimp's own words come last, after the project's (file, what was expected).
+for name, text in (("bad_index.obj", "v 0 0 0\nf 1 2 9\n"),
+                   ("bad.stl", "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0\n")):
+    case(H3, ["--model", write(name, text), "-o", OUT], "nonzero",
+         f"could not read model '{path(name)}': it is not a complete mesh file in a format the "
+         "importer knows", hard=True, keep=REF)
+
 # ---- issue 16: nothing overwrites an input ----
 DIFF_REF = write("cmp_diff.png", open(REF, "rb").read())  # what -o cmp.png's diff would be
 for prog in (H2, H3):
