@@ -8,6 +8,8 @@
 #include "stage3_setup.h" /* ras_viewport */
 
 #include <cjson/cJSON.h>
+#include <dirent.h> /* opendir: the staged dump folder */
+#include <fcntl.h>  /* open, renameat */
 #include <errno.h>
 #include <math.h>
 #include <stdint.h>
@@ -233,6 +235,27 @@ static float *pfm_decode(const uint8_t *d, size_t len, int *width, int *height, 
     return out;
 }
 
+uint8_t *ras_dump_encode_pfm(int width, int height, int channels, const float *data, size_t *len) {
+    char head[64];
+    int n = snprintf(head, sizeof head, "%s\n%d %d\n-1\n", channels == 3 ? "PF" : "Pf", width,
+                     height);
+    size_t row = (size_t)width * (size_t)channels, body = row * (size_t)height * sizeof(float);
+    uint8_t *out = malloc((size_t)n + body);
+    if (!out) return NULL;
+    memcpy(out, head, (size_t)n);
+    const uint16_t one = 1;
+    bool host_le = *(const uint8_t *)&one == 1;
+    uint8_t *dst = out + n;
+    for (int r = height - 1; r >= 0; r--) /* bottom row first */
+        for (size_t k = 0; k < row; k++, dst += 4) {
+            uint8_t b[4];
+            memcpy(b, &data[(size_t)r * row + k], 4);
+            for (int i = 0; i < 4; i++) dst[i] = host_le ? b[i] : b[3 - i]; /* little-endian */
+        }
+    *len = (size_t)n + body;
+    return out;
+}
+
 static bool same_floats(const void *data, size_t len, void *ctx, ras_error *err) {
     const ras_dump_buffer *b = ctx;
     char msg[256] = "";
@@ -307,8 +330,9 @@ bool ras_dump_write(const char *dir, const ras_dump_buffer *b, ras_error *err) {
     /* the exact file first: the picture and the sidecar describe it */
     size_t len = 0;
     char msg[256] = "";
-    uint8_t *pfm = cv_bridge_encode_f32(".pfm", b->width * b->samples, b->height, b->channels,
-                                        b->data, &len, msg, sizeof msg);
+    uint8_t *pfm = ras_dump_encode_pfm(b->width * b->samples, b->height, b->channels, b->data,
+                                       &len);
+    if (!pfm) snprintf(msg, sizeof msg, "out of memory");
     if (!pfm) return ras_error_set(err, "could not encode the %s buffer: %s", b->name, msg);
     snprintf(path, sizeof path, "%s/%s.pfm", dir, b->name);
     bool ok = ras_io_write_atomic(path, "buffer", pfm, len, same_floats, (void *)b, err);
@@ -417,6 +441,94 @@ bool ras_dump_prepare_dir(const char *dir, ras_error *err) {
                          "--dump could not create the folder '%s' (%s): create it, or "
                          "choose a folder you can write",
                          dir, strerror(errno));
+}
+
+bool ras_dump_stage_begin(ras_dump_stage *st, const char *dir, ras_error *err) {
+    memset(st, 0, sizeof *st);
+    if (!ras_io_path_fits("--dump", dir, err)) return false;
+    size_t n = strlen(dir);
+    while (n > 1 && dir[n - 1] == '/') n--; /* "out/" is the folder "out" */
+    snprintf(st->target, sizeof st->target, "%.*s", (int)n, dir);
+    struct stat sb;
+    st->existed = stat(st->target, &sb) == 0;
+    if (st->existed && !S_ISDIR(sb.st_mode))
+        return ras_error_set(err,
+                             "--dump expects a folder; '%s' exists and is not one: choose "
+                             "another path",
+                             dir);
+    if (st->existed && ((sb.st_mode & 0222) == 0 || access(st->target, W_OK | X_OK) != 0))
+        return ras_error_set(err,
+                             "--dump: the folder '%s' is not writable (mode %04o); expected a "
+                             "folder this run may write into — choose another, or change its "
+                             "mode (checked before rendering)",
+                             dir, (unsigned)(sb.st_mode & 07777));
+    const char *slash = strrchr(st->target, '/');
+    const char *base = slash ? slash + 1 : st->target;
+    char parent[1100];
+    if (!slash) snprintf(parent, sizeof parent, ".");
+    else if (slash == st->target) snprintf(parent, sizeof parent, "/");
+    else snprintf(parent, sizeof parent, "%.*s", (int)(slash - st->target), st->target);
+    (void)snprintf(st->temp, sizeof st->temp, "%s/.%.200s-XXXXXX", parent, base);
+    if (!mkdtemp(st->temp))
+        return ras_error_set(err,
+                             "--dump could not create the folder '%s' (%s creating a temporary "
+                             "folder in '%s'): create it, or choose a folder you can write",
+                             dir, strerror(errno), parent);
+    st->active = true;
+    return true;
+}
+
+/* Every entry of folder `from` renamed into `to` (same file system). */
+static bool move_entries(const char *from, const char *to, ras_error *err) {
+    DIR *d = opendir(from);
+    int tfd = open(to, O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    bool ok = d && tfd >= 0;
+    struct dirent *e;
+    while (ok && (e = readdir(d)) != NULL) {
+        if (!strcmp(e->d_name, ".") || !strcmp(e->d_name, "..")) continue;
+        if (renameat(dirfd(d), e->d_name, tfd, e->d_name) != 0)
+            ok = ras_error_set(err, "--dump: could not move '%s' into '%s' (%s)", e->d_name, to,
+                               strerror(errno));
+    }
+    if (!d || tfd < 0) ras_error_set(err, "--dump: could not open '%s' (%s)", d ? to : from,
+                                     strerror(errno));
+    if (tfd >= 0) {
+        fsync(tfd);
+        close(tfd);
+    }
+    if (d) closedir(d);
+    return ok;
+}
+
+bool ras_dump_stage_commit(ras_dump_stage *st, ras_error *err) {
+    if (!st->active) return true;
+    bool ok;
+    if (!st->existed && rename(st->temp, st->target) == 0) {
+        ok = true;
+    } else {
+        if (!st->existed && mkdir(st->target, 0777) != 0 && errno != EEXIST) {
+            ras_error_set(err, "--dump could not create the folder '%s' (%s)", st->target,
+                          strerror(errno));
+            ras_dump_stage_abort(st);
+            return false;
+        }
+        ok = move_entries(st->temp, st->target, err);
+        ras_dump_stage_abort(st); /* what is left of the temporary folder */
+        return ok;
+    }
+    st->active = false;
+    return ok;
+}
+
+void ras_dump_stage_abort(ras_dump_stage *st) {
+    if (!st->active) return;
+    DIR *d = opendir(st->temp);
+    struct dirent *e;
+    while (d && (e = readdir(d)) != NULL)
+        if (strcmp(e->d_name, ".") && strcmp(e->d_name, "..")) unlinkat(dirfd(d), e->d_name, 0);
+    if (d) closedir(d);
+    rmdir(st->temp);
+    st->active = false;
 }
 
 const char *const ras_dump_buffer_names[] = {"depth", "coverage",   "overdraw", "normal",

@@ -124,6 +124,7 @@ bool ras_image_check_output(const char *path, ras_error *err) {
                              : S_ISCHR(st.st_mode) ? "a character device"
                              : S_ISBLK(st.st_mode) ? "a block device"
                                                    : "not a regular file");
+    if (!ras_io_check_replace(path, "image", err)) return false;
     /* The folder the file goes into. */
     char dir[4096];
     if (!slash)

@@ -632,6 +632,28 @@ for name, text in (("bad_index.obj", "v 0 0 0\nf 1 2 9\n"),
          f"could not read model '{path(name)}': it is not a complete mesh file in a format the "
          "importer knows", hard=True, keep=REF)
 
+# ---- issue 27: every output all or nothing, every failure said ----
+RO_OUT = write("readonly.png", open(REF, "rb").read())
+os.chmod(RO_OUT, 0o444)
+case(H2, ["--size", "16x16", "-o", RO_OUT], 2,
+     "it is write-protected (mode 0444); expected a file you may replace — pass --force",
+     absent=(), present=(RO_OUT,), hard=True)
+RO_FORCED = write("readonly_forced.png", open(REF, "rb").read())
+os.chmod(RO_FORCED, 0o444)
+case(H2, ["--size", "8x8", "--force", "-o", RO_FORCED], 0, "wrote", absent=(), present=(RO_FORCED,),
+     hard=True)
+RO_DUMP = path("readonly-dump")
+os.makedirs(RO_DUMP)
+os.chmod(RO_DUMP, 0o555)
+case(H3, ["-o", OUT, "--dump", RO_DUMP], 2, "--dump: the folder '%s' is not writable" % RO_DUMP,
+     hard=True, keep=REF)
+# A file-size limit during --dump: the buffers go to a temporary folder that
+# is removed, the dump folder is not made, and -o stays as it was.
+for prog in (H2, H3):
+    case(prog, ["--size", "200x200", "-o", OUT, "--dump", path("fsize-dump-" + prog)], "nonzero",
+         "File too large", hard=True, keep=REF, fsize=20000,
+         absent=(path("fsize-dump-" + prog),))
+
 # ---- issue 16: nothing overwrites an input ----
 DIFF_REF = write("cmp_diff.png", open(REF, "rb").read())  # what -o cmp.png's diff would be
 for prog in (H2, H3):
@@ -686,6 +708,59 @@ with concurrent.futures.ThreadPoolExecutor(max_workers=max(2, os.cpu_count() or 
 if os.listdir(CV_TMP):
     failures.append(f"FAIL: OpenCV temporary files left: {os.listdir(CV_TMP)}")
     print(failures[-1])
+
+# No temporary dump folder (.NAME-XXXXXX) is left anywhere in WORK.
+stray = [d for d in os.listdir(WORK) if d.startswith(".") and os.path.isdir(path(d))]
+if stray:
+    failures.append(f"FAIL: temporary dump folders left behind: {stray}")
+    print(failures[-1])
+
+def stats_output(target):
+    """--stats with stdout closed or on /dev/full: exit non-zero, said on stderr."""
+    env = dict(os.environ)
+    env.pop("DISPLAY", None)
+    cmd = [os.path.join(BIN, "hw2_rasterize_ref"), "--size", "16x16", "--stats", "-o",
+           path(f"stats-{target}.png")]
+    if target == "closed":
+        cmd = ["sh", "-c", '"$0" "$@" >&-'] + cmd
+        stdout = None
+    else:
+        stdout = open("/dev/full", "w")
+    p = subprocess.run(cmd, stdout=stdout, stderr=subprocess.PIPE, text=True, env=env, cwd=WORK)
+    want = "standard output, which is closed" if target == "closed" else \
+        "--stats: could not write the counters to standard output (No space left on device)"
+    if p.returncode == 0 or want not in p.stderr:
+        return f"FAIL: --stats with stdout {target}: exit {p.returncode}, stderr {p.stderr!r}"
+    return None
+for target in ("closed", "full"):
+    result = stats_output(target)
+    if result:
+        failures.append(result)
+        print(result)
+
+def stale_temporaries():
+    """Temporaries a kill -9 left (.NAME-XXXXXX, older than the run) are removed
+    by the next write into that folder; a fresh one, and other dotfiles, stay."""
+    folder = path("stale")
+    os.makedirs(folder)
+    old = [os.path.join(folder, n) for n in (".out.png-AbC123", ".depth.pfm-x1y2z3")]
+    keep = [os.path.join(folder, n) for n in (".notes-abcdef", ".out.png-AbC12")]
+    for f in old + keep:
+        open(f, "w").close()
+        os.utime(f, (1e9, 1e9))  # 2001
+    env = dict(os.environ)
+    env.pop("DISPLAY", None)
+    p = subprocess.run([os.path.join(BIN, "hw2_rasterize_ref"), "--size", "8x8", "-o",
+                        os.path.join(folder, "out.png")], capture_output=True, text=True, env=env)
+    problems = [f"{f} was not removed" for f in old if os.path.exists(f)]
+    problems += [f"{f} was removed" for f in keep if not os.path.exists(f)]
+    if p.returncode != 0:
+        problems.append(f"exit {p.returncode}: {p.stderr}")
+    return f"FAIL: stale temporaries: {'; '.join(problems)}" if problems else None
+result = stale_temporaries()
+if result:
+    failures.append(result)
+    print(result)
 
 def signal_during_write(sig):
     """SIGINT/SIGTERM while the temporary file exists (the write held in fsync

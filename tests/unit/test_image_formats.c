@@ -5,6 +5,7 @@
  * OpenCV's decode of the same bytes (the decoder this one replaced).
  */
 #include "cv_bridge.h"
+#include "ras_dump.h"
 #include "ras_image.h"
 #include "ras_jpeg.h"
 
@@ -241,11 +242,39 @@ static void test_jpeg_scan_and_time_limits(void **state) {
     free(jpg);
 }
 
+/* --dump's PFM files, encoded without OpenCV: the bytes OpenCV's encoder
+ * wrote, 1 and 3 channels, ±Inf and NaN included; read back bit for bit. */
+static void test_pfm_matches_opencv(void **state) {
+    (void)state;
+    for (int ch = 1; ch <= 3; ch += 2) {
+        float data[5 * 3 * 3];
+        for (int k = 0; k < 5 * 3 * ch; k++) data[k] = (float)k * 0.37f - 2.0f;
+        data[1] = 1.0f / 0.0f, data[2] = -1.0f / 0.0f, data[3] = 0.0f / 0.0f;
+        size_t mine_len = 0, cv_len = 0;
+        char msg[256] = "";
+        uint8_t *mine = ras_dump_encode_pfm(5, 3, ch, data, &mine_len);
+        uint8_t *cv = cv_bridge_encode_f32(".pfm", 5, 3, ch, data, &cv_len, msg, sizeof msg);
+        assert_non_null(mine);
+        assert_non_null(cv);
+        assert_int_equal(mine_len, cv_len);
+        assert_memory_equal(mine, cv, mine_len);
+        int w = 0, h = 0, c = 0;
+        float *back = cv_bridge_decode_f32(mine, mine_len, &w, &h, &c, msg, sizeof msg);
+        assert_non_null(back);
+        assert_int_equal(c, ch);
+        assert_memory_equal(back, data, sizeof(float) * 5 * 3 * (size_t)ch);
+        free(back);
+        free(mine);
+        free(cv);
+    }
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_jpeg_pixels_match_opencv),
         cmocka_unit_test(test_header_sizes_as_the_decoders_read_them),
         cmocka_unit_test(test_jpeg_scan_and_time_limits),
+        cmocka_unit_test(test_pfm_matches_opencv),
     };
     return cmocka_run_group_tests_name("image_formats", tests, NULL, NULL);
 }
