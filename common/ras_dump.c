@@ -443,6 +443,39 @@ bool ras_dump_prepare_dir(const char *dir, ras_error *err) {
                          dir, strerror(errno));
 }
 
+/* Staging folders of this DIR (".BASE-XXXXXX") that a kill -9 left, from
+ * before this run began: their buffer files and then the folder removed
+ * (a folder holding anything else is left alone). */
+static void remove_stale_stages(const char *parent, const char *base) {
+    time_t start = ras_io_process_start();
+    DIR *d = start ? opendir(parent) : NULL;
+    struct dirent *e;
+    size_t bl = strlen(base);
+    while (d && (e = readdir(d)) != NULL) {
+        const char *n = e->d_name;
+        size_t nl = strlen(n);
+        if (nl != bl + 8 || n[0] != '.' || strncmp(n + 1, base, bl) || n[bl + 1] != '-') continue;
+        struct stat sb;
+        if (fstatat(dirfd(d), n, &sb, AT_SYMLINK_NOFOLLOW) != 0 || !S_ISDIR(sb.st_mode) ||
+            sb.st_uid != geteuid() || sb.st_mtime >= start - 1)
+            continue;
+        int fd = openat(dirfd(d), n, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
+        DIR *in = fd >= 0 ? fdopendir(fd) : NULL;
+        struct dirent *f;
+        while (in && (f = readdir(in)) != NULL) {
+            size_t fl = strlen(f->d_name);
+            bool ours = (fl > 4 && (!strcmp(f->d_name + fl - 4, ".pfm") ||
+                                    !strcmp(f->d_name + fl - 4, ".png"))) ||
+                        (fl > 5 && !strcmp(f->d_name + fl - 5, ".json"));
+            if (ours) unlinkat(dirfd(in), f->d_name, 0);
+        }
+        if (in) closedir(in);
+        else if (fd >= 0) close(fd);
+        unlinkat(dirfd(d), n, AT_REMOVEDIR); /* fails, harmlessly, when not empty */
+    }
+    if (d) closedir(d);
+}
+
 bool ras_dump_stage_begin(ras_dump_stage *st, const char *dir, ras_error *err) {
     memset(st, 0, sizeof *st);
     if (!ras_io_path_fits("--dump", dir, err)) return false;
@@ -468,6 +501,7 @@ bool ras_dump_stage_begin(ras_dump_stage *st, const char *dir, ras_error *err) {
     if (!slash) snprintf(parent, sizeof parent, ".");
     else if (slash == st->target) snprintf(parent, sizeof parent, "/");
     else snprintf(parent, sizeof parent, "%.*s", (int)(slash - st->target), st->target);
+    remove_stale_stages(parent, base);
     (void)snprintf(st->temp, sizeof st->temp, "%s/.%.200s-XXXXXX", parent, base);
     if (!mkdtemp(st->temp))
         return ras_error_set(err,

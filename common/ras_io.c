@@ -229,7 +229,7 @@ bool ras_io_check_replace(const char *path, const char *what, ras_error *err) {
 /* When this process started (seconds since the epoch, rounded down), from
  * /proc: a temporary file older than that cannot be one this run, or any
  * writer started after it, is still writing. 0 when unknown. */
-static time_t process_start(void) {
+time_t ras_io_process_start(void) {
     static time_t start = -1;
     if (start >= 0) return start;
     start = 0;
@@ -275,7 +275,7 @@ static bool is_our_temporary(const char *name) {
 }
 
 int ras_io_remove_stale_temporaries(const char *dir) {
-    time_t start = process_start();
+    time_t start = ras_io_process_start();
     if (!start) return 0;
     DIR *d = opendir(dir);
     if (!d) return 0;

@@ -30,6 +30,7 @@
 
 #include <stddef.h> /* size_t */
 #include <stdio.h>  /* FILE */
+#include <time.h>   /* time_t */
 
 /* Longest file name (path) the programs accept on the command line, in bytes
  * without the NUL: longer ones are refused by name, never silently cut. */
@@ -70,6 +71,9 @@ bool ras_io_check_replace(const char *path, const char *what, ras_error *err);
  * a kill -9 (which no handler sees) left. ras_io_write_atomic calls it for
  * its target's folder. Returns how many it removed. */
 int ras_io_remove_stale_temporaries(const char *dir);
+/* When this process started (seconds since the epoch, from /proc), 0 when
+ * unknown: what "left before this run" is measured against. */
+time_t ras_io_process_start(void);
 
 /* A text report (CSV, Markdown) written with stdio into memory, then to its
  * file with ras_io_write_atomic: ras_io_report_open gives the FILE* to

@@ -752,7 +752,17 @@ def stale_temporaries():
     env.pop("DISPLAY", None)
     p = subprocess.run([os.path.join(BIN, "hw2_rasterize_ref"), "--size", "8x8", "-o",
                         os.path.join(folder, "out.png")], capture_output=True, text=True, env=env)
-    problems = [f"{f} was not removed" for f in old if os.path.exists(f)]
+    # and a --dump staging folder a kill -9 left beside DIR
+    stale_dump = os.path.join(folder, ".dump-Qw3rTy")
+    os.makedirs(stale_dump)
+    open(os.path.join(stale_dump, "depth.pfm"), "w").close()
+    os.utime(stale_dump, (1e9, 1e9))
+    p2 = subprocess.run([os.path.join(BIN, "hw2_rasterize_ref"), "--size", "8x8", "-o",
+                         os.path.join(folder, "out2.png"), "--dump", os.path.join(folder, "dump")],
+                        capture_output=True, text=True, env=env)
+    problems = [f"{f} was not removed" for f in old + [stale_dump] if os.path.exists(f)]
+    if p2.returncode != 0:
+        problems.append(f"--dump: exit {p2.returncode}: {p2.stderr}")
     problems += [f"{f} was removed" for f in keep if not os.path.exists(f)]
     if p.returncode != 0:
         problems.append(f"exit {p.returncode}: {p.stderr}")
