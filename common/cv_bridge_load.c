@@ -12,6 +12,7 @@
  * When none loads, every call fails as OpenCV itself would fail (false, NULL,
  * "window closed") with a message naming the paths tried and dlerror(). */
 #include "cv_bridge.h"
+#include "ras_memory.h" /* Required for: ras_memory_limit (OpenCV's decoder limit) */
 
 #include <dlfcn.h>   /* dlopen, dlsym, dlerror */
 #include <pthread.h> /* pthread_once */
@@ -61,10 +62,16 @@ static bool try_open(const char *path) {
 
 static void load(void) {
     /* OpenCV reads its decoder limit once, when libopencv_imgcodecs loads:
-     * with the module opened here, after main, the program can finally set
-     * it — to RAS_IMAGE_MAX_SIDE squared (2^28 pixels) unless the user chose
-     * one. ras_image's header checks stay the first line of defence. */
-    setenv("OPENCV_IO_MAX_IMAGE_PIXELS", "268435456", 0);
+     * with the module opened here, after main, the program can set it.
+     * ras_image's header checks stay the first line of defence. */
+    /* The fence is the budget's worth of pixels (at most 2^28): a header
+     * that ras_image's parsers read wrong is still stopped by OpenCV's own
+     * header call (validateInputImageSize) before pixels are allocated. */
+    double pixels = (double)ras_memory_limit() / RAS_MEMORY_BYTES_PER_LOADED_PIXEL;
+    char fence[32];
+    snprintf(fence, sizeof fence, "%.0f",
+             pixels < 268435456.0 ? (pixels > 1 ? pixels : 1) : 268435456.0);
+    setenv("OPENCV_IO_MAX_IMAGE_PIXELS", fence, 0);
     if (try_open(getenv("RAS_CV_BRIDGE"))) return;
     char exe[4096];
     ssize_t n = readlink("/proc/self/exe", exe, sizeof exe - sizeof MODULE_NAME - 1);

@@ -14,7 +14,13 @@
 #include <math.h>   /* fabsf, floorf, sqrtf */
 #include <stdio.h>  /* fprintf, printf, snprintf */
 #include <stdlib.h> /* malloc, free */
-#include <string.h> /* strcmp */
+#include <errno.h>  /* errno: --stats write errors */
+#include <fcntl.h>  /* fcntl: is stdout open */
+#include <string.h> /* strcmp, strerror */
+#include <unistd.h> /* STDOUT_FILENO */
+
+/* The --dump folder of this run, staged (ras_dump.h). */
+static ras_dump_stage g_dump_stage;
 
 /* ---- settings: one set of rules ------------------------------------------- */
 
@@ -233,10 +239,40 @@ static int compare_with_reference(const ras_app *app, const ras_image *expected,
     return res.pass ? 0 : 1;
 }
 
+/* A message naming the staged --dump folder names the folder asked for. */
+static void dump_words(ras_error *err) {
+    if (!g_dump_stage.active) return;
+    char *at = strstr(err->msg, g_dump_stage.temp);
+    if (!at) return;
+    char rest[sizeof err->msg];
+    snprintf(rest, sizeof rest, "%s", at + strlen(g_dump_stage.temp));
+    snprintf(at, sizeof err->msg - (size_t)(at - err->msg), "%s%s", g_dump_stage.target, rest);
+    dump_words(err); /* the next mention */
+}
+
 static int run_headless(ras_app *app, const ras_image *expected, const char *reference_path) {
     ras_error err = {{0}};
     const char *output = app->cli.output;
-    if (!app->hooks->render(app, &err) || (output && !ras_image_save(app->image, output, &err))) {
+    if (!app->hooks->render(app, &err)) {
+        dump_words(&err);
+        fprintf(stderr, "%s: %s\n", app->hooks->program, err.msg);
+        return 1;
+    }
+    if (app->cli.dump) {
+        /* What the program did not write itself (the pipeline's buffers),
+         * then the whole folder into place, before -o: a dump that fails
+         * leaves -o as it was. */
+        int written = 0;
+        if ((app->pipeline && !ras_pipeline_dump(app->pipeline, app->cli.dump, &written, &err)) ||
+            !ras_dump_stage_commit(&g_dump_stage, &err)) {
+            dump_words(&err);
+            fprintf(stderr, "%s: --dump: %s; '%s' and the output were left as they were\n",
+                    app->hooks->program, err.msg, g_dump_stage.target);
+            ras_dump_stage_abort(&g_dump_stage);
+            return 1;
+        }
+    }
+    if (output && !ras_image_save(app->image, output, &err)) {
         fprintf(stderr, "%s: %s\n", app->hooks->program, err.msg);
         return 1;
     }
@@ -246,19 +282,20 @@ static int run_headless(ras_app *app, const ras_image *expected, const char *ref
                 ras_name_of(&ras_names_filter, (int)app->set.filter));
     else if (output)
         fprintf(stderr, "wrote %s\n", output);
-    if (app->cli.dump) {
-        /* what the program did not write itself: the pipeline's buffers */
-        int written = 0;
-        if (app->pipeline && !ras_pipeline_dump(app->pipeline, app->cli.dump, &written, &err)) {
-            fprintf(stderr, "%s: --dump: %s\n", app->hooks->program, err.msg);
-            return 1;
-        }
-        fprintf(stderr, "wrote the frame's buffers into %s/ (docs/debugging.md)\n", app->cli.dump);
-    }
+    if (app->cli.dump)
+        fprintf(stderr, "wrote the frame's buffers into %s/ (docs/debugging.md)\n",
+                g_dump_stage.target);
     if (app->cli.stats && app->counters) {
         char json[2048];
         ras_counters_format_json(app->counters, json, sizeof json);
-        puts(json);
+        /* stdout closed, a full disk, a pipe gone: the JSON is lost, say so */
+        errno = 0;
+        if (puts(json) == EOF || fflush(stdout) != 0 || ferror(stdout)) {
+            fprintf(stderr, "%s: --stats: could not write the counters to standard output (%s); "
+                            "expected a writable stdout — redirect it to a file with room\n",
+                    app->hooks->program, errno ? strerror(errno) : "write error");
+            return 1;
+        }
     }
     return expected ? compare_with_reference(app, expected, reference_path) : 0;
 }
@@ -551,12 +588,20 @@ static bool check_arguments(ras_app *app, ras_error *err) {
         return ras_error_set(err, "--texture, --height and --fit go with --model FILE; add "
                                   "--model, or drop them");
     /* A file that cannot be written is a usage error: say so before any work. */
+    ras_io_set_force(cli->force);
+    /* A closed stdout would lose --stats, or hand fd 1 to the next file opened. */
+    if (cli->stats && fcntl(STDOUT_FILENO, F_GETFD) == -1)
+        return ras_error_set(err, "--stats prints to standard output, which is closed; expected "
+                                  "an open stdout — redirect it to a file (> stats.json)");
     if (cli->output && !ras_image_check_output(cli->output, err)) return false;
     if (cli->dump && !cli->output && !cli->compare)
         return ras_error_set(err, "--dump DIR writes the buffers of one headless frame; add -o "
                                   "FILE (e.g. %s %s --dump buffers)",
                              h->program, h->example);
-    if (cli->dump && !ras_dump_prepare_dir(cli->dump, err)) return false;
+    /* --dump: checked now, written into a temporary folder, moved into place
+     * when every buffer is there (ras_dump_stage_*). */
+    if (cli->dump && !ras_dump_stage_begin(&g_dump_stage, cli->dump, err)) return false;
+    if (cli->dump) cli->dump = g_dump_stage.temp;
     if (!cli->output && !cli->compare && !ras_window_available())
         return ras_error_set(err, "no display to open a window on (DISPLAY is not set); render "
                                   "to a file instead, e.g. %s %s", h->program, h->example);
@@ -575,7 +620,10 @@ static bool set_up(ras_app *app, ras_image **expected, char *ref_path, size_t si
                                                            cli->height_map, cli->fit, err)
                             : ras_scene_load_or_builtin(cli->scene, h->scene, err);
     if (!app->scene) return false;
-    if (h->load_assets && !(app->assets = ras_scene_load_assets(app->scene, err))) return false;
+    if (h->load_assets &&
+        !(app->assets = h->without_maps ? ras_scene_load_meshes(app->scene, err)
+                                        : ras_scene_load_assets(app->scene, err)))
+        return false;
     if (!ras_app_resolve(h, &app->cli, app->scene, &app->set, err) ||
         (h->prepare && !h->prepare(app, err)))
         return false;
@@ -606,6 +654,7 @@ int ras_app_main(int argc, char **argv, const ras_app_hooks *hooks, void *user) 
     } else {
         status = run_window(&app);
     }
+    ras_dump_stage_abort(&g_dump_stage); /* not committed: nothing half-written stays */
     ras_image_destroy(expected);
     ras_image_destroy(app.image);
     if (hooks->release) hooks->release(&app);

@@ -101,6 +101,8 @@ typedef struct ras_app_hooks {
                                 * which the build gives each program (common names no tests/) */
     bool positional_shader;  /* OUTPUT [SHADER]: the classic form takes a shader */
     bool load_assets;        /* the shell loads the scene's meshes and textures */
+    bool without_maps;       /* ... but no textures or height maps: the program draws
+                              * flat colours (ras_scene_load_meshes) */
     bool spin_from_scene;    /* the scene's model_rotation is the starting angle */
     ras_compare_kind compare; /* --compare's metric and the difference view's */
     unsigned keys;           /* RAS_APP_KEYS_* */

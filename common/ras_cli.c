@@ -102,6 +102,9 @@ static const option_row options[] = {
      "with -o: also write the frame's intermediate buffers into DIR\n(created if missing): "
      "depth, coverage, overdraw, normal, uv,\nview_depth or hw1's vertices, each as a picture, "
      "an exact\n.pfm and a .json (docs/debugging.md)"},
+    {"force", 0, 0, FLAG, F(force), NO_FIELD, NULL, 0, NULL, NULL,
+     "replace output files even when write-protected (mode 444);\nwithout it they are "
+     "refused before any work"},
     {"memory-limit", 0, 0, MEMORY, NO_FIELD, NO_FIELD, NULL, 0, "a number of MiB such as 4096",
      "MB", "refuse inputs estimated to need more memory (default: half\nof physical memory, at "
            "most 2048; also RAS_MEMORY_LIMIT_MB)"},

@@ -58,6 +58,7 @@ typedef struct ras_cli {
     bool stats;
     const char *renderer; /* NULL: the program's default */
     const char *dump;     /* --dump DIR: the frame's buffers go there (ras_dump.h) */
+    bool force;           /* --force: replace write-protected output files */
     const char *positional[RAS_CLI_MAX_POSITIONAL];
     int positional_count;
 } ras_cli;

@@ -8,6 +8,8 @@
 #include "stage3_setup.h" /* ras_viewport */
 
 #include <cjson/cJSON.h>
+#include <dirent.h> /* opendir: the staged dump folder */
+#include <fcntl.h>  /* open, renameat */
 #include <errno.h>
 #include <math.h>
 #include <stdint.h>
@@ -165,11 +167,100 @@ void ras_dump_paint(const ras_dump_buffer *b, uint8_t *rgb, char *text, size_t s
     if (text && size) legend_text(b, &s, text, size);
 }
 
+/* A PFM file image (what --dump writes: "PF" RGB or "Pf" grey, width and
+ * height, the scale ±1 whose sign is the byte order, then the rows bottom
+ * first) → malloc'd floats, top row first, RGB order: read here rather than
+ * by OpenCV, whose PFM decoder goes through a temporary file in /tmp that
+ * its errors leave behind. The header's size is checked against the bytes
+ * that follow it, so no header can ask for more than the file holds. */
+static float *pfm_decode(const uint8_t *d, size_t len, int *width, int *height, int *channels,
+                         char *msg, size_t msg_size) {
+    if (len < 3 || d[0] != 'P' || (d[1] != 'F' && d[1] != 'f')) {
+        snprintf(msg, msg_size, "not a PFM file (expected 'PF' or 'Pf' first, as --dump writes)");
+        return NULL;
+    }
+    int ch = d[1] == 'F' ? 3 : 1;
+    size_t i = 2;
+    double v[3];
+    for (int k = 0; k < 3; k++) {
+        while (i < len && (d[i] == ' ' || d[i] == '\t' || d[i] == '\r' || d[i] == '\n')) i++;
+        char num[40];
+        size_t n = 0;
+        while (i < len && n + 1 < sizeof num && d[i] > ' ' && d[i] < 127) num[n++] = (char)d[i++];
+        num[n] = '\0';
+        char *end = NULL;
+        v[k] = n ? strtod(num, &end) : NAN;
+        if (!n || *end || !isfinite(v[k]) || (k < 2 && (v[k] < 1 || v[k] > 1 << 20 || v[k] != floor(v[k])))) {
+            snprintf(msg, msg_size, "its PFM header is damaged (expected WIDTH HEIGHT SCALE, whole "
+                                    "sizes 1..%d and a finite scale)", 1 << 20);
+            return NULL;
+        }
+    }
+    if (i >= len || (d[i] != '\n' && d[i] != ' ' && d[i] != '\r' && d[i] != '\t') ||
+        fabs(v[2]) != 1.0) {
+        snprintf(msg, msg_size, "its PFM header is not one --dump writes (expected the scale "
+                                "-1 or 1 and one whitespace byte before the data)");
+        return NULL;
+    }
+    i++;
+    size_t w = (size_t)v[0], h = (size_t)v[1], row = w * (size_t)ch;
+    if ((len - i) / sizeof(float) / h < row) {
+        snprintf(msg, msg_size, "its header says %zux%zu with %d channel%s, more than the %zu "
+                 "bytes that follow it hold; the file is truncated",
+                 w, h, ch, ch > 1 ? "s" : "", len - i);
+        return NULL;
+    }
+    float *out = malloc(w * h * (size_t)ch * sizeof *out);
+    if (!out) {
+        snprintf(msg, msg_size, "out of memory for a %zux%zu buffer", w, h);
+        return NULL;
+    }
+    const uint16_t one = 1;
+    bool swap = (v[2] < 0) != (*(const uint8_t *)&one == 1); /* the file's order is not ours */
+    for (size_t r = 0; r < h; r++) {
+        const uint8_t *src = d + i + (h - 1 - r) * row * sizeof(float);
+        for (size_t k = 0; k < row; k++) {
+            uint8_t b[4];
+            memcpy(b, src + 4 * k, 4);
+            if (swap) {
+                uint8_t t = b[0]; b[0] = b[3]; b[3] = t;
+                t = b[1]; b[1] = b[2]; b[2] = t;
+            }
+            memcpy(&out[r * row + k], b, 4);
+        }
+    }
+    *width = (int)w;
+    *height = (int)h;
+    *channels = ch;
+    return out;
+}
+
+uint8_t *ras_dump_encode_pfm(int width, int height, int channels, const float *data, size_t *len) {
+    char head[64];
+    int n = snprintf(head, sizeof head, "%s\n%d %d\n-1\n", channels == 3 ? "PF" : "Pf", width,
+                     height);
+    size_t row = (size_t)width * (size_t)channels, body = row * (size_t)height * sizeof(float);
+    uint8_t *out = malloc((size_t)n + body);
+    if (!out) return NULL;
+    memcpy(out, head, (size_t)n);
+    const uint16_t one = 1;
+    bool host_le = *(const uint8_t *)&one == 1;
+    uint8_t *dst = out + n;
+    for (int r = height - 1; r >= 0; r--) /* bottom row first */
+        for (size_t k = 0; k < row; k++, dst += 4) {
+            uint8_t b[4];
+            memcpy(b, &data[(size_t)r * row + k], 4);
+            for (int i = 0; i < 4; i++) dst[i] = host_le ? b[i] : b[3 - i]; /* little-endian */
+        }
+    *len = (size_t)n + body;
+    return out;
+}
+
 static bool same_floats(const void *data, size_t len, void *ctx, ras_error *err) {
     const ras_dump_buffer *b = ctx;
     char msg[256] = "";
     int w = 0, h = 0, ch = 0;
-    float *back = cv_bridge_decode_f32(data, len, &w, &h, &ch, msg, sizeof msg);
+    float *back = pfm_decode(data, len, &w, &h, &ch, msg, sizeof msg);
     size_t n = (size_t)b->width * b->samples * b->height * b->channels;
     bool ok = back && w == b->width * b->samples && h == b->height && ch == b->channels &&
               memcmp(back, b->data, n * sizeof(float)) == 0;
@@ -239,8 +330,9 @@ bool ras_dump_write(const char *dir, const ras_dump_buffer *b, ras_error *err) {
     /* the exact file first: the picture and the sidecar describe it */
     size_t len = 0;
     char msg[256] = "";
-    uint8_t *pfm = cv_bridge_encode_f32(".pfm", b->width * b->samples, b->height, b->channels,
-                                        b->data, &len, msg, sizeof msg);
+    uint8_t *pfm = ras_dump_encode_pfm(b->width * b->samples, b->height, b->channels, b->data,
+                                       &len);
+    if (!pfm) snprintf(msg, sizeof msg, "out of memory");
     if (!pfm) return ras_error_set(err, "could not encode the %s buffer: %s", b->name, msg);
     snprintf(path, sizeof path, "%s/%s.pfm", dir, b->name);
     bool ok = ras_io_write_atomic(path, "buffer", pfm, len, same_floats, (void *)b, err);
@@ -313,10 +405,25 @@ float *ras_dump_read_pfm(const char *path, int *width, int *height, int *channel
                         : ras_io_read_file(path, "buffer file", (size_t)1 << 30, &len, err);
     if (!data) return NULL;
     char msg[256] = "";
-    float *f = cv_bridge_decode_f32(data, len, width, height, channels, msg, sizeof msg);
+    float *f = pfm_decode(data, len, width, height, channels, msg, sizeof msg);
     free(data);
     if (!f) ras_error_set(err, "could not read the buffer file '%s': %s", path, msg);
     return f;
+}
+
+bool ras_dump_check_input_dir(const char *dir, ras_error *err) {
+    struct stat st;
+    if (stat(dir, &st) != 0)
+        return ras_error_set(err,
+                             "--buffers: cannot open the folder '%s' (%s); expected the folder "
+                             "of a --dump run — check the path",
+                             dir, strerror(errno));
+    if (!S_ISDIR(st.st_mode))
+        return ras_error_set(err,
+                             "--buffers: '%s' is not a folder; expected the folder of a --dump "
+                             "run",
+                             dir);
+    return true;
 }
 
 bool ras_dump_prepare_dir(const char *dir, ras_error *err) {
@@ -334,6 +441,128 @@ bool ras_dump_prepare_dir(const char *dir, ras_error *err) {
                          "--dump could not create the folder '%s' (%s): create it, or "
                          "choose a folder you can write",
                          dir, strerror(errno));
+}
+
+/* Staging folders of this DIR (".BASE-XXXXXX") that a kill -9 left, from
+ * before this run began: their buffer files and then the folder removed
+ * (a folder holding anything else is left alone). */
+static void remove_stale_stages(const char *parent, const char *base) {
+    time_t start = ras_io_process_start();
+    DIR *d = start ? opendir(parent) : NULL;
+    struct dirent *e;
+    size_t bl = strlen(base);
+    while (d && (e = readdir(d)) != NULL) {
+        const char *n = e->d_name;
+        size_t nl = strlen(n);
+        if (nl != bl + 8 || n[0] != '.' || strncmp(n + 1, base, bl) || n[bl + 1] != '-') continue;
+        struct stat sb;
+        if (fstatat(dirfd(d), n, &sb, AT_SYMLINK_NOFOLLOW) != 0 || !S_ISDIR(sb.st_mode) ||
+            sb.st_uid != geteuid() || sb.st_mtime >= start - 1)
+            continue;
+        int fd = openat(dirfd(d), n, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
+        DIR *in = fd >= 0 ? fdopendir(fd) : NULL;
+        struct dirent *f;
+        while (in && (f = readdir(in)) != NULL) {
+            size_t fl = strlen(f->d_name);
+            bool ours = (fl > 4 && (!strcmp(f->d_name + fl - 4, ".pfm") ||
+                                    !strcmp(f->d_name + fl - 4, ".png"))) ||
+                        (fl > 5 && !strcmp(f->d_name + fl - 5, ".json"));
+            if (ours) unlinkat(dirfd(in), f->d_name, 0);
+        }
+        if (in) closedir(in);
+        else if (fd >= 0) close(fd);
+        unlinkat(dirfd(d), n, AT_REMOVEDIR); /* fails, harmlessly, when not empty */
+    }
+    if (d) closedir(d);
+}
+
+bool ras_dump_stage_begin(ras_dump_stage *st, const char *dir, ras_error *err) {
+    memset(st, 0, sizeof *st);
+    if (!ras_io_path_fits("--dump", dir, err)) return false;
+    size_t n = strlen(dir);
+    while (n > 1 && dir[n - 1] == '/') n--; /* "out/" is the folder "out" */
+    snprintf(st->target, sizeof st->target, "%.*s", (int)n, dir);
+    struct stat sb;
+    st->existed = stat(st->target, &sb) == 0;
+    if (st->existed && !S_ISDIR(sb.st_mode))
+        return ras_error_set(err,
+                             "--dump expects a folder; '%s' exists and is not one: choose "
+                             "another path",
+                             dir);
+    if (st->existed && ((sb.st_mode & 0222) == 0 || access(st->target, W_OK | X_OK) != 0))
+        return ras_error_set(err,
+                             "--dump: the folder '%s' is not writable (mode %04o); expected a "
+                             "folder this run may write into — choose another, or change its "
+                             "mode (checked before rendering)",
+                             dir, (unsigned)(sb.st_mode & 07777));
+    const char *slash = strrchr(st->target, '/');
+    const char *base = slash ? slash + 1 : st->target;
+    char parent[1100];
+    if (!slash) snprintf(parent, sizeof parent, ".");
+    else if (slash == st->target) snprintf(parent, sizeof parent, "/");
+    else snprintf(parent, sizeof parent, "%.*s", (int)(slash - st->target), st->target);
+    remove_stale_stages(parent, base);
+    (void)snprintf(st->temp, sizeof st->temp, "%s/.%.200s-XXXXXX", parent, base);
+    if (!mkdtemp(st->temp))
+        return ras_error_set(err,
+                             "--dump could not create the folder '%s' (%s creating a temporary "
+                             "folder in '%s'): create it, or choose a folder you can write",
+                             dir, strerror(errno), parent);
+    st->active = true;
+    return true;
+}
+
+/* Every entry of folder `from` renamed into `to` (same file system). */
+static bool move_entries(const char *from, const char *to, ras_error *err) {
+    DIR *d = opendir(from);
+    int tfd = open(to, O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    bool ok = d && tfd >= 0;
+    struct dirent *e;
+    while (ok && (e = readdir(d)) != NULL) {
+        if (!strcmp(e->d_name, ".") || !strcmp(e->d_name, "..")) continue;
+        if (renameat(dirfd(d), e->d_name, tfd, e->d_name) != 0)
+            ok = ras_error_set(err, "--dump: could not move '%s' into '%s' (%s)", e->d_name, to,
+                               strerror(errno));
+    }
+    if (!d || tfd < 0) ras_error_set(err, "--dump: could not open '%s' (%s)", d ? to : from,
+                                     strerror(errno));
+    if (tfd >= 0) {
+        fsync(tfd);
+        close(tfd);
+    }
+    if (d) closedir(d);
+    return ok;
+}
+
+bool ras_dump_stage_commit(ras_dump_stage *st, ras_error *err) {
+    if (!st->active) return true;
+    bool ok;
+    if (!st->existed && rename(st->temp, st->target) == 0) {
+        ok = true;
+    } else {
+        if (!st->existed && mkdir(st->target, 0777) != 0 && errno != EEXIST) {
+            ras_error_set(err, "--dump could not create the folder '%s' (%s)", st->target,
+                          strerror(errno));
+            ras_dump_stage_abort(st);
+            return false;
+        }
+        ok = move_entries(st->temp, st->target, err);
+        ras_dump_stage_abort(st); /* what is left of the temporary folder */
+        return ok;
+    }
+    st->active = false;
+    return ok;
+}
+
+void ras_dump_stage_abort(ras_dump_stage *st) {
+    if (!st->active) return;
+    DIR *d = opendir(st->temp);
+    struct dirent *e;
+    while (d && (e = readdir(d)) != NULL)
+        if (strcmp(e->d_name, ".") && strcmp(e->d_name, "..")) unlinkat(dirfd(d), e->d_name, 0);
+    if (d) closedir(d);
+    rmdir(st->temp);
+    st->active = false;
 }
 
 const char *const ras_dump_buffer_names[] = {"depth", "coverage",   "overdraw", "normal",

@@ -66,8 +66,21 @@ void ras_dump_paint(const ras_dump_buffer *b, uint8_t *rgb, char *legend, size_t
 
 /* Reads an exact float file back: malloc'd floats (free them), its size and
  * channels. A path ending in .gz is gunzipped first (the reference buffers
- * ship compressed), at most 256 MiB of it. */
+ * ship compressed), at most 256 MiB of it. The PFM is decoded here, its
+ * header's size checked against the bytes that follow (OpenCV is not used:
+ * its PFM decoder leaves /tmp/__opencv_temp.* files when it fails). */
 float *ras_dump_read_pfm(const char *path, int *width, int *height, int *channels, ras_error *err);
+
+/* Floats (1 or 3 channels, top row first) as a PFM file image, the bytes
+ * OpenCV's encoder wrote ("PF"/"Pf", the size, scale -1: little-endian,
+ * rows bottom first), made here: OpenCV's encoder goes through a temporary
+ * file in /tmp, which a file-size limit or a kill leaves behind. malloc'd;
+ * NULL when out of memory. */
+uint8_t *ras_dump_encode_pfm(int width, int height, int channels, const float *data, size_t *len);
+
+/* A folder given to raster101-compare --buffers exists and is a folder:
+ * false and err naming it otherwise (an error, not a mismatch). */
+bool ras_dump_check_input_dir(const char *dir, ras_error *err);
 
 /* The buffers a dump may hold, in the order a frame makes them (NULL-ended):
  * the first one that differs from the reference is where to look first. */
@@ -137,5 +150,22 @@ int ras_dump_compare_vertices(const char *ref_path, const char *got_path, char *
 /* The folder for --dump: created if missing (one level), refused when it is
  * a file; false with err set. */
 bool ras_dump_prepare_dir(const char *dir, ras_error *err);
+
+/* --dump all or nothing: the buffers are written into a temporary folder
+ * beside the target (DIR's folder/.NAME-XXXXXX), and moved into place only
+ * when every one is written (ras_dump_stage_commit): a new DIR is the
+ * temporary folder renamed; into an existing DIR each file is renamed over
+ * its old copy (other files there are left alone). A failure removes the
+ * temporary folder and leaves DIR as it was. ras_dump_stage_begin checks,
+ * before any work, that DIR is (or can be) a folder this run may write. */
+typedef struct ras_dump_stage {
+    char target[1100];
+    char temp[1400]; /* where the buffers go until the commit */
+    bool active, existed;
+} ras_dump_stage;
+bool ras_dump_stage_begin(ras_dump_stage *stage, const char *dir, ras_error *err);
+bool ras_dump_stage_commit(ras_dump_stage *stage, ras_error *err);
+/* Removes the temporary folder and what is in it (nothing when committed). */
+void ras_dump_stage_abort(ras_dump_stage *stage);
 
 #endif

@@ -3,6 +3,8 @@
 
 #include "cv_bridge.h"
 #include "ras_io.h"
+#include "ras_job.h"
+#include "ras_jpeg.h"
 #include "ras_memory.h"
 #include "ras_png.h"
 
@@ -12,6 +14,7 @@
 #include <string.h>   /* strrchr, strlen, strerror */
 #include <strings.h>  /* strcasecmp */
 #include <sys/stat.h> /* stat */
+#include <time.h>     /* clock_gettime */
 #include <unistd.h>   /* access, read, close */
 
 static bool size_ok(int width, int height, ras_error *err) {
@@ -121,6 +124,7 @@ bool ras_image_check_output(const char *path, ras_error *err) {
                              : S_ISCHR(st.st_mode) ? "a character device"
                              : S_ISBLK(st.st_mode) ? "a block device"
                                                    : "not a regular file");
+    if (!ras_io_check_replace(path, "image", err)) return false;
     /* The folder the file goes into. */
     char dir[4096];
     if (!slash)
@@ -201,8 +205,36 @@ static uint32_t le32(const uint8_t *p) {
     return (uint32_t)p[3] << 24 | (uint32_t)p[2] << 16 | (uint32_t)p[1] << 8 | p[0];
 }
 
-/* PNM (P1..P6, Pf/PF): the magic, then width and height as decimal text,
- * with '#' comments between. */
+ras_image_format ras_image_sniff(const uint8_t *d, size_t len) {
+    if (ras_png_is_png(d, len)) return RAS_IMAGE_PNG;
+    if (ras_jpeg_is_jpeg(d, len)) return RAS_IMAGE_JPEG;
+    if (len >= 2 && d[0] == 'B' && d[1] == 'M') return RAS_IMAGE_BMP;
+    if (len >= 3 && d[0] == 'P' && d[1] >= '1' && d[1] <= '6' &&
+        (d[2] == ' ' || d[2] == '\t' || d[2] == '\r' || d[2] == '\n'))
+        return RAS_IMAGE_PNM;
+    if (len >= 4 && (!memcmp(d, "II*\0", 4) || !memcmp(d, "MM\0*", 4) || !memcmp(d, "II+\0", 4) ||
+                     !memcmp(d, "MM\0+", 4)))
+        return RAS_IMAGE_TIFF;
+    return RAS_IMAGE_UNKNOWN;
+}
+
+const char *ras_image_refused_format(const uint8_t *d, size_t len) {
+    if (len >= 2 && d[0] == 'P' && (d[1] == 'f' || d[1] == 'F')) return "a PFM (float) image";
+    if (len >= 2 && d[0] == 'P' && d[1] == '7') return "a PAM image";
+    if (len >= 6 && (!memcmp(d, "#?RADIANCE", len < 10 ? len : 10) || !memcmp(d, "#?RGBE", 6)))
+        return "a Radiance HDR image";
+    if (len >= 4 && le32(d) == 0x01312f76u) return "an OpenEXR image";
+    if (len >= 12 && !memcmp(d, "RIFF", 4) && !memcmp(d + 8, "WEBP", 4)) return "a WebP image";
+    if ((len >= 4 && d[0] == 0xFF && d[1] == 0x4F && d[2] == 0xFF && d[3] == 0x51) ||
+        (len >= 12 && !memcmp(d, "\0\0\0\x0cjP  \r\n\x87\n", 12)))
+        return "a JPEG 2000 image";
+    if (len >= 4 && be32(d) == 0x59a66a95u) return "a Sun raster image";
+    if (len >= 6 && (!memcmp(d, "GIF87a", 6) || !memcmp(d, "GIF89a", 6))) return "a GIF image";
+    return NULL;
+}
+
+/* PNM (P1..P6): the magic, then width and height as decimal text, with '#'
+ * comments between (OpenCV's PxMDecoder::readHeader, ReadNumber). */
 static bool pnm_size(const uint8_t *d, size_t len, long *w, long *h) {
     size_t i = 2;
     long v[2];
@@ -210,179 +242,99 @@ static bool pnm_size(const uint8_t *d, size_t len, long *w, long *h) {
         for (;;) {
             while (i < len && (d[i] == ' ' || d[i] == '\t' || d[i] == '\r' || d[i] == '\n')) i++;
             if (i < len && d[i] == '#')
-                while (i < len && d[i] != '\n') i++;
+                while (i < len && d[i] != '\n' && d[i] != '\r') i++;
             else
                 break;
         }
         if (i >= len || d[i] < '0' || d[i] > '9') return false;
         v[k] = 0;
-        while (i < len && d[i] >= '0' && d[i] <= '9' && v[k] < 100000000) v[k] = v[k] * 10 + (d[i++] - '0');
+        while (i < len && d[i] >= '0' && d[i] <= '9') {
+            if (v[k] < 100000000) v[k] = v[k] * 10 + (d[i] - '0');
+            i++;
+        }
     }
     *w = v[0];
     *h = v[1];
     return true;
 }
 
-/* A decimal number after `key` in a text header (PAM's "WIDTH 640"). */
-static bool text_field(const uint8_t *d, size_t len, const char *key, long *out) {
-    size_t k = strlen(key), end = len < 4096 ? len : 4096;
-    for (size_t i = 0; i + k < end; i++)
-        if (!memcmp(d + i, key, k)) {
-            long v = 0;
-            size_t j = i + k;
-            while (j < end && d[j] == ' ') j++;
-            if (j >= end || d[j] < '0' || d[j] > '9') return false;
-            while (j < end && d[j] >= '0' && d[j] <= '9' && v < 100000000) v = v * 10 + (d[j++] - '0');
-            *out = v;
-            return true;
-        }
-    return false;
-}
-
-/* Radiance HDR: after the header's blank line, "-Y H +X W" (or a variant). */
-static bool radiance_size(const uint8_t *d, size_t len, long *w, long *h) {
-    const uint8_t *end = d + (len < 65536 ? len : 65536);
-    for (const uint8_t *q = d; q + 2 < end; q++)
-        if (q[0] == '\n' && q[1] == '\n') {
-            char line[64];
-            size_t n = 0;
-            for (q += 2; q < end && *q != '\n' && n + 1 < sizeof line; q++) line[n++] = (char)*q;
-            line[n] = '\0';
-            char a[3], b[3];
-            long v1, v2;
-            if (sscanf(line, "%2s %ld %2s %ld", a, &v1, b, &v2) != 4) return false;
-            bool y_first = a[1] == 'Y';
-            *h = y_first ? v1 : v2;
-            *w = y_first ? v2 : v1;
-            return true;
-        }
-    return false;
-}
-
-/* OpenEXR: the dataWindow attribute (a box, inclusive corners). */
-static bool exr_size(const uint8_t *d, size_t len, long *w, long *h) {
-    static const char key[] = "dataWindow\0box2i\0";
-    for (size_t i = 8; i + sizeof key - 1 + 20 <= len && i < 65536; i++)
-        if (!memcmp(d + i, key, sizeof key - 1)) {
-            const uint8_t *b = d + i + sizeof key - 1 + 4; /* after the size */
-            *w = (long)(int32_t)le32(b + 8) - (long)(int32_t)le32(b) + 1;
-            *h = (long)(int32_t)le32(b + 12) - (long)(int32_t)le32(b + 4) + 1;
-            return true;
-        }
-    return false;
-}
-
-/* WebP: the size sits in a different place in each of the three chunk kinds. */
-static bool webp_size(const uint8_t *d, long *w, long *h) {
-    if (!memcmp(d + 12, "VP8 ", 4)) {
-        *w = (d[26] | d[27] << 8) & 0x3fff;
-        *h = (d[28] | d[29] << 8) & 0x3fff;
+/* BMP (OpenCV's BmpDecoder::readHeader): after the 14-byte file header, an
+ * info header of 40+ bytes (32-bit sizes, height negative for top-down) or
+ * an OS/2 core header of 12 (16-bit sizes). */
+static bool bmp_size(const uint8_t *d, size_t len, long *w, long *h) {
+    if (len < 26) return false;
+    uint32_t size = le32(d + 14);
+    if (size >= 36) {
+        int32_t bw = (int32_t)le32(d + 18), bh = (int32_t)le32(d + 22);
+        *w = bw < 0 ? -(long)bw : bw;
+        *h = bh < 0 ? -(long)bh : bh;
         return true;
     }
-    if (!memcmp(d + 12, "VP8L", 4)) {
-        uint32_t b = le32(d + 21);
-        *w = (long)(b & 0x3fff) + 1;
-        *h = (long)((b >> 14) & 0x3fff) + 1;
-        return true;
-    }
-    if (!memcmp(d + 12, "VP8X", 4)) {
-        *w = (long)(d[24] | d[25] << 8 | d[26] << 16) + 1;
-        *h = (long)(d[27] | d[28] << 8 | d[29] << 16) + 1;
+    if (size == 12) {
+        *w = d[18] | d[19] << 8;
+        *h = d[20] | d[21] << 8;
         return true;
     }
     return false;
 }
 
-/* TIFF: tags 256 (width) and 257 (height) of the first IFD, in the file's
- * byte order. */
+/* TIFF, classic and BigTIFF (what libtiff, OpenCV's decoder, reads): the
+ * first directory's ImageWidth (256) and ImageLength (257). A tag given twice
+ * counts with its larger value, so a duplicate cannot hide a size. */
 static bool tiff_size(const uint8_t *d, size_t len, long *w, long *h) {
-    bool le = d[0] == 'I';
-    uint32_t off = le ? le32(d + 4) : be32(d + 4);
-    if ((size_t)off + 2 > len) return false;
-    unsigned n = le ? (unsigned)(d[off] | d[off + 1] << 8) : (unsigned)(d[off] << 8 | d[off + 1]);
-    long got[2] = {-1, -1};
-    for (unsigned k = 0; k < n && (size_t)off + 2 + 12 * (k + 1) <= len; k++) {
-        const uint8_t *e = d + off + 2 + 12 * k;
-        unsigned tag = le ? (unsigned)(e[0] | e[1] << 8) : (unsigned)(e[0] << 8 | e[1]);
-        unsigned type = le ? (unsigned)(e[2] | e[3] << 8) : (unsigned)(e[2] << 8 | e[3]);
-        if (tag != 256 && tag != 257) continue;
-        long v = type == 3 ? (le ? (long)(e[8] | e[9] << 8) : (long)(e[8] << 8 | e[9]))
-                           : (long)(le ? le32(e + 8) : be32(e + 8));
-        got[tag - 256] = v;
+    if (len < 8) return false;
+    bool le = d[0] == 'I', big = d[2] == '+' || d[3] == '+';
+#define U16(p) (le ? (uint64_t)((p)[0] | (p)[1] << 8) : (uint64_t)((p)[0] << 8 | (p)[1]))
+#define U32(p) (le ? (uint64_t)le32(p) : (uint64_t)be32(p))
+#define U64(p) (le ? (U32((p) + 4) << 32 | U32(p)) : (U32(p) << 32 | U32((p) + 4)))
+    uint64_t off, n;
+    size_t entry, head;
+    if (big) {
+        if (len < 16 || U16(d + 4) != 8) return false;
+        off = U64(d + 8);
+        entry = 20, head = 8;
+        if (off > len || len - off < head) return false;
+        n = U64(d + off);
+    } else {
+        off = U32(d + 4);
+        entry = 12, head = 2;
+        if (off > len || len - off < head) return false;
+        n = U16(d + off);
     }
+    long got[2] = {-1, -1};
+    for (uint64_t k = 0; k < n && (len - off - head) / entry > k; k++) {
+        const uint8_t *e = d + off + head + entry * k;
+        uint64_t tag = U16(e), type = U16(e + 2);
+        if (tag != 256 && tag != 257) continue;
+        const uint8_t *val = e + (big ? 12 : 8);
+        uint64_t v = type == 3 ? U16(val) : type == 4 || type == 9 ? U32(val)
+                   : (type == 16 || type == 17) && big ? U64(val)
+                                                      : UINT64_MAX;
+        long lv = v > 100000000 ? 100000000 : (long)v;
+        if (lv > got[tag - 256]) got[tag - 256] = lv;
+    }
+#undef U16
+#undef U32
+#undef U64
     if (got[0] < 0 || got[1] < 0) return false;
     *w = got[0];
     *h = got[1];
     return true;
 }
 
-/* JPEG 2000 file format: the ihdr box (height first). */
-static bool jp2_size(const uint8_t *d, size_t len, long *w, long *h) {
-    for (size_t i = 12; i + 16 <= len && i < 4096; i++)
-        if (!memcmp(d + i, "ihdr", 4)) {
-            *h = (long)be32(d + i + 4);
-            *w = (long)be32(d + i + 8);
-            return true;
-        }
-    return false;
-}
-
-/* JPEG: walk the markers to a SOFn (start of frame) segment. */
-static bool jpeg_size(const uint8_t *d, size_t len, long *w, long *h) {
-    size_t i = 2;
-    while (i + 4 <= len) {
-        if (d[i] != 0xFF) return false;
-        uint8_t m = d[i + 1];
-        if (m == 0xFF) { i++; continue; }
-        if (m == 0x01 || (m >= 0xD0 && m <= 0xD7)) { i += 2; continue; }
-        size_t seg = (size_t)(d[i + 2] << 8 | d[i + 3]);
-        if (m >= 0xC0 && m <= 0xCF && m != 0xC4 && m != 0xC8 && m != 0xCC) {
-            if (i + 9 > len) return false;
-            *h = d[i + 5] << 8 | d[i + 6];
-            *w = d[i + 7] << 8 | d[i + 8];
-            return true;
-        }
-        if (seg < 2) return false;
-        i += 2 + seg;
-    }
-    return false;
-}
-
 bool ras_image_peek_size(const uint8_t *d, size_t len, long *w, long *h) {
-    if (len >= 24 && !memcmp(d, "\x89PNG\r\n\x1a\n", 8) && !memcmp(d + 12, "IHDR", 4)) {
+    switch (ras_image_sniff(d, len)) {
+    case RAS_IMAGE_PNG: /* IHDR must come first (libpng refuses anything else) */
+        if (len < 24 || memcmp(d + 12, "IHDR", 4)) return false;
         *w = (long)be32(d + 16);
         *h = (long)be32(d + 20);
         return true;
+    case RAS_IMAGE_JPEG: return ras_jpeg_peek_size(d, len, w, h);
+    case RAS_IMAGE_BMP: return bmp_size(d, len, w, h);
+    case RAS_IMAGE_PNM: return pnm_size(d, len, w, h);
+    case RAS_IMAGE_TIFF: return tiff_size(d, len, w, h);
+    case RAS_IMAGE_UNKNOWN: break;
     }
-    if (len >= 26 && d[0] == 'B' && d[1] == 'M') {
-        int32_t bw = (int32_t)le32(d + 18), bh = (int32_t)le32(d + 22);
-        *w = bw < 0 ? -(long)bw : bw;
-        *h = bh < 0 ? -(long)bh : bh;
-        return true;
-    }
-    if (len >= 3 && d[0] == 'P' && ((d[1] >= '1' && d[1] <= '6') || d[1] == 'f' || d[1] == 'F'))
-        return pnm_size(d, len, w, h);
-    if (len >= 3 && d[0] == 'P' && d[1] == '7') /* PAM: WIDTH and HEIGHT lines */
-        return text_field(d, len, "\nWIDTH ", w) && text_field(d, len, "\nHEIGHT ", h);
-    if (len >= 10 && (!memcmp(d, "#?RADIANCE", 10) || !memcmp(d, "#?RGBE", 6)))
-        return radiance_size(d, len, w, h);
-    if (len >= 24 && d[0] == 0xFF && d[1] == 0x4F && d[2] == 0xFF && d[3] == 0x51) {
-        /* JPEG 2000 codestream: the SIZ segment, image size minus its offset. */
-        *w = (long)be32(d + 8) - (long)be32(d + 16);
-        *h = (long)be32(d + 12) - (long)be32(d + 20);
-        return true;
-    }
-    if (len >= 8 && le32(d) == 0x01312f76u) return exr_size(d, len, w, h);
-    if (len >= 30 && !memcmp(d, "RIFF", 4) && !memcmp(d + 8, "WEBP", 4)) return webp_size(d, w, h);
-    if (len >= 8 && (!memcmp(d, "II*\0", 4) || !memcmp(d, "MM\0*", 4))) /* TIFF */
-        return tiff_size(d, len, w, h);
-    if (len >= 12 && be32(d) == 0x59a66a95u) { /* Sun raster */
-        *w = (long)be32(d + 4);
-        *h = (long)be32(d + 8);
-        return true;
-    }
-    if (len >= 48 && !memcmp(d, "\0\0\0\x0cjP  \r\n\x87\n", 12)) return jp2_size(d, len, w, h);
-    if (len >= 4 && d[0] == 0xFF && d[1] == 0xD8) return jpeg_size(d, len, w, h);
     return false;
 }
 
@@ -390,8 +342,10 @@ bool ras_image_peek_file(const char *path, long *width, long *height) {
     char why[256];
     int fd = ras_io_open_input(path, why, sizeof why);
     if (fd < 0) return false;
-    /* A JPEG's size may follow EXIF and ICC segments: read enough of them. */
-    size_t cap = 256 * 1024, len = 0;
+    /* A JPEG's size may follow EXIF and ICC segments, a TIFF's directory
+     * may sit anywhere: read enough, and the whole file when it is small.
+     * A header further in is found by ras_image_load, which reads it all. */
+    size_t cap = 1024 * 1024, len = 0;
     uint8_t *buf = malloc(cap);
     while (buf && len < cap) {
         ssize_t r = read(fd, buf + len, cap - len);
@@ -405,11 +359,50 @@ bool ras_image_peek_file(const char *path, long *width, long *height) {
     return ok;
 }
 
+/* One decode, run under the time limit (ras_job.h): it owns the file's bytes,
+ * so a decode that outlives the limit frees them itself. */
+typedef struct decode_job {
+    uint8_t *data;
+    size_t len;
+    ras_image_format format;
+    ras_jpeg_limits limits;
+    uint8_t *rgb;
+    int width, height;
+    char msg[512];
+} decode_job;
+
+static void *decode_run(void *arg) {
+    decode_job *j = arg;
+    /* PNG by its signature through libpng (ras_png.h), JPEG through libjpeg
+     * (ras_jpeg.h); BMP, PNM, TIFF, and a PNG with EXIF, through OpenCV. */
+    bool exif = false;
+    if (j->format == RAS_IMAGE_PNG)
+        j->rgb = ras_png_decode_rgb8(j->data, j->len, &j->width, &j->height, &exif, j->msg,
+                                     sizeof j->msg);
+    else if (j->format == RAS_IMAGE_JPEG)
+        j->rgb = ras_jpeg_decode_rgb8(j->data, j->len, &j->limits, &j->width, &j->height, j->msg,
+                                      sizeof j->msg);
+    if ((j->format != RAS_IMAGE_PNG && j->format != RAS_IMAGE_JPEG) || exif)
+        j->rgb = cv_bridge_decode_rgb8(j->data, j->len, &j->width, &j->height, j->msg,
+                                       sizeof j->msg);
+    return j;
+}
+
+static void decode_discard(void *result, void *arg) {
+    (void)result;
+    decode_job *j = arg;
+    free(j->rgb);
+    free(j->data);
+    free(j);
+}
+
 uint8_t *ras_image_load_rgb8(const char *path, int *width, int *height, ras_error *err) {
     /* The file's bytes first (regular files only: a FIFO fails at once, an
-     * unreadable file says "Permission denied"), then the size from its
-     * header, checked against RAS_IMAGE_MAX_SIDE and the memory budget before
-     * a single pixel is decoded, then the decode from memory. */
+     * unreadable file says "Permission denied"), then its format from its
+     * content (never its name), then the size from its header read by the
+     * decoder's own rules, checked against RAS_IMAGE_MAX_SIDE and the memory
+     * budget before a single pixel is decoded, then the decode from memory
+     * under the time limit. */
     struct stat st;
     char what[1200];
     snprintf(what, sizeof what, "reading image '%s'", path);
@@ -419,43 +412,105 @@ uint8_t *ras_image_load_rgb8(const char *path, int *width, int *height, ras_erro
     size_t len = 0;
     uint8_t *data = ras_io_read_file(path, "image", RAS_IMAGE_MAX_FILE_BYTES, &len, err);
     if (!data) return NULL;
-    long hw = 0, hh = 0;
-    if (ras_image_peek_size(data, len, &hw, &hh)) {
-        snprintf(what, sizeof what, "image '%s' (%ldx%ld pixels)", path, hw, hh);
-        if (hw < 1 || hh < 1 || hw > RAS_IMAGE_MAX_SIDE || hh > RAS_IMAGE_MAX_SIDE) {
+    ras_image_format format = ras_image_sniff(data, len);
+    const char *refused = ras_image_refused_format(data, len);
+    if (format == RAS_IMAGE_UNKNOWN) {
+        if (refused)
             ras_error_set(err,
-                          "could not read image '%s': its header says %ldx%ld pixels; expected "
-                          "1..%d on each side — use a smaller image",
-                          path, hw, hh, RAS_IMAGE_MAX_SIDE);
-            free(data);
-            return NULL;
-        }
-        if (!ras_memory_check((double)hw * (double)hh * RAS_MEMORY_BYTES_PER_LOADED_PIXEL + (double)len,
-                              what, "use a smaller image", err)) {
-            free(data);
-            return NULL;
-        }
-    }
-    char msg[512] = "";
-    int w = 0, h = 0;
-    /* PNG by its signature through libpng (ras_png.h); anything else, and a
-     * PNG with EXIF, through OpenCV. */
-    bool exif = false;
-    bool png = ras_png_is_png(data, len);
-    uint8_t *rgb = png ? ras_png_decode_rgb8(data, len, &w, &h, &exif, msg, sizeof msg) : NULL;
-    if (!png || exif) rgb = cv_bridge_decode_rgb8(data, len, &w, &h, msg, sizeof msg);
-    free(data);
-    if (!rgb) {
-        ras_error_set(err, "could not read image '%s': %s; check the file", path, msg);
+                          "could not read image '%s': it is %s, a format not accepted here (its "
+                          "size cannot be bounded before decoding); expected %s — convert it to "
+                          "PNG",
+                          path, refused, RAS_IMAGE_ACCEPTED);
+        else
+            ras_error_set(err,
+                          "could not read image '%s': its content is not an image format "
+                          "accepted here (whatever its name); expected %s — check the file",
+                          path, RAS_IMAGE_ACCEPTED);
+        free(data);
         return NULL;
     }
-    if (!size_ok(w, h, err)) {
+    long hw = 0, hh = 0;
+    if (!ras_image_peek_size(data, len, &hw, &hh)) {
+        ras_error_set(err,
+                      "could not read image '%s': it starts like %s but its header does not say "
+                      "its size (truncated or damaged); expected a complete image file — check "
+                      "the file",
+                      path, ras_image_format_name(format));
+        free(data);
+        return NULL;
+    }
+    snprintf(what, sizeof what, "image '%s' (%ldx%ld pixels)", path, hw, hh);
+    if (hw < 1 || hh < 1 || hw > RAS_IMAGE_MAX_SIDE || hh > RAS_IMAGE_MAX_SIDE) {
+        ras_error_set(err,
+                      "could not read image '%s': its header says %ldx%ld pixels; expected "
+                      "1..%d on each side — use a smaller image",
+                      path, hw, hh, RAS_IMAGE_MAX_SIDE);
+        free(data);
+        return NULL;
+    }
+    double need = (double)hw * (double)hh * RAS_MEMORY_BYTES_PER_LOADED_PIXEL + (double)len;
+    if (!ras_memory_check(need, what, "use a smaller image", err)) {
+        free(data);
+        return NULL;
+    }
+    decode_job *job = calloc(1, sizeof *job);
+    if (!job) {
+        free(data);
+        ras_error_set(err, "out of memory reading image '%s'", path);
+        return NULL;
+    }
+    double seconds = ras_job_seconds("RAS_IMAGE_DECODE_SECONDS", RAS_IMAGE_DECODE_SECONDS_DEFAULT);
+    job->data = data;
+    job->len = len;
+    job->format = format;
+    /* libjpeg's working memory (a progressive file's coefficients) within
+     * what the check above allowed for the whole load. */
+    job->limits.max_bytes = (size_t)(need > 64e6 ? need : 64e6);
+    job->limits.seconds = seconds;
+    clock_gettime(CLOCK_MONOTONIC, &job->limits.deadline);
+    job->limits.deadline.tv_sec += (time_t)seconds + 1; /* the job's wait ends first */
+    void *done = NULL;
+    if (!ras_job_run(decode_run, job, decode_discard, 0, seconds, &done))
+        return ras_error_set(err,
+                             "could not read image '%s': decoding it took longer than the limit "
+                             "of %g s (RAS_IMAGE_DECODE_SECONDS); expected an image that "
+                             "decodes in time — use a smaller or simpler image, or raise "
+                             "RAS_IMAGE_DECODE_SECONDS",
+                             path, seconds),
+               NULL;
+    uint8_t *rgb = job->rgb;
+    int w = job->width, h = job->height;
+    if (!rgb)
+        ras_error_set(err, "could not read image '%s': %s; check the file", path, job->msg);
+    free(job->data);
+    free(job);
+    if (!rgb) return NULL;
+    /* The decoders read the header this check read; a disagreement would be
+     * a bug in the check, refused rather than trusted. */
+    if (!size_ok(w, h, err) || (long)w * h != hw * hh) {
+        if (rgb && (long)w * h != hw * hh)
+            ras_error_set(err,
+                          "could not read image '%s': it decoded as %dx%d but its header says "
+                          "%ldx%ld; expected the two to agree — the file is damaged",
+                          path, w, h, hw, hh);
         free(rgb);
         return NULL;
     }
     *width = w;
     *height = h;
     return rgb;
+}
+
+const char *ras_image_format_name(ras_image_format format) {
+    switch (format) {
+    case RAS_IMAGE_PNG: return "a PNG";
+    case RAS_IMAGE_JPEG: return "a JPEG";
+    case RAS_IMAGE_BMP: return "a BMP";
+    case RAS_IMAGE_PNM: return "a PNM (PBM/PGM/PPM)";
+    case RAS_IMAGE_TIFF: return "a TIFF";
+    case RAS_IMAGE_UNKNOWN: break;
+    }
+    return "an unknown format";
 }
 
 ras_image *ras_image_load(const char *path, ras_error *err) {

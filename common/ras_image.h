@@ -70,7 +70,35 @@ bool ras_image_save(const ras_image *img, const char *path, ras_error *err);
 bool ras_image_save_rgb8(const uint8_t *rgb, int width, int height, const char *path,
                          ras_error *err);
 
-/* Reads any image OpenCV can read; returns NULL and sets err when it cannot. */
+/* The image formats read, decided by a file's content (never its name):
+ * those whose true size a complete header parser (or the decoder's own
+ * header call) reads before any pixel is decoded. */
+typedef enum ras_image_format {
+    RAS_IMAGE_UNKNOWN,
+    RAS_IMAGE_PNG,  /* libpng (ras_png.h) */
+    RAS_IMAGE_JPEG, /* libjpeg (ras_jpeg.h): baseline and progressive */
+    RAS_IMAGE_BMP,  /* OpenCV */
+    RAS_IMAGE_PNM,  /* P1..P6, OpenCV */
+    RAS_IMAGE_TIFF, /* classic and BigTIFF, OpenCV (libtiff) */
+} ras_image_format;
+#define RAS_IMAGE_ACCEPTED "PNG, JPEG, BMP, PBM/PGM/PPM or TIFF"
+
+/* Seconds a decode may take (RAS_IMAGE_DECODE_SECONDS overrides). */
+#define RAS_IMAGE_DECODE_SECONDS_DEFAULT 20.0
+
+ras_image_format ras_image_sniff(const uint8_t *data, size_t len);
+const char *ras_image_format_name(ras_image_format format);
+
+/* A format recognised but refused (Radiance HDR, OpenEXR, WebP, JPEG 2000,
+ * PFM, PAM, Sun raster, GIF) as a phrase ("a WebP image"), else NULL. */
+const char *ras_image_refused_format(const uint8_t *data, size_t len);
+
+/* Reads an image of an accepted format; returns NULL and sets err when it
+ * cannot. The file is read whole (at most RAS_IMAGE_MAX_FILE_BYTES), its
+ * format taken from its content, its size from its header and checked against
+ * RAS_IMAGE_MAX_SIDE and the memory budget (ras_memory.h) before any pixel is
+ * decoded; the decode then runs under RAS_IMAGE_DECODE_SECONDS (a JPEG also
+ * under RAS_JPEG_MAX_SCANS). Every refusal names the file and the limit. */
 ras_image *ras_image_load(const char *path, ras_error *err);
 
 /* The same file as 8-bit RGB, top row first (see ras_image_to_rgb8), in a
@@ -80,13 +108,15 @@ ras_image *ras_image_load(const char *path, ras_error *err);
 uint8_t *ras_image_load_rgb8(const char *path, int *width, int *height, ras_error *err);
 
 /* The width and height an encoded image's header announces, read without
- * decoding: PNG, JPEG, BMP, PNM/PFM, PAM, WebP, TIFF, Sun raster, JPEG 2000
- * (jp2 and codestream), Radiance HDR, OpenEXR — every format OpenCV 4.6
- * decodes. False for other data or a header too short to say. */
+ * decoding pixels, by the rules its decoder reads them with: PNG (IHDR),
+ * JPEG (libjpeg's jpeg_read_header: junk before the frame header is skipped
+ * as the decoder skips it), BMP (info and OS/2 core headers), PNM P1..P6,
+ * TIFF (classic and BigTIFF, the first directory). False for other data or
+ * a header too short to say. */
 bool ras_image_peek_size(const uint8_t *data, size_t len, long *width, long *height);
 
-/* The same from the start of a file (regular files only); false when it
- * cannot be opened or its format is not one of those. */
+/* The same from the start of a file (regular files only, its first MiB);
+ * false when it cannot be opened or its format is not one of those. */
 bool ras_image_peek_file(const char *path, long *width, long *height);
 
 /* One byte of a file to a channel value in [0, 1]: the one conversion every

@@ -1,6 +1,7 @@
 /* ras_io.c — see ras_io.h. */
 #include "ras_io.h"
 
+#include <dirent.h>   /* opendir, readdir: stale temporaries */
 #include <errno.h>    /* errno, EINTR */
 #include <fcntl.h>    /* open, fcntl, O_* */
 #include <limits.h>   /* PATH_MAX */
@@ -9,6 +10,8 @@
 #include <stdio.h>    /* snprintf, rename */
 #include <stdlib.h>   /* malloc, free, mkstemp, realpath */
 #include <string.h>   /* strerror, strrchr, memcmp */
+#include <strings.h>  /* strncasecmp */
+#include <time.h>     /* time_t */
 #include <sys/stat.h> /* fstat, lstat, umask, fchmod */
 #include <unistd.h>   /* read, write, close, fsync, unlink */
 
@@ -203,6 +206,95 @@ static bool read_back_matches(const char *tmp, const void *data, size_t len, voi
     return true;
 }
 
+/* ---- write-protected targets, stale temporaries -------------------------- */
+
+static bool g_force; /* --force: replace write-protected files */
+
+void ras_io_set_force(bool force) { g_force = force; }
+
+bool ras_io_check_replace(const char *path, const char *what, ras_error *err) {
+    struct stat st;
+    if (g_force || stat(path, &st) != 0 || !S_ISREG(st.st_mode)) return true;
+    /* No write bit at all (mode 444) means "keep this", even for root, whom
+     * access() lets write anything. */
+    if ((st.st_mode & 0222) == 0 || access(path, W_OK) != 0)
+        return ras_error_set(err,
+                             "cannot write %s '%s': it is write-protected (mode %04o); expected "
+                             "a file you may replace — pass --force to replace it anyway, or "
+                             "write elsewhere",
+                             what, path, (unsigned)(st.st_mode & 07777));
+    return true;
+}
+
+/* When this process started (seconds since the epoch, rounded down), from
+ * /proc: a temporary file older than that cannot be one this run, or any
+ * writer started after it, is still writing. 0 when unknown. */
+time_t ras_io_process_start(void) {
+    static time_t start = -1;
+    if (start >= 0) return start;
+    start = 0;
+    FILE *f = fopen("/proc/self/stat", "r");
+    char buf[1024];
+    size_t n = f ? fread(buf, 1, sizeof buf - 1, f) : 0;
+    if (f) fclose(f);
+    buf[n] = '\0';
+    const char *p = strrchr(buf, ')'); /* the name may hold spaces */
+    unsigned long long ticks = 0;
+    if (p && sscanf(p + 2, "%*c %*d %*d %*d %*d %*d %*u %*u %*u %*u %*u %*u %*u %*d %*d %*d %*d "
+                           "%*d %*d %llu", &ticks) == 1) {
+        f = fopen("/proc/stat", "r");
+        char line[256];
+        long long btime = 0;
+        while (f && fgets(line, sizeof line, f))
+            if (sscanf(line, "btime %lld", &btime) == 1) break;
+        if (f) fclose(f);
+        long hz = sysconf(_SC_CLK_TCK);
+        if (btime > 0 && hz > 0) start = (time_t)(btime + (long long)(ticks / (unsigned long long)hz));
+    }
+    return start;
+}
+
+/* Whether `name` is one of ras_io_write_atomic's temporaries: ".NAME-XXXXXX"
+ * (six characters mkstemp chooses), NAME ending in an extension the programs
+ * write, so no other dotfile ever matches. */
+static bool is_our_temporary(const char *name) {
+    static const char *const exts[] = {".png", ".jpg", ".jpeg", ".bmp", ".ppm", ".tif", ".tiff",
+                                       ".pfm", ".json", ".csv", ".md", ".txt", ".xml", ".html"};
+    size_t n = strlen(name);
+    if (n < 1 + 2 + 7 || name[0] != '.' || name[n - 7] != '-') return false;
+    for (size_t k = n - 6; k < n; k++)
+        if (!((name[k] >= 'a' && name[k] <= 'z') || (name[k] >= 'A' && name[k] <= 'Z') ||
+              (name[k] >= '0' && name[k] <= '9')))
+            return false;
+    size_t stem = n - 7; /* ".NAME" */
+    for (size_t e = 0; e < sizeof exts / sizeof *exts; e++) {
+        size_t el = strlen(exts[e]);
+        if (stem > el && !strncasecmp(name + stem - el, exts[e], el)) return true;
+    }
+    return false;
+}
+
+int ras_io_remove_stale_temporaries(const char *dir) {
+    time_t start = ras_io_process_start();
+    if (!start) return 0;
+    DIR *d = opendir(dir);
+    if (!d) return 0;
+    int removed = 0;
+    struct dirent *e;
+    while ((e = readdir(d)) != NULL) {
+        if (!is_our_temporary(e->d_name)) continue;
+        struct stat st;
+        /* regular files of ours only, last written before this run began
+         * (with a second's margin for the clock's rounding) */
+        if (fstatat(dirfd(d), e->d_name, &st, AT_SYMLINK_NOFOLLOW) != 0 || !S_ISREG(st.st_mode) ||
+            st.st_uid != geteuid() || st.st_mtime >= start - 1)
+            continue;
+        if (unlinkat(dirfd(d), e->d_name, 0) == 0) removed++;
+    }
+    closedir(d);
+    return removed;
+}
+
 static bool write_atomic_locked(const char *path, const char *what, const void *data,
                                 size_t len, ras_io_verify_fn verify, void *ctx, ras_error *err);
 
@@ -228,6 +320,17 @@ static bool write_atomic_locked(const char *path, const char *what, const void *
                              "could not write %s '%s': expected a regular file or a new name, "
                              "got %s; choose another name",
                              what, path, file_type_name(lst.st_mode));
+    if (!ras_io_check_replace(target, what, err)) return false;
+    {
+        /* Temporaries a kill -9 left in this folder (nothing could remove
+         * them then): the next writer does. */
+        char folder[PATH_MAX];
+        const char *slash = strrchr(target, '/');
+        if (!slash) snprintf(folder, sizeof folder, ".");
+        else if (slash == target) snprintf(folder, sizeof folder, "/");
+        else snprintf(folder, sizeof folder, "%.*s", (int)(slash - target), target);
+        ras_io_remove_stale_temporaries(folder);
+    }
 
     saved_signals saved;
     signals_install(&saved);

@@ -30,6 +30,7 @@
 
 #include <stddef.h> /* size_t */
 #include <stdio.h>  /* FILE */
+#include <time.h>   /* time_t */
 
 /* Longest file name (path) the programs accept on the command line, in bytes
  * without the NUL: longer ones are refused by name, never silently cut. */
@@ -55,6 +56,24 @@ typedef bool (*ras_io_verify_fn)(const void *data, size_t len, void *ctx, ras_er
  * `what` names the file in messages ("image", "report"). */
 bool ras_io_write_atomic(const char *path, const char *what, const void *data, size_t len,
                          ras_io_verify_fn verify, void *ctx, ras_error *err);
+
+/* Write-protected targets (no write bit, or not writable by this user) are
+ * refused by ras_io_write_atomic and ras_io_check_replace unless force is
+ * set (the programs' --force). */
+void ras_io_set_force(bool force);
+/* True when `path` is new, or a file this run may replace; else false and
+ * err naming the file, its mode and --force. `what` as in write_atomic. */
+bool ras_io_check_replace(const char *path, const char *what, ras_error *err);
+
+/* Removes, in `dir`, the temporaries ras_io_write_atomic names
+ * (".NAME-XXXXXX", NAME ending in an extension the programs write) that are
+ * regular files of this user last written before this process started: what
+ * a kill -9 (which no handler sees) left. ras_io_write_atomic calls it for
+ * its target's folder. Returns how many it removed. */
+int ras_io_remove_stale_temporaries(const char *dir);
+/* When this process started (seconds since the epoch, from /proc), 0 when
+ * unknown: what "left before this run" is measured against. */
+time_t ras_io_process_start(void);
 
 /* A text report (CSV, Markdown) written with stdio into memory, then to its
  * file with ras_io_write_atomic: ras_io_report_open gives the FILE* to

@@ -17,11 +17,11 @@
  * leaves after the libraries: 3/4 of (RLIMIT_AS - 320 MiB).
  *
  * OpenCV's own decoder limit, OPENCV_IO_MAX_IMAGE_PIXELS, is read once when
- * libopencv_imgcodecs loads; OpenCV is now a module opened on first use
- * (cv_bridge_load.c), which sets it to 2^28 pixels first unless the user
- * exported another. ras_image also reads the size from the header of every
- * format OpenCV 4.6 decodes (ras_image_peek_size), and PNG goes through
- * libpng (ras_png.c) under the same limit.
+ * libopencv_imgcodecs loads; OpenCV is a module opened on first use
+ * (cv_bridge_load.c), which sets it first to the budget's worth of pixels
+ * (at most 2^28) unless the user exported another. ras_image reads the size
+ * from the header of every format it accepts, by its decoder's rules
+ * (ras_image_peek_size), before any pixel is decoded.
  */
 #ifndef RAS_MEMORY_H
 #define RAS_MEMORY_H

@@ -30,16 +30,22 @@ typedef struct ras_mesh {
     bool has_normals_from_file;
 } ras_mesh;
 
-/* Limits of ras_mesh_load (docs/robustness.md):
- * - nesting: a glTF node tree, or the brackets/elements of a text format
- *   (COLLADA, X, FBX ASCII, ...), deeper than RAS_MESH_MAX_NESTING levels is
- *   refused before assimp sees it (scanned up to RAS_MESH_MAX_SCAN_BYTES);
+/* Limits of ras_mesh_load (docs/robustness.md), each applied by the file's
+ * content, whatever its name:
+ * - nesting: a glTF node tree (1.0 or 2.0, JSON or binary), or the
+ *   brackets/elements of any text file (COLLADA, X, FBX ASCII, ...), deeper
+ *   than RAS_MESH_MAX_NESTING levels is refused before assimp sees it
+ *   (scanned up to RAS_MESH_MAX_SCAN_BYTES);
+ * - structure: a binary glTF's chunk lengths and a PLY's element counts and
+ *   list lengths must fit in the file; a glTF's buffer and image files must
+ *   be regular files inside the model's folder;
  * - the import runs on a thread with a stack of up to RAS_MESH_IMPORT_STACK
  *   (a quarter of the memory budget, at least 16 MiB), for formats whose
  *   nesting is not scanned;
  * - memory: the file's size times RAS_MESH_IMPORT_BYTES_PER_FILE_BYTE must
- *   fit the memory budget (ras_memory.h) before the import starts; the glTF
- *   node walk (a cJSON tree, up to 40 bytes a byte) runs only when it fits. */
+ *   fit the memory budget (ras_memory.h) before the import starts; so must
+ *   the glTF node walk (a cJSON tree, up to 40 bytes a byte), or the file is
+ *   refused. */
 #define RAS_MESH_MAX_NESTING 10000
 #define RAS_MESH_MAX_SCAN_BYTES (256u << 20)
 #define RAS_MESH_IMPORT_STACK (256u << 20)

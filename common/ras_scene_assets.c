@@ -188,7 +188,7 @@ static ras_texture *get_map(const ras_scene *s, ras_scene_assets *a, int i, int 
     return t;
 }
 
-ras_scene_assets *ras_scene_load_assets(const ras_scene *s, ras_error *err) {
+static ras_scene_assets *load_assets(const ras_scene *s, bool maps, ras_error *err) {
     ras_scene_assets *a = calloc(1, sizeof *a);
     size_t n = (size_t)s->object_count;
     if (!a || !(a->meshes = calloc(n, sizeof *a->meshes)) ||
@@ -246,6 +246,7 @@ ras_scene_assets *ras_scene_load_assets(const ras_scene *s, ras_error *err) {
             mesh->colors[v] = glms_vec3_mul(mesh->colors[v], mat->color);
             mesh->uvs[v] = glms_vec2_mul(mesh->uvs[v], mat->uv_scale);
         }
+        if (!maps) continue;
         if ((mat->texture.kind != RAS_MAP_NONE && !(a->textures[i] = get_map(s, a, i, 0, err))) ||
             (mat->height_map.kind != RAS_MAP_NONE &&
              !(a->height_maps[i] = get_map(s, a, i, 1, err)))) {
@@ -254,6 +255,14 @@ ras_scene_assets *ras_scene_load_assets(const ras_scene *s, ras_error *err) {
         }
     }
     return a;
+}
+
+ras_scene_assets *ras_scene_load_assets(const ras_scene *s, ras_error *err) {
+    return load_assets(s, true, err);
+}
+
+ras_scene_assets *ras_scene_load_meshes(const ras_scene *s, ras_error *err) {
+    return load_assets(s, false, err);
 }
 
 void ras_scene_assets_destroy(ras_scene_assets *a) {

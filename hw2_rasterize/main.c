@@ -111,7 +111,7 @@ int main(int argc, char **argv) {
         .options = RAS_OPT_AA | RAS_OPT_COMPARE | RAS_OPT_SCENE | RAS_OPT_STATS,
         .keys = RAS_APP_KEYS_AA, .inspector = true, .step = true,
         .compare = RAS_COMPARE_EDGE_TOLERANT,
-        .scene = "hw2_classic", .load_assets = true, .spin_from_scene = true,
+        .scene = "hw2_classic", .load_assets = true, .without_maps = true, .spin_from_scene = true,
         .example = "--aa msaa -o out.png", .reference_dir = RAS_REFERENCE_DIR,
         .prepare = prepare, .render = render, .status = status,
     };

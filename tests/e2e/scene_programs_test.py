@@ -147,6 +147,15 @@ cases = [(broken, "broken.json: aa.samples:"), (missing_map, "objects[0].materia
          (os.path.join(WORK, "no_such_scene.json"), "no_such_scene.json: cannot open the scene file")]
 for program in ("hw1_transform_ref", "hw2_rasterize_ref", "hw3_shading_ref"):
     for path, expected in cases:
+        if path == missing_map and program != "hw3_shading_ref":
+            # Only what a program draws is loaded (issue 27): hw1 and hw2 draw
+            # flat colours and never open the map.
+            out = os.path.join(WORK, "flat.png")
+            code, stdout, stderr = run(program, ["--scene", path, "-o", out])
+            check(code == 0 and os.path.exists(out),
+                  f"{program} --scene missing_map.json: exit {code}, expected 0 (a map it does "
+                  f"not draw): {stderr.strip()!r}")
+            continue
         out = os.path.join(WORK, "must_not_exist.png")
         if os.path.exists(out):
             os.remove(out)

@@ -1,5 +1,6 @@
-/* fuzz_texture.c — the texture loader (ras_texture_load through OpenCV).
- * Input: byte 0 picks .png or .ppm and the wrap mode, the rest is the file.
+/* fuzz_texture.c — the texture loader (ras_texture_load: libpng, libjpeg, OpenCV).
+ * Input: byte 0 picks .png or .ppm and the wrap mode, the rest is the file
+ * (its content, not the name, decides the decoder: JPEG, BMP, TIFF seeds too).
  * On success: sizes positive, mips build, lookups anywhere (NaN, ±1e30, the
  * corners) stay in bounds. */
 #include "fuzz_target.h"

@@ -82,6 +82,11 @@ static bool same_file(const char *a, const char *b) {
 /* --buffers: each buffer of the reference's dump against the same of GOT. */
 static int compare_buffers(const char *ref_dir, const char *got_dir, const char *pictures) {
     int differing = 0, compared = 0;
+    ras_error derr = {{0}};
+    if (!ras_dump_check_input_dir(ref_dir, &derr) || !ras_dump_check_input_dir(got_dir, &derr)) {
+        fprintf(stderr, "raster101-compare: %s\n", derr.msg);
+        return 2;
+    }
     /* hw1's buffer: its vertices, step by step */
     char rv[4200], gv[4200];
     snprintf(rv, sizeof rv, "%s/vertices.json", ref_dir);
