@@ -30,6 +30,7 @@
 #include "ras_io.h"
 
 #include <cjson/cJSON.h>
+#include <ctype.h>
 #include <errno.h>
 #include <fcntl.h>
 #include <math.h>
@@ -498,6 +499,9 @@ typedef struct grader {
     cJSON *rubric;
     double default_points, test_limit, render_limit;
     long mem_mb;
+    /* --notes: what tests/grading/grade found in the submission (a missing or
+     * misnamed file, a link it refused), escaped, shown first; NULL: none */
+    char *notes;
     const char *only[8];
     int n_only;
     const char *failed_hw[8], *failed_log[8];
@@ -635,31 +639,135 @@ static bool names_has(const name_list *l, const char *s) {
 
 /* Parses the console output of a whole cmocka run (standard output mode)
  * into per-test blocks: used when the test program has no RAS_TEST_FILTER. */
+/* Whether the UTF-8 sequence p[0..n) is a bidirectional control (U+202A-E,
+ * U+2066-9, U+200E/F, U+061C): they reorder what a reader sees around them. */
+static bool is_bidi_control(const unsigned char *p, size_t n) {
+    if (n == 3 && p[0] == 0xE2 && p[1] == 0x80 && ((p[2] >= 0xAA && p[2] <= 0xAE) || p[2] == 0x8E ||
+                                                    p[2] == 0x8F))
+        return true;
+    if (n == 3 && p[0] == 0xE2 && p[1] == 0x81 && p[2] >= 0xA6 && p[2] <= 0xA9) return true;
+    return n == 2 && p[0] == 0xD8 && p[1] == 0x9C;
+}
+
 /* Student output shown in a report: at most `cap` bytes, control
- * characters and invalid UTF-8 replaced by '?', so nothing it prints can
- * forge the report's layout or break its JSON. */
+ * characters, bidi controls and invalid UTF-8 replaced by '?', the start of
+ * an HTML tag ('<' before a letter, '/', '!' or '?') by U+2039, and every
+ * line marked with U+2502 "│ " as the student's, so nothing it prints can
+ * forge the report's layout (a heading, a total, a table), its reading
+ * order, or its JSON. */
 static char *student_text(const char *raw, size_t cap) {
     sbuf b = {0};
     const unsigned char *p = (const unsigned char *)raw;
+    bool line_start = true;
     while (*p && b.len < cap) {
         unsigned c = *p;
         size_t n = c < 0x80 ? 1 : (c >> 5) == 6 ? 2 : (c >> 4) == 14 ? 3 : (c >> 3) == 30 ? 4 : 0;
         bool ok = n > 0;
         for (size_t k = 1; ok && k < n; k++)
             ok = (p[k] & 0xC0) == 0x80;
+        if (line_start) sb_add(&b, "\xe2\x94\x82 ");
+        line_start = false;
         if (!ok) {
             sb_add(&b, "?");
             p++;
         } else if (n == 1 && ((c < 32 && c != '\n' && c != '\t') || c == 127)) {
             sb_add(&b, "?");
             p++;
+        } else if (is_bidi_control(p, n)) {
+            sb_add(&b, "?");
+            p += n;
+        } else if (c == '<' && (isalpha(p[1]) || p[1] == '/' || p[1] == '!' || p[1] == '?')) {
+            sb_add(&b, "\xe2\x80\xb9");
+            p++;
         } else {
             sb_addn(&b, (const char *)p, n);
+            line_start = c == '\n';
             p += n;
         }
     }
     if (*p) sb_add(&b, "\n[... cut ...]");
     return b.s ? b.s : xstrdup("");
+}
+
+/* Writes `text` to a Markdown report as a fenced code block whose fence is
+ * longer than any run of backticks inside it, so no text can close it and
+ * render as the report's own Markdown. */
+static void report_fenced(FILE *f, const char *text) {
+    size_t longest = 0, run = 0;
+    for (const char *c = text; *c; c++) {
+        run = *c == '`' ? run + 1 : 0;
+        if (run > longest) longest = run;
+    }
+    size_t fence = longest < 3 ? 3 : longest + 1;
+    fputc('\n', f);
+    for (size_t i = 0; i < fence; i++)
+        fputc('`', f);
+    size_t len = strlen(text);
+    fprintf(f, "text\n%s%s", text, len && text[len - 1] == '\n' ? "" : "\n");
+    for (size_t i = 0; i < fence; i++)
+        fputc('`', f);
+    fputc('\n', f);
+}
+
+/* Writes `text` into a cell of a Markdown table: Markdown's and HTML's
+ * special characters backslash-escaped, line breaks and bidi controls
+ * dropped, so a cell is text and stays in its cell. */
+static void report_cell(FILE *f, const char *text) {
+    for (const unsigned char *c = (const unsigned char *)text; *c; c++) {
+        if (*c == '\n' || *c == '\r') {
+            fputc(' ', f);
+        } else if (*c == 0xE2 && c[1] && c[2] && is_bidi_control(c, 3)) {
+            c += 2;
+        } else if (*c == '|') {
+            fputc('/', f);
+        } else {
+            if (strchr("\\`*_[]<>!#~&", *c)) fputc('\\', f);
+            fputc(*c, f);
+        }
+    }
+}
+
+/* A sealed run's failure (its process held reference code): only the
+ * verdict and the test's fixed hint go back, never a value the student's
+ * code returned (a float can carry bytes of the reference's machine code).
+ * The hint is the "Likely mistake:" sentence, with every number that is not
+ * a small integer (decimals, exponents, 3+ digits) replaced by "#". */
+static char *sealed_text(const char *status, const char *replay_out) {
+    sbuf b = {0};
+    sb_printf(&b, "%s on your code linked with the earlier assignments' reference; this run "
+                  "holds reference code, so the values your code returned are not shown (run "
+                  "the test in your own build to see them)",
+              status);
+    const char *h = strstr(replay_out, "Likely mistake");
+    if (!h) h = strstr(replay_out, "likely mistake");
+    if (h) {
+        sb_add(&b, "\n");
+        const char *end = strchr(h, '\n');
+        size_t len = end ? (size_t)(end - h) : strlen(h);
+        if (len > 400) len = 400;
+        for (size_t i = 0; i < len;) {
+            if (isdigit((unsigned char)h[i])) {
+                size_t j = i, digits = 0;
+                bool other = false;
+                while (j < len && (isdigit((unsigned char)h[j]) || h[j] == '.' ||
+                                   ((h[j] == 'e' || h[j] == 'E') && j + 1 < len &&
+                                    (isdigit((unsigned char)h[j + 1]) || h[j + 1] == '-')) ||
+                                   (h[j] == '-' && j > i && (h[j - 1] == 'e' || h[j - 1] == 'E')))) {
+                    if (isdigit((unsigned char)h[j])) digits++;
+                    else if (h[j] != '.' || (j + 1 < len && isdigit((unsigned char)h[j + 1])))
+                        other = true;
+                    j++;
+                }
+                if (other || digits >= 3) sb_add(&b, "#");
+                else sb_addn(&b, h + i, j - i);
+                i = j;
+            } else {
+                sb_addn(&b, h + i, 1);
+                i++;
+            }
+        }
+    }
+    return b.s;
 }
 
 /* Each sandboxed run its own uid (the grading's base + 1 + run % 90), so
@@ -1101,6 +1209,13 @@ static void grade_tests(const grader *g, assignment_result *a, const cJSON *asg,
             verdict = (run_result){RUN_EXITED, 1, 0};
         }
         judge_test(it, verdict, xml_failure, clean, g->test_limit, crash_hint);
+        if (own[0] && !it->passed) {
+            char *sealed = sealed_text(it->status, clean);
+            free(it->output);
+            it->output = sealed;
+            free(it->reason);
+            it->reason = reason_line(sealed);
+        }
         /* What the student's code printed: theirs, shown as such, capped. */
         fmt(path, sizeof path, "%s/%s.out", rw, name);
         char *wraw = read_small_file(path, 4096);
@@ -1967,6 +2082,10 @@ static bool write_outputs(const grader *g, assignment_result *as, int n, double 
     cJSON_AddNumberToObject(root, "score", total);
     cJSON_AddNumberToObject(root, "max_score", max_total);
     sbuf summary = {0};
+    if (g->notes && *g->notes) sb_printf(&summary, "About your submission:\n%s\n\n", g->notes);
+    /* plain text: nothing in an output renders as Markdown or HTML */
+    cJSON_AddStringToObject(root, "output_format", "text");
+    cJSON_AddStringToObject(root, "test_output_format", "text");
     cJSON *tests = cJSON_AddArrayToObject(root, "tests");
     cJSON *extra = cJSON_AddObjectToObject(root, "extra_data");
     for (int i = 0; i < n; i++) {
@@ -2072,7 +2191,13 @@ static bool write_outputs(const grader *g, assignment_result *as, int n, double 
     fmt(path, sizeof path, "%s/report.md", g->out);
     f = report_begin(&rep);
     if (!f) return false;
-    fprintf(f, "# Raster101 grade report\n\n**Total: %g / %g**", total, max_total);
+    fprintf(f, "# Raster101 grade report\n\n");
+    if (g->notes && *g->notes) {
+        fprintf(f, "**About your submission** (what the grader found in it):\n");
+        report_fenced(f, g->notes);
+        fputc('\n', f);
+    }
+    fprintf(f, "**Total: %g / %g**", total, max_total);
     if (strcmp(g->variant, "ref") == 0) fprintf(f, " (reference solutions graded as the student)");
     fprintf(f, "\n\n| assignment | points |\n|---|---|\n");
     for (int i = 0; i < n; i++) {
@@ -2097,8 +2222,7 @@ static bool write_outputs(const grader *g, assignment_result *as, int n, double 
                 fprintf(f, "%g / %g | ", it->score, it->max_score);
             else
                 fprintf(f, "not counted | ");
-            for (const char *c = it->reason ? it->reason : ""; *c; c++)
-                fputc(*c == '|' ? '/' : *c, f);
+            report_cell(f, it->reason ? it->reason : "");
             fprintf(f, " |\n");
         }
         for (int k = 0; k < a->n_items; k++) {
@@ -2125,7 +2249,7 @@ static bool write_outputs(const grader *g, assignment_result *as, int n, double 
                             it->buf_got ? it->buf_got : "", it->buf_got ? ")" : "",
                             it->buf_diff ? "![difference](" : "", it->buf_diff ? it->buf_diff : "",
                             it->buf_diff ? ")" : "");
-                fprintf(f, "\n```\n%s\n```\n", it->output ? it->output : "");
+                report_fenced(f, it->output ? it->output : "");
             }
         }
         bool any_fail = false;
@@ -2137,8 +2261,8 @@ static bool write_outputs(const grader *g, assignment_result *as, int n, double 
             for (int k = 0; k < a->n_items; k++) {
                 item *it = &a->items[k];
                 if (it->is_image || !it->counted || it->score >= it->max_score) continue;
-                fprintf(f, "\n**`%s`** (%s)\n\n```\n%s\n```\n", it->name, it->status,
-                        it->output ? it->output : "");
+                fprintf(f, "\n**`%s`** (%s)\n", it->name, it->status);
+                report_fenced(f, it->output ? it->output : "");
             }
         }
     }
@@ -2223,7 +2347,8 @@ int main(int argc, char **argv) {
     static const char *const with_value[] = {
         "--source", "--build",        "--out",           "--rubric", "--variant",
         "--expect", "--hw",           "--list",          "--build-failed",
-        "--work",   "--student-tree", "--student-build", "--sandbox-uid", "--jobs", "--own", "--sanitized-build"};
+        "--work",   "--student-tree", "--student-build", "--sandbox-uid", "--jobs", "--own", "--sanitized-build",
+        "--notes"};
     g.sandbox_uid = -1;
     g.jobs = 2;
     for (int i = 1; i < argc; i++) {
@@ -2273,6 +2398,12 @@ int main(int argc, char **argv) {
             g.own = v;
         else if (!strcmp(a, "--sanitized-build"))
             g.sanitized = v;
+        else if (!strcmp(a, "--notes")) {
+            char *raw = read_small_file(v, 16 * 1024);
+            free(g.notes);
+            g.notes = raw && *raw ? student_text(raw, 8 * 1024) : NULL;
+            free(raw);
+        }
         else if (!strcmp(a, "--jobs")) {
             g.jobs = atoi(v);
             if (g.jobs < 1 || g.jobs > 64)
