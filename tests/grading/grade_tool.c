@@ -502,6 +502,12 @@ typedef struct grader {
     /* --notes: what tests/grading/grade found in the submission (a missing or
      * misnamed file, a link it refused), escaped, shown first; NULL: none */
     char *notes;
+    /* --seed: the keyed hash of the submission's files and the course's
+     * secret (tests/grading/grade), from which the variants are drawn: the same
+     * files always get the same pictures; without it, the kernel's random */
+    unsigned long long seed;
+    bool has_seed;
+    cJSON *drawn; /* the argument lists drawn for this grading (owned) */
     const char *only[8];
     int n_only;
     const char *failed_hw[8], *failed_log[8];
@@ -768,6 +774,26 @@ static char *sealed_text(const char *status, const char *replay_out) {
         }
     }
     return b.s;
+}
+
+/* `text` with every occurrence of the grading's work folder (a random name)
+ * written as "WORK": a report says the same for the same files, and names
+ * no folder of the grader's. Takes and returns an owned string. */
+static char *without_work_path(const char *work, char *text) {
+    size_t n = work ? strlen(work) : 0;
+    if (!text || n < 2 || !strstr(text, work)) return text;
+    sbuf b = {0};
+    for (const char *p = text, *q; *p; p = q + n) {
+        q = strstr(p, work);
+        if (!q) {
+            sb_add(&b, p);
+            break;
+        }
+        sb_addn(&b, p, (size_t)(q - p));
+        sb_add(&b, "WORK");
+    }
+    free(text);
+    return b.s ? b.s : xstrdup("");
 }
 
 /* Each sandboxed run its own uid (the grading's base + 1 + run % 90), so
@@ -1171,7 +1197,7 @@ static void grade_tests(const grader *g, assignment_result *a, const cJSON *asg,
         if (!*rfate) rr = (run_result){RUN_NOT_STARTED, 0, 0};
         fmt(path, sizeof path, "%s/%s.out", xml_dir, name);
         char *raw = read_file(path, 64 * 1024);
-        char *clean = clean_output(raw ? raw : "");
+        char *clean = without_work_path(g->work, clean_output(raw ? raw : ""));
         bool xml_failure = false;
         fmt(path, sizeof path, "%s/%s.xml", xml_dir, name);
         char *cases = rr.kind == RUN_EXITED ? cmocka_testcases(path, &xml_failure) : NULL;
@@ -1219,7 +1245,7 @@ static void grade_tests(const grader *g, assignment_result *a, const cJSON *asg,
         /* What the student's code printed: theirs, shown as such, capped. */
         fmt(path, sizeof path, "%s/%s.out", rw, name);
         char *wraw = read_small_file(path, 4096);
-        char *wclean = wraw && !own[0] ? clean_output(wraw) : NULL;
+        char *wclean = wraw && !own[0] ? without_work_path(g->work, clean_output(wraw)) : NULL;
         if (wclean && *wclean) {
             char *shown = student_text(wclean, 1500);
             sbuf o = {0};
@@ -1717,7 +1743,10 @@ static bool grade_image(const grader *g, assignment_result *a, const cJSON *img,
     if (ref_program) {
         char ref_prog_path[4096], ref_log[4300];
         fmt(ref_prog_path, sizeof ref_prog_path, "%s/bin/%s", g->build, ref_program);
-        fmt(ref_path, sizeof ref_path, "%s/%s.expected.png", dir, name);
+        /* in the work folder: a variant's reference is never handed out,
+         * only the difference from it */
+        fmt(ref_path, sizeof ref_path, "%s/%s-%s.expected.png", g->work ? g->work : dir, a->id,
+            name);
         fmt(ref_log, sizeof ref_log, "%s/%s.reference.log", dir, name);
         if (whole && file_exists(ref_path)) goto reference_ready;
         unlink(ref_path);
@@ -1768,9 +1797,11 @@ reference_ready:;
     /* the copy of the reference that the report shows */
     char exp_copy[4096], rel[4200];
     fmt(exp_copy, sizeof exp_copy, "%s/%s.expected.png", dir, name);
-    if (!ref_program) copy_file(ref_path, exp_copy);
-    fmt(rel, sizeof rel, "%s/%s.expected.png", reldir, name);
-    it->img_expected = xstrdup(rel);
+    if (!ref_program) {
+        copy_file(ref_path, exp_copy);
+        fmt(rel, sizeof rel, "%s/%s.expected.png", reldir, name);
+        it->img_expected = xstrdup(rel);
+    }
 
     const cJSON *args = j->args;
     sb_printf(&o, "command: %s", program);
@@ -1782,7 +1813,7 @@ reference_ready:;
     if (rr.kind == RUN_EXITED && rr.code > 128 && rr.code < 160) /* bwrap: 128 + signal */
         rr = (run_result){RUN_SIGNALED, rr.code - 128, rr.seconds};
     char *log = read_file(log_path, 16 * 1024);
-    char *clean_raw = clean_output(log ? log : "");
+    char *clean_raw = without_work_path(g->work, clean_output(log ? log : ""));
     char *clean = student_text(clean_raw, 3000);
     free(clean_raw);
     free(log);
@@ -1851,7 +1882,7 @@ reference_ready:;
                 it->img_diff = xstrdup(rel);
             }
             ras_image_destroy(heat);
-            if (!r.pass && !sealed) {
+            if (!r.pass && !sealed && !ref_program) { /* a crop shows the reference */
                 ras_image *crop =
                     ras_compare_crop(expected, got, kind, r.worst_col, r.worst_row, &err);
                 fmt(p, sizeof p, "%s/%s.crop.png", dir, name);
@@ -2227,11 +2258,13 @@ static bool write_outputs(const grader *g, assignment_result *as, int n, double 
         }
         for (int k = 0; k < a->n_items; k++) {
             item *it = &a->items[k];
-            if (it->is_image && it->img_expected) {
+            if (it->is_image && (it->img_expected || it->img_diff || it->img_got)) {
                 fprintf(f, "\n### %s — %s (%g / %g)\n\n", it->name, it->status, it->score,
                         it->max_score);
                 fprintf(f, "| reference | yours | difference |\n|---|---|---|\n");
-                fprintf(f, "| ![reference](%s) | %s%s%s | %s%s%s |\n", it->img_expected,
+                fprintf(f, "| %s%s%s | %s%s%s | %s%s%s |\n",
+                        it->img_expected ? "![reference](" : "(drawn for this grading: not shown)",
+                        it->img_expected ? it->img_expected : "", it->img_expected ? ")" : "",
                         it->img_got ? "![yours](" : "(no image)", it->img_got ? it->img_got : "",
                         it->img_got ? ")" : "", it->img_diff ? "![difference](" : "",
                         it->img_diff ? it->img_diff : "", it->img_diff ? ")" : "");
@@ -2315,6 +2348,65 @@ static unsigned random_u32(void) {
     return v;
 }
 
+/* The k-th 64-bit draw for the image `name`: splitmix64 over the grading's
+ * seed and the name, so each image's draws are independent of the order of
+ * the rubric and the same for the same seed. */
+static unsigned long long variant_draw(const grader *g, const char *name, unsigned k) {
+    unsigned long long h = 1469598103934665603ULL; /* FNV-1a of the name */
+    for (const char *c = name; *c; c++)
+        h = (h ^ (unsigned char)*c) * 1099511628211ULL;
+    unsigned long long x = (g->has_seed ? g->seed : ((unsigned long long)random_u32() << 32 | random_u32())) ^
+                           h;
+    x += 0x9E3779B97F4A7C15ULL * (k + 1);
+    x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ULL;
+    x = (x ^ (x >> 27)) * 0x94D049BB133111EBULL;
+    return x ^ (x >> 31);
+}
+
+/* The arguments of a variant image for this grading: "draw_args" is a list
+ * of strings in which {int:A:B} is any integer in [A, B] and {real:A:B} any
+ * number in [A, B] (two decimals), drawn from the seed; else one list of
+ * "choose_args", drawn the same way; else "args". The lists made live in
+ * g->drawn. */
+static const cJSON *variant_args(grader *g, const cJSON *img) {
+    const char *name = str_or(img, "name", "");
+    const cJSON *draw = cJSON_GetObjectItemCaseSensitive(img, "draw_args");
+    if (cJSON_IsArray(draw)) {
+        if (!g->drawn) g->drawn = cJSON_CreateArray();
+        cJSON *list = cJSON_CreateArray();
+        unsigned k = 0;
+        for (const cJSON *v = draw->child; v; v = v->next) {
+            const char *t = cJSON_IsString(v) ? v->valuestring : "";
+            sbuf b = {0};
+            while (*t) {
+                double lo, hi;
+                int used = 0;
+                char kind[8] = "";
+                if (*t == '{' && sscanf(t, "{%7[a-z]:%lf:%lf}%n", kind, &lo, &hi, &used) == 3 &&
+                    used > 0 && hi >= lo) {
+                    double u = (double)(variant_draw(g, name, k++) >> 11) / 9007199254740992.0;
+                    if (!strcmp(kind, "int"))
+                        sb_printf(&b, "%lld", (long long)floor(lo + u * (hi - lo + 1)));
+                    else
+                        sb_printf(&b, "%.2f", lo + u * (hi - lo));
+                    t += used;
+                } else {
+                    sb_addn(&b, t, 1);
+                    t++;
+                }
+            }
+            cJSON_AddItemToArray(list, cJSON_CreateString(b.s ? b.s : ""));
+            free(b.s);
+        }
+        cJSON_AddItemToArray(g->drawn, list);
+        return list;
+    }
+    const cJSON *choose = cJSON_GetObjectItemCaseSensitive(img, "choose_args");
+    int nc = cJSON_IsArray(choose) ? cJSON_GetArraySize(choose) : 0;
+    if (nc > 0) return cJSON_GetArrayItem(choose, (int)(variant_draw(g, name, 0) % (unsigned)nc));
+    return cJSON_GetObjectItemCaseSensitive(img, "args");
+}
+
 static void usage(FILE *f) {
     fputs("usage: raster101-grade --source SRC --build BUILD --out OUT [--rubric FILE]\n"
           "         [--hw hwN]... [--variant student|ref] [--build-failed hwN=LOG]...\n"
@@ -2348,7 +2440,7 @@ int main(int argc, char **argv) {
         "--source", "--build",        "--out",           "--rubric", "--variant",
         "--expect", "--hw",           "--list",          "--build-failed",
         "--work",   "--student-tree", "--student-build", "--sandbox-uid", "--jobs", "--own", "--sanitized-build",
-        "--notes"};
+        "--notes", "--seed"};
     g.sandbox_uid = -1;
     g.jobs = 2;
     for (int i = 1; i < argc; i++) {
@@ -2398,6 +2490,13 @@ int main(int argc, char **argv) {
             g.own = v;
         else if (!strcmp(a, "--sanitized-build"))
             g.sanitized = v;
+        else if (!strcmp(a, "--seed")) {
+            char *end = NULL;
+            g.seed = strtoull(v, &end, 16);
+            if (end == v || *end || strlen(v) > 16)
+                return arg_error("--seed expects up to 16 hex digits; got '%s'", v);
+            g.has_seed = true;
+        }
         else if (!strcmp(a, "--notes")) {
             char *raw = read_small_file(v, 16 * 1024);
             free(g.notes);
@@ -2580,11 +2679,8 @@ int main(int argc, char **argv) {
             bool has_own = own_dir(&g, id, NULL, own, sizeof own);
             int i = 0, n_runs = n_img;
             for (const cJSON *img = images ? images->child : NULL; img; img = img->next, i++) {
-                /* "choose_args": one of the lists, drawn for this grading */
-                const cJSON *choose = cJSON_GetObjectItemCaseSensitive(img, "choose_args");
-                int nc = cJSON_IsArray(choose) ? cJSON_GetArraySize(choose) : 0;
-                runs[i].args = nc > 0 ? cJSON_GetArrayItem(choose, (int)(random_u32() % (unsigned)nc))
-                                      : cJSON_GetObjectItemCaseSensitive(img, "args");
+                /* a variant's arguments, drawn for this grading (variant_args) */
+                runs[i].args = variant_args(&g, img);
                 char p[4300];
                 fmt(p, sizeof p, "%s/bin/%s", own, str_or(img, "program", ""));
                 sealed[i] = has_own && file_exists(p);
@@ -2651,6 +2747,8 @@ int main(int argc, char **argv) {
      * and counts any leak as a failure. */
     assignment_results_free(as, k);
     cJSON_Delete(g.rubric);
+    cJSON_Delete(g.drawn);
+    free(g.notes);
     for (int i = 0; i < g.n_failed; i++)
         free((char *)g.failed_hw[i]);
     if (!written) {
