@@ -2364,8 +2364,9 @@ static unsigned long long variant_draw(const grader *g, const char *name, unsign
 }
 
 /* The arguments of a variant image for this grading: "draw_args" is a list
- * of strings in which {int:A:B} is any integer in [A, B] and {real:A:B} any
- * number in [A, B] (two decimals), drawn from the seed; else one list of
+ * of strings in which {int:A:B} is any integer in [A, B], {real:A:B} any
+ * number in [A, B] and {pm:A:B} any of either sign whose magnitude is in
+ * [A, B] (two decimals), drawn from the seed; else one list of
  * "choose_args", drawn the same way; else "args". The lists made live in
  * g->drawn. */
 static const cJSON *variant_args(grader *g, const cJSON *img) {
@@ -2385,10 +2386,14 @@ static const cJSON *variant_args(grader *g, const cJSON *img) {
                 if (*t == '{' && sscanf(t, "{%7[a-z]:%lf:%lf}%n", kind, &lo, &hi, &used) == 3 &&
                     used > 0 && hi >= lo) {
                     double u = (double)(variant_draw(g, name, k++) >> 11) / 9007199254740992.0;
-                    if (!strcmp(kind, "int"))
+                    if (!strcmp(kind, "int")) {
                         sb_printf(&b, "%lld", (long long)floor(lo + u * (hi - lo + 1)));
-                    else
+                    } else if (!strcmp(kind, "pm")) { /* either sign: a magnitude in [lo, hi] */
+                        bool minus = variant_draw(g, name, k++) & 1;
+                        sb_printf(&b, "%.2f", (minus ? -1 : 1) * (lo + u * (hi - lo)));
+                    } else {
                         sb_printf(&b, "%.2f", lo + u * (hi - lo));
+                    }
                     t += used;
                 } else {
                     sb_addn(&b, t, 1);
