@@ -30,6 +30,7 @@
 #include "ras_io.h"
 
 #include <cjson/cJSON.h>
+#include <ctype.h>
 #include <errno.h>
 #include <fcntl.h>
 #include <math.h>
@@ -498,6 +499,15 @@ typedef struct grader {
     cJSON *rubric;
     double default_points, test_limit, render_limit;
     long mem_mb;
+    /* --notes: what tests/grading/grade found in the submission (a missing or
+     * misnamed file, a link it refused), escaped, shown first; NULL: none */
+    char *notes;
+    /* --seed: the keyed hash of the submission's files and the course's
+     * secret (tests/grading/grade), from which the variants are drawn: the same
+     * files always get the same pictures; without it, the kernel's random */
+    unsigned long long seed;
+    bool has_seed;
+    cJSON *drawn; /* the argument lists drawn for this grading (owned) */
     const char *only[8];
     int n_only;
     const char *failed_hw[8], *failed_log[8];
@@ -635,30 +645,154 @@ static bool names_has(const name_list *l, const char *s) {
 
 /* Parses the console output of a whole cmocka run (standard output mode)
  * into per-test blocks: used when the test program has no RAS_TEST_FILTER. */
+/* Whether the UTF-8 sequence p[0..n) is a bidirectional control (U+202A-E,
+ * U+2066-9, U+200E/F, U+061C): they reorder what a reader sees around them. */
+static bool is_bidi_control(const unsigned char *p, size_t n) {
+    if (n == 3 && p[0] == 0xE2 && p[1] == 0x80 && ((p[2] >= 0xAA && p[2] <= 0xAE) || p[2] == 0x8E ||
+                                                    p[2] == 0x8F))
+        return true;
+    if (n == 3 && p[0] == 0xE2 && p[1] == 0x81 && p[2] >= 0xA6 && p[2] <= 0xA9) return true;
+    return n == 2 && p[0] == 0xD8 && p[1] == 0x9C;
+}
+
 /* Student output shown in a report: at most `cap` bytes, control
- * characters and invalid UTF-8 replaced by '?', so nothing it prints can
- * forge the report's layout or break its JSON. */
+ * characters, bidi controls and invalid UTF-8 replaced by '?', the start of
+ * an HTML tag ('<' before a letter, '/', '!' or '?') by U+2039, and every
+ * line marked with U+2502 "│ " as the student's, so nothing it prints can
+ * forge the report's layout (a heading, a total, a table), its reading
+ * order, or its JSON. */
 static char *student_text(const char *raw, size_t cap) {
     sbuf b = {0};
     const unsigned char *p = (const unsigned char *)raw;
+    bool line_start = true;
     while (*p && b.len < cap) {
         unsigned c = *p;
         size_t n = c < 0x80 ? 1 : (c >> 5) == 6 ? 2 : (c >> 4) == 14 ? 3 : (c >> 3) == 30 ? 4 : 0;
         bool ok = n > 0;
         for (size_t k = 1; ok && k < n; k++)
             ok = (p[k] & 0xC0) == 0x80;
+        if (line_start) sb_add(&b, "\xe2\x94\x82 ");
+        line_start = false;
         if (!ok) {
             sb_add(&b, "?");
             p++;
         } else if (n == 1 && ((c < 32 && c != '\n' && c != '\t') || c == 127)) {
             sb_add(&b, "?");
             p++;
+        } else if (is_bidi_control(p, n)) {
+            sb_add(&b, "?");
+            p += n;
+        } else if (c == '<' && (isalpha(p[1]) || p[1] == '/' || p[1] == '!' || p[1] == '?')) {
+            sb_add(&b, "\xe2\x80\xb9");
+            p++;
         } else {
             sb_addn(&b, (const char *)p, n);
+            line_start = c == '\n';
             p += n;
         }
     }
     if (*p) sb_add(&b, "\n[... cut ...]");
+    return b.s ? b.s : xstrdup("");
+}
+
+/* Writes `text` to a Markdown report as a fenced code block whose fence is
+ * longer than any run of backticks inside it, so no text can close it and
+ * render as the report's own Markdown. */
+static void report_fenced(FILE *f, const char *text) {
+    size_t longest = 0, run = 0;
+    for (const char *c = text; *c; c++) {
+        run = *c == '`' ? run + 1 : 0;
+        if (run > longest) longest = run;
+    }
+    size_t fence = longest < 3 ? 3 : longest + 1;
+    fputc('\n', f);
+    for (size_t i = 0; i < fence; i++)
+        fputc('`', f);
+    size_t len = strlen(text);
+    fprintf(f, "text\n%s%s", text, len && text[len - 1] == '\n' ? "" : "\n");
+    for (size_t i = 0; i < fence; i++)
+        fputc('`', f);
+    fputc('\n', f);
+}
+
+/* Writes `text` into a cell of a Markdown table: Markdown's and HTML's
+ * special characters backslash-escaped, line breaks and bidi controls
+ * dropped, so a cell is text and stays in its cell. */
+static void report_cell(FILE *f, const char *text) {
+    for (const unsigned char *c = (const unsigned char *)text; *c; c++) {
+        if (*c == '\n' || *c == '\r') {
+            fputc(' ', f);
+        } else if (*c == 0xE2 && c[1] && c[2] && is_bidi_control(c, 3)) {
+            c += 2;
+        } else if (*c == '|') {
+            fputc('/', f);
+        } else {
+            if (strchr("\\`*_[]<>!#~&", *c)) fputc('\\', f);
+            fputc(*c, f);
+        }
+    }
+}
+
+/* A sealed run's failure (its process held reference code): only the
+ * verdict and the test's fixed hint go back, never a value the student's
+ * code returned (a float can carry bytes of the reference's machine code).
+ * The hint is the "Likely mistake:" sentence, with every number that is not
+ * a small integer (decimals, exponents, 3+ digits) replaced by "#". */
+static char *sealed_text(const char *status, const char *replay_out) {
+    sbuf b = {0};
+    sb_printf(&b, "%s on your code linked with the earlier assignments' reference; this run "
+                  "holds reference code, so the values your code returned are not shown (run "
+                  "the test in your own build to see them)",
+              status);
+    const char *h = strstr(replay_out, "Likely mistake");
+    if (!h) h = strstr(replay_out, "likely mistake");
+    if (h) {
+        sb_add(&b, "\n");
+        const char *end = strchr(h, '\n');
+        size_t len = end ? (size_t)(end - h) : strlen(h);
+        if (len > 400) len = 400;
+        for (size_t i = 0; i < len;) {
+            if (isdigit((unsigned char)h[i])) {
+                size_t j = i, digits = 0;
+                bool other = false;
+                while (j < len && (isdigit((unsigned char)h[j]) || h[j] == '.' ||
+                                   ((h[j] == 'e' || h[j] == 'E') && j + 1 < len &&
+                                    (isdigit((unsigned char)h[j + 1]) || h[j + 1] == '-')) ||
+                                   (h[j] == '-' && j > i && (h[j - 1] == 'e' || h[j - 1] == 'E')))) {
+                    if (isdigit((unsigned char)h[j])) digits++;
+                    else if (h[j] != '.' || (j + 1 < len && isdigit((unsigned char)h[j + 1])))
+                        other = true;
+                    j++;
+                }
+                if (other || digits >= 3) sb_add(&b, "#");
+                else sb_addn(&b, h + i, j - i);
+                i = j;
+            } else {
+                sb_addn(&b, h + i, 1);
+                i++;
+            }
+        }
+    }
+    return b.s;
+}
+
+/* `text` with every occurrence of the grading's work folder (a random name)
+ * written as "WORK": a report says the same for the same files, and names
+ * no folder of the grader's. Takes and returns an owned string. */
+static char *without_work_path(const char *work, char *text) {
+    size_t n = work ? strlen(work) : 0;
+    if (!text || n < 2 || !strstr(text, work)) return text;
+    sbuf b = {0};
+    for (const char *p = text, *q; *p; p = q + n) {
+        q = strstr(p, work);
+        if (!q) {
+            sb_add(&b, p);
+            break;
+        }
+        sb_addn(&b, p, (size_t)(q - p));
+        sb_add(&b, "WORK");
+    }
+    free(text);
     return b.s ? b.s : xstrdup("");
 }
 
@@ -1063,7 +1197,7 @@ static void grade_tests(const grader *g, assignment_result *a, const cJSON *asg,
         if (!*rfate) rr = (run_result){RUN_NOT_STARTED, 0, 0};
         fmt(path, sizeof path, "%s/%s.out", xml_dir, name);
         char *raw = read_file(path, 64 * 1024);
-        char *clean = clean_output(raw ? raw : "");
+        char *clean = without_work_path(g->work, clean_output(raw ? raw : ""));
         bool xml_failure = false;
         fmt(path, sizeof path, "%s/%s.xml", xml_dir, name);
         char *cases = rr.kind == RUN_EXITED ? cmocka_testcases(path, &xml_failure) : NULL;
@@ -1101,10 +1235,17 @@ static void grade_tests(const grader *g, assignment_result *a, const cJSON *asg,
             verdict = (run_result){RUN_EXITED, 1, 0};
         }
         judge_test(it, verdict, xml_failure, clean, g->test_limit, crash_hint);
+        if (own[0] && !it->passed) {
+            char *sealed = sealed_text(it->status, clean);
+            free(it->output);
+            it->output = sealed;
+            free(it->reason);
+            it->reason = reason_line(sealed);
+        }
         /* What the student's code printed: theirs, shown as such, capped. */
         fmt(path, sizeof path, "%s/%s.out", rw, name);
         char *wraw = read_small_file(path, 4096);
-        char *wclean = wraw && !own[0] ? clean_output(wraw) : NULL;
+        char *wclean = wraw && !own[0] ? without_work_path(g->work, clean_output(wraw)) : NULL;
         if (wclean && *wclean) {
             char *shown = student_text(wclean, 1500);
             sbuf o = {0};
@@ -1116,7 +1257,17 @@ static void grade_tests(const grader *g, assignment_result *a, const cJSON *asg,
         }
         free(wclean);
         free(wraw);
-        junit_case(it, a->id, cases);
+        if (own[0] && !it->passed) {
+            /* sealed: the replay's own XML and console text quote the values
+             * returned; the student's folder keeps neither */
+            junit_case(it, a->id, NULL);
+            fmt(path, sizeof path, "%s/%s.out", xml_dir, name);
+            unlink(path);
+            fmt(path, sizeof path, "%s/%s.xml", xml_dir, name);
+            unlink(path);
+        } else {
+            junit_case(it, a->id, cases);
+        }
         free(cases);
         free(raw);
         free(clean);
@@ -1602,7 +1753,10 @@ static bool grade_image(const grader *g, assignment_result *a, const cJSON *img,
     if (ref_program) {
         char ref_prog_path[4096], ref_log[4300];
         fmt(ref_prog_path, sizeof ref_prog_path, "%s/bin/%s", g->build, ref_program);
-        fmt(ref_path, sizeof ref_path, "%s/%s.expected.png", dir, name);
+        /* in the work folder: a variant's reference is never handed out,
+         * only the difference from it */
+        fmt(ref_path, sizeof ref_path, "%s/%s-%s.expected.png", g->work ? g->work : dir, a->id,
+            name);
         fmt(ref_log, sizeof ref_log, "%s/%s.reference.log", dir, name);
         if (whole && file_exists(ref_path)) goto reference_ready;
         unlink(ref_path);
@@ -1653,9 +1807,11 @@ reference_ready:;
     /* the copy of the reference that the report shows */
     char exp_copy[4096], rel[4200];
     fmt(exp_copy, sizeof exp_copy, "%s/%s.expected.png", dir, name);
-    if (!ref_program) copy_file(ref_path, exp_copy);
-    fmt(rel, sizeof rel, "%s/%s.expected.png", reldir, name);
-    it->img_expected = xstrdup(rel);
+    if (!ref_program) {
+        copy_file(ref_path, exp_copy);
+        fmt(rel, sizeof rel, "%s/%s.expected.png", reldir, name);
+        it->img_expected = xstrdup(rel);
+    }
 
     const cJSON *args = j->args;
     sb_printf(&o, "command: %s", program);
@@ -1667,7 +1823,7 @@ reference_ready:;
     if (rr.kind == RUN_EXITED && rr.code > 128 && rr.code < 160) /* bwrap: 128 + signal */
         rr = (run_result){RUN_SIGNALED, rr.code - 128, rr.seconds};
     char *log = read_file(log_path, 16 * 1024);
-    char *clean_raw = clean_output(log ? log : "");
+    char *clean_raw = without_work_path(g->work, clean_output(log ? log : ""));
     char *clean = student_text(clean_raw, 3000);
     free(clean_raw);
     free(log);
@@ -1736,7 +1892,7 @@ reference_ready:;
                 it->img_diff = xstrdup(rel);
             }
             ras_image_destroy(heat);
-            if (!r.pass && !sealed) {
+            if (!r.pass && !sealed && !ref_program) { /* a crop shows the reference */
                 ras_image *crop =
                     ras_compare_crop(expected, got, kind, r.worst_col, r.worst_row, &err);
                 fmt(p, sizeof p, "%s/%s.crop.png", dir, name);
@@ -1967,6 +2123,10 @@ static bool write_outputs(const grader *g, assignment_result *as, int n, double 
     cJSON_AddNumberToObject(root, "score", total);
     cJSON_AddNumberToObject(root, "max_score", max_total);
     sbuf summary = {0};
+    if (g->notes && *g->notes) sb_printf(&summary, "About your submission:\n%s\n\n", g->notes);
+    /* plain text: nothing in an output renders as Markdown or HTML */
+    cJSON_AddStringToObject(root, "output_format", "text");
+    cJSON_AddStringToObject(root, "test_output_format", "text");
     cJSON *tests = cJSON_AddArrayToObject(root, "tests");
     cJSON *extra = cJSON_AddObjectToObject(root, "extra_data");
     for (int i = 0; i < n; i++) {
@@ -2072,7 +2232,13 @@ static bool write_outputs(const grader *g, assignment_result *as, int n, double 
     fmt(path, sizeof path, "%s/report.md", g->out);
     f = report_begin(&rep);
     if (!f) return false;
-    fprintf(f, "# Raster101 grade report\n\n**Total: %g / %g**", total, max_total);
+    fprintf(f, "# Raster101 grade report\n\n");
+    if (g->notes && *g->notes) {
+        fprintf(f, "**About your submission** (what the grader found in it):\n");
+        report_fenced(f, g->notes);
+        fputc('\n', f);
+    }
+    fprintf(f, "**Total: %g / %g**", total, max_total);
     if (strcmp(g->variant, "ref") == 0) fprintf(f, " (reference solutions graded as the student)");
     fprintf(f, "\n\n| assignment | points |\n|---|---|\n");
     for (int i = 0; i < n; i++) {
@@ -2097,17 +2263,18 @@ static bool write_outputs(const grader *g, assignment_result *as, int n, double 
                 fprintf(f, "%g / %g | ", it->score, it->max_score);
             else
                 fprintf(f, "not counted | ");
-            for (const char *c = it->reason ? it->reason : ""; *c; c++)
-                fputc(*c == '|' ? '/' : *c, f);
+            report_cell(f, it->reason ? it->reason : "");
             fprintf(f, " |\n");
         }
         for (int k = 0; k < a->n_items; k++) {
             item *it = &a->items[k];
-            if (it->is_image && it->img_expected) {
+            if (it->is_image && (it->img_expected || it->img_diff || it->img_got)) {
                 fprintf(f, "\n### %s — %s (%g / %g)\n\n", it->name, it->status, it->score,
                         it->max_score);
                 fprintf(f, "| reference | yours | difference |\n|---|---|---|\n");
-                fprintf(f, "| ![reference](%s) | %s%s%s | %s%s%s |\n", it->img_expected,
+                fprintf(f, "| %s%s%s | %s%s%s | %s%s%s |\n",
+                        it->img_expected ? "![reference](" : "(drawn for this grading: not shown)",
+                        it->img_expected ? it->img_expected : "", it->img_expected ? ")" : "",
                         it->img_got ? "![yours](" : "(no image)", it->img_got ? it->img_got : "",
                         it->img_got ? ")" : "", it->img_diff ? "![difference](" : "",
                         it->img_diff ? it->img_diff : "", it->img_diff ? ")" : "");
@@ -2125,7 +2292,7 @@ static bool write_outputs(const grader *g, assignment_result *as, int n, double 
                             it->buf_got ? it->buf_got : "", it->buf_got ? ")" : "",
                             it->buf_diff ? "![difference](" : "", it->buf_diff ? it->buf_diff : "",
                             it->buf_diff ? ")" : "");
-                fprintf(f, "\n```\n%s\n```\n", it->output ? it->output : "");
+                report_fenced(f, it->output ? it->output : "");
             }
         }
         bool any_fail = false;
@@ -2137,8 +2304,8 @@ static bool write_outputs(const grader *g, assignment_result *as, int n, double 
             for (int k = 0; k < a->n_items; k++) {
                 item *it = &a->items[k];
                 if (it->is_image || !it->counted || it->score >= it->max_score) continue;
-                fprintf(f, "\n**`%s`** (%s)\n\n```\n%s\n```\n", it->name, it->status,
-                        it->output ? it->output : "");
+                fprintf(f, "\n**`%s`** (%s)\n", it->name, it->status);
+                report_fenced(f, it->output ? it->output : "");
             }
         }
     }
@@ -2191,6 +2358,70 @@ static unsigned random_u32(void) {
     return v;
 }
 
+/* The k-th 64-bit draw for the image `name`: splitmix64 over the grading's
+ * seed and the name, so each image's draws are independent of the order of
+ * the rubric and the same for the same seed. */
+static unsigned long long variant_draw(const grader *g, const char *name, unsigned k) {
+    unsigned long long h = 1469598103934665603ULL; /* FNV-1a of the name */
+    for (const char *c = name; *c; c++)
+        h = (h ^ (unsigned char)*c) * 1099511628211ULL;
+    unsigned long long x = (g->has_seed ? g->seed : ((unsigned long long)random_u32() << 32 | random_u32())) ^
+                           h;
+    x += 0x9E3779B97F4A7C15ULL * (k + 1);
+    x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ULL;
+    x = (x ^ (x >> 27)) * 0x94D049BB133111EBULL;
+    return x ^ (x >> 31);
+}
+
+/* The arguments of a variant image for this grading: "draw_args" is a list
+ * of strings in which {int:A:B} is any integer in [A, B], {real:A:B} any
+ * number in [A, B] and {pm:A:B} any of either sign whose magnitude is in
+ * [A, B] (two decimals), drawn from the seed; else one list of
+ * "choose_args", drawn the same way; else "args". The lists made live in
+ * g->drawn. */
+static const cJSON *variant_args(grader *g, const cJSON *img) {
+    const char *name = str_or(img, "name", "");
+    const cJSON *draw = cJSON_GetObjectItemCaseSensitive(img, "draw_args");
+    if (cJSON_IsArray(draw)) {
+        if (!g->drawn) g->drawn = cJSON_CreateArray();
+        cJSON *list = cJSON_CreateArray();
+        unsigned k = 0;
+        for (const cJSON *v = draw->child; v; v = v->next) {
+            const char *t = cJSON_IsString(v) ? v->valuestring : "";
+            sbuf b = {0};
+            while (*t) {
+                double lo, hi;
+                int used = 0;
+                char kind[8] = "";
+                if (*t == '{' && sscanf(t, "{%7[a-z]:%lf:%lf}%n", kind, &lo, &hi, &used) == 3 &&
+                    used > 0 && hi >= lo) {
+                    double u = (double)(variant_draw(g, name, k++) >> 11) / 9007199254740992.0;
+                    if (!strcmp(kind, "int")) {
+                        sb_printf(&b, "%lld", (long long)floor(lo + u * (hi - lo + 1)));
+                    } else if (!strcmp(kind, "pm")) { /* either sign: a magnitude in [lo, hi] */
+                        bool minus = variant_draw(g, name, k++) & 1;
+                        sb_printf(&b, "%.2f", (minus ? -1 : 1) * (lo + u * (hi - lo)));
+                    } else {
+                        sb_printf(&b, "%.2f", lo + u * (hi - lo));
+                    }
+                    t += used;
+                } else {
+                    sb_addn(&b, t, 1);
+                    t++;
+                }
+            }
+            cJSON_AddItemToArray(list, cJSON_CreateString(b.s ? b.s : ""));
+            free(b.s);
+        }
+        cJSON_AddItemToArray(g->drawn, list);
+        return list;
+    }
+    const cJSON *choose = cJSON_GetObjectItemCaseSensitive(img, "choose_args");
+    int nc = cJSON_IsArray(choose) ? cJSON_GetArraySize(choose) : 0;
+    if (nc > 0) return cJSON_GetArrayItem(choose, (int)(variant_draw(g, name, 0) % (unsigned)nc));
+    return cJSON_GetObjectItemCaseSensitive(img, "args");
+}
+
 static void usage(FILE *f) {
     fputs("usage: raster101-grade --source SRC --build BUILD --out OUT [--rubric FILE]\n"
           "         [--hw hwN]... [--variant student|ref] [--build-failed hwN=LOG]...\n"
@@ -2223,7 +2454,8 @@ int main(int argc, char **argv) {
     static const char *const with_value[] = {
         "--source", "--build",        "--out",           "--rubric", "--variant",
         "--expect", "--hw",           "--list",          "--build-failed",
-        "--work",   "--student-tree", "--student-build", "--sandbox-uid", "--jobs", "--own", "--sanitized-build"};
+        "--work",   "--student-tree", "--student-build", "--sandbox-uid", "--jobs", "--own", "--sanitized-build",
+        "--notes", "--seed"};
     g.sandbox_uid = -1;
     g.jobs = 2;
     for (int i = 1; i < argc; i++) {
@@ -2273,6 +2505,19 @@ int main(int argc, char **argv) {
             g.own = v;
         else if (!strcmp(a, "--sanitized-build"))
             g.sanitized = v;
+        else if (!strcmp(a, "--seed")) {
+            char *end = NULL;
+            g.seed = strtoull(v, &end, 16);
+            if (end == v || *end || strlen(v) > 16)
+                return arg_error("--seed expects up to 16 hex digits; got '%s'", v);
+            g.has_seed = true;
+        }
+        else if (!strcmp(a, "--notes")) {
+            char *raw = read_small_file(v, 16 * 1024);
+            free(g.notes);
+            g.notes = raw && *raw ? student_text(raw, 8 * 1024) : NULL;
+            free(raw);
+        }
         else if (!strcmp(a, "--jobs")) {
             g.jobs = atoi(v);
             if (g.jobs < 1 || g.jobs > 64)
@@ -2449,11 +2694,8 @@ int main(int argc, char **argv) {
             bool has_own = own_dir(&g, id, NULL, own, sizeof own);
             int i = 0, n_runs = n_img;
             for (const cJSON *img = images ? images->child : NULL; img; img = img->next, i++) {
-                /* "choose_args": one of the lists, drawn for this grading */
-                const cJSON *choose = cJSON_GetObjectItemCaseSensitive(img, "choose_args");
-                int nc = cJSON_IsArray(choose) ? cJSON_GetArraySize(choose) : 0;
-                runs[i].args = nc > 0 ? cJSON_GetArrayItem(choose, (int)(random_u32() % (unsigned)nc))
-                                      : cJSON_GetObjectItemCaseSensitive(img, "args");
+                /* a variant's arguments, drawn for this grading (variant_args) */
+                runs[i].args = variant_args(&g, img);
                 char p[4300];
                 fmt(p, sizeof p, "%s/bin/%s", own, str_or(img, "program", ""));
                 sealed[i] = has_own && file_exists(p);
@@ -2520,6 +2762,8 @@ int main(int argc, char **argv) {
      * and counts any leak as a failure. */
     assignment_results_free(as, k);
     cJSON_Delete(g.rubric);
+    cJSON_Delete(g.drawn);
+    free(g.notes);
     for (int i = 0; i < g.n_failed; i++)
         free((char *)g.failed_hw[i]);
     if (!written) {
