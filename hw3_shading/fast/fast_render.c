@@ -841,7 +841,7 @@ static void shade_prepare(worker *w, const queued *const *q, int lanes, lanes4 *
          * Blinn-Phong with bump_normal's normal (below) */
         vf4 h;
         v3x4 bumped = bump_normal_x4(pay, normal, S->u, S->v, lanes, &odd, &h);
-        count_heights(pay, 4, (uint64_t)lanes);
+        count_heights(pay, 3, (uint64_t)lanes); /* h(u, v) once, as the reference */
         v3x4 n = v3_normalize(normal, &odd);
         vf4 s = vf4_splat(pay->kn) * h;
         point = (v3x4){point.x + n.x * s, point.y + n.y * s, point.z + n.z * s};
@@ -1017,7 +1017,7 @@ static void count_unshaded(worker *w, int o, uint64_t count) {
     w->k.fragments_shaded += count;
     w->k.varyings_interpolated += fr->varyings_per_fragment * count;
     if (fr->batch == BATCH_BUMP) count_heights(pay, 3, count);
-    if (fr->batch == BATCH_DISPLACEMENT) count_heights(pay, 4, count);
+    if (fr->batch == BATCH_DISPLACEMENT) count_heights(pay, 3, count);
     if (fr->batch == BATCH_NORMAL || fr->batch == BATCH_BUMP || !pay->counters) return;
     pay->counters->stages_run |= RAS_STAGE_LIGHTING;
     pay->counters->lighting_evaluations += (uint64_t)pay->light_count * count;

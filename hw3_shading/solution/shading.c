@@ -93,15 +93,15 @@ void tangent_frame(vec3s n, vec3s *t, vec3s *b) {
     *b = glms_vec3_cross(n, *t);
 }
 
-vec3s bump_normal(const fragment_shader_payload *payload) {
+/* bump_normal of the unit normal n = normalize(payload->normal) with a height
+ * map and h = h(u, v), already looked up: the displacement shader moves the
+ * point by h, and looking it up once saves a quarter of its texture work. */
+static inline vec3s bumped_normal(const fragment_shader_payload *payload, vec3s n, float h) {
     const ras_texture *hm = payload->height_map;
-    vec3s n = glms_vec3_normalize(payload->normal);
-    if (!hm) return n;
     if (payload->counters) payload->counters->stages_run |= RAS_STAGE_BUMP;
     vec3s t, b;
     tangent_frame(n, &t, &b);
     float u = payload->uv.x, v = payload->uv.y;
-    float h = height_sample(payload, u, v);
     float k = payload->kh * payload->kn;
     float du = k * (height_sample(payload, u + 1.0f / (float)hm->width, v) - h);
     float dv = k * (height_sample(payload, u, v + 1.0f / (float)hm->height) - h);
@@ -111,15 +111,23 @@ vec3s bump_normal(const fragment_shader_payload *payload) {
     return ras_vec3_finite(bumped) ? bumped : n;
 }
 
+vec3s bump_normal(const fragment_shader_payload *payload) {
+    vec3s n = glms_vec3_normalize(payload->normal);
+    if (!payload->height_map) return n;
+    return bumped_normal(payload, n, height_sample(payload, payload->uv.x, payload->uv.y));
+}
+
 vec3s bump_fragment_shader(const fragment_shader_payload *payload) {
     return glms_vec3_scale(glms_vec3_adds(bump_normal(payload), 1.0f), 0.5f);
 }
 
+/* bump_normal with the h(u, v) the point moves by, looked up once. */
 vec3s displacement_fragment_shader(const fragment_shader_payload *payload) {
     vec3s n = glms_vec3_normalize(payload->normal);
     float h = height_sample(payload, payload->uv.x, payload->uv.y);
+    vec3s normal = payload->height_map ? bumped_normal(payload, n, h) : n;
     vec3s point = glms_vec3_muladds(n, payload->kn * h, payload->view_pos);
-    return blinn_phong_lighting(payload, payload->color, point, bump_normal(payload));
+    return blinn_phong_lighting(payload, payload->color, point, normal);
 }
 
 /* ---- 3. texture sampling ------------------------------------------------ */
