@@ -93,18 +93,21 @@ void tangent_frame(vec3s n, vec3s *t, vec3s *b) {
     *b = glms_vec3_cross(n, *t);
 }
 
+/* h(u, v), h(u + 1/W, v) and h(u, v + 1/H) (section 3, beside the lookups). */
+static inline void bump_heights(const fragment_shader_payload *payload, float heights[3]);
+
 /* bump_normal of the unit normal n = normalize(payload->normal) with a height
- * map and h = h(u, v), already looked up: the displacement shader moves the
- * point by h, and looking it up once saves a quarter of its texture work. */
-static inline vec3s bumped_normal(const fragment_shader_payload *payload, vec3s n, float h) {
-    const ras_texture *hm = payload->height_map;
+ * map; *h receives h(u, v), by which the displacement shader moves the point. */
+static inline vec3s bumped_normal(const fragment_shader_payload *payload, vec3s n, float *h) {
     if (payload->counters) payload->counters->stages_run |= RAS_STAGE_BUMP;
     vec3s t, b;
     tangent_frame(n, &t, &b);
-    float u = payload->uv.x, v = payload->uv.y;
+    float heights[3];
+    bump_heights(payload, heights);
+    *h = heights[0];
     float k = payload->kh * payload->kn;
-    float du = k * (height_sample(payload, u + 1.0f / (float)hm->width, v) - h);
-    float dv = k * (height_sample(payload, u, v + 1.0f / (float)hm->height) - h);
+    float du = k * (heights[1] - heights[0]);
+    float dv = k * (heights[2] - heights[0]);
     /* TBN · (−dU, −dV, 1) = −dU·t − dV·b + n */
     vec3s p = glms_vec3_add(glms_vec3_scale(t, -du), glms_vec3_scale(b, -dv));
     vec3s bumped = glms_vec3_normalize(glms_vec3_add(p, n));
@@ -113,19 +116,19 @@ static inline vec3s bumped_normal(const fragment_shader_payload *payload, vec3s 
 
 vec3s bump_normal(const fragment_shader_payload *payload) {
     vec3s n = glms_vec3_normalize(payload->normal);
-    if (!payload->height_map) return n;
-    return bumped_normal(payload, n, height_sample(payload, payload->uv.x, payload->uv.y));
+    float h;
+    return payload->height_map ? bumped_normal(payload, n, &h) : n;
 }
 
 vec3s bump_fragment_shader(const fragment_shader_payload *payload) {
     return glms_vec3_scale(glms_vec3_adds(bump_normal(payload), 1.0f), 0.5f);
 }
 
-/* bump_normal with the h(u, v) the point moves by, looked up once. */
+/* bump_normal's heights give the point's h(u, v) too. */
 vec3s displacement_fragment_shader(const fragment_shader_payload *payload) {
     vec3s n = glms_vec3_normalize(payload->normal);
-    float h = height_sample(payload, payload->uv.x, payload->uv.y);
-    vec3s normal = payload->height_map ? bumped_normal(payload, n, h) : n;
+    float h = 0.0f; /* height_sample's h without a height map */
+    vec3s normal = payload->height_map ? bumped_normal(payload, n, &h) : n;
     vec3s point = glms_vec3_muladds(n, payload->kn * h, payload->view_pos);
     return blinn_phong_lighting(payload, payload->color, point, normal);
 }
@@ -159,23 +162,62 @@ static vec3s lerp3(vec3s a, vec3s b, float s) {
     return glms_vec3_add(a, glms_vec3_scale(glms_vec3_sub(b, a), s));
 }
 
-/* Bilinear lookup in one mip level. */
+/* One axis of a bilinear lookup: the texels either side of the coordinate,
+ * wrapped, and the weight of the second. */
+typedef struct bilinear_axis {
+    int a, b; /* texel indices, in [0, n) */
+    float s;  /* weight of b, in [0, 1) */
+} bilinear_axis;
+
+static inline bilinear_axis bilinear_axis_at(float u, int n, ras_wrap wrap) {
+    /* Texel i's centre is at u_img = i: shift by half a texel. */
+    float x = safe_coord(u, wrap) * (float)n - 0.5f;
+    int i0 = floor_small(x); /* x in [-0.5, 2^14): i0 in [-1, n-1] */
+    return (bilinear_axis){ras_texture_wrap_index(wrap, i0, n),
+                           ras_texture_wrap_index(wrap, i0 + 1, n), x - (float)i0};
+}
+
+/* The four texels of axes x and y (of a level w texels wide), blended. */
+static inline vec3s bilinear_blend(const vec3s *px, int w, bilinear_axis x, bilinear_axis y) {
+    vec3s bottom = lerp3(px[y.a * w + x.a], px[y.a * w + x.b], x.s);
+    vec3s top = lerp3(px[y.b * w + x.a], px[y.b * w + x.b], x.s);
+    return lerp3(bottom, top, y.s);
+}
+
+/* Bilinear lookup in one mip level (v = 0 is row j = 0, the bottom). */
 static inline vec3s bilinear_level(const ras_texture *tex, int level, float u, float v) {
     int w = tex->level_width[level], h = tex->level_height[level];
-    /* Texel i's centre is at u_img = i: shift by half a texel. */
-    float x = safe_coord(u, tex->wrap) * (float)w - 0.5f;
-    float y = safe_coord(v, tex->wrap) * (float)h - 0.5f; /* v = 0 is row j = 0, the bottom */
-    float x0f = (float)floor_small(x), y0f = (float)floor_small(y); /* x, y in [-0.5, 2^14) */
-    float sx = x - x0f, sy = y - y0f;
-    int i0 = (int)x0f, j0 = (int)y0f; /* in [-1, w-1] and [-1, h-1] */
-    int ia = ras_texture_wrap_index(tex->wrap, i0, w);
-    int ib = ras_texture_wrap_index(tex->wrap, i0 + 1, w);
-    int ja = ras_texture_wrap_index(tex->wrap, j0, h);
-    int jb = ras_texture_wrap_index(tex->wrap, j0 + 1, h);
+    bilinear_axis x = bilinear_axis_at(u, w, tex->wrap), y = bilinear_axis_at(v, h, tex->wrap);
     const vec3s *px = tex->levels[level] ? tex->levels[level] : tex->texels;
-    vec3s bottom = lerp3(px[ja * w + ia], px[ja * w + ib], sx);
-    vec3s top = lerp3(px[jb * w + ia], px[jb * w + ib], sx);
-    return lerp3(bottom, top, sy);
+    return bilinear_blend(px, w, x, y);
+}
+
+/* The three heights of bump mapping, h(u, v), h(u + 1/W, v) and h(u, v + 1/H),
+ * each the float height_sample gives (and counted as it counts them). With
+ * bilinear lookups the two at u share that axis's texels and weight, and the
+ * two at v theirs: four axes instead of six. */
+static inline void bump_heights(const fragment_shader_payload *payload, float heights[3]) {
+    const ras_texture *hm = payload->height_map;
+    float u = payload->uv.x, v = payload->uv.y;
+    float u1 = u + 1.0f / (float)hm->width, v1 = v + 1.0f / (float)hm->height;
+    if (payload->filter == FILTER_NEAREST) {
+        heights[0] = height_sample(payload, u, v);
+        heights[1] = height_sample(payload, u1, v);
+        heights[2] = height_sample(payload, u, v1);
+        return;
+    }
+    ras_counters *c = payload->counters;
+    if (c) {
+        c->stages_run |= RAS_STAGE_TEXTURE;
+        c->texels_fetched += 3 * 4;
+    }
+    int w = hm->level_width[0], h = hm->level_height[0];
+    const vec3s *px = hm->levels[0] ? hm->levels[0] : hm->texels;
+    bilinear_axis x = bilinear_axis_at(u, w, hm->wrap), x1 = bilinear_axis_at(u1, w, hm->wrap);
+    bilinear_axis y = bilinear_axis_at(v, h, hm->wrap), y1 = bilinear_axis_at(v1, h, hm->wrap);
+    heights[0] = 255.0f * glms_vec3_norm(bilinear_blend(px, w, x, y));
+    heights[1] = 255.0f * glms_vec3_norm(bilinear_blend(px, w, x1, y));
+    heights[2] = 255.0f * glms_vec3_norm(bilinear_blend(px, w, x, y1));
 }
 
 vec3s texture_sample_bilinear(const ras_texture *tex, float u, float v) {
