@@ -2,7 +2,8 @@
  * This marker must never appear in a student handout. */
 #include "shading.h"
 
-#include <math.h> /* floorf, log2f, powf, sqrtf, isfinite */
+#include <float.h> /* FLT_MAX */
+#include <math.h>  /* floorf, log2f, powf, sqrtf, isfinite */
 
 /* ---- 1. interpolation --------------------------------------------------- */
 
@@ -13,8 +14,9 @@ vec3s perspective_correct_barycentric(const ras_triangle *t, vec3s bary_screen) 
                 bary_screen.z / t->v[2].w}};
     float sum = b.x + b.y + b.z;
     /* w > 0 after clipping, so sum > 0 inside the triangle; a degenerate
-     * input keeps the screen barycentrics rather than producing NaN. */
-    if (!(sum > 0.0f) || !isfinite(sum)) return bary_screen;
+     * input keeps the screen barycentrics rather than producing NaN. (0 <
+     * sum <= FLT_MAX is "positive and finite" in two comparisons; NaN fails.) */
+    if (!(sum > 0.0f && sum <= FLT_MAX)) return bary_screen;
     return glms_vec3_scale(b, 1.0f / sum);
 }
 
