@@ -7,7 +7,9 @@
 
 /* ---- 1. interpolation --------------------------------------------------- */
 
-vec3s perspective_correct_barycentric(const ras_triangle *t, vec3s bary_screen) {
+/* perspective_correct_barycentric, inline in the interpolators (two or three
+ * calls a fragment). */
+static inline vec3s perspective_weights(const ras_triangle *t, vec3s bary_screen) {
     /* 1/w is affine in screen space, and so is attr/w: interpolate both with
      * λ and divide. b_i = (λ_i / w_i) / Σ (λ_j / w_j). */
     vec3s b = {{bary_screen.x / t->v[0].w, bary_screen.y / t->v[1].w,
@@ -20,9 +22,13 @@ vec3s perspective_correct_barycentric(const ras_triangle *t, vec3s bary_screen) 
     return glms_vec3_scale(b, 1.0f / sum);
 }
 
+vec3s perspective_correct_barycentric(const ras_triangle *t, vec3s bary_screen) {
+    return perspective_weights(t, bary_screen);
+}
+
 vec3s interpolate_vec3(const ras_triangle *t, vec3s bary_screen, const vec3s attr[3],
                        bool perspective) {
-    vec3s b = perspective ? perspective_correct_barycentric(t, bary_screen) : bary_screen;
+    vec3s b = perspective ? perspective_weights(t, bary_screen) : bary_screen;
     vec3s r = glms_vec3_scale(attr[0], b.x);
     r = glms_vec3_muladds(attr[1], b.y, r);
     return glms_vec3_muladds(attr[2], b.z, r);
@@ -30,7 +36,7 @@ vec3s interpolate_vec3(const ras_triangle *t, vec3s bary_screen, const vec3s att
 
 vec2s interpolate_vec2(const ras_triangle *t, vec3s bary_screen, const vec2s attr[3],
                        bool perspective) {
-    vec3s b = perspective ? perspective_correct_barycentric(t, bary_screen) : bary_screen;
+    vec3s b = perspective ? perspective_weights(t, bary_screen) : bary_screen;
     return (vec2s){{attr[0].x * b.x + attr[1].x * b.y + attr[2].x * b.z,
                     attr[0].y * b.x + attr[1].y * b.y + attr[2].y * b.z}};
 }
@@ -82,7 +88,8 @@ vec3s texture_fragment_shader(const fragment_shader_payload *payload) {
     return blinn_phong_lighting(payload, kd, payload->view_pos, payload->normal);
 }
 
-void tangent_frame(vec3s n, vec3s *t, vec3s *b) {
+/* tangent_frame, inline in bump mapping. */
+static inline void tangent_frame_inline(vec3s n, vec3s *t, vec3s *b) {
     float s = sqrtf(n.x * n.x + n.z * n.z);
     if (s > 1e-6f) {
         *t = (vec3s){{n.x * n.y / s, s, n.z * n.y / s}};
@@ -95,6 +102,8 @@ void tangent_frame(vec3s n, vec3s *t, vec3s *b) {
     *b = glms_vec3_cross(n, *t);
 }
 
+void tangent_frame(vec3s n, vec3s *t, vec3s *b) { tangent_frame_inline(n, t, b); }
+
 /* h(u, v), h(u + 1/W, v) and h(u, v + 1/H) (section 3, beside the lookups). */
 static inline void bump_heights(const fragment_shader_payload *payload, float heights[3]);
 
@@ -103,7 +112,7 @@ static inline void bump_heights(const fragment_shader_payload *payload, float he
 static inline vec3s bumped_normal(const fragment_shader_payload *payload, vec3s n, float *h) {
     if (payload->counters) payload->counters->stages_run |= RAS_STAGE_BUMP;
     vec3s t, b;
-    tangent_frame(n, &t, &b);
+    tangent_frame_inline(n, &t, &b);
     float heights[3];
     bump_heights(payload, heights);
     *h = heights[0];
