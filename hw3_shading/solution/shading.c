@@ -211,10 +211,10 @@ static inline void bump_heights(const fragment_shader_payload *payload, float he
     const ras_texture *hm = payload->height_map;
     float u = payload->uv.x, v = payload->uv.y;
     float u1 = u + 1.0f / (float)hm->width, v1 = v + 1.0f / (float)hm->height;
-    if (payload->filter == FILTER_NEAREST) {
-        heights[0] = height_sample(payload, u, v);
-        heights[1] = height_sample(payload, u1, v);
-        heights[2] = height_sample(payload, u, v1);
+    if (payload->filter == FILTER_NEAREST) { /* one texel each: nothing to share */
+        /* one call site, not three: GCC then inlines height_sample */
+        const float us[3] = {u, u1, u}, vs[3] = {v, v, v1};
+        for (int i = 0; i < 3; i++) heights[i] = height_sample(payload, us[i], vs[i]);
         return;
     }
     ras_counters *c = payload->counters;
