@@ -501,7 +501,7 @@ static inline const vec3s *footprint_texel(const footprint *F, int lane, int k) 
     return F->px + F->o[k][lane];
 }
 
-/* One axis of four lookups: bilinear_level's safe_coord, x = t·n − 0.5, its
+/* One axis of four lookups (the reference's bilinear_axis_at): safe_coord, x = t·n − 0.5, its
  * floor and fraction, and the two wrapped texel indices times `stride` (1 for
  * columns, the width for rows). bad: lanes whose floor leaves [-1, n - 1]. */
 typedef struct axis4 {
