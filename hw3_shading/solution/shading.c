@@ -214,7 +214,8 @@ static inline void bump_heights(const fragment_shader_payload *payload, float he
     if (payload->filter == FILTER_NEAREST) { /* one texel each: nothing to share */
         /* one call site, not three: GCC then inlines height_sample */
         const float us[3] = {u, u1, u}, vs[3] = {v, v, v1};
-        for (int i = 0; i < 3; i++) heights[i] = height_sample(payload, us[i], vs[i]);
+        for (int i = 0; i < 3; i++)
+            heights[i] = height_sample(payload, us[i], vs[i]);
         return;
     }
     ras_counters *c = payload->counters;
