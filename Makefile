@@ -102,6 +102,15 @@ bench-perf:
 	@$(BUILD)/bin/bench_perf $(if $(SPOT),--spot $(SPOT)) --out docs/performance.md \
 	  --csv docs/performance.csv $(if $(INSTRUCTIONS),--instructions)
 
+# How long a student waits for a verdict (issue 28): the first `make test` in a fresh
+# handout, edit → `make grade HW=n`, edit → the student's `ctest -L hwN`, a whole
+# `make grade` and one class-graded submission, RUNS rounds alternating, with the
+# load average, into docs/feedback.md and docs/feedback.csv (tests/bench/bench-feedback;
+# several minutes a round).
+.PHONY: bench-feedback
+bench-feedback:
+	@tests/bench/bench-feedback $(if $(RUNS),--runs $(RUNS))
+
 # The pictures and grader messages of docs/pitfalls.md (+ docs/zh/), made from
 # the mutants (scripts/pitfall-gallery; about 20 s a mistake).
 .PHONY: pitfall-gallery

@@ -509,7 +509,7 @@ static inline const vec3s *footprint_texel(const footprint *F, int lane, int k) 
     return F->px + F->o[k][lane];
 }
 
-/* One axis of four lookups: bilinear_level's safe_coord, x = t·n − 0.5, its
+/* One axis of four lookups (the reference's bilinear_axis_at): safe_coord, x = t·n − 0.5, its
  * floor and fraction, and the two wrapped texel indices times `stride` (1 for
  * columns, the width for rows). bad: lanes whose floor leaves [-1, n - 1]. */
 typedef struct axis4 {
@@ -849,7 +849,7 @@ static void shade_prepare(worker *w, const queued *const *q, int lanes, lanes4 *
          * Blinn-Phong with bump_normal's normal (below) */
         vf4 h;
         v3x4 bumped = bump_normal_x4(pay, normal, S->u, S->v, lanes, &odd, &h);
-        count_heights(pay, 4, (uint64_t)lanes);
+        count_heights(pay, 3, (uint64_t)lanes); /* h(u, v) once, as the reference */
         v3x4 n = v3_normalize(normal, &odd);
         vf4 s = vf4_splat(pay->kn) * h;
         point = (v3x4){point.x + n.x * s, point.y + n.y * s, point.z + n.z * s};
@@ -1025,7 +1025,7 @@ static void count_unshaded(worker *w, int o, uint64_t count) {
     w->k.fragments_shaded += count;
     w->k.varyings_interpolated += fr->varyings_per_fragment * count;
     if (fr->batch == BATCH_BUMP) count_heights(pay, 3, count);
-    if (fr->batch == BATCH_DISPLACEMENT) count_heights(pay, 4, count);
+    if (fr->batch == BATCH_DISPLACEMENT) count_heights(pay, 3, count);
     if (fr->batch == BATCH_NORMAL || fr->batch == BATCH_BUMP || !pay->counters) return;
     pay->counters->stages_run |= RAS_STAGE_LIGHTING;
     pay->counters->lighting_evaluations += (uint64_t)pay->light_count * count;

@@ -2,25 +2,33 @@
  * This marker must never appear in a student handout. */
 #include "shading.h"
 
-#include <math.h> /* floorf, log2f, powf, sqrtf, isfinite */
+#include <float.h> /* FLT_MAX */
+#include <math.h>  /* floorf, log2f, powf, sqrtf, isfinite */
 
 /* ---- 1. interpolation --------------------------------------------------- */
 
-vec3s perspective_correct_barycentric(const ras_triangle *t, vec3s bary_screen) {
+/* perspective_correct_barycentric, inline in the interpolators (two or three
+ * calls a fragment). */
+static inline vec3s perspective_weights(const ras_triangle *t, vec3s bary_screen) {
     /* 1/w is affine in screen space, and so is attr/w: interpolate both with
      * λ and divide. b_i = (λ_i / w_i) / Σ (λ_j / w_j). */
     vec3s b = {{bary_screen.x / t->v[0].w, bary_screen.y / t->v[1].w,
                 bary_screen.z / t->v[2].w}};
     float sum = b.x + b.y + b.z;
     /* w > 0 after clipping, so sum > 0 inside the triangle; a degenerate
-     * input keeps the screen barycentrics rather than producing NaN. */
-    if (!(sum > 0.0f) || !isfinite(sum)) return bary_screen;
+     * input keeps the screen barycentrics rather than producing NaN. (0 <
+     * sum <= FLT_MAX is "positive and finite" in two comparisons; NaN fails.) */
+    if (!(sum > 0.0f && sum <= FLT_MAX)) return bary_screen;
     return glms_vec3_scale(b, 1.0f / sum);
+}
+
+vec3s perspective_correct_barycentric(const ras_triangle *t, vec3s bary_screen) {
+    return perspective_weights(t, bary_screen);
 }
 
 vec3s interpolate_vec3(const ras_triangle *t, vec3s bary_screen, const vec3s attr[3],
                        bool perspective) {
-    vec3s b = perspective ? perspective_correct_barycentric(t, bary_screen) : bary_screen;
+    vec3s b = perspective ? perspective_weights(t, bary_screen) : bary_screen;
     vec3s r = glms_vec3_scale(attr[0], b.x);
     r = glms_vec3_muladds(attr[1], b.y, r);
     return glms_vec3_muladds(attr[2], b.z, r);
@@ -28,7 +36,7 @@ vec3s interpolate_vec3(const ras_triangle *t, vec3s bary_screen, const vec3s att
 
 vec2s interpolate_vec2(const ras_triangle *t, vec3s bary_screen, const vec2s attr[3],
                        bool perspective) {
-    vec3s b = perspective ? perspective_correct_barycentric(t, bary_screen) : bary_screen;
+    vec3s b = perspective ? perspective_weights(t, bary_screen) : bary_screen;
     return (vec2s){{attr[0].x * b.x + attr[1].x * b.y + attr[2].x * b.z,
                     attr[0].y * b.x + attr[1].y * b.y + attr[2].y * b.z}};
 }
@@ -80,7 +88,8 @@ vec3s texture_fragment_shader(const fragment_shader_payload *payload) {
     return blinn_phong_lighting(payload, kd, payload->view_pos, payload->normal);
 }
 
-void tangent_frame(vec3s n, vec3s *t, vec3s *b) {
+/* tangent_frame, inline in bump mapping. */
+static inline void tangent_frame_inline(vec3s n, vec3s *t, vec3s *b) {
     float s = sqrtf(n.x * n.x + n.z * n.z);
     if (s > 1e-6f) {
         *t = (vec3s){{n.x * n.y / s, s, n.z * n.y / s}};
@@ -93,33 +102,46 @@ void tangent_frame(vec3s n, vec3s *t, vec3s *b) {
     *b = glms_vec3_cross(n, *t);
 }
 
-vec3s bump_normal(const fragment_shader_payload *payload) {
-    const ras_texture *hm = payload->height_map;
-    vec3s n = glms_vec3_normalize(payload->normal);
-    if (!hm) return n;
+void tangent_frame(vec3s n, vec3s *t, vec3s *b) { tangent_frame_inline(n, t, b); }
+
+/* h(u, v), h(u + 1/W, v) and h(u, v + 1/H) (section 3, beside the lookups). */
+static inline void bump_heights(const fragment_shader_payload *payload, float heights[3]);
+
+/* bump_normal of the unit normal n = normalize(payload->normal) with a height
+ * map; *h receives h(u, v), by which the displacement shader moves the point. */
+static inline vec3s bumped_normal(const fragment_shader_payload *payload, vec3s n, float *h) {
     if (payload->counters) payload->counters->stages_run |= RAS_STAGE_BUMP;
     vec3s t, b;
-    tangent_frame(n, &t, &b);
-    float u = payload->uv.x, v = payload->uv.y;
-    float h = height_sample(payload, u, v);
+    tangent_frame_inline(n, &t, &b);
+    float heights[3];
+    bump_heights(payload, heights);
+    *h = heights[0];
     float k = payload->kh * payload->kn;
-    float du = k * (height_sample(payload, u + 1.0f / (float)hm->width, v) - h);
-    float dv = k * (height_sample(payload, u, v + 1.0f / (float)hm->height) - h);
+    float du = k * (heights[1] - heights[0]);
+    float dv = k * (heights[2] - heights[0]);
     /* TBN · (−dU, −dV, 1) = −dU·t − dV·b + n */
     vec3s p = glms_vec3_add(glms_vec3_scale(t, -du), glms_vec3_scale(b, -dv));
     vec3s bumped = glms_vec3_normalize(glms_vec3_add(p, n));
     return ras_vec3_finite(bumped) ? bumped : n;
 }
 
+vec3s bump_normal(const fragment_shader_payload *payload) {
+    vec3s n = glms_vec3_normalize(payload->normal);
+    float h;
+    return payload->height_map ? bumped_normal(payload, n, &h) : n;
+}
+
 vec3s bump_fragment_shader(const fragment_shader_payload *payload) {
     return glms_vec3_scale(glms_vec3_adds(bump_normal(payload), 1.0f), 0.5f);
 }
 
+/* bump_normal's heights give the point's h(u, v) too. */
 vec3s displacement_fragment_shader(const fragment_shader_payload *payload) {
     vec3s n = glms_vec3_normalize(payload->normal);
-    float h = height_sample(payload, payload->uv.x, payload->uv.y);
+    float h = 0.0f; /* height_sample's h without a height map */
+    vec3s normal = payload->height_map ? bumped_normal(payload, n, &h) : n;
     vec3s point = glms_vec3_muladds(n, payload->kn * h, payload->view_pos);
-    return blinn_phong_lighting(payload, payload->color, point, bump_normal(payload));
+    return blinn_phong_lighting(payload, payload->color, point, normal);
 }
 
 /* ---- 3. texture sampling ------------------------------------------------ */
@@ -151,23 +173,63 @@ static vec3s lerp3(vec3s a, vec3s b, float s) {
     return glms_vec3_add(a, glms_vec3_scale(glms_vec3_sub(b, a), s));
 }
 
-/* Bilinear lookup in one mip level. */
+/* One axis of a bilinear lookup: the texels either side of the coordinate,
+ * wrapped, and the weight of the second. */
+typedef struct bilinear_axis {
+    int a, b; /* texel indices, in [0, n) */
+    float s;  /* weight of b, in [0, 1) */
+} bilinear_axis;
+
+static inline bilinear_axis bilinear_axis_at(float u, int n, ras_wrap wrap) {
+    /* Texel i's centre is at u_img = i: shift by half a texel. */
+    float x = safe_coord(u, wrap) * (float)n - 0.5f;
+    int i0 = floor_small(x); /* x in [-0.5, 2^14): i0 in [-1, n-1] */
+    return (bilinear_axis){ras_texture_wrap_index(wrap, i0, n),
+                           ras_texture_wrap_index(wrap, i0 + 1, n), x - (float)i0};
+}
+
+/* The four texels of axes x and y (of a level w texels wide), blended. */
+static inline vec3s bilinear_blend(const vec3s *px, int w, bilinear_axis x, bilinear_axis y) {
+    vec3s bottom = lerp3(px[y.a * w + x.a], px[y.a * w + x.b], x.s);
+    vec3s top = lerp3(px[y.b * w + x.a], px[y.b * w + x.b], x.s);
+    return lerp3(bottom, top, y.s);
+}
+
+/* Bilinear lookup in one mip level (v = 0 is row j = 0, the bottom). */
 static inline vec3s bilinear_level(const ras_texture *tex, int level, float u, float v) {
     int w = tex->level_width[level], h = tex->level_height[level];
-    /* Texel i's centre is at u_img = i: shift by half a texel. */
-    float x = safe_coord(u, tex->wrap) * (float)w - 0.5f;
-    float y = safe_coord(v, tex->wrap) * (float)h - 0.5f; /* v = 0 is row j = 0, the bottom */
-    float x0f = (float)floor_small(x), y0f = (float)floor_small(y); /* x, y in [-0.5, 2^14) */
-    float sx = x - x0f, sy = y - y0f;
-    int i0 = (int)x0f, j0 = (int)y0f; /* in [-1, w-1] and [-1, h-1] */
-    int ia = ras_texture_wrap_index(tex->wrap, i0, w);
-    int ib = ras_texture_wrap_index(tex->wrap, i0 + 1, w);
-    int ja = ras_texture_wrap_index(tex->wrap, j0, h);
-    int jb = ras_texture_wrap_index(tex->wrap, j0 + 1, h);
+    bilinear_axis x = bilinear_axis_at(u, w, tex->wrap), y = bilinear_axis_at(v, h, tex->wrap);
     const vec3s *px = tex->levels[level] ? tex->levels[level] : tex->texels;
-    vec3s bottom = lerp3(px[ja * w + ia], px[ja * w + ib], sx);
-    vec3s top = lerp3(px[jb * w + ia], px[jb * w + ib], sx);
-    return lerp3(bottom, top, sy);
+    return bilinear_blend(px, w, x, y);
+}
+
+/* The three heights of bump mapping, h(u, v), h(u + 1/W, v) and h(u, v + 1/H),
+ * each the float height_sample gives (and counted as it counts them). With
+ * bilinear lookups the two at u share that axis's texels and weight, and the
+ * two at v theirs: four axes instead of six. */
+static inline void bump_heights(const fragment_shader_payload *payload, float heights[3]) {
+    const ras_texture *hm = payload->height_map;
+    float u = payload->uv.x, v = payload->uv.y;
+    float u1 = u + 1.0f / (float)hm->width, v1 = v + 1.0f / (float)hm->height;
+    if (payload->filter == FILTER_NEAREST) { /* one texel each: nothing to share */
+        /* one call site, not three: GCC then inlines height_sample */
+        const float us[3] = {u, u1, u}, vs[3] = {v, v, v1};
+        for (int i = 0; i < 3; i++)
+            heights[i] = height_sample(payload, us[i], vs[i]);
+        return;
+    }
+    ras_counters *c = payload->counters;
+    if (c) {
+        c->stages_run |= RAS_STAGE_TEXTURE;
+        c->texels_fetched += 3 * 4;
+    }
+    int w = hm->level_width[0], h = hm->level_height[0];
+    const vec3s *px = hm->levels[0] ? hm->levels[0] : hm->texels;
+    bilinear_axis x = bilinear_axis_at(u, w, hm->wrap), x1 = bilinear_axis_at(u1, w, hm->wrap);
+    bilinear_axis y = bilinear_axis_at(v, h, hm->wrap), y1 = bilinear_axis_at(v1, h, hm->wrap);
+    heights[0] = 255.0f * glms_vec3_norm(bilinear_blend(px, w, x, y));
+    heights[1] = 255.0f * glms_vec3_norm(bilinear_blend(px, w, x1, y));
+    heights[2] = 255.0f * glms_vec3_norm(bilinear_blend(px, w, x, y1));
 }
 
 vec3s texture_sample_bilinear(const ras_texture *tex, float u, float v) {
