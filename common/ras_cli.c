@@ -100,8 +100,8 @@ static const option_row options[] = {
      "faster renderer the\nprogram offers (the same picture)"},
     {"dump", 0, 0, FILE_ARG, F(dump), NO_FIELD, NULL, 0, "a folder DIR for the buffers", "DIR",
      "with -o: also write the frame's intermediate buffers into DIR\n(created if missing): "
-     "depth, coverage, overdraw, normal, uv,\nview_depth or hw1's vertices, each as a picture, "
-     "an exact\n.pfm and a .json (docs/debugging.md)"},
+     "coverage, depth, overdraw, normal, uv,\nview_depth, sample_colour (anti-aliased) or hw1's "
+     "vertices,\neach as a picture, an exact .pfm and a .json\n(docs/debugging.md)"},
     {"memory-limit", 0, 0, MEMORY, NO_FIELD, NO_FIELD, NULL, 0, "a number of MiB such as 4096",
      "MB", "refuse inputs estimated to need more memory (default: half\nof physical memory, at "
            "most 2048; also RAS_MEMORY_LIMIT_MB)"},
