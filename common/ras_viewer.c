@@ -2,6 +2,7 @@
 #include "ras_viewer.h"
 
 #include "cv_bridge.h" /* Required for: cv_bridge_draw_text, cv_bridge_window_show */
+#include "ras_catalogue.h"      /* the comparison the grader uses */
 #include "ras_framebuffer.h"    /* the inspector reads the samples */
 #include "ras_sample_pattern.h"
 #include "ras_triangle.h"      /* the step view's current triangle */
@@ -56,6 +57,16 @@ void ras_viewer_set_reference(ras_viewer *v, const char *name, int width, int he
     snprintf(path, sizeof path, "%s/%s.png", v->reference_dir, name);
     ras_error err = {{0}};
     ras_image *ref = ras_image_load(path, &err); /* missing: no reference, not an error */
+    v->comparison[0] = '\0';
+    ras_catalogue *cat = malloc(sizeof *cat);
+    snprintf(path, sizeof path, "%s/catalogue.json", v->reference_dir);
+    const ras_catalogue_entry *e =
+        cat && ras_catalogue_load(path, cat, &err) ? ras_catalogue_find(cat, name) : NULL;
+    if (e) {
+        snprintf(v->comparison, sizeof v->comparison, "%s", e->comparison);
+        v->compare = e->compare;
+    }
+    free(cat);
     if (ref && (ref->width != width || ref->height != height)) {
         ras_image_destroy(ref);
         ref = NULL;
@@ -93,7 +104,8 @@ bool ras_viewer_show(ras_viewer *v, const ras_image *img, const char *status, ra
     ras_image *heat = NULL;
     if (v->reference && v->view == RAS_VIEW_REFERENCE) shown = v->reference;
     if (v->reference && v->view == RAS_VIEW_DIFFERENCE) {
-        heat = ras_compare_heatmap(v->reference, img, v->diff_kind, err);
+        heat = ras_compare_heatmap(v->reference, img,
+                                   v->comparison[0] ? v->compare.kind : v->diff_kind, err);
         if (!heat) return false;
         shown = heat;
     }
@@ -103,10 +115,19 @@ bool ras_viewer_show(ras_viewer *v, const ras_image *img, const char *status, ra
     ras_image_destroy(heat);
     if (!rgb) return ras_error_set(err, "out of memory showing the window");
     /* Status: the viewer's line, then the program's lines, 18 px apart. */
-    char line[256];
+    char line[512];
     viewer_line(v, line, sizeof line);
     int row = 20;
     cv_bridge_draw_text(rgb, width, height, 8, row, line, 0.5);
+    ras_compare_result verdict;
+    ras_error ignored = {{0}};
+    if (v->reference && v->view == RAS_VIEW_DIFFERENCE && v->comparison[0] &&
+        ras_compare_images(v->reference, img, &v->compare, &verdict, &ignored)) {
+        /* the grader's verdict on this picture (--compare prints the same) */
+        snprintf(line, sizeof line, "%s: %.*s", v->comparison, 120, verdict.summary);
+        row += 18;
+        cv_bridge_draw_text(rgb, width, height, 8, row, line, 0.5);
+    }
     for (const char *s = status; s && *s;) {
         const char *end = strchr(s, '\n');
         int len = end ? (int)(end - s) : (int)strlen(s);

@@ -24,6 +24,7 @@
  * printed while it ran (passing on a placeholder stub earns nothing). Exit
  * status: 0 graded (whatever the score), 1 --expect not met, 2 grader error.
  */
+#include "ras_catalogue.h"
 #include "ras_compare.h"
 #include "ras_dump.h"
 #include "ras_image.h"
@@ -1451,14 +1452,23 @@ static void image_job(const grader *g, const cJSON *img, const char *dir, job *j
 }
 
 /* The comparison the rubric asks of an image; false for an unknown metric. */
-static bool image_options(const cJSON *img, ras_compare_kind *kind, ras_compare_options *opt,
-                          ras_error *err) {
-    if (!ras_compare_kind_parse(str_or(img, "metric", "edge"), kind, err)) return false;
-    *opt = ras_compare_defaults(*kind);
-    opt->tolerance = (int)num_or(img, "tolerance", opt->tolerance);
-    opt->max_bad_fraction = num_or(img, "max_bad", opt->max_bad_fraction);
-    opt->min_psnr_db = num_or(img, "min_psnr", opt->min_psnr_db);
-    opt->min_ssim = num_or(img, "min_ssim", opt->min_ssim);
+/* The rubric names a comparison; its thresholds live only in the
+ * catalogue's table (tests/reference/catalogue.json, common/ras_catalogue.h),
+ * which the students' --compare and raster101-compare read too. */
+static bool image_options(const grader *g, const cJSON *img, ras_compare_kind *kind,
+                          ras_compare_options *opt, ras_error *err) {
+    static ras_catalogue cat;
+    static int state; /* 0 not read, 1 read, -1 failed */
+    static ras_error failure;
+    if (!state) {
+        char path[4200];
+        fmt(path, sizeof path, "%s/tests/reference/catalogue.json", g->source);
+        state = ras_catalogue_load(path, &cat, &failure) ? 1 : -1;
+    }
+    if (state < 0) return *err = failure, false;
+    if (!ras_catalogue_comparison_options(&cat, str_or(img, "comparison", ""), opt, err))
+        return false;
+    *kind = opt->kind;
     return true;
 }
 
@@ -1730,7 +1740,6 @@ static bool grade_image(const grader *g, assignment_result *a, const cJSON *img,
     const char *name = str_or(img, "name", "image");
     const char *program = str_or(img, "program", "");
     const char *reference = str_or(img, "reference", "");
-    const char *metric = str_or(img, "metric", "edge");
     const char *hint = str_or(img, "hint", NULL);
     item *it = add_item(a);
     it->is_image = true;
@@ -1789,7 +1798,7 @@ reference_ready:;
     ras_error err = {{0}};
     ras_compare_kind kind;
     ras_compare_options opt;
-    if (!image_options(img, &kind, &opt, &err)) {
+    if (!image_options(g, img, &kind, &opt, &err)) {
         it->counted = false;
         it->status = xstrdup("SKIP");
         it->reason = xstrdup("bad metric in the rubric (not counted)");
@@ -1809,7 +1818,8 @@ reference_ready:;
     sb_printf(&o, "command: %s", program);
     for (const cJSON *v = args ? args->child : NULL; v; v = v->next)
         if (cJSON_IsString(v)) sb_printf(&o, " %s", v->valuestring);
-    sb_printf(&o, " -o %s.png   (metric %s)\n", name, metric);
+    sb_printf(&o, " -o %s.png   (comparison %s: metric %s)\n", name,
+              str_or(img, "comparison", "?"), ras_compare_kind_name(kind));
     unlink(got_path);
     run_result rr = file_exists(prog_path) ? j->rr : (run_result){RUN_NOT_STARTED, 0, 0};
     if (rr.kind == RUN_EXITED && rr.code > 128 && rr.code < 160) /* bwrap: 128 + signal */
@@ -1999,11 +2009,11 @@ reference_ready:;
 
 /* Whether a sealed run (image_job) wrote an image that passes the rubric's
  * comparison with ref_path. */
-static bool run_matches(const job *j, const cJSON *img, const char *ref_path) {
+static bool run_matches(const grader *g, const job *j, const cJSON *img, const char *ref_path) {
     ras_error err = {{0}};
     ras_compare_kind kind;
     ras_compare_options opt;
-    if (j->rr.kind != RUN_EXITED || j->rr.code != 0 || !image_options(img, &kind, &opt, &err))
+    if (j->rr.kind != RUN_EXITED || j->rr.code != 0 || !image_options(g, img, &kind, &opt, &err))
         return false;
     ras_image *got = load_student_image(j->store[15], ref_path, &err);
     ras_image *expected = got ? ras_image_load(ref_path, &err) : NULL;
@@ -2080,7 +2090,7 @@ static void attribute_image(grader *g, item *it, const cJSON *img, const char *d
         /* matches[k]: the image matches with only hw(k+1)'s reference */
         bool matches[2] = {false, false};
         for (int k = 0, i = 0; k < 2; k++)
-            if (ran[k]) matches[k] = run_matches(&subs[i++], img, ref_path);
+            if (ran[k]) matches[k] = run_matches(g, &subs[i++], img, ref_path);
         if (ran[0] && ran[1]) {
             const char *culprit = matches[1] && !matches[0]   ? "hw2"
                                   : matches[0] && !matches[1] ? "hw1"
