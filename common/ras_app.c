@@ -15,6 +15,7 @@
 #include <stdio.h>  /* fprintf, printf, snprintf */
 #include <stdlib.h> /* malloc, free */
 #include <string.h> /* strcmp */
+#include <sys/stat.h> /* stat: a program older than its sources */
 
 /* ---- settings: one set of rules ------------------------------------------- */
 
@@ -590,11 +591,33 @@ static bool set_up(ras_app *app, ras_image **expected, char *ref_path, size_t si
     return !app->cli.compare || (*expected = load_reference(app, ref_path, size, err));
 }
 
+/* A student program built before the student's last edit runs older code:
+ * say so first (issue 25: after an edit, build/bin/hw1_transform still
+ * printed the old TODO notice). Sources that cannot be read say nothing. */
+static void warn_if_stale(const ras_app_hooks *hooks) {
+    struct stat exe, src;
+    if (!hooks->student_sources || stat("/proc/self/exe", &exe) != 0) return;
+    for (const char *p = hooks->student_sources; *p;) {
+        size_t n = strcspn(p, ":");
+        char path[RAS_IO_MAX_PATH];
+        snprintf(path, sizeof path, "%.*s", (int)n, p);
+        if (stat(path, &src) == 0 && src.st_mtime > exe.st_mtime) {
+            fprintf(stderr, "%s: note: this program was built before your last edit of %s, so "
+                            "it runs your older code; run `make build` (make grade and make "
+                            "test build it too)\n",
+                    hooks->program, path);
+            return;
+        }
+        p += n + (p[n] == ':');
+    }
+}
+
 int ras_app_main(int argc, char **argv, const ras_app_hooks *hooks, void *user) {
     ras_cli_reuse_freed_memory(); /* fewer page faults: docs/startup.md */
     ras_app app = {.hooks = hooks, .argv0 = argc > 0 ? argv[0] : hooks->program, .user = user};
     int status = parse(&app, argc, argv);
     if (status >= 0) return status;
+    warn_if_stale(hooks);
     ras_error err = {{0}};
     ras_image *expected = NULL;
     char ref_path[RAS_IO_MAX_PATH + 16] = "";

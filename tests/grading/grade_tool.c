@@ -451,6 +451,9 @@ typedef struct item {
     char *img_expected, *img_got, *img_diff, *img_crop;
     /* the first buffer that differs (--dump): its name and pictures */
     char *buf_name, *buf_ref, *buf_got, *buf_diff;
+    /* the student file, function and TODO numbers the item checks (the
+     * rubric's "where"; points into the rubric); NULL when it names none */
+    const char *where;
 } item;
 
 typedef struct assignment_result {
@@ -2126,6 +2129,56 @@ static void attribute_image(grader *g, item *it, const cJSON *img, const char *d
 
 /* ------------------------------------------------------------- outputs */
 
+/* The rubric's "where" for an item of assignment `asg`: the first
+ * [prefix, text] pair whose prefix starts `name`; NULL when none does. */
+static const char *where_of(const cJSON *asg, const char *name) {
+    const cJSON *list = cJSON_GetObjectItemCaseSensitive(asg, "where"), *pair;
+    cJSON_ArrayForEach(pair, list) {
+        const cJSON *prefix = cJSON_GetArrayItem(pair, 0), *text = cJSON_GetArrayItem(pair, 1);
+        if (cJSON_IsString(prefix) && cJSON_IsString(text) &&
+            !strncmp(name, prefix->valuestring, strlen(prefix->valuestring)))
+            return text->valuestring;
+    }
+    return NULL;
+}
+
+/* Each failing item's message opens with where to look (the rubric's file,
+ * function and TODO numbers). `from`: the first item of a to mark. */
+static void mark_where(assignment_result *a, int from, const cJSON *asg, bool integration) {
+    for (int k = from; k < a->n_items; k++) {
+        item *it = &a->items[k];
+        /* an integration item is "hwN image NAME, your whole chain" */
+        const char *name = it->name;
+        if (integration && strstr(name, " image ")) name = strstr(name, " image ") + 1;
+        char bare[300];
+        fmt(bare, sizeof bare, "%.*s", (int)strcspn(name, ","), name);
+        it->where = where_of(asg, bare);
+        if (!it->where || !it->counted || it->score >= it->max_score) continue;
+        sbuf o = {0};
+        sb_printf(&o, "where: %s\n%s", it->where, it->output ? it->output : "");
+        free(it->output);
+        it->output = o.s;
+    }
+}
+
+/* The item a student should start with: the earliest failing item of the
+ * earliest assignment that lost points (the report's and the table's
+ * opening lines). NULL when nothing lost points. */
+static const item *start_here(const assignment_result *as, int n, const char **id) {
+    /* an item that failed outright first; one that passed but printed a
+     * TODO notice says less */
+    for (int i = 0; i < n; i++)
+        for (int pass = 0; pass < 2; pass++)
+            for (int k = 0; k < as[i].n_items; k++) {
+                const item *it = &as[i].items[k];
+                if (it->counted && it->score < it->max_score && (pass || !it->passed)) {
+                    *id = as[i].id;
+                    return it;
+                }
+            }
+    return NULL;
+}
+
 static void mark_build_failed(const grader *g, assignment_result *a, const cJSON *asg,
                               const char *log_path) {
     char *log = read_file(log_path, 0);
@@ -2291,6 +2344,17 @@ static bool write_outputs(const grader *g, assignment_result *as, int n, double 
     if (!f) return false;
     fprintf(f, "# Raster101 grade report\n\n**Total: %g / %g**", total, max_total);
     if (strcmp(g->variant, "ref") == 0) fprintf(f, " (reference solutions graded as the student)");
+    const char *first_id = NULL;
+    const item *first = start_here(as, n, &first_id);
+    if (first) {
+        /* where to start: what the student should fix first, before details */
+        fprintf(f, "\n\n**Start here:** %s `%s` (%s)  \n", first_id, first->name, first->status);
+        if (first->where) fprintf(f, "**Where:** %s  \n", first->where);
+        fprintf(f, "**Fix:** ");
+        for (const char *c = first->reason && *first->reason ? first->reason : "see its message below";
+             *c; c++)
+            fputc(*c == '\n' ? ' ' : *c, f);
+    }
     fprintf(f, "\n\n| assignment | points |\n|---|---|\n");
     for (int i = 0; i < n; i++) {
         if (as[i].graded)
@@ -2318,16 +2382,32 @@ static bool write_outputs(const grader *g, assignment_result *as, int n, double 
                 fputc(*c == '|' ? '/' : *c, f);
             fprintf(f, " |\n");
         }
+        bool any_fail = false;
+        for (int k = 0; k < a->n_items; k++)
+            any_fail |= !a->items[k].is_image && a->items[k].score < a->items[k].max_score &&
+                        a->items[k].counted;
+        if (any_fail) {
+            fprintf(f, "\n### What the failing tests said\n");
+            for (int k = 0; k < a->n_items; k++) {
+                item *it = &a->items[k];
+                if (it->is_image || !it->counted || it->score >= it->max_score) continue;
+                fprintf(f, "\n**`%s`** (%s)\n\n```\n%s\n```\n", it->name, it->status,
+                        it->output ? it->output : "");
+            }
+        }
         for (int k = 0; k < a->n_items; k++) {
             item *it = &a->items[k];
-            if (it->is_image && it->img_expected) {
+            /* only the pictures that lost points or did not match: a
+             * passing picture is a line of the table */
+            if (it->is_image && it->img_expected && (!it->passed || it->score < it->max_score)) {
                 fprintf(f, "\n### %s — %s (%g / %g)\n\n", it->name, it->status, it->score,
                         it->max_score);
-                fprintf(f, "| reference | yours | difference |\n|---|---|---|\n");
-                fprintf(f, "| ![reference](%s) | %s%s%s | %s%s%s |\n", it->img_expected,
-                        it->img_got ? "![yours](" : "(no image)", it->img_got ? it->img_got : "",
-                        it->img_got ? ")" : "", it->img_diff ? "![difference](" : "",
-                        it->img_diff ? it->img_diff : "", it->img_diff ? ")" : "");
+                if (it->img_got) { /* sealed runs show no picture: words only */
+                    fprintf(f, "| reference | yours | difference |\n|---|---|---|\n");
+                    fprintf(f, "| ![reference](%s) | ![yours](%s) | %s%s%s |\n",
+                            it->img_expected, it->img_got, it->img_diff ? "![difference](" : "",
+                            it->img_diff ? it->img_diff : "", it->img_diff ? ")" : "");
+                }
                 if (it->img_crop)
                     fprintf(f,
                             "\nWorst region (reference | yours | difference):\n\n"
@@ -2345,19 +2425,6 @@ static bool write_outputs(const grader *g, assignment_result *as, int n, double 
                 fprintf(f, "\n```\n%s\n```\n", it->output ? it->output : "");
             }
         }
-        bool any_fail = false;
-        for (int k = 0; k < a->n_items; k++)
-            any_fail |= !a->items[k].is_image && a->items[k].score < a->items[k].max_score &&
-                        a->items[k].counted;
-        if (any_fail) {
-            fprintf(f, "\n### What the failing tests said\n");
-            for (int k = 0; k < a->n_items; k++) {
-                item *it = &a->items[k];
-                if (it->is_image || !it->counted || it->score >= it->max_score) continue;
-                fprintf(f, "\n**`%s`** (%s)\n\n```\n%s\n```\n", it->name, it->status,
-                        it->output ? it->output : "");
-            }
-        }
     }
     ok &= report_end(&rep, path);
     return ok;
@@ -2366,6 +2433,14 @@ static bool write_outputs(const grader *g, assignment_result *as, int n, double 
 static void print_table(const grader *g, assignment_result *as, int n, double total,
                         double max_total) {
     bool defaults = false;
+    const char *first_id = NULL;
+    const item *first = start_here(as, n, &first_id);
+    if (first) {
+        printf("START HERE: %s %s (%s)\n", first_id, first->name, first->status);
+        if (first->where) printf("  where: %s\n", first->where);
+        printf("  fix:   %s\n\n", first->reason && *first->reason ? first->reason
+                                                               : "see its message in the report");
+    }
     for (int i = 0; i < n; i++) {
         assignment_result *a = &as[i];
         if (!a->graded) {
@@ -2625,6 +2700,7 @@ int main(int argc, char **argv) {
             wanted |= !strcmp(g.only[i], id);
         if (!wanted) continue;
         assignment_result *a = &as[k++];
+        int integration_from = integration.n_items;
         a->id = xstrdup(id);
         a->title = xstrdup(str_or(asg, "title", ""));
         double t0 = now_s();
@@ -2708,6 +2784,8 @@ int main(int argc, char **argv) {
                 a->score += a->items[i].score;
                 a->max_score += a->items[i].max_score;
             }
+        mark_where(a, 0, asg, false);
+        mark_where(&integration, integration_from, asg, true);
         a->seconds = now_s() - t0;
         total += a->score;
         max_total += a->max_score;
