@@ -1628,7 +1628,12 @@ static void buffer_evidence(const grader *g, item *it, sbuf *o, const cJSON *img
         return;
     }
     ev->ran = true;
-    /* blank: the depth buffer holds no sample (the student's counters say why) */
+    /* why a blank frame is blank, from the counters of this run (used only
+     * when the picture is one flat colour) */
+    char *dlog = read_file(dj.out_path, 64 * 1024);
+    blank_reason(dlog, ev->why_blank, sizeof ev->why_blank);
+    free(dlog);
+    /* blank: the depth buffer holds no sample */
     char dpfm[4400];
     fmt(dpfm, sizeof dpfm, "%s/depth.pfm", dj.store[13]);
     if (file_exists(dpfm)) {
@@ -1640,12 +1645,7 @@ static void buffer_evidence(const grader *g, item *it, sbuf *o, const cJSON *img
             for (long i = 0; i < (long)dw * dh * dc && !any; i++)
                 any = !(isinf(depth[i]) && depth[i] > 0);
             free(depth);
-            if (!any) {
-                ev->blank = true;
-                char *dlog = read_file(dj.out_path, 64 * 1024);
-                blank_reason(dlog, ev->why_blank, sizeof ev->why_blank);
-                free(dlog);
-            }
+            if (!any) ev->blank = true;
         }
     }
     /* hw1's frame: its vertices, step by step */
@@ -1918,8 +1918,11 @@ reference_ready:;
                 if (flat)
                     sb_printf(&o, "likely mistake: nothing was drawn: your image is one flat "
                                   "colour%s%s\n",
-                              *ev.why_blank ? ": " : " (are the TODOs written? do the matrices "
-                                                     "put the scene in front of the camera?)",
+                              *ev.why_blank ? ": "
+                              : ev.blank    ? ": no sample was covered (your depth buffer is "
+                                              "empty)"
+                                            : " (are the TODOs written? do the matrices put the "
+                                              "scene in front of the camera?)",
                               ev.why_blank);
                 else if (ev.ran && *ev.stage && strcmp(ev.stage, "colour")) {
                     const char *line = strstr(sb_str(&bufs), "buffers: the first that differs is ");
