@@ -158,8 +158,9 @@ static void test_interp_tilted_plane_exact(void **state) {
              * altogether in the affine mistake and so matches it too. */
             bool is_affine = fabsf(got.x - affine.x) < 1e-5f && fabsf(got.y - affine.y) < 1e-5f;
             if (is_affine)
-                hint = "this is the AFFINE value: the 1/w correction is missing (w forced to 1, "
-                       "or `perspective` ignored) — the w = 1 pitfall, docs/hw3.md section 1";
+                hint = "this is the AFFINE value: the 1/w correction is missing (w forced to 1 "
+                       "as the course framework's toVector4 does, or `perspective` ignored) — "
+                       "the w = 1 pitfall, docs/hw3.md section 1";
             else if (fabsf(got.x - with_z.x) < 1e-4f && fabsf(got.y - with_z.y) < 1e-4f)
                 hint = "you divided by the screen depth v[i].z; the correction needs the clip "
                        "w kept in v[i].w";
@@ -221,7 +222,9 @@ static void test_interp_w1_pitfall_caught(void **state) {
           "(0.63395, 0.36605, 0), got " FMT3 ". %s",
           ARG3(bary), ARG3(b),
           near3(b, bary, 1e-5f)
-              ? "Likely mistake: the w = 1 pitfall — the screen barycentrics came back unchanged"
+              ? "Likely mistake: the w = 1 pitfall (the course framework's toVector4 sets w "
+                "= 1; here t->v[i].w is the clip w) — the screen barycentrics came back "
+                "unchanged"
               : "Likely mistake: b_i = λ_i / w_i, then divide by their sum");
     /* Vertices stay vertices; the result always sums to 1. */
     for (int i = 0; i < 3; i++) {
