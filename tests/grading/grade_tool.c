@@ -1317,7 +1317,9 @@ static int byte_diff(vec3s a, vec3s b) {
 
 static double luma(vec3s p) { return 0.299 * p.x + 0.587 * p.y + 0.114 * p.z; }
 
-static bool image_defects(sbuf *o, const ras_image *expected, const ras_image *got) {
+/* `causes`: name the rasterizer or resolve mistakes that make each defect;
+ * false where the buffers acquit those stages (the pattern only). */
+static bool image_defects(sbuf *o, const ras_image *expected, const ras_image *got, bool causes) {
     int w = expected->width, h = expected->height;
     if (got->width != w || got->height != h || w < 3 || h < 3) return false;
     unsigned char *bad = calloc((size_t)w * h, 1);
@@ -1359,19 +1361,23 @@ static bool image_defects(sbuf *o, const ras_image *expected, const ras_image *g
         }
     bool found = false;
     if (seams >= SEAM_MIN) {
-        sb_printf(o, "likely mistake: a dark seam: %d pixels where two surfaces meet are darker "
-                     "than both in the reference (first at (%d,%d)): the background shows "
-                     "through a shared edge (a coverage rule that drops edge samples, or a "
-                     "resolve that mixes in uncovered or integer-rounded samples)\n",
-                  seams, sx, sy);
+        sb_printf(o, "%sa dark seam: %d pixels where two surfaces meet are darker than both in "
+                     "the reference (first at (%d,%d))%s\n",
+                  causes ? "likely mistake: " : "the picture shows ", seams, sx, sy,
+                  causes ? ": the background shows through a shared edge (a coverage rule that "
+                           "drops edge samples, or a resolve that mixes in uncovered or "
+                           "integer-rounded samples)"
+                         : "");
         found = true;
     }
     if (speckles >= SPECKLE_MIN) {
-        sb_printf(o, "likely mistake: speckle: %d isolated pixels inside smooth areas are wrong "
-                     "(first at (%d,%d)): back faces winning the depth test (depth or "
-                     "barycentric precision: subtract a vertex before the edge functions; "
-                     "perspective-correct depth) or a NaN in some pixels\n",
-                  speckles, px, py);
+        sb_printf(o, "%sspeckle: %d isolated pixels inside smooth areas are wrong (first at "
+                     "(%d,%d))%s\n",
+                  causes ? "likely mistake: " : "the picture shows ", speckles, px, py,
+                  causes ? ": back faces winning the depth test (depth or barycentric precision: "
+                           "subtract a vertex before the edge functions; perspective-correct "
+                           "depth) or a NaN in some pixels"
+                         : "");
         found = true;
     }
     for (int pass = 0; pass < 2; pass++) {
@@ -1382,11 +1388,14 @@ static bool image_defects(sbuf *o, const ras_image *expected, const ras_image *g
             if (i > 0 && line[i - 1] > beside) beside = line[i - 1];
             if (i < n - 1 && line[i + 1] > beside) beside = line[i + 1];
             if (line[i] >= LINE_MIN && line[i] >= 4 * (beside + 1)) {
-                sb_printf(o, "likely mistake: %s %d of the image is wrong along %d pixels while "
-                             "the %ss beside it match: a %s skipped or written twice (a loop "
-                             "bound, < against <=, or an index off by one)\n",
+                sb_printf(o, "%s%s %d of the image is wrong along %d pixels while the %ss "
+                             "beside it match%s%s%s\n",
+                          causes ? "likely mistake: " : "the picture shows: ",
                           pass ? "column" : "row", i, line[i], pass ? "column" : "row",
-                          pass ? "column" : "row");
+                          causes ? ": a " : "", causes ? (pass ? "column" : "row") : "",
+                          causes ? " skipped or written twice (a loop bound, < against <=, or an "
+                                   "index off by one)"
+                                 : "");
                 found = true;
                 break;
             }
@@ -1877,7 +1886,7 @@ reference_ready:;
             sb_printf(&o, "%s\n", r.summary);
             bool flat = is_flat(got) && !is_flat(expected);
             sbuf defects = {0}, bufs = {0};
-            bool defect = !flat && image_defects(&defects, expected, got);
+            bool defect = !flat && image_defects(&defects, expected, got, true);
             evidence ev;
             memset(&ev, 0, sizeof ev);
             /* (not for a stub's placeholder picture, which says enough; at
@@ -1945,7 +1954,15 @@ reference_ready:;
                 /* rasterizer and resolve causes only where those stages are
                  * the student's and the buffers do not acquit them */
                 bool raster_causes = !ref_raster && (!ev.ran || ev.rasterizer);
-                if (!flat && (raster_causes || placed)) sb_add(&o, sb_str(&defects));
+                if (!flat && raster_causes)
+                    sb_add(&o, sb_str(&defects));
+                else if (!flat && defects.len) {
+                    /* the pattern only: the buffers acquit the rasterizer */
+                    sbuf plain = {0};
+                    image_defects(&plain, expected, got, false);
+                    sb_add(&o, sb_str(&plain));
+                    free(plain.s);
+                }
                 if (!flat)
                     image_signatures(&o, expected, got, &opt, j->args, &ev, raster_causes);
                 if (kind == RAS_COMPARE_EXACT || kind == RAS_COMPARE_EDGE_TOLERANT) {
@@ -2026,7 +2043,7 @@ static bool run_matches(const grader *g, const job *j, const cJSON *img, const c
     ras_compare_result r = {0};
     bool pass = expected && ras_compare_images(expected, got, &opt, &r, &err) && r.pass;
     sbuf ignored = {0};
-    if (pass && image_defects(&ignored, expected, got)) pass = false;
+    if (pass && image_defects(&ignored, expected, got, false)) pass = false;
     free(ignored.s);
     ras_image_destroy(got);
     ras_image_destroy(expected);
