@@ -14,7 +14,8 @@
  * are refused (the table decides).
  *
  * --buffers compares two --dump folders buffer by buffer, in the order a frame
- * makes them (depth, coverage, overdraw, normal, uv, view_depth), each with
+ * makes them (vertices, coverage, depth, overdraw, normal, uv, view_depth,
+ * sample_colour), each with
  * its kind's tolerance (common/ras_dump.h), and names the first that differs:
  * where a picture is wrong, the first wrong buffer says which stage made it.
  * --pictures OUT_DIR draws that buffer for both, on the reference's range,
