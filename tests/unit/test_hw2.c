@@ -483,11 +483,12 @@ static void test_bary_precision_at_600px(void **state) {
      * right, and both are far closer than the cancellation's error. */
     double snapped[6], dworst = 0;
     for (int k = 0; k < 6; k++) snapped[k] = round((double)c[k] * 256) / 256;
-    int seen = 0;
+    int seen = 0, negative = 0;
     for (int py = 580; py < 600; py++)
         for (int px = 605; px < 625; px++) {
             float d = fb->depth[ras_fb_sample_index(fb, px, py, 0)];
             if (isinf(d)) continue;
+            negative += d < 0; /* every depth here is in [0.3, 0.9] */
             double x = px + 0.5, y = py + 0.5, err = INFINITY;
             for (int v = 0; v < 2; v++) {
                 double q[6];
@@ -504,11 +505,15 @@ static void test_bary_precision_at_600px(void **state) {
         }
     CHECK(seen > 0 && dworst <= 2e-5,
           "rasterize_triangle, a small triangle near screen (615, 590) with depths 0.3, 0.9, "
-          "0.5: %s (at most 2e-5 expected). Likely mistake: depth interpolated with barycentrics "
-          "from the expanded formula x*(y1-y2) + (x2-x1)*y + x1*y2 - x2*y1, which cancels at "
-          "hundreds of pixels; subtract a vertex first (docs/hw2.md).",
+          "0.5: %s (at most 2e-5 expected). Likely mistake: %s",
           seen ? "the stored depth is off by more than 2e-5 against double"
-               : "nothing drawn, so the depth could not be checked");
+               : "nothing drawn, so the depth could not be checked",
+          seen && negative == seen
+              ? "the depth stored NEGATED (-z): the course framework's negated depth test, "
+                "kept; store and compare z as it is (smaller is closer)."
+              : "depth interpolated with barycentrics from the expanded formula x*(y1-y2) + "
+                "(x2-x1)*y + x1*y2 - x2*y1, which cancels at hundreds of pixels; subtract a "
+                "vertex first (docs/hw2.md).");
     ras_framebuffer_destroy(fb);
 }
 
@@ -649,9 +654,11 @@ static void test_bary_at_pixel_centre(void **state) {
               f->x, f->y, z, f->depth);
         float d = fb->depth[ras_fb_sample_index(fb, f->x, f->y, 0)];
         CHECK(fabsf(d - z) < 1e-4f,
-              "depth buffer at pixel (%d, %d): expected %.5f, got %.5f. Likely mistake: the "
-              "depth stored is not the interpolated one (or stored at another index).",
-              f->x, f->y, z, d);
+              "depth buffer at pixel (%d, %d): expected %.5f, got %.5f. Likely mistake: %s",
+              f->x, f->y, z, d,
+              fabsf(d + z) < 1e-4f && z != 0
+                  ? "the depth stored NEGATED (-z): the course framework's negated depth test, kept; here the viewport already negated z (smaller is closer, the buffer starts at +INF): store and compare z as it is."
+                  : "the depth stored is not the interpolated one (or stored at another index).");
     }
     ras_framebuffer_destroy(fb);
 }
@@ -691,11 +698,13 @@ static void test_raster_depth_with_different_w(void **state) {
               "4: expected %.5f (the screen depth v[i].z is z/w already, affine in screen space: "
               "α·z0 + β·z1 + γ·z2 with the screen barycentrics), got %.5f. Likely mistake: %s",
               f->x, f->y, want, d,
-              fabs(d - snippet) < 1e-4
+              fabs(d + want) < 1e-4
+                  ? "the depth stored NEGATED (-z): the course framework's negated depth test, kept; here the viewport already negated z (smaller is closer, the buffer starts at +INF): store and compare z as it is."
+              : fabs(d - snippet) < 1e-4
                   ? "the course framework's `z_interpolated *= w_reciprocal` snippet, which "
                     "divides by an interpolated 1/w: there every w was 1 and it did nothing; "
                     "here v[i].w is the real clip w: interpolate v[i].z and nothing else "
-                    "(docs/hw2.md, \"Course habits that break here\")."
+                    "(docs/hw2.md, \"Coming from the GAMES101 framework\")."
                   : "the depth divided or multiplied by w (v[i].z is already divided), or "
                     "interpolated with other weights than the screen barycentrics.");
     }
