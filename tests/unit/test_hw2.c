@@ -1142,6 +1142,9 @@ static void test_resolve_box_filter_float(void **state) {
                       ? "integer division (cnt / 4 is 0 for a partial pixel): divide in float."
                   : (S == 16 && fabsf(got.x - lit / 4.0f) < 1e-5f)
                       ? "the sample count hard-coded as 4: use fb->samples."
+                  : (lit > 0 && lit < S && near3(got, (vec3s){{1, 0.5f, 0.25f}}, 1e-5f))
+                      ? "the average taken over the covered (or coloured) samples only: every "
+                        "sample weighs 1/fb->samples, the black ones too."
                       : "not the box-filter average of the pixel's own samples (check the index "
                         "ras_fb_sample_index(fb, x, y, s)).");
         }
