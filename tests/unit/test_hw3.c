@@ -503,7 +503,9 @@ static void test_shader_bump(void **state) {
         hint = "sign: the perturbed normal is TBN·(−dU, −dV, 1)";
     else if (near3(n, V3(0.662040f, 0, 0.749469f), 1e-4f) ||
              near3(n, V3(-0.662040f, 0, 0.749469f), 1e-4f))
-        hint = "dU multiplies t and dV multiplies b (TBN = [t b n]); t = (0,1,0) here";
+        hint = "dU and dV swapped (u and v swapped): dU steps u by 1/width and multiplies t, "
+               "dV steps v by 1/height and multiplies b (TBN = [t b n]; t = (0,1,0) here); "
+               "swapping the steps or swapping t and b gives the same normal";
     CHECK(near3(n, want_n, 1e-4f),
           "bump_normal on a height ramp (dU = 0.883346, dV = 0) at n = (0,0,1): expected " FMT3
           ", got " FMT3 ". Likely mistake: %s",
@@ -526,7 +528,8 @@ static void test_shader_bump(void **state) {
         hint = "dV is always 0: the v step 1/height computed in integers (1 / h is 0), or "
                "h(u, v + 1/height) read at the same v";
     else if (near3(n, V3(0.639980f, -0.255992f, 0.724495f), 1e-4f))
-        hint = "u and v swapped: dU steps u by 1/width, dV steps v by 1/height";
+        hint = "dU and dV swapped (u and v swapped): dU steps u by 1/width and multiplies t, "
+               "dV steps v by 1/height and multiplies b";
     else if (near3(n, V3(-0.255992f, -0.639980f, 0.724495f), 1e-4f))
         hint = "the sign of dV: n' = TBN·(−dU, −dV, 1)";
     CHECK(near3(n, want_n, 1e-4f),
