@@ -1123,7 +1123,11 @@ static void grade_tests(const grader *g, assignment_result *a, const cJSON *asg,
                             "tell your instructor");
             verdict = (run_result){RUN_EXITED, 1, 0};
         }
-        judge_test(it, verdict, xml_failure, clean, g->test_limit, crash_hint);
+        /* a test may name its own likely crash (rubric "crash_hints"): a crash
+         * says more there than the assignment's generic hint */
+        const char *own_crash =
+            str_or(cJSON_GetObjectItemCaseSensitive(asg, "crash_hints"), name, crash_hint);
+        judge_test(it, verdict, xml_failure, clean, g->test_limit, own_crash);
         /* What the student's code printed: theirs, shown as such, capped. */
         fmt(path, sizeof path, "%s/%s.out", rw, name);
         char *wraw = read_small_file(path, 4096);
