@@ -40,6 +40,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h> /* strncasecmp */
 #include <sys/resource.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
@@ -2185,6 +2186,19 @@ static void mark_where(assignment_result *a, int from, const cJSON *asg, bool in
     }
 }
 
+/* The one-line fix hint of an item: its message's "likely mistake" (either
+ * case, as tests and pictures write it), else its reason; at most
+ * FIX_CHARS characters, into buf. */
+enum { FIX_CHARS = 300 };
+static void fix_line(const item *it, char *buf, size_t size) {
+    const char *out = it->output ? it->output : "", *p = NULL;
+    for (const char *q = out; *q && !p; q++)
+        if (!strncasecmp(q, "likely mistake: ", 16)) p = q + 16;
+    if (!p) p = it->reason && *it->reason ? it->reason : "see its message below";
+    size_t n = utf8_prefix(p, strcspn(p, "\n"), FIX_CHARS);
+    fmt(buf, size, "%.*s%s", (int)n, p, p[n] && p[n] != '\n' ? " …" : "");
+}
+
 /* The item a student should start with: the earliest failing item of the
  * earliest assignment that lost points (the report's and the table's
  * opening lines). NULL when nothing lost points. */
@@ -2374,10 +2388,9 @@ static bool write_outputs(const grader *g, assignment_result *as, int n, double 
         /* where to start: what the student should fix first, before details */
         fprintf(f, "\n\n**Start here:** %s `%s` (%s)  \n", first_id, first->name, first->status);
         if (first->where) fprintf(f, "**Where:** %s  \n", first->where);
-        fprintf(f, "**Fix:** ");
-        for (const char *c = first->reason && *first->reason ? first->reason : "see its message below";
-             *c; c++)
-            fputc(*c == '\n' ? ' ' : *c, f);
+        char fix[1400];
+        fix_line(first, fix, sizeof fix);
+        fprintf(f, "**Fix:** %s", fix);
     }
     fprintf(f, "\n\n| assignment | points |\n|---|---|\n");
     for (int i = 0; i < n; i++) {
@@ -2462,8 +2475,9 @@ static void print_table(const grader *g, assignment_result *as, int n, double to
     if (first) {
         printf("START HERE: %s %s (%s)\n", first_id, first->name, first->status);
         if (first->where) printf("  where: %s\n", first->where);
-        printf("  fix:   %s\n\n", first->reason && *first->reason ? first->reason
-                                                               : "see its message in the report");
+        char fix[1400];
+        fix_line(first, fix, sizeof fix);
+        printf("  fix:   %s\n\n", fix);
     }
     for (int i = 0; i < n; i++) {
         assignment_result *a = &as[i];
