@@ -87,14 +87,15 @@ bool ras_viewer_showing_program(const ras_viewer *v) {
 /* The viewer's own status line: what is shown, the frame time, the key.
  *   "program: hw2_rasterize  12.3 ms   v: reference"
  *   "reference: hw2_msaa4.png  12.3 ms   v: difference"
- *   "difference: vs hw2_msaa4.png (black = same)  12.3 ms   v: program"
+ *   "difference: vs hw2_msaa4.png (black = same; rasterized: pass)  12.3 ms   v: program"
  *   "reference: none for these settings  12.3 ms   v: difference" */
-static void viewer_line(const ras_viewer *v, char *buf, size_t size) {
-    char what[160];
+static void viewer_line(const ras_viewer *v, const char *verdict, char *buf, size_t size) {
+    char what[200];
     if (v->view == RAS_VIEW_PROGRAM) snprintf(what, sizeof what, "%s", v->program);
     else if (!v->reference) snprintf(what, sizeof what, "none for these settings");
     else if (v->view == RAS_VIEW_REFERENCE) snprintf(what, sizeof what, "%s.png", v->reference_name);
-    else snprintf(what, sizeof what, "vs %s.png (black = same)", v->reference_name);
+    else snprintf(what, sizeof what, "vs %s.png (black = same%s%s)", v->reference_name,
+                  *verdict ? "; " : "", verdict);
     snprintf(buf, size, "%s: %s  %.1f ms   v: %s", view_names[v->view], what, v->frame_ms,
              view_names[(v->view + 1) % RAS_VIEW_COUNT]);
 }
@@ -115,19 +116,19 @@ bool ras_viewer_show(ras_viewer *v, const ras_image *img, const char *status, ra
     ras_image_destroy(heat);
     if (!rgb) return ras_error_set(err, "out of memory showing the window");
     /* Status: the viewer's line, then the program's lines, 18 px apart. */
-    char line[512];
-    viewer_line(v, line, sizeof line);
-    int row = 20;
-    cv_bridge_draw_text(rgb, width, height, 8, row, line, 0.5);
+    /* the grader's verdict on this picture, in the status line (--compare
+     * prints the same in full) */
+    char verdict_text[96] = "";
     ras_compare_result verdict;
     ras_error ignored = {{0}};
     if (v->reference && v->view == RAS_VIEW_DIFFERENCE && v->comparison[0] &&
-        ras_compare_images(v->reference, img, &v->compare, &verdict, &ignored)) {
-        /* the grader's verdict on this picture (--compare prints the same) */
-        snprintf(line, sizeof line, "%s: %.*s", v->comparison, 120, verdict.summary);
-        row += 18;
-        cv_bridge_draw_text(rgb, width, height, 8, row, line, 0.5);
-    }
+        ras_compare_images(v->reference, img, &v->compare, &verdict, &ignored))
+        snprintf(verdict_text, sizeof verdict_text, "%s: %s", v->comparison,
+                 verdict.pass ? "pass" : "FAIL");
+    char line[512];
+    viewer_line(v, verdict_text, line, sizeof line);
+    int row = 20;
+    cv_bridge_draw_text(rgb, width, height, 8, row, line, 0.5);
     for (const char *s = status; s && *s;) {
         const char *end = strchr(s, '\n');
         int len = end ? (int)(end - s) : (int)strlen(s);

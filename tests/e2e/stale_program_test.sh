@@ -39,11 +39,13 @@ for prog in hw1_transform hw2_rasterize hw3_shading; do
 done
 for mk in "$src/Makefile" "$src/tests/grading/handout/Makefile"; do
   [[ -f $mk ]] || continue # the student edition has its Makefile at the top only
-  if make -n -f "$mk" -C "$src" grade BUILD="$work/b" 2>/dev/null |
-       grep -q -- '--target hw1_transform hw2_rasterize hw3_shading'; then
+  # (not the calling make's jobserver or flags: ctest may run under make test)
+  plan=$(env -u MAKEFLAGS -u MFLAGS -u MAKELEVEL make -n -f "$mk" -C "$src" grade BUILD="$work/b" 2>&1)
+  if grep -q -- '--target hw1_transform hw2_rasterize hw3_shading' <<<"$plan"; then
     echo "ok   ${mk#"$src"/}: make grade builds the student programs first"
   else
-    echo "FAIL ${mk#"$src"/}: make grade does not build hw1_transform hw2_rasterize hw3_shading"
+    echo "FAIL ${mk#"$src"/}: make grade does not build hw1_transform hw2_rasterize hw3_shading; make -n said:"
+    sed 's/^/       /' <<<"$plan" | head -8
     fail=1
   fi
 done

@@ -864,8 +864,10 @@ static void test_index_rasterizer_writes_flipped(void **state) {
           : written == 0 ? "nothing drawn with 4 samples"
                          : "samples of the neighbouring pixels written, or some of this one's "
                            "missed: the sample positions are (x + offset.x, y + offset.y)");
-    CHECK(guarded_intact(&g), "rasterize_triangle (4 samples) wrote outside the frame's buffers: "
-                              "a wrong stride?");
+    CHECK(guarded_intact(&g), "rasterize_triangle (4 samples, a triangle reaching past the "
+                              "frame's top-right corner) wrote outside the frame's buffers. "
+                              "Likely mistake: the bounding box not clamped to the screen, or a "
+                              "wrong stride (use ras_fb_sample_index(fb, x, y, s)).");
     guarded_free(&g);
 }
 
