@@ -862,6 +862,8 @@ static void test_index_rasterizer_writes_flipped(void **state) {
           written == 4 ? "a wrong stride: sample s of pixel (x, y) is at ((h-1-y)*w + x)*samples "
                          "+ s; use ras_fb_sample_index(fb, x, y, s)"
           : written == 0 ? "nothing drawn with 4 samples"
+          : at_pixel == 4 ? "entries of other pixels written by a triangle that reaches past the "
+                            "frame's corner: the bounding box not clamped to the screen (TODO 1)"
                          : "samples of the neighbouring pixels written, or some of this one's "
                            "missed: the sample positions are (x + offset.x, y + offset.y)");
     CHECK(guarded_intact(&g), "rasterize_triangle (4 samples, a triangle reaching past the "
