@@ -42,11 +42,13 @@ clean:
 	rm -rf $(BUILD) out
 
 # ---- grading (tests/grading/grade, docs/grading.md) ----
-#   make grade              builds and grades the student code (all assignments)
+#   make grade              builds the student programs in build/bin, grades the student code
 #   make grade HW=2         one assignment
 #   make grade STUDENT=ref  grades the reference solutions as the student (full marks)
 .PHONY: grade
 grade: configure
+	@cmake --build $(BUILD) -j $(JOBS) --target hw1_transform hw2_rasterize hw3_shading \
+	  >$(BUILD)/programs.log 2>&1 || echo "make grade: your programs in $(BUILD)/bin did not all build ($(BUILD)/programs.log); the grading below says why"
 	@tests/grading/grade --build $(BUILD) --jobs $(JOBS) --reuse-build $(BUILD)/grade-sandbox \
 	  $(if $(HW),--hw $(HW)) $(if $(STUDENT),--student $(STUDENT))
 

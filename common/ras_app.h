@@ -89,8 +89,21 @@ enum {
     RAS_APP_KEYS_AA = 1u << 2,      /* m: AA mode, s: samples, p: pattern */
 };
 
+/* For a main.c's hooks: the student files it is built from, or NULL for
+ * the reference build (the build defines RAS_STUDENT_SOURCES for the
+ * student's programs only). */
+#ifdef RAS_STUDENT_SOURCES
+#define RAS_APP_STUDENT_SOURCES RAS_STUDENT_SOURCES
+#else
+#define RAS_APP_STUDENT_SOURCES NULL
+#endif
+
 typedef struct ras_app_hooks {
     const char *program;     /* "hw2_rasterize": messages, window title, catalogue */
+    /* the student build's own source files, "a.c:b.c" (RAS_STUDENT_SOURCES,
+     * set by the build); NULL for the reference. A program older than one
+     * of them says, before anything else, that it runs older code. */
+    const char *student_sources;
     const char *usage;       /* --help's paragraph */
     unsigned options;        /* RAS_OPT_* the program takes */
     const char *scene;       /* the built-in scene: "hw2_classic" */

@@ -100,8 +100,8 @@ static const option_row options[] = {
      "faster renderer the\nprogram offers (the same picture)"},
     {"dump", 0, 0, FILE_ARG, F(dump), NO_FIELD, NULL, 0, "a folder DIR for the buffers", "DIR",
      "with -o: also write the frame's intermediate buffers into DIR\n(created if missing): "
-     "depth, coverage, overdraw, normal, uv,\nview_depth or hw1's vertices, each as a picture, "
-     "an exact\n.pfm and a .json (docs/debugging.md)"},
+     "coverage, depth, overdraw, normal, uv,\nview_depth, sample_colour (anti-aliased) or hw1's "
+     "vertices,\neach as a picture, an exact .pfm and a .json\n(docs/debugging.md)"},
     {"force", 0, 0, FLAG, F(force), NO_FIELD, NULL, 0, NULL, NULL,
      "replace output files even when write-protected (mode 444);\nwithout it they are "
      "refused before any work"},

@@ -565,8 +565,11 @@ void ras_dump_stage_abort(ras_dump_stage *st) {
     st->active = false;
 }
 
-const char *const ras_dump_buffer_names[] = {"depth", "coverage",   "overdraw", "normal",
-                                             "uv",    "view_depth", NULL};
+/* Pipeline order (DESIGN.md, "a verdict follows the evidence"): which
+ * samples are covered, which survive the depth test, how often each pixel
+ * is shaded, what the shader was given, what it wrote per sample. */
+const char *const ras_dump_buffer_names[] = {"coverage", "depth",      "overdraw",      "normal",
+                                             "uv",       "view_depth", "sample_colour", NULL};
 
 /* The tolerance of a buffer kind, and whether it is relative to the value. */
 static double tolerance_of(const char *name, bool *relative) {
@@ -574,6 +577,9 @@ static double tolerance_of(const char *name, bool *relative) {
     if (*relative) return 1e-5;
     if (!strcmp(name, "normal")) return 1e-3;
     if (!strcmp(name, "uv")) return 1e-4;
+    /* half an 8-bit level: a float-style difference never shows, a wrong
+     * sample colour always does */
+    if (!strcmp(name, "sample_colour")) return 0.5 / 255;
     return 0; /* coverage, overdraw: counts */
 }
 

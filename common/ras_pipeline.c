@@ -285,6 +285,22 @@ bool ras_pipeline_buffer(const ras_pipeline *p, const char *name, ras_dump_buffe
             .style = RAS_DUMP_SCALAR};
         return true;
     }
+    if (!strcmp(name, "sample_colour") && fb->samples > 1) {
+        /* what the resolve averages: without it an MSAA colour mistake (one
+         * colour per pixel scaled by coverage) shows in no buffer */
+        *out = (ras_dump_buffer){
+            .name = "sample_colour",
+            .what = "the colour each sample holds before the resolve averages them (the "
+                    "picture shows each pixel's mean)",
+            .units = "linear RGB in [0, 1]",
+            .width = fb->width,
+            .height = fb->height,
+            .samples = fb->samples,
+            .channels = 3,
+            .data = (const float *)fb->color,
+            .style = RAS_DUMP_UNIT};
+        return true;
+    }
     if (!strcmp(name, "overdraw") && p->overdraw) {
         *out = (ras_dump_buffer){
             .name = "overdraw",
@@ -307,8 +323,8 @@ bool ras_pipeline_buffer(const ras_pipeline *p, const char *name, ras_dump_buffe
 
 bool ras_pipeline_dump(const ras_pipeline *p, const char *dir, int *written, ras_error *err) {
     if (written) *written = 0;
-    static const char *const names[] = {"depth", "coverage", "overdraw"};
-    for (int k = 0; k < 3; k++) {
+    static const char *const names[] = {"depth", "coverage", "overdraw", "sample_colour"};
+    for (int k = 0; k < 4; k++) {
         ras_dump_buffer b;
         float *owned = NULL;
         if (!ras_pipeline_buffer(p, names[k], &b, &owned)) {

@@ -2,6 +2,7 @@
 #include "ras_viewer.h"
 
 #include "cv_bridge.h" /* Required for: cv_bridge_draw_text, cv_bridge_window_show */
+#include "ras_catalogue.h"      /* the comparison the grader uses */
 #include "ras_framebuffer.h"    /* the inspector reads the samples */
 #include "ras_sample_pattern.h"
 #include "ras_triangle.h"      /* the step view's current triangle */
@@ -56,6 +57,16 @@ void ras_viewer_set_reference(ras_viewer *v, const char *name, int width, int he
     snprintf(path, sizeof path, "%s/%s.png", v->reference_dir, name);
     ras_error err = {{0}};
     ras_image *ref = ras_image_load(path, &err); /* missing: no reference, not an error */
+    v->comparison[0] = '\0';
+    ras_catalogue *cat = malloc(sizeof *cat);
+    snprintf(path, sizeof path, "%s/catalogue.json", v->reference_dir);
+    const ras_catalogue_entry *e =
+        cat && ras_catalogue_load(path, cat, &err) ? ras_catalogue_find(cat, name) : NULL;
+    if (e) {
+        snprintf(v->comparison, sizeof v->comparison, "%s", e->comparison);
+        v->compare = e->compare;
+    }
+    free(cat);
     if (ref && (ref->width != width || ref->height != height)) {
         ras_image_destroy(ref);
         ref = NULL;
@@ -76,14 +87,15 @@ bool ras_viewer_showing_program(const ras_viewer *v) {
 /* The viewer's own status line: what is shown, the frame time, the key.
  *   "program: hw2_rasterize  12.3 ms   v: reference"
  *   "reference: hw2_msaa4.png  12.3 ms   v: difference"
- *   "difference: vs hw2_msaa4.png (black = same)  12.3 ms   v: program"
+ *   "difference: vs hw2_msaa4.png (black = same; rasterized: pass)  12.3 ms   v: program"
  *   "reference: none for these settings  12.3 ms   v: difference" */
-static void viewer_line(const ras_viewer *v, char *buf, size_t size) {
-    char what[160];
+static void viewer_line(const ras_viewer *v, const char *verdict, char *buf, size_t size) {
+    char what[200];
     if (v->view == RAS_VIEW_PROGRAM) snprintf(what, sizeof what, "%s", v->program);
     else if (!v->reference) snprintf(what, sizeof what, "none for these settings");
     else if (v->view == RAS_VIEW_REFERENCE) snprintf(what, sizeof what, "%s.png", v->reference_name);
-    else snprintf(what, sizeof what, "vs %s.png (black = same)", v->reference_name);
+    else snprintf(what, sizeof what, "vs %s.png (black = same%s%s)", v->reference_name,
+                  *verdict ? "; " : "", verdict);
     snprintf(buf, size, "%s: %s  %.1f ms   v: %s", view_names[v->view], what, v->frame_ms,
              view_names[(v->view + 1) % RAS_VIEW_COUNT]);
 }
@@ -93,7 +105,8 @@ bool ras_viewer_show(ras_viewer *v, const ras_image *img, const char *status, ra
     ras_image *heat = NULL;
     if (v->reference && v->view == RAS_VIEW_REFERENCE) shown = v->reference;
     if (v->reference && v->view == RAS_VIEW_DIFFERENCE) {
-        heat = ras_compare_heatmap(v->reference, img, v->diff_kind, err);
+        heat = ras_compare_heatmap(v->reference, img,
+                                   v->comparison[0] ? v->compare.kind : v->diff_kind, err);
         if (!heat) return false;
         shown = heat;
     }
@@ -103,8 +116,17 @@ bool ras_viewer_show(ras_viewer *v, const ras_image *img, const char *status, ra
     ras_image_destroy(heat);
     if (!rgb) return ras_error_set(err, "out of memory showing the window");
     /* Status: the viewer's line, then the program's lines, 18 px apart. */
-    char line[256];
-    viewer_line(v, line, sizeof line);
+    /* the grader's verdict on this picture, in the status line (--compare
+     * prints the same in full) */
+    char verdict_text[96] = "";
+    ras_compare_result verdict;
+    ras_error ignored = {{0}};
+    if (v->reference && v->view == RAS_VIEW_DIFFERENCE && v->comparison[0] &&
+        ras_compare_images(v->reference, img, &v->compare, &verdict, &ignored))
+        snprintf(verdict_text, sizeof verdict_text, "%s: %s", v->comparison,
+                 verdict.pass ? "pass" : "FAIL");
+    char line[512];
+    viewer_line(v, verdict_text, line, sizeof line);
     int row = 20;
     cv_bridge_draw_text(rgb, width, height, 8, row, line, 0.5);
     for (const char *s = status; s && *s;) {

@@ -54,6 +54,10 @@ typedef struct ras_viewer {
     const char *reference_dir; /* the reference images' folder, not owned; NULL: none */
     char reference_name[64]; /* "" when there is none for these settings */
     ras_image *reference;    /* loaded reference, NULL when missing */
+    /* the catalogue's comparison for the reference (the grader's): the
+     * difference view shows its verdict; "" when the catalogue has none */
+    char comparison[64];
+    ras_compare_options compare;
 } ras_viewer;
 
 /* argv0 names the program in the status line; reference_dir is the folder

@@ -72,7 +72,8 @@ static void status(const ras_app *app, char *buf, size_t size) {
 
 int main(int argc, char **argv) {
     static const ras_app_hooks hooks = {
-        .program = "hw1_transform", .scene = "hw1_classic", .reference_dir = RAS_REFERENCE_DIR,
+        .program = "hw1_transform", .student_sources = RAS_APP_STUDENT_SOURCES,
+        .scene = "hw1_classic", .reference_dir = RAS_REFERENCE_DIR,
         .options = RAS_OPT_ANGLE | RAS_OPT_SCENE | RAS_OPT_STATS, .keys = RAS_APP_KEYS_ANGLE,
         .usage = "Draws the hw1 scene (default: the classic triangle) as a wireframe. With -o "
                  "it\nrenders once and writes a PNG; without it, a window opens (a/d rotate by "

@@ -96,6 +96,7 @@ static void status(const ras_app *app, char *buf, size_t size) {
 int main(int argc, char **argv) {
     static const ras_app_hooks hooks = {
         .program = "hw2_rasterize",
+        .student_sources = RAS_APP_STUDENT_SOURCES,
         .usage = "Draws the hw2 scene (default: the two classic triangles) with your "
                  "rasterizer\n(coverage, z-buffer, anti-aliasing).\nWith -o or --compare it "
                  "renders once, headless; without, a window opens:\n  m AA mode, s sample "

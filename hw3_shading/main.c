@@ -111,6 +111,7 @@ static void release(ras_app *app) {
 int main(int argc, char **argv) {
     static const ras_app_hooks hooks = {
         .program = "hw3_shading",
+        .student_sources = RAS_APP_STUDENT_SOURCES,
         .usage =
             "Shades the hw3 scene with one of the five fragment shaders. With -o it renders\n"
             "once and writes a PNG; without it, a window opens (1-5: shader, f: filter,\n"

@@ -6,10 +6,14 @@
  *       (scripts/reference-images, scripts/demo, tests/e2e/gui_test.sh)
  *   raster101-catalogue [--catalogue FILE] programs
  *       the programs the catalogue names, one a line (tests/e2e/cli_bad_input_test.py)
+ *   raster101-catalogue [--catalogue FILE] comparison REFERENCE
+ *       the name of the comparison that judges REFERENCE (e.g. textured)
  *   raster101-catalogue [--catalogue FILE] check-rubric RUBRIC.json
  *       every rubric image with a "reference" must have the catalogue entry
- *       of that reference, with the same program and arguments (ctest
- *       catalogue_rubric); exit 1 naming each one that disagrees
+ *       of that reference, with the same program, arguments and comparison,
+ *       and every image names a comparison of the catalogue's table and no
+ *       thresholds of its own (ctest catalogue_rubric); exit 1 naming each
+ *       one that disagrees
  *
  * Exit status: 0 done, 1 the rubric disagrees, 2 bad arguments or files.
  */
@@ -44,6 +48,27 @@ static int check_image(const ras_catalogue *cat, const cJSON *img, const char *r
     const cJSON *ref = cJSON_GetObjectItemCaseSensitive(img, "reference");
     const cJSON *prog = cJSON_GetObjectItemCaseSensitive(img, "program");
     const cJSON *args = cJSON_GetObjectItemCaseSensitive(img, "args");
+    const cJSON *comparison = cJSON_GetObjectItemCaseSensitive(img, "comparison");
+    const cJSON *iname = cJSON_GetObjectItemCaseSensitive(img, "name");
+    /* every image is judged by a comparison of the catalogue's one table */
+    ras_compare_options opt;
+    ras_error why = {{0}};
+    if (!cJSON_IsString(comparison) ||
+        !ras_catalogue_comparison_options(cat, comparison->valuestring, &opt, &why)) {
+        printf("%s: image %s: expected \"comparison\": a name from the \"comparisons\" of "
+               "tests/reference/catalogue.json%s%s; thresholds live only there\n",
+               rubric, cJSON_IsString(iname) ? iname->valuestring : "?", *why.msg ? ": " : "",
+               why.msg);
+        return 1;
+    }
+    static const char *const own[] = {"metric", "tolerance", "max_bad", "min_psnr", "min_ssim"};
+    for (int k = 0; k < 5; k++)
+        if (cJSON_GetObjectItemCaseSensitive(img, own[k])) {
+            printf("%s: image %s: has its own \"%s\"; expected only \"comparison\" (the "
+                   "catalogue's table decides, for the grader and the students' tools alike)\n",
+                   rubric, cJSON_IsString(iname) ? iname->valuestring : "?", own[k]);
+            return 1;
+        }
     if (!cJSON_IsString(ref)) return 0; /* drawn and judged without a reference image */
     char name[RAS_CATALOGUE_NAME];
     snprintf(name, sizeof name, "%.*s", (int)strcspn(ref->valuestring, "."), ref->valuestring);
@@ -55,6 +80,12 @@ static int check_image(const ras_catalogue *cat, const cJSON *img, const char *r
         for (int a = 0; same && a < e->argc; a++) {
             const cJSON *v = cJSON_GetArrayItem(args, a);
             same = cJSON_IsString(v) && !strcmp(v->valuestring, e->args[a]);
+        }
+        if (same && strcmp(comparison->valuestring, e->comparison)) {
+            printf("%s: image %s: expected comparison %s, as tests/reference/catalogue.json "
+                   "judges %s.png; got %s; make the two agree\n",
+                   rubric, name, e->comparison, name, comparison->valuestring);
+            return 1;
         }
         if (same) return 0;
         char want[512];
@@ -90,12 +121,12 @@ static int check_rubric(const ras_catalogue *cat, const char *path) {
     cJSON_ArrayForEach(a, assignments) {
         const cJSON *images = cJSON_GetObjectItemCaseSensitive(a, "images");
         cJSON_ArrayForEach(img, images) {
-            checked += cJSON_IsString(cJSON_GetObjectItemCaseSensitive(img, "reference"));
+            checked++;
             bad += check_image(cat, img, path);
         }
     }
     cJSON_Delete(root);
-    printf("%d rubric images with a reference, %d disagree with the catalogue\n", checked, bad);
+    printf("%d rubric images, %d disagree with the catalogue\n", checked, bad);
     return bad ? 1 : 0;
 }
 
@@ -113,10 +144,15 @@ int main(int argc, char **argv) {
         list(cat), status = 0;
     else if (!strcmp(cmd, "programs") && i + 1 == argc)
         programs(cat), status = 0;
-    else if (!strcmp(cmd, "check-rubric") && i + 2 == argc)
+    else if (!strcmp(cmd, "comparison") && i + 2 == argc) {
+        const ras_catalogue_entry *e = ras_catalogue_find(cat, argv[i + 1]);
+        if (e) printf("%s\n", e->comparison);
+        else fprintf(stderr, "raster101-catalogue: no entry \"%s\" in the catalogue\n", argv[i + 1]);
+        status = e ? 0 : 2;
+    } else if (!strcmp(cmd, "check-rubric") && i + 2 == argc)
         status = check_rubric(cat, argv[i + 1]);
     else
-        fprintf(stderr, "raster101-catalogue: expected list, programs or check-rubric "
+        fprintf(stderr, "raster101-catalogue: expected list, programs, comparison REFERENCE or check-rubric "
                         "RUBRIC.json (after an optional --catalogue FILE); got '%s'\n", cmd);
     free(cat);
     return status;

@@ -24,6 +24,7 @@
  * printed while it ran (passing on a placeholder stub earns nothing). Exit
  * status: 0 graded (whatever the score), 1 --expect not met, 2 grader error.
  */
+#include "ras_catalogue.h"
 #include "ras_compare.h"
 #include "ras_dump.h"
 #include "ras_image.h"
@@ -40,6 +41,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h> /* strncasecmp */
 #include <sys/resource.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
@@ -176,6 +178,23 @@ static char *clean_output(const char *raw) {
 
 static bool has_todo_notice(const char *out) { return strstr(out, "is not written yet") != NULL; }
 
+/* A table's "why" column holds this many characters (not bytes: a cut never
+ * falls inside a UTF-8 character). */
+enum { REASON_CHARS = 110 };
+
+/* The length in bytes of the first `chars` characters of s[0..n) (UTF-8: a
+ * continuation byte 10xxxxxx never starts a character). */
+static size_t utf8_prefix(const char *s, size_t n, size_t chars) {
+    size_t i = 0;
+    for (size_t c = 0; i < n; c++) {
+        if (c == chars) return i;
+        i++;
+        while (i < n && ((unsigned char)s[i] & 0xC0) == 0x80)
+            i++;
+    }
+    return n;
+}
+
 /* The most useful line of a failure: the "likely mistake" if there is one,
  * otherwise the first line that is not a TODO notice. */
 static char *reason_line(const char *out) {
@@ -204,8 +223,7 @@ static char *reason_line(const char *out) {
         if (!*p || !strncmp(p, "TODO:", 5)) p = out;
     }
     const char *nl = strchr(p, '\n');
-    size_t n = nl ? (size_t)(nl - p) : strlen(p);
-    if (n > 110) n = 110;
+    size_t n = utf8_prefix(p, nl ? (size_t)(nl - p) : strlen(p), REASON_CHARS);
     char *r = malloc(n + 1);
     if (!r) abort();
     memcpy(r, p, n);
@@ -435,6 +453,9 @@ typedef struct item {
     char *img_expected, *img_got, *img_diff, *img_crop;
     /* the first buffer that differs (--dump): its name and pictures */
     char *buf_name, *buf_ref, *buf_got, *buf_diff;
+    /* the student file, function and TODO numbers the item checks (the
+     * rubric's "where"; points into the rubric); NULL when it names none */
+    const char *where;
 } item;
 
 typedef struct assignment_result {
@@ -479,6 +500,9 @@ static void assignment_results_free(assignment_result *as, int n) {
     free(as);
 }
 
+/* Images given buffer evidence per grading: each costs two more renders. */
+enum { EVIDENCE_MAX = 24 };
+
 typedef struct grader {
     const char *source, *build, *out, *variant;
     /* The student's side: the pristine tree and its build, both read-only in
@@ -494,7 +518,7 @@ typedef struct grader {
     const char *sanitized;
     long sandbox_uid; /* -1: not root, runs stay this user's */
     int runs;         /* numbers the run folders */
-    int evidence_runs; /* failing images given buffer evidence so far (at most 8) */
+    int evidence_runs; /* images given buffer evidence so far (at most EVIDENCE_MAX) */
     int jobs;         /* sandboxed runs at once */
     cJSON *rubric;
     double default_points, test_limit, render_limit;
@@ -1234,7 +1258,11 @@ static void grade_tests(const grader *g, assignment_result *a, const cJSON *asg,
                             "tell your instructor");
             verdict = (run_result){RUN_EXITED, 1, 0};
         }
-        judge_test(it, verdict, xml_failure, clean, g->test_limit, crash_hint);
+        /* a test may name its own likely crash (rubric "crash_hints"): a crash
+         * says more there than the assignment's generic hint */
+        const char *own_crash =
+            str_or(cJSON_GetObjectItemCaseSensitive(asg, "crash_hints"), name, crash_hint);
+        judge_test(it, verdict, xml_failure, clean, g->test_limit, own_crash);
         if (own[0] && !it->passed) {
             char *sealed = sealed_text(it->status, clean);
             free(it->output);
@@ -1342,6 +1370,19 @@ static bool content_box(const ras_image *img, int *x0, int *y0, int *x1, int *y1
     return *x1 >= 0;
 }
 
+/* What the buffers say about a picture (buffer_evidence), in pipeline order
+ * (DESIGN.md): vertices -> coverage -> depth -> overdraw -> interpolated
+ * attributes -> per-sample colour -> resolved colour. */
+typedef struct evidence {
+    bool ran;          /* both frames were dumped and compared */
+    char stage[24];    /* the first buffer that differs; "colour": every buffer
+                        * matches and only the colours differ */
+    const char *owner; /* the assignment whose code makes that stage */
+    bool rasterizer;   /* the stage is the rasterizer's or the resolve's */
+    bool blank;        /* the student's frame covered no sample */
+    char why_blank[400];
+} evidence;
+
 /* Likely-mistake lines recognised from the pictures themselves. */
 /* Does the image's command line contain `word` (e.g. "msaa")? */
 static bool args_have(const cJSON *args, const char *word) {
@@ -1352,14 +1393,16 @@ static bool args_have(const cJSON *args, const char *word) {
 
 /* Signatures of classic mistakes; a cause is named only where the picture
  * can have it (seams need anti-aliasing, doubled ambient needs lighting). */
+/* `ev`: what the buffers said (geometry signatures only where the geometry
+ * differs or nothing is known); `raster_causes`: the rasterizer and resolve
+ * are the student's and the buffers do not acquit them. */
 static void image_signatures(sbuf *o, const ras_image *expected, const ras_image *got,
-                             const ras_compare_options *opt, const cJSON *args) {
-    if (is_flat(got) && !is_flat(expected)) {
-        sb_add(o, "likely mistake: your image is one flat colour: nothing was drawn (are the "
-                  "TODOs written? do the matrices put the scene in front of the camera?)\n");
-        return;
-    }
-    ras_image *flipped = flip_rows(got);
+                             const ras_compare_options *opt, const cJSON *args,
+                             const evidence *ev, bool raster_causes) {
+    if (is_flat(got) && !is_flat(expected)) return; /* "nothing was drawn" says it */
+    bool geometry = !ev->ran || !strcmp(ev->stage, "vertices") ||
+                    !strcmp(ev->stage, "coverage") || !strcmp(ev->stage, "depth");
+    ras_image *flipped = geometry ? flip_rows(got) : NULL;
     ras_compare_result fr;
     ras_error err;
     if (flipped && ras_compare_images(expected, flipped, opt, &fr, &err) && fr.pass)
@@ -1367,7 +1410,8 @@ static void image_signatures(sbuf *o, const ras_image *expected, const ras_image
                   "missing (image row = height - 1 - y) or the projection flips y\n");
     ras_image_destroy(flipped);
     int ex0, ey0, ex1, ey1, gx0, gy0, gx1, gy1;
-    if (content_box(expected, &ex0, &ey0, &ex1, &ey1) && content_box(got, &gx0, &gy0, &gx1, &gy1)) {
+    if (geometry && content_box(expected, &ex0, &ey0, &ex1, &ey1) &&
+        content_box(got, &gx0, &gy0, &gx1, &gy1)) {
         double cx = (gx0 + gx1 - ex0 - ex1) / 2.0, cy = (gy0 + gy1 - ey0 - ey1) / 2.0;
         double sx = (gx1 - gx0 + 1.0) / (ex1 - ex0 + 1.0),
                sy = (gy1 - gy0 + 1.0) / (ey1 - ey0 + 1.0);
@@ -1397,12 +1441,16 @@ static void image_signatures(sbuf *o, const ras_image *expected, const ras_image
         sb_printf(o, "note: your image is darker than the reference on average (mean luma %.4f "
                      "vs %.4f)%s\n",
                   lg, le,
-                  aa ? ": dark edges or seams? (resolve in floating point, colour per sample)"
-                     : "");
+                  aa && raster_causes
+                      ? ": dark edges or seams? (resolve in floating point, colour per sample)"
+                      : "");
     else if (le > 0.02 && lg > 1.03 * le)
         sb_printf(o, "note: your image is brighter than the reference on average (mean luma "
                      "%.4f vs %.4f)%s\n",
-                  lg, le, lit ? ": light added twice (ambient once per light?)" : "");
+                  lg, le,
+                  lit && (!ev->ran || !ev->owner || !strcmp(ev->owner, "hw3"))
+                      ? ": light added twice (ambient once per light?)"
+                      : "");
 }
 
 /* Defects a person sees at once but a global pixel budget can hide: a dark
@@ -1425,7 +1473,9 @@ static int byte_diff(vec3s a, vec3s b) {
 
 static double luma(vec3s p) { return 0.299 * p.x + 0.587 * p.y + 0.114 * p.z; }
 
-static bool image_defects(sbuf *o, const ras_image *expected, const ras_image *got) {
+/* `causes`: name the rasterizer or resolve mistakes that make each defect;
+ * false where the buffers acquit those stages (the pattern only). */
+static bool image_defects(sbuf *o, const ras_image *expected, const ras_image *got, bool causes) {
     int w = expected->width, h = expected->height;
     if (got->width != w || got->height != h || w < 3 || h < 3) return false;
     unsigned char *bad = calloc((size_t)w * h, 1);
@@ -1467,19 +1517,23 @@ static bool image_defects(sbuf *o, const ras_image *expected, const ras_image *g
         }
     bool found = false;
     if (seams >= SEAM_MIN) {
-        sb_printf(o, "likely mistake: a dark seam: %d pixels where two surfaces meet are darker "
-                     "than both in the reference (first at (%d,%d)): the background shows "
-                     "through a shared edge (a coverage rule that drops edge samples, or a "
-                     "resolve that mixes in uncovered or integer-rounded samples)\n",
-                  seams, sx, sy);
+        sb_printf(o, "%sa dark seam: %d pixels where two surfaces meet are darker than both in "
+                     "the reference (first at (%d,%d))%s\n",
+                  causes ? "likely mistake: " : "the picture shows ", seams, sx, sy,
+                  causes ? ": the background shows through a shared edge (a coverage rule that "
+                           "drops edge samples, or a resolve that mixes in uncovered or "
+                           "integer-rounded samples)"
+                         : "");
         found = true;
     }
     if (speckles >= SPECKLE_MIN) {
-        sb_printf(o, "likely mistake: speckle: %d isolated pixels inside smooth areas are wrong "
-                     "(first at (%d,%d)): back faces winning the depth test (depth or "
-                     "barycentric precision: subtract a vertex before the edge functions; "
-                     "perspective-correct depth) or a NaN in some pixels\n",
-                  speckles, px, py);
+        sb_printf(o, "%sspeckle: %d isolated pixels inside smooth areas are wrong (first at "
+                     "(%d,%d))%s\n",
+                  causes ? "likely mistake: " : "the picture shows ", speckles, px, py,
+                  causes ? ": back faces winning the depth test (depth or barycentric precision: "
+                           "subtract a vertex before the edge functions; perspective-correct "
+                           "depth) or a NaN in some pixels"
+                         : "");
         found = true;
     }
     for (int pass = 0; pass < 2; pass++) {
@@ -1490,11 +1544,14 @@ static bool image_defects(sbuf *o, const ras_image *expected, const ras_image *g
             if (i > 0 && line[i - 1] > beside) beside = line[i - 1];
             if (i < n - 1 && line[i + 1] > beside) beside = line[i + 1];
             if (line[i] >= LINE_MIN && line[i] >= 4 * (beside + 1)) {
-                sb_printf(o, "likely mistake: %s %d of the image is wrong along %d pixels while "
-                             "the %ss beside it match: a %s skipped or written twice (a loop "
-                             "bound, < against <=, or an index off by one)\n",
+                sb_printf(o, "%s%s %d of the image is wrong along %d pixels while the %ss "
+                             "beside it match%s%s%s\n",
+                          causes ? "likely mistake: " : "the picture shows: ",
                           pass ? "column" : "row", i, line[i], pass ? "column" : "row",
-                          pass ? "column" : "row");
+                          causes ? ": a " : "", causes ? (pass ? "column" : "row") : "",
+                          causes ? " skipped or written twice (a loop bound, < against <=, or an "
+                                   "index off by one)"
+                                 : "");
                 found = true;
                 break;
             }
@@ -1563,14 +1620,23 @@ static void image_job(const grader *g, const cJSON *img, const char *dir, job *j
 }
 
 /* The comparison the rubric asks of an image; false for an unknown metric. */
-static bool image_options(const cJSON *img, ras_compare_kind *kind, ras_compare_options *opt,
-                          ras_error *err) {
-    if (!ras_compare_kind_parse(str_or(img, "metric", "edge"), kind, err)) return false;
-    *opt = ras_compare_defaults(*kind);
-    opt->tolerance = (int)num_or(img, "tolerance", opt->tolerance);
-    opt->max_bad_fraction = num_or(img, "max_bad", opt->max_bad_fraction);
-    opt->min_psnr_db = num_or(img, "min_psnr", opt->min_psnr_db);
-    opt->min_ssim = num_or(img, "min_ssim", opt->min_ssim);
+/* The rubric names a comparison; its thresholds live only in the
+ * catalogue's table (tests/reference/catalogue.json, common/ras_catalogue.h),
+ * which the students' --compare and raster101-compare read too. */
+static bool image_options(const grader *g, const cJSON *img, ras_compare_kind *kind,
+                          ras_compare_options *opt, ras_error *err) {
+    static ras_catalogue cat;
+    static int state; /* 0 not read, 1 read, -1 failed */
+    static ras_error failure;
+    if (!state) {
+        char path[4200];
+        fmt(path, sizeof path, "%s/tests/reference/catalogue.json", g->source);
+        state = ras_catalogue_load(path, &cat, &failure) ? 1 : -1;
+    }
+    if (state < 0) return *err = failure, false;
+    if (!ras_catalogue_comparison_options(&cat, str_or(img, "comparison", ""), opt, err))
+        return false;
+    *kind = opt->kind;
     return true;
 }
 
@@ -1626,22 +1692,73 @@ static const char *buffer_hint(const char *name, const ras_dump_difference *d) {
     if (!strcmp(name, "uv"))
         return "the texture coordinates the shader got: perspective-correct interpolation (the "
                "1/w weights), not affine";
+    if (!strcmp(name, "sample_colour"))
+        return "the colours stored per sample: each covered sample that passes the depth test "
+               "gets the fragment's colour, the others keep theirs (one colour per pixel "
+               "scaled by coverage gives dark seams)";
     if (!strcmp(name, "view_depth"))
         return "the view-space positions: perspective-correct interpolation of view_pos";
     return "";
 }
 
-/* Evidence for a failing image (docs/grading.md, "Buffers"): the program
- * renders it again with --dump, in the sandbox, and the trusted reference
- * program with --dump; the first buffer in frame order that differs (with
- * its kind's tolerance) is named, with the likely cause. Sealed runs give
- * the words only; others also the buffer's pictures (redrawn here from the
- * exact files, never the sandbox's own pictures). Programs without --dump,
- * and pictures that only differ in colour, add nothing. */
+/* Which assignment's code makes `stage` in a run of `program`. `ref_raster`:
+ * the run's rasterizer and resolve are the reference (hw3 graded on its own
+ * code), so what they produce differently comes from what hw3 feeds them. */
+static const char *stage_owner(const char *stage, const char *program, bool ref_raster) {
+    bool hw3 = !strncmp(program, "hw3", 3);
+    if (!strcmp(stage, "vertices")) return "hw1";
+    if (!strcmp(stage, "normal") || !strcmp(stage, "uv") || !strcmp(stage, "view_depth"))
+        return "hw3";
+    if (!strcmp(stage, "sample_colour") || !strcmp(stage, "colour"))
+        return hw3 ? "hw3" : "hw2"; /* the shader's colours; hw2's are the triangles' */
+    return ref_raster ? "hw3" : "hw2";
+}
+
+/* Why a frame is blank, from the --stats counters it printed (the pipeline
+ * counts triangles itself; the student's rasterizer counts samples). */
+static void blank_reason(const char *log, char *buf, size_t size) {
+    const char *c = log ? strstr(log, "\"triangles_in\"") : NULL;
+    unsigned long long in = 0, away = 0, raster = 0, covered = 0, passed = 0;
+    buf[0] = '\0';
+    if (!c) return;
+    const char *q;
+    if ((q = strstr(c, "\"triangles_in\":"))) sscanf(q + 15, "%llu", &in);
+    if ((q = strstr(c, "\"triangles_clipped_away\":"))) sscanf(q + 25, "%llu", &away);
+    if ((q = strstr(c, "\"triangles_rasterized\":"))) sscanf(q + 23, "%llu", &raster);
+    if ((q = strstr(c, "\"samples_covered\":"))) sscanf(q + 18, "%llu", &covered);
+    if ((q = strstr(c, "\"depth_tests_passed\":"))) sscanf(q + 21, "%llu", &passed);
+    if (in > 0 && away == in)
+        fmt(buf, size, "no triangle reached the rasterizer: all %llu were clipped away (outside "
+                       "the view volume: the projection's n and f signs, or a camera looking away)",
+            in);
+    else if (raster == 0 && in > 0)
+        fmt(buf, size, "no triangle reached the rasterizer (%llu in, %llu clipped away, none "
+                       "rasterized: degenerate or non-finite after the vertex stage)",
+            in, away);
+    else if (covered > 0 && passed == 0)
+        fmt(buf, size, "%llu samples were covered but none passed the depth test: the "
+                       "comparison never holds (reversed, or against a buffer not cleared to "
+                       "+INF)",
+            covered);
+    else if (raster > 0 && covered == 0)
+        fmt(buf, size, "%llu triangles reached your rasterizer and it covered no sample: the "
+                       "inside test or the bounding-box loop",
+            raster);
+}
+
+/* Evidence for a picture (docs/grading.md, "Buffers"): the program renders
+ * it again with --dump, in the sandbox, and the trusted reference program
+ * with --dump; the first buffer in pipeline order that differs (with its
+ * kind's tolerance) is named, with the stage's likely cause and owner.
+ * Sealed runs give the words only; others also the buffer's pictures
+ * (redrawn here from the exact files, never the sandbox's own pictures).
+ * Programs without --dump add nothing (ev->ran stays false). */
 static void buffer_evidence(const grader *g, item *it, sbuf *o, const cJSON *img, const char *dir,
-                            const char *reldir, const job *graded, const char *own) {
+                            const char *reldir, const job *graded, const char *own,
+                            bool ref_raster, evidence *ev) {
     const char *name = str_or(img, "name", "image");
     const char *program = str_or(img, "program", "");
+    memset(ev, 0, sizeof *ev);
     char ref_prog[4200], ref_dir[4300], log[4400];
     const char *rp = str_or(img, "reference_program", NULL);
     if (rp)
@@ -1656,7 +1773,7 @@ static void buffer_evidence(const grader *g, item *it, sbuf *o, const cJSON *img
     fmt(log, sizeof log, "%s/log.txt", ref_dir);
     run_result rr = reference_render(g, ref_prog, graded->args, ref_png, ref_dir, log);
     if (rr.kind != RUN_EXITED || rr.code != 0) return; /* no --dump here */
-    /* the student's run, as the graded one but with --dump */
+    /* the student's run, as the graded one but with --dump and --stats */
     job dj;
     memset(&dj, 0, sizeof dj);
     dj.args = graded->args;
@@ -1667,12 +1784,50 @@ static void buffer_evidence(const grader *g, item *it, sbuf *o, const cJSON *img
     fmt(dj.store[13], sizeof dj.store[13], "%s/dump", dj.rw);
     dj.argv[k++] = "--dump";
     dj.argv[k++] = dj.store[13];
+    dj.argv[k++] = "--stats";
     dj.argv[k] = NULL;
     run_jobs(&dj, 1, 1);
     if (dj.rr.kind != RUN_EXITED || dj.rr.code != 0) {
         sb_printf(o, "buffers: your program's --dump run %s, so its buffers cannot be compared\n",
                   dj.rr.kind == RUN_TIMEOUT ? "timed out" : "failed");
         return;
+    }
+    ev->ran = true;
+    /* why a blank frame is blank, from the counters of this run (used only
+     * when the picture is one flat colour) */
+    char *dlog = read_file(dj.out_path, 64 * 1024);
+    blank_reason(dlog, ev->why_blank, sizeof ev->why_blank);
+    free(dlog);
+    /* blank: the depth buffer holds no sample */
+    char dpfm[4400];
+    fmt(dpfm, sizeof dpfm, "%s/depth.pfm", dj.store[13]);
+    if (file_exists(dpfm)) {
+        ras_error derr = {{0}};
+        int dw = 0, dh = 0, dc = 0;
+        float *depth = ras_dump_read_pfm(dpfm, &dw, &dh, &dc, &derr);
+        if (depth) {
+            bool any = false;
+            for (long i = 0; i < (long)dw * dh * dc && !any; i++)
+                any = !(isinf(depth[i]) && depth[i] > 0);
+            free(depth);
+            if (!any) ev->blank = true;
+        }
+    }
+    /* hw1's frame: its vertices, step by step */
+    char rv[4400], gv[4400];
+    fmt(rv, sizeof rv, "%s/vertices.json", ref_dir);
+    fmt(gv, sizeof gv, "%s/vertices.json", dj.store[13]);
+    if (file_exists(rv) && file_exists(gv)) {
+        char line[600];
+        int r = ras_dump_compare_vertices(rv, gv, line, sizeof line);
+        if (r > 0) {
+            char *shown = student_text(line, 580);
+            sb_printf(o, "buffers: the first that differs is the vertex stage (hw1): %s\n", shown);
+            free(shown);
+            fmt(ev->stage, sizeof ev->stage, "vertices");
+            ev->owner = "hw1";
+            return;
+        }
     }
     for (int b = 0; ras_dump_buffer_names[b]; b++) {
         const char *buf = ras_dump_buffer_names[b];
@@ -1681,8 +1836,13 @@ static void buffer_evidence(const grader *g, item *it, sbuf *o, const cJSON *img
         fmt(gf, sizeof gf, "%s/%s.pfm", dj.store[13], buf);
         bool in_ref = file_exists(rf), in_got = file_exists(gf);
         if (!in_ref && !in_got) continue;
+        const char *stage = buf;
         if (in_ref != in_got) {
-            sb_printf(o, "buffers: the first that differs is %s: %s\n", buf,
+            fmt(ev->stage, sizeof ev->stage, "%s", stage);
+            ev->owner = stage_owner(stage, program, ref_raster);
+            ev->rasterizer = !ref_raster && strcmp(ev->owner, "hw3");
+            sb_printf(o, "buffers: the first that differs is %s (%s's stage): %s\n", buf,
+                      ev->owner,
                       in_ref ? "your program wrote none (its frame made no such buffer)"
                              : "the reference's frame makes no such buffer");
             return;
@@ -1696,10 +1856,21 @@ static void buffer_evidence(const grader *g, item *it, sbuf *o, const cJSON *img
             return;
         }
         if (d.pixels_differ == 0) continue;
+        /* at 1x there is no coverage file: depth drawn in one frame only is
+         * the coverage */
+        if (!strcmp(buf, "depth") && d.drawn_in_one * 2 > d.pixels_differ) stage = "coverage";
+        fmt(ev->stage, sizeof ev->stage, "%s", stage);
+        ev->owner = stage_owner(stage, program, ref_raster);
+        ev->rasterizer = !ref_raster && !strcmp(ev->owner, "hw2");
         char line[600];
         ras_dump_difference_text(buf, &d, line, sizeof line);
-        const char *hint = buffer_hint(buf, &d);
-        sb_printf(o, "buffers: the first that differs is %s%s%s\n", line,
+        const char *hint = ref_raster && !strcmp(ev->owner, "hw3") &&
+                                   (!strcmp(stage, "coverage") || !strcmp(stage, "depth") ||
+                                    !strcmp(stage, "overdraw"))
+                               ? "the rasterizer here is the reference's, so your hw3 code "
+                                 "hands it different triangles or depths"
+                               : buffer_hint(buf, &d);
+        sb_printf(o, "buffers: the first that differs is %s (%s's stage)%s%s\n", line, ev->owner,
                   *hint ? "; likely: " : "", hint);
         if (own) return; /* sealed: words only */
         /* the pictures, redrawn from the exact files */
@@ -1718,8 +1889,12 @@ static void buffer_evidence(const grader *g, item *it, sbuf *o, const cJSON *img
         }
         return;
     }
-    sb_add(o, "buffers: every buffer matches the reference's: the difference is in the "
-              "colours the shader computed\n");
+    fmt(ev->stage, sizeof ev->stage, "colour");
+    ev->owner = stage_owner("colour", program, ref_raster);
+    ev->rasterizer = !ref_raster && !strcmp(ev->owner, "hw2"); /* the resolve */
+    sb_printf(o, "buffers: every buffer matches the reference's: the difference is in the "
+                 "colours %s computed\n",
+              !strcmp(ev->owner, "hw3") ? "your shader" : "your rasterizer wrote");
 }
 
 /* Grades one image run (image_job). `sealed`: the program held reference
@@ -1733,7 +1908,6 @@ static bool grade_image(const grader *g, assignment_result *a, const cJSON *img,
     const char *name = str_or(img, "name", "image");
     const char *program = str_or(img, "program", "");
     const char *reference = str_or(img, "reference", "");
-    const char *metric = str_or(img, "metric", "edge");
     const char *hint = str_or(img, "hint", NULL);
     item *it = add_item(a);
     it->is_image = true;
@@ -1795,7 +1969,7 @@ reference_ready:;
     ras_error err = {{0}};
     ras_compare_kind kind;
     ras_compare_options opt;
-    if (!image_options(img, &kind, &opt, &err)) {
+    if (!image_options(g, img, &kind, &opt, &err)) {
         it->counted = false;
         it->status = xstrdup("SKIP");
         it->reason = xstrdup("bad metric in the rubric (not counted)");
@@ -1817,7 +1991,8 @@ reference_ready:;
     sb_printf(&o, "command: %s", program);
     for (const cJSON *v = args ? args->child : NULL; v; v = v->next)
         if (cJSON_IsString(v)) sb_printf(&o, " %s", v->valuestring);
-    sb_printf(&o, " -o %s.png   (metric %s)\n", name, metric);
+    sb_printf(&o, " -o %s.png   (comparison %s: metric %s)\n", name,
+              str_or(img, "comparison", "?"), ras_compare_kind_name(kind));
     unlink(got_path);
     run_result rr = file_exists(prog_path) ? j->rr : (run_result){RUN_NOT_STARTED, 0, 0};
     if (rr.kind == RUN_EXITED && rr.code > 128 && rr.code < 160) /* bwrap: 128 + signal */
@@ -1856,6 +2031,11 @@ reference_ready:;
     else if (*clean)
         sb_printf(&o, "program output:\n%s\n", clean);
     free(clean);
+    /* The verdict follows the evidence (DESIGN.md): the buffers say first
+     * where the frame goes wrong; what the picture alone shows may only
+     * refine that, and fails a picture within its metric's budget only where
+     * the buffers place the defect in the graded assignment's code. */
+    bool ref_raster = sealed && !strcmp(a->id, "hw3");
     if (got && (expected = ras_image_load(ref_path, &err)) != NULL) {
         ras_compare_result r;
         fmt(rel, sizeof rel, "%s/%s.got.png", reldir, name);
@@ -1865,16 +2045,87 @@ reference_ready:;
             sb_printf(&o, "%s\n", err.msg);
         } else {
             sb_printf(&o, "%s\n", r.summary);
-            /* a defect a person sees fails the image even within the budget */
-            if (image_defects(&o, expected, got) && r.pass) {
-                r.pass = false;
-                sb_add(&o, "(within the pixel budget, but the defect above is visible: not a "
-                           "match)\n");
+            bool flat = is_flat(got) && !is_flat(expected);
+            sbuf defects = {0}, bufs = {0};
+            bool defect = !flat && image_defects(&defects, expected, got, true);
+            evidence ev;
+            memset(&ev, 0, sizeof ev);
+            /* (not for a stub's placeholder picture, which says enough; at
+             * most EVIDENCE_MAX per grading: each costs two more renders) */
+            if ((!r.pass || defect) && rr.kind == RUN_EXITED && !todo &&
+                g->evidence_runs < EVIDENCE_MAX && !getenv("RAS_GRADE_NO_BUFFERS")) {
+                ((grader *)g)->evidence_runs++;
+                buffer_evidence(g, it, &bufs, img, dir, reldir, j, sealed ? j->extra_ro : NULL,
+                                ref_raster, &ev);
+            }
+            bool placed = ev.ran && *ev.stage && strcmp(ev.stage, "colour") &&
+                          (whole || (ev.owner && !strcmp(ev.owner, a->id))) &&
+                          /* the shader's own colours are judged by the metric alone */
+                          !(!strcmp(ev.stage, "sample_colour") && !strcmp(ev.owner, "hw3"));
+            if (r.pass && defect) {
+                if (placed) {
+                    r.pass = false;
+                    sb_printf(&o, "(within the metric's budget, but the %s buffer differs from "
+                                  "the reference's and the picture shows the defect below: "
+                                  "your %s code, not a match)\n",
+                              ev.stage, ev.owner);
+                } else {
+                    sb_printf(&o, "(the picture shows a defect, but %s: within the metric's "
+                                  "budget, not charged)\n",
+                              !ev.ran ? "no buffer evidence places it"
+                              : !strcmp(ev.stage, "colour")
+                                  ? "every buffer matches the reference's"
+                                  : "the buffers place it outside this assignment's code");
+                    free(defects.s);
+                    defects = (sbuf){0};
+                }
             }
             it->passed = r.pass;
             it->status = xstrdup(r.pass ? (todo ? "TODO" : "PASS") : (todo ? "TODO" : "FAIL"));
             if (!r.pass) {
-                image_signatures(&o, expected, got, &opt, j->args);
+                /* 1. nothing drawn; 2. the first buffer that differs; 3. what
+                 * the picture shows, where the buffers allow that cause */
+                if (flat)
+                    sb_printf(&o, "likely mistake: nothing was drawn: your image is one flat "
+                                  "colour%s%s\n",
+                              *ev.why_blank ? ": "
+                              : ev.blank    ? ": no sample was covered (your depth buffer is "
+                                              "empty)"
+                                            : " (are the TODOs written? do the matrices put the "
+                                              "scene in front of the camera?)",
+                              ev.why_blank);
+                else if (ev.ran && *ev.stage && strcmp(ev.stage, "colour")) {
+                    const char *line = strstr(sb_str(&bufs), "buffers: the first that differs is ");
+                    if (line) {
+                        line += strlen("buffers: the first that differs is ");
+                        size_t n = strcspn(line, "\n");
+                        sb_add(&o, "likely mistake: ");
+                        const char *lk = strstr(line, "; likely: ");
+                        if (lk && (size_t)(lk - line) < n) {
+                            sb_addn(&o, lk + 10, n - (size_t)(lk + 10 - line));
+                            sb_printf(&o, " (the first buffer that differs: %s, %s's stage)\n",
+                                      ev.stage, ev.owner);
+                        } else {
+                            sb_addn(&o, line, n);
+                            sb_add(&o, "\n");
+                        }
+                    }
+                }
+                sb_add(&o, sb_str(&bufs));
+                /* rasterizer and resolve causes only where those stages are
+                 * the student's and the buffers do not acquit them */
+                bool raster_causes = !ref_raster && (!ev.ran || ev.rasterizer);
+                if (!flat && raster_causes)
+                    sb_add(&o, sb_str(&defects));
+                else if (!flat && defects.len) {
+                    /* the pattern only: the buffers acquit the rasterizer */
+                    sbuf plain = {0};
+                    image_defects(&plain, expected, got, false);
+                    sb_add(&o, sb_str(&plain));
+                    free(plain.s);
+                }
+                if (!flat)
+                    image_signatures(&o, expected, got, &opt, j->args, &ev, raster_causes);
                 if (kind == RAS_COMPARE_EXACT || kind == RAS_COMPARE_EDGE_TOLERANT) {
                     char mask[2048];
                     if (ras_compare_ascii_mask(expected, got, (vec3s){{0, 0, 0}}, r.worst_col,
@@ -1884,6 +2135,8 @@ reference_ready:;
                 }
                 if (hint) sb_printf(&o, "what this image checks: %s\n", hint);
             }
+            free(defects.s);
+            free(bufs.s);
             ras_image *heat = sealed ? NULL : ras_compare_heatmap(expected, got, kind, &err);
             char p[4096];
             fmt(p, sizeof p, "%s/%s.diff.png", dir, name);
@@ -1906,14 +2159,6 @@ reference_ready:;
     } else if (got) {
         it->status = xstrdup("ERROR");
         sb_printf(&o, "could not read the reference: %s\n", err.msg);
-    }
-    /* a wrong picture the program did draw: which buffer goes wrong first
-     * (not for a stub's placeholder picture, nor for a blank one, which say
-     * enough; at most 8 per grading: each costs two more renders) */
-    if (!it->passed && got && rr.kind == RUN_EXITED && !todo && !is_flat(got) &&
-        g->evidence_runs < 8 && !getenv("RAS_GRADE_NO_BUFFERS")) {
-        ((grader *)g)->evidence_runs++;
-        buffer_evidence(g, it, &o, img, dir, reldir, j, sealed ? j->extra_ro : NULL);
     }
     if (it->passed && todo)
         sb_add(&o, "(matches, but the program printed a TODO notice, so no points: a stub it "
@@ -1948,18 +2193,18 @@ reference_ready:;
 
 /* Whether a sealed run (image_job) wrote an image that passes the rubric's
  * comparison with ref_path. */
-static bool run_matches(const job *j, const cJSON *img, const char *ref_path) {
+static bool run_matches(const grader *g, const job *j, const cJSON *img, const char *ref_path) {
     ras_error err = {{0}};
     ras_compare_kind kind;
     ras_compare_options opt;
-    if (j->rr.kind != RUN_EXITED || j->rr.code != 0 || !image_options(img, &kind, &opt, &err))
+    if (j->rr.kind != RUN_EXITED || j->rr.code != 0 || !image_options(g, img, &kind, &opt, &err))
         return false;
     ras_image *got = load_student_image(j->store[15], ref_path, &err);
     ras_image *expected = got ? ras_image_load(ref_path, &err) : NULL;
     ras_compare_result r = {0};
     bool pass = expected && ras_compare_images(expected, got, &opt, &r, &err) && r.pass;
     sbuf ignored = {0};
-    if (pass && image_defects(&ignored, expected, got)) pass = false;
+    if (pass && image_defects(&ignored, expected, got, false)) pass = false;
     free(ignored.s);
     ras_image_destroy(got);
     ras_image_destroy(expected);
@@ -2029,7 +2274,7 @@ static void attribute_image(grader *g, item *it, const cJSON *img, const char *d
         /* matches[k]: the image matches with only hw(k+1)'s reference */
         bool matches[2] = {false, false};
         for (int k = 0, i = 0; k < 2; k++)
-            if (ran[k]) matches[k] = run_matches(&subs[i++], img, ref_path);
+            if (ran[k]) matches[k] = run_matches(g, &subs[i++], img, ref_path);
         if (ran[0] && ran[1]) {
             const char *culprit = matches[1] && !matches[0]   ? "hw2"
                                   : matches[0] && !matches[1] ? "hw1"
@@ -2064,6 +2309,74 @@ static void attribute_image(grader *g, item *it, const cJSON *img, const char *d
 }
 
 /* ------------------------------------------------------------- outputs */
+
+/* The rubric's "where" for an item of assignment `asg`: the first
+ * [prefix, text] pair whose prefix starts `name`; NULL when none does. */
+static const char *where_of(const cJSON *asg, const char *name) {
+    const cJSON *list = cJSON_GetObjectItemCaseSensitive(asg, "where"), *pair;
+    cJSON_ArrayForEach(pair, list) {
+        const cJSON *prefix = cJSON_GetArrayItem(pair, 0), *text = cJSON_GetArrayItem(pair, 1);
+        if (cJSON_IsString(prefix) && cJSON_IsString(text) &&
+            !strncmp(name, prefix->valuestring, strlen(prefix->valuestring)))
+            return text->valuestring;
+    }
+    return NULL;
+}
+
+/* Each failing item's message opens with where to look (the rubric's file,
+ * function and TODO numbers). `from`: the first item of a to mark. */
+static void mark_where(assignment_result *a, int from, const cJSON *asg, bool integration) {
+    for (int k = from; k < a->n_items; k++) {
+        item *it = &a->items[k];
+        /* an integration item is "hwN image NAME, your whole chain" */
+        const char *name = it->name;
+        if (integration && strstr(name, " image ")) name = strstr(name, " image ") + 1;
+        char bare[300];
+        fmt(bare, sizeof bare, "%.*s", (int)strcspn(name, ","), name);
+        it->where = where_of(asg, bare);
+        if (!it->where || !it->counted || it->score >= it->max_score) continue;
+        sbuf o = {0};
+        sb_printf(&o, "where: %s\n%s", it->where, it->output ? it->output : "");
+        free(it->output);
+        it->output = o.s;
+    }
+}
+
+/* The one-line fix hint of an item: its message's "likely mistake" (either
+ * case, as tests and pictures write it), else its reason; at most
+ * FIX_CHARS characters, into buf. */
+enum { FIX_CHARS = 300 };
+static void fix_line(const item *it, char *buf, size_t size) {
+    const char *out = it->output ? it->output : "", *p = NULL;
+    /* never from a line the student's code printed (student_text marks
+     * each with "│ "): a student cannot write their own fix line */
+    const char *line = out;
+    for (const char *q = out; *q && !p; q++) {
+        if (q > out && q[-1] == '\n') line = q;
+        if (!strncasecmp(q, "likely mistake: ", 16) && strncmp(line, "\xe2\x94\x82 ", 4)) p = q + 16;
+    }
+    if (!p) p = it->reason && *it->reason ? it->reason : "see its message below";
+    size_t n = utf8_prefix(p, strcspn(p, "\n"), FIX_CHARS);
+    fmt(buf, size, "%.*s%s", (int)n, p, p[n] && p[n] != '\n' ? " …" : "");
+}
+
+/* The item a student should start with: the earliest failing item of the
+ * earliest assignment that lost points (the report's and the table's
+ * opening lines). NULL when nothing lost points. */
+static const item *start_here(const assignment_result *as, int n, const char **id) {
+    /* an item that failed outright first; one that passed but printed a
+     * TODO notice says less */
+    for (int i = 0; i < n; i++)
+        for (int pass = 0; pass < 2; pass++)
+            for (int k = 0; k < as[i].n_items; k++) {
+                const item *it = &as[i].items[k];
+                if (it->counted && it->score < it->max_score && (pass || !it->passed)) {
+                    *id = as[i].id;
+                    return it;
+                }
+            }
+    return NULL;
+}
 
 static void mark_build_failed(const grader *g, assignment_result *a, const cJSON *asg,
                               const char *log_path) {
@@ -2240,6 +2553,17 @@ static bool write_outputs(const grader *g, assignment_result *as, int n, double 
     }
     fprintf(f, "**Total: %g / %g**", total, max_total);
     if (strcmp(g->variant, "ref") == 0) fprintf(f, " (reference solutions graded as the student)");
+    const char *first_id = NULL;
+    const item *first = start_here(as, n, &first_id);
+    if (first) {
+        /* where to start: what the student should fix first, before details */
+        fprintf(f, "\n\n**Start here:** %s `%s` (%s)  \n", first_id, first->name, first->status);
+        if (first->where) fprintf(f, "**Where:** %s  \n", first->where);
+        char fix[1400];
+        fix_line(first, fix, sizeof fix);
+        fprintf(f, "**Fix:** ");
+        report_cell(f, fix); /* the message may quote what the student's code returned */
+    }
     fprintf(f, "\n\n| assignment | points |\n|---|---|\n");
     for (int i = 0; i < n; i++) {
         if (as[i].graded)
@@ -2266,18 +2590,36 @@ static bool write_outputs(const grader *g, assignment_result *as, int n, double 
             report_cell(f, it->reason ? it->reason : "");
             fprintf(f, " |\n");
         }
+        bool any_fail = false;
+        for (int k = 0; k < a->n_items; k++)
+            any_fail |= !a->items[k].is_image && a->items[k].score < a->items[k].max_score &&
+                        a->items[k].counted;
+        if (any_fail) {
+            fprintf(f, "\n### What the failing tests said\n");
+            for (int k = 0; k < a->n_items; k++) {
+                item *it = &a->items[k];
+                if (it->is_image || !it->counted || it->score >= it->max_score) continue;
+                fprintf(f, "\n**`%s`** (%s)\n", it->name, it->status);
+                report_fenced(f, it->output ? it->output : "");
+            }
+        }
         for (int k = 0; k < a->n_items; k++) {
             item *it = &a->items[k];
-            if (it->is_image && (it->img_expected || it->img_diff || it->img_got)) {
+            /* only the pictures that lost points or did not match: a
+             * passing picture is a line of the table; a variant's reference
+             * is drawn for this grading and never shown */
+            if (it->is_image && (it->img_expected || it->img_diff || it->img_got) &&
+                (!it->passed || it->score < it->max_score)) {
                 fprintf(f, "\n### %s — %s (%g / %g)\n\n", it->name, it->status, it->score,
                         it->max_score);
-                fprintf(f, "| reference | yours | difference |\n|---|---|---|\n");
-                fprintf(f, "| %s%s%s | %s%s%s | %s%s%s |\n",
-                        it->img_expected ? "![reference](" : "(drawn for this grading: not shown)",
-                        it->img_expected ? it->img_expected : "", it->img_expected ? ")" : "",
-                        it->img_got ? "![yours](" : "(no image)", it->img_got ? it->img_got : "",
-                        it->img_got ? ")" : "", it->img_diff ? "![difference](" : "",
-                        it->img_diff ? it->img_diff : "", it->img_diff ? ")" : "");
+                if (it->img_got) { /* sealed runs show no picture: words only */
+                    fprintf(f, "| reference | yours | difference |\n|---|---|---|\n");
+                    fprintf(f, "| %s%s%s | ![yours](%s) | %s%s%s |\n",
+                            it->img_expected ? "![reference](" : "(drawn for this grading: not shown)",
+                            it->img_expected ? it->img_expected : "", it->img_expected ? ")" : "",
+                            it->img_got, it->img_diff ? "![difference](" : "",
+                            it->img_diff ? it->img_diff : "", it->img_diff ? ")" : "");
+                }
                 if (it->img_crop)
                     fprintf(f,
                             "\nWorst region (reference | yours | difference):\n\n"
@@ -2295,19 +2637,6 @@ static bool write_outputs(const grader *g, assignment_result *as, int n, double 
                 report_fenced(f, it->output ? it->output : "");
             }
         }
-        bool any_fail = false;
-        for (int k = 0; k < a->n_items; k++)
-            any_fail |= !a->items[k].is_image && a->items[k].score < a->items[k].max_score &&
-                        a->items[k].counted;
-        if (any_fail) {
-            fprintf(f, "\n### What the failing tests said\n");
-            for (int k = 0; k < a->n_items; k++) {
-                item *it = &a->items[k];
-                if (it->is_image || !it->counted || it->score >= it->max_score) continue;
-                fprintf(f, "\n**`%s`** (%s)\n", it->name, it->status);
-                report_fenced(f, it->output ? it->output : "");
-            }
-        }
     }
     ok &= report_end(&rep, path);
     return ok;
@@ -2316,6 +2645,15 @@ static bool write_outputs(const grader *g, assignment_result *as, int n, double 
 static void print_table(const grader *g, assignment_result *as, int n, double total,
                         double max_total) {
     bool defaults = false;
+    const char *first_id = NULL;
+    const item *first = start_here(as, n, &first_id);
+    if (first) {
+        printf("START HERE: %s %s (%s)\n", first_id, first->name, first->status);
+        if (first->where) printf("  where: %s\n", first->where);
+        char fix[1400];
+        fix_line(first, fix, sizeof fix);
+        printf("  fix:   %s\n\n", fix);
+    }
     for (int i = 0; i < n; i++) {
         assignment_result *a = &as[i];
         if (!a->graded) {
@@ -2653,6 +2991,7 @@ int main(int argc, char **argv) {
             wanted |= !strcmp(g.only[i], id);
         if (!wanted) continue;
         assignment_result *a = &as[k++];
+        int integration_from = integration.n_items;
         a->id = xstrdup(id);
         a->title = xstrdup(str_or(asg, "title", ""));
         double t0 = now_s();
@@ -2733,6 +3072,8 @@ int main(int argc, char **argv) {
                 a->score += a->items[i].score;
                 a->max_score += a->items[i].max_score;
             }
+        mark_where(a, 0, asg, false);
+        mark_where(&integration, integration_from, asg, true);
         a->seconds = now_s() - t0;
         total += a->score;
         max_total += a->max_score;

@@ -232,8 +232,21 @@ static void test_dump_coverage_per_sample(void **state) {
     int written = 0;
     ras_error err = {{0}};
     CHECK(ras_pipeline_dump(p, dir, &written, &err), "dump: %s", err.msg);
-    assert_int_equal(written, 3);
+    /* depth, coverage, overdraw and the per-sample colour */
+    assert_int_equal(written, 4);
     int w, h, ch;
+    /* sample_colour holds exactly the framebuffer's colour of every sample
+     * (what the resolve averages: an MSAA colour mistake shows there) */
+    float *col = read_back(dir, "sample_colour", &w, &h, &ch);
+    CHECK(w == W * 4 && h == H && ch == 3, "sample_colour.pfm is %dx%d (%d channels), expected "
+                                           "%dx%d with 3",
+          w, h, ch, W * 4, H);
+    for (int i = 0; i < W * H * 4; i++)
+        for (int k = 0; k < 3; k++)
+            CHECK(col[3 * i + k] == p->fb->color[i].raw[k],
+                  "sample_colour entry %d channel %d is %g, the framebuffer holds %g", i, k,
+                  (double)col[3 * i + k], (double)p->fb->color[i].raw[k]);
+    free(col);
     float *cov = read_back(dir, "coverage", &w, &h, &ch);
     CHECK(w == W * 4 && h == H && ch == 1, "coverage.pfm is %dx%d (%d channels), expected %dx%d", w,
           h, ch, W * 4, H);

@@ -107,14 +107,31 @@ static void test_projection_matches_hand_worked_matrix(void **state) {
     if (ras_mat4_near(got, glms_mat4_identity(), 0))
         hint = "still the identity: get_projection_matrix is not written yet";
     else if (fabsf(ras_mat4_at(positive_w(got), 0, 0) + 1) < 1e-4f)
-        hint = "x and y are flipped (the upside-down triangle): n and f must be the "
-               "NEGATIVE z of the planes, n = -z_near, f = -z_far";
+        hint = "x and y are flipped: n = +z_near instead of -z_near. n and f must be the "
+               "NEGATIVE z of the planes, n = -z_near, f = -z_far (here every visible point "
+               "then gets w < 0 and is clipped away: an empty picture; the course framework, "
+               "which does not clip, shows the triangle upside down)";
     else if (ras_mat4_near(positive_w(got), flipped_n, 1e-4f))
         hint = "n and f have the wrong sign";
     else if (fabsf(ras_mat4_at(got, 0, 0)) < 1e-3f && fabsf(ras_mat4_at(got, 1, 1)) < 1e-3f &&
              fabsf(fabsf(ras_mat4_at(got, 3, 2)) - 1) < 1e-4f)
         hint = "x and y are squashed to 0 at fov 90: the whole field of view was used, and "
                "tan(90 deg) is infinite; the top of the near plane is t = |n| tan(fov / 2)";
+    /* the z row alone: x, y and w right, z's sign or scale wrong */
+    mat4s z_negated = expected, pg = positive_w(got);
+    bool others_right = true;
+    for (int c = 0; c < 4; c++) {
+        z_negated.raw[c][2] = -z_negated.raw[c][2];
+        for (int r = 0; r < 4; r++)
+            if (r != 2 && fabsf(pg.raw[c][r] - expected.raw[c][r]) > 1e-4f) others_right = false;
+    }
+    if (!ras_mat4_near(pg, expected, 1e-4f) && others_right && !strstr(hint, "identity"))
+        hint = ras_mat4_near(pg, z_negated, 1e-4f)
+                   ? "only the z row's sign is wrong (x, y and w are right): near maps to -1 "
+                     "and far to +1, so the depth order flips; the z row is ((n+f)/(n-f), "
+                     "-2nf/(n-f)) up to the overall sign, with n = -z_near, f = -z_far"
+                   : "only the z row is wrong (x, y and w are right): the ortho z scale "
+                     "2/(n-f) and centre -(n+f)/2, times the squish's (n+f, -nf) row";
     expect_matrix(positive_w(got), expected, 1e-4f,
                   "get_projection_matrix(90, 1, 1, 3), compared up to overall sign", hint);
 }
@@ -127,8 +144,9 @@ static void test_projection_classic_maps_frustum_to_cube(void **state) {
     float t = 0.1f * tanf(ras_deg_to_rad(22.5f));
     vec3s corner = project(m, (vec3s){{t, t, -0.1f}});
     if (fabsf(corner.x + 1) < 1e-3f && fabsf(corner.y + 1) < 1e-3f)
-        fail_msg("the near plane's top-right corner landed at (%.3f, %.3f): the picture is "
-                 "upside down; likely mistake: n = +z_near instead of -z_near",
+        fail_msg("the near plane's top-right corner landed at (%.3f, %.3f): x and y flipped "
+                 "(w < 0: the picture is empty here, clipped away; upside down in the course "
+                 "framework); likely mistake: n = +z_near instead of -z_near",
                  corner.x, corner.y);
     assert_true(fabsf(corner.x - 1) < 1e-3f && fabsf(corner.y - 1) < 1e-3f);
     if (fabsf(corner.z - 1) > 1e-3f)

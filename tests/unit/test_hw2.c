@@ -483,11 +483,12 @@ static void test_bary_precision_at_600px(void **state) {
      * right, and both are far closer than the cancellation's error. */
     double snapped[6], dworst = 0;
     for (int k = 0; k < 6; k++) snapped[k] = round((double)c[k] * 256) / 256;
-    int seen = 0;
+    int seen = 0, negative = 0;
     for (int py = 580; py < 600; py++)
         for (int px = 605; px < 625; px++) {
             float d = fb->depth[ras_fb_sample_index(fb, px, py, 0)];
             if (isinf(d)) continue;
+            negative += d < 0; /* every depth here is in [0.3, 0.9] */
             double x = px + 0.5, y = py + 0.5, err = INFINITY;
             for (int v = 0; v < 2; v++) {
                 double q[6];
@@ -504,11 +505,15 @@ static void test_bary_precision_at_600px(void **state) {
         }
     CHECK(seen > 0 && dworst <= 2e-5,
           "rasterize_triangle, a small triangle near screen (615, 590) with depths 0.3, 0.9, "
-          "0.5: %s (at most 2e-5 expected). Likely mistake: depth interpolated with barycentrics "
-          "from the expanded formula x*(y1-y2) + (x2-x1)*y + x1*y2 - x2*y1, which cancels at "
-          "hundreds of pixels; subtract a vertex first (docs/hw2.md).",
+          "0.5: %s (at most 2e-5 expected). Likely mistake: %s",
           seen ? "the stored depth is off by more than 2e-5 against double"
-               : "nothing drawn, so the depth could not be checked");
+               : "nothing drawn, so the depth could not be checked",
+          seen && negative == seen
+              ? "the depth stored NEGATED (-z): the course framework's negated depth test, "
+                "kept; store and compare z as it is (smaller is closer)."
+              : "depth interpolated with barycentrics from the expanded formula x*(y1-y2) + "
+                "(x2-x1)*y + x1*y2 - x2*y1, which cancels at hundreds of pixels; subtract a "
+                "vertex first (docs/hw2.md).");
     ras_framebuffer_destroy(fb);
 }
 
@@ -649,9 +654,11 @@ static void test_bary_at_pixel_centre(void **state) {
               f->x, f->y, z, f->depth);
         float d = fb->depth[ras_fb_sample_index(fb, f->x, f->y, 0)];
         CHECK(fabsf(d - z) < 1e-4f,
-              "depth buffer at pixel (%d, %d): expected %.5f, got %.5f. Likely mistake: the "
-              "depth stored is not the interpolated one (or stored at another index).",
-              f->x, f->y, z, d);
+              "depth buffer at pixel (%d, %d): expected %.5f, got %.5f. Likely mistake: %s",
+              f->x, f->y, z, d,
+              fabsf(d + z) < 1e-4f && z != 0
+                  ? "the depth stored NEGATED (-z): the course framework's negated depth test, kept; here the viewport already negated z (smaller is closer, the buffer starts at +INF): store and compare z as it is."
+                  : "the depth stored is not the interpolated one (or stored at another index).");
     }
     ras_framebuffer_destroy(fb);
 }
@@ -691,11 +698,13 @@ static void test_raster_depth_with_different_w(void **state) {
               "4: expected %.5f (the screen depth v[i].z is z/w already, affine in screen space: "
               "α·z0 + β·z1 + γ·z2 with the screen barycentrics), got %.5f. Likely mistake: %s",
               f->x, f->y, want, d,
-              fabs(d - snippet) < 1e-4
+              fabs(d + want) < 1e-4
+                  ? "the depth stored NEGATED (-z): the course framework's negated depth test, kept; here the viewport already negated z (smaller is closer, the buffer starts at +INF): store and compare z as it is."
+              : fabs(d - snippet) < 1e-4
                   ? "the course framework's `z_interpolated *= w_reciprocal` snippet, which "
                     "divides by an interpolated 1/w: there every w was 1 and it did nothing; "
                     "here v[i].w is the real clip w: interpolate v[i].z and nothing else "
-                    "(docs/hw2.md, \"Course habits that break here\")."
+                    "(docs/hw2.md, \"Coming from the GAMES101 framework\")."
                   : "the depth divided or multiplied by w (v[i].z is already divided), or "
                     "interpolated with other weights than the screen barycentrics.");
     }
@@ -823,7 +832,9 @@ static void test_index_rasterizer_writes_flipped(void **state) {
           !isinf(g.fb.depth[0]) ? "no y-flip (y*w + x): use ras_fb_sample_index."
                                 : "the pixel centre not tested, or nothing drawn yet.");
     ras_framebuffer_clear(&g.fb, BLACK);
-    ras_triangle tr = tri_z(tri3(5.1f, 3.1f, 5.9f, 3.1f, 5.9f, 3.9f), 0.5f, RED);
+    /* the first triangle moved by (5, 3): the centre lies inside, not on an
+     * edge, so a strict inside test is as right here as the top-left rule */
+    ras_triangle tr = tri_z(tri3(5.25f, 3.25f, 5.9f, 3.25f, 5.25f, 3.9f), 0.5f, RED);
     rasterize_triangle(&tr, &ctx);
     CHECK(!isinf(g.fb.depth[5]) && covered_pixels(&g.fb) == 1,
           "a tiny triangle around the centre of screen pixel (5, 3) (top-right of a 6x4 "
@@ -831,6 +842,34 @@ static void test_index_rasterizer_writes_flipped(void **state) {
           "mistake: the y-flip, or x and y swapped.",
           covered_pixels(&g.fb));
     CHECK(guarded_intact(&g), "rasterize_triangle wrote outside the frame's buffers.");
+    guarded_free(&g);
+    /* 4 samples a pixel: a triangle over all of pixel (5, 3) and nothing of
+     * its neighbours writes exactly that pixel's four entries,
+     * ras_fb_sample_index(fb, 5, 3, s) = (0*6 + 5)*4 + s */
+    guarded_init(&g, 6, 4, 4);
+    ras_raster_ctx msaa = make_ctx(&g.fb, RAS_AA_MSAA, pattern(RAS_PATTERN_STANDARD, 4));
+    ras_triangle corner = tri_z(tri3(5.01f, 3.01f, 20, 3.01f, 5.01f, 20), 0.5f, RED);
+    rasterize_triangle(&corner, &msaa);
+    int at_pixel = 0;
+    for (int k = 0; k < 4; k++)
+        at_pixel += !isinf(g.fb.depth[ras_fb_sample_index(&g.fb, 5, 3, k)]);
+    int written = covered_pixels(&g.fb);
+    CHECK(at_pixel == 4 && written == 4,
+          "4x MSAA, a triangle over all of the top-right pixel (5, 3) of a 6x4 frame: expected "
+          "its 4 sample entries written (indices 20..23), got %d of them and %d entries in all. "
+          "Likely mistake: %s",
+          at_pixel, written,
+          written == 4 ? "a wrong stride: sample s of pixel (x, y) is at ((h-1-y)*w + x)*samples "
+                         "+ s; use ras_fb_sample_index(fb, x, y, s)"
+          : written == 0 ? "nothing drawn with 4 samples"
+          : at_pixel == 4 ? "entries of other pixels written by a triangle that reaches past the "
+                            "frame's corner: the bounding box not clamped to the screen (TODO 1)"
+                         : "samples of the neighbouring pixels written, or some of this one's "
+                           "missed: the sample positions are (x + offset.x, y + offset.y)");
+    CHECK(guarded_intact(&g), "rasterize_triangle (4 samples, a triangle reaching past the "
+                              "frame's top-right corner) wrote outside the frame's buffers. "
+                              "Likely mistake: the bounding box not clamped to the screen, or a "
+                              "wrong stride (use ras_fb_sample_index(fb, x, y, s)).");
     guarded_free(&g);
 }
 
@@ -974,22 +1013,49 @@ static void test_raster_depth_test_order(void **state) {
     ras_raster_ctx ctx = ctx_none(fb);
     ras_triangle near_t = tri_z(tri3(0, 0, 8, 0, 0, 8), 0.2f, RED);
     ras_triangle far_t = tri_z(tri3(0, 0, 8, 0, 0, 8), 0.7f, BLUE);
+    /* Both orders first: which one wins in each names the mistake (the last
+     * drawn always: no test; the farther always: reversed; nothing: a test
+     * that never passes, read from the counters). */
+    vec3s c[2];
+    float d[2];
+    ras_counters k[2];
     for (int order = 0; order < 2; order++) {
         ras_framebuffer_clear(fb, BLACK);
+        memset(&k[order], 0, sizeof k[order]);
+        ctx.counters = &k[order];
         rasterize_triangle(order ? &far_t : &near_t, &ctx);
         rasterize_triangle(order ? &near_t : &far_t, &ctx);
-        vec3s c = fb->color[ras_fb_sample_index(fb, 2, 2, 0)];
-        float d = fb->depth[ras_fb_sample_index(fb, 2, 2, 0)];
-        CHECK(near3(c, RED, 1e-6f) && fabsf(d - 0.2f) < 1e-6f,
+        c[order] = fb->color[ras_fb_sample_index(fb, 2, 2, 0)];
+        d[order] = fb->depth[ras_fb_sample_index(fb, 2, 2, 0)];
+    }
+    ctx.counters = NULL;
+    bool blue[2] = {near3(c[0], BLUE, 1e-6f), near3(c[1], BLUE, 1e-6f)};
+    bool red[2] = {near3(c[0], RED, 1e-6f), near3(c[1], RED, 1e-6f)};
+    for (int order = 0; order < 2; order++) {
+        const char *why =
+            blue[0] && blue[1]
+                ? "the depth test reversed: the FARTHER sample wins in both orders (smaller is "
+                  "closer: draw when z < depth[i]; the course framework's negated z, "
+                  "-z < depth or z > depth, is for its own z sign: undo it here)"
+            : blue[0] && red[1] ? "no depth test: the LAST triangle drawn wins in both orders"
+            : red[0] && blue[1] ? "the FIRST triangle drawn wins in both orders: the depth "
+                                  "buffer is written but the test never lets a later, nearer "
+                                  "sample through (compared with the wrong buffer entry?)"
+            : isinf(d[order]) && k[order].samples_covered > 0 && k[order].depth_tests_passed == 0
+                ? "nothing drawn: your counters say the samples were covered but no depth test "
+                  "passed (the buffer is cleared to +INF: z < depth[i] passes the first time)"
+            : isinf(d[order]) && inside_triangle(2.5f, 2.5f, &near_t)
+                ? "nothing drawn, although inside_triangle accepts the pixel centre (2.5, 2.5): "
+                  "the depth test never passes, or the colour and depth are not written"
+            : isinf(d[order]) ? "nothing drawn at all: the pixel centre is not covered "
+                                "(inside_triangle, TODO 3)"
+                              : "the depth buffer not updated after a pass.";
+        CHECK(red[order] && fabsf(d[order] - 0.2f) < 1e-6f,
               "two triangles at depth 0.2 (red) and 0.7 (blue), %s drawn first: expected red "
               "with depth 0.2 at pixel (2, 2), got (%g, %g, %g) with depth %g. Likely mistake: "
               "%s",
-              order ? "the far one" : "the near one", c.x, c.y, c.z, d,
-              near3(c, BLUE, 1e-6f) ? (order ? "the depth test reversed (smaller is closer: draw "
-                                               "when z < depth[i])"
-                                             : "no depth test (the last one wins)")
-              : isinf(d)            ? "nothing drawn at all."
-                                    : "the depth buffer not updated after a pass.");
+              order ? "the far one" : "the near one", c[order].x, c[order].y, c[order].z,
+              d[order], why);
     }
     /* A sloped triangle: depth follows the plane. */
     ras_framebuffer_clear(fb, BLACK);
@@ -1080,6 +1146,9 @@ static void test_resolve_box_filter_float(void **state) {
                       ? "integer division (cnt / 4 is 0 for a partial pixel): divide in float."
                   : (S == 16 && fabsf(got.x - lit / 4.0f) < 1e-5f)
                       ? "the sample count hard-coded as 4: use fb->samples."
+                  : (lit > 0 && lit < S && near3(got, (vec3s){{1, 0.5f, 0.25f}}, 1e-5f))
+                      ? "the average taken over the covered (or coloured) samples only: every "
+                        "sample weighs 1/fb->samples, the black ones too."
                       : "not the box-filter average of the pixel's own samples (check the index "
                         "ras_fb_sample_index(fb, x, y, s)).");
         }
@@ -1110,6 +1179,17 @@ static void test_resolve_half_covered_pixel(void **state) {
                  {RAS_AA_MSAA, RAS_PATTERN_STANDARD},
                  {RAS_AA_SSAA, RAS_PATTERN_ORDERED},
                  {RAS_AA_SSAA, RAS_PATTERN_STANDARD}};
+    /* resolve_pixel alone, on two of four samples written by hand: whether
+     * it averages over all the samples or over the covered ones only */
+    ras_framebuffer *hand = make_fb(3, 3, 4);
+    ras_framebuffer_clear(hand, BLACK);
+    for (int s = 0; s < 2; s++) {
+        hand->color[ras_fb_sample_index(hand, 1, 1, s)] = (vec3s){{0.8f, 0.6f, 0.4f}};
+        hand->depth[ras_fb_sample_index(hand, 1, 1, s)] = 0.5f;
+    }
+    vec3s hand_resolved = resolve_pixel(hand, 1, 1);
+    ras_framebuffer_destroy(hand);
+    bool covered_only = fabsf(hand_resolved.x - 0.8f) < 1e-4f;
     for (size_t m = 0; m < sizeof modes / sizeof modes[0]; m++) {
         vec3s got = render_pixel(&half, 1, modes[m].aa, pattern(modes[m].kind, 4));
         vec3s want = {{0.4f, 0.3f, 0.2f}};
@@ -1120,9 +1200,17 @@ static void test_resolve_half_covered_pixel(void **state) {
               got.z,
               got.x == 0
                   ? "nothing resolved: integer division in the resolve, or samples not written."
+              : got.x > 0.79f && covered_only
+                  ? "the resolve averages over the COVERED samples only (resolve_pixel gives "
+                    "0.8 for two of four samples written): divide the sum of all fb->samples "
+                    "by fb->samples."
               : got.x > 0.79f ? "coverage tested at the pixel centre only (one sample), or the "
                                 "colour written to all samples of a partly covered pixel."
-                              : "samples not placed at (x + offset.x, y + offset.y).");
+              : fabsf(got.x - 0.2f) < 1e-4f
+                  ? "coverage applied twice (coverage²: 0.8 × ½ × ½): the samples already hold "
+                    "the colour only where covered and the resolve's average is the coverage; "
+                    "do not also scale the colour by the covered fraction."
+                  : "samples not placed at (x + offset.x, y + offset.y).");
     }
 }
 

@@ -1,0 +1,52 @@
+#!/usr/bin/env bash
+# stale_program_test.sh — ctest stale_program (issue 25, item 8): the
+# student's programs are current, or say they are not.
+#   1. a student program older than one of its sources says, first, that it
+#      runs older code (a copy dated 2000-01-01 of each program); a fresh one
+#      (dated now) and the reference program say nothing of it;
+#   2. make grade (main and student-edition Makefiles) builds the student
+#      programs in build/bin before grading (make -n).
+#   tests/e2e/stale_program_test.sh BIN_DIR SOURCE_DIR WORK_DIR
+set -uo pipefail
+bin=$1 src=$2 work=$3
+rm -rf "$work" && mkdir -p "$work"
+fail=0
+for prog in hw1_transform hw2_rasterize hw3_shading; do
+  [[ -x $bin/$prog ]] || { echo "FAIL $prog: not built in $bin"; fail=1; continue; }
+  cp "$bin/$prog" "$work/$prog"
+  [[ -e $bin/libraster101_cv.so ]] && cp "$bin/libraster101_cv.so" "$work/" 2>/dev/null
+  touch -d 2000-01-01 "$work/$prog"
+  old=$("$work/$prog" -o "$work/old.png" 2>&1 >/dev/null)
+  touch "$work/$prog"
+  new=$("$work/$prog" -o "$work/new.png" 2>&1 >/dev/null)
+  if ! grep -q "was built before your last edit of $src/" <<<"$old"; then
+    echo "FAIL $prog dated 2000: expected the note 'built before your last edit of ...', got:"
+    sed 's/^/       /' <<<"$old"
+    fail=1
+  elif grep -q "built before your last edit" <<<"$new"; then
+    echo "FAIL $prog dated now: expected no note, got: $new"
+    fail=1
+  else
+    echo "ok   $prog: $(grep -o 'note: this program was built before your last edit of [^,]*' <<<"$old")"
+  fi
+  if [[ -x $bin/${prog}_ref ]]; then
+    cp "$bin/${prog}_ref" "$work/${prog}_ref" && touch -d 2000-01-01 "$work/${prog}_ref"
+    if "$work/${prog}_ref" -o "$work/ref.png" 2>&1 >/dev/null | grep -q "built before your last edit"; then
+      echo "FAIL ${prog}_ref: the reference has no student sources to be older than"
+      fail=1
+    fi
+  fi
+done
+for mk in "$src/Makefile" "$src/tests/grading/handout/Makefile"; do
+  [[ -f $mk ]] || continue # the student edition has its Makefile at the top only
+  # (not the calling make's jobserver or flags: ctest may run under make test)
+  plan=$(env -u MAKEFLAGS -u MFLAGS -u MAKELEVEL make -n -f "$mk" -C "$src" grade BUILD="$work/b" 2>&1)
+  if grep -q -- '--target hw1_transform hw2_rasterize hw3_shading' <<<"$plan"; then
+    echo "ok   ${mk#"$src"/}: make grade builds the student programs first"
+  else
+    echo "FAIL ${mk#"$src"/}: make grade does not build hw1_transform hw2_rasterize hw3_shading; make -n said:"
+    sed 's/^/       /' <<<"$plan" | head -8
+    fail=1
+  fi
+done
+exit $fail
