@@ -257,7 +257,7 @@ static bool window_show(const char *title, int width, int height, const uint8_t 
 // a window it still has (1: opened WINDOW_AUTOSIZE) — has answered before and
 // now answers -1 (the backend dropped the window: 4.5.1's GTK), or when asking
 // throws (4.6's GTK for a window it no longer has). A backend answering
-// neither leaves the window open until Esc or q.
+// neither leaves the window open until Esc or q, and says so once.
 static bool window_closed(const char *title) {
     auto it = g_mouse.find(title);
     if (it == g_mouse.end()) return true;
@@ -268,6 +268,12 @@ static bool window_closed(const char *title) {
         if (autosize >= 0) {
             it->second.autosize_answered = true;
             return false;
+        }
+        static bool told;
+        if (!it->second.autosize_answered && visible < 0 && !told) {
+            told = true;
+            std::fprintf(stderr, "window: this OpenCV's window toolkit does not say when a window "
+                                 "is closed; close it with Esc or q\n");
         }
         return it->second.autosize_answered;
     } catch (const cv::Exception &) {
