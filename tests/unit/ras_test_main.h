@@ -152,7 +152,8 @@ static inline int ras_test_each(const char *group_name, const struct CMUnitTest 
             struct rlimit cpu;
             rlim_t want = (rlim_t)(limit + 0.999);
             if (getrlimit(RLIMIT_CPU, &cpu) == 0) {
-                if (cpu.rlim_max == RLIM_INFINITY || cpu.rlim_max > want + 1) cpu.rlim_max = want + 1;
+                if (cpu.rlim_max == RLIM_INFINITY || cpu.rlim_max > want + 1)
+                    cpu.rlim_max = want + 1;
                 cpu.rlim_cur = want < cpu.rlim_max ? want : cpu.rlim_max;
                 setrlimit(RLIMIT_CPU, &cpu);
             }
@@ -210,8 +211,8 @@ static inline int ras_test_each(const char *group_name, const struct CMUnitTest 
                      "of processor time)",
                      wall, cpu_used);
         else if (over_cpu)
-            snprintf(fate, sizeof fate, "was stopped after %.0f s of processor time (the time limit)",
-                     limit);
+            snprintf(fate, sizeof fate,
+                     "was stopped after %.0f s of processor time (the time limit)", limit);
         else if (WIFSIGNALED(status))
             snprintf(fate, sizeof fate, "was killed by signal %d (%s)", WTERMSIG(status),
                      ras_test_signal_name(WTERMSIG(status)));
