@@ -27,9 +27,11 @@ demo: build
 	@scripts/demo $(BUILD)
 
 # Everything but the student variants, which fail by design until written
-# (grade those with `make grade`).
+# (grade those with `make grade`). ctest runs in the build folder, which every
+# CMake understands (`ctest --test-dir` is 3.20: 3.18 ignores it and finds no
+# test); --no-tests=error (3.17) makes a run that finds no test fail.
 test: build
-	@ctest --test-dir $(BUILD) --output-on-failure -j $(JOBS) -LE student
+	@cd $(BUILD) && ctest --no-tests=error --output-on-failure -j $(JOBS) -LE student
 
 reference-images: build
 	@scripts/reference-images $(BUILD)

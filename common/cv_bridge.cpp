@@ -24,9 +24,12 @@ void set_err(char *err, int err_size, const std::string &msg) {
     if (err && err_size > 0) std::snprintf(err, (size_t)err_size, "%s", msg.c_str());
 }
 
-// Per-window mouse position, filled by highgui's callback.
+// Per-window state: the mouse position, filled by highgui's callback, and
+// whether the backend has ever answered WND_PROP_AUTOSIZE for the window
+// (window_wait_key: how a closed window is told).
 struct Mouse {
     int col = -1, row = -1;
+    bool autosize_answered = false;
 };
 std::map<std::string, Mouse> g_mouse;  // highgui itself is process-global
 
@@ -245,13 +248,42 @@ static bool window_show(const char *title, int width, int height, const uint8_t 
     }
 }
 
+// Whether the user closed the window. A property answering -1 means
+// "unsupported" as well as "no such window", so -1 alone proves nothing:
+// OpenCV 4.5.1's GTK backend (Debian 11) answers -1 to WND_PROP_VISIBLE for
+// every window, open or not, and taking that as "closed" shut each window
+// after its first frame. The window is closed when VISIBLE answers 0 (Qt;
+// GTK from 4.5.2 on), when WND_PROP_AUTOSIZE — which every backend answers for
+// a window it still has (1: opened WINDOW_AUTOSIZE) — has answered before and
+// now answers -1 (the backend dropped the window: 4.5.1's GTK), or when asking
+// throws (4.6's GTK for a window it no longer has). A backend answering
+// neither leaves the window open until Esc or q, and says so once.
+static bool window_closed(const char *title) {
+    auto it = g_mouse.find(title);
+    if (it == g_mouse.end()) return true;
+    try {
+        double visible = cv::getWindowProperty(title, cv::WND_PROP_VISIBLE);
+        double autosize = cv::getWindowProperty(title, cv::WND_PROP_AUTOSIZE);
+        if (visible >= 0 && visible < 1) return true;
+        if (autosize >= 0) {
+            it->second.autosize_answered = true;
+            return false;
+        }
+        static bool told;
+        if (!it->second.autosize_answered && visible < 0 && !told) {
+            told = true;
+            std::fprintf(stderr, "window: this OpenCV's window toolkit does not say when a window "
+                                 "is closed; close it with Esc or q\n");
+        }
+        return it->second.autosize_answered;
+    } catch (const cv::Exception &) {
+        return true;
+    }
+}
+
 static int window_wait_key(const char *title, int ms) {
     int key = cv::waitKey(ms);
-    try {
-        if (cv::getWindowProperty(title, cv::WND_PROP_VISIBLE) < 1) return -2;
-    } catch (const cv::Exception &) {
-        return -2;
-    }
+    if (window_closed(title)) return -2;
     return key < 0 ? -1 : (key & 0xFF);
 }
 

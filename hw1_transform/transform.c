@@ -2,7 +2,7 @@
  *
  * Each function returns a placeholder (the identity) and prints a one-time
  * notice until you write it. Read docs/hw1.md first; run the tests with
- * `make grade HW=1` or `ctest --test-dir build -L hw1`.
+ * `make grade HW=1` or `(cd build && ctest -L hw1)`.
  */
 /* When you write a function, DELETE its two notice lines (`static bool shown;`
  * and `ras_todo_notice(...)`): the grader gives no points to a test during

@@ -3,7 +3,7 @@
  * Each function returns a placeholder (false, zero, black; rasterize_triangle
  * draws nothing) and prints a one-time notice until you write it. Read
  * docs/hw2.md first; run the tests with `make grade HW=2` or
- * `ctest --test-dir build -L hw2`. Useful helpers: ras_triangle_area2()
+ * `(cd build && ctest -L hw2)`. Useful helpers: ras_triangle_area2()
  * (ras_triangle.h), ras_fb_sample_index() (ras_framebuffer.h),
  * ras_shade_vertex_color() (stage5_fragment.h), ras_count() (ras_counters.h).
  */

@@ -5,7 +5,7 @@
  * bilinear is nearest, the bump normal is the plain normal. The program runs
  * from the start; the pictures get right as the TODOs get done. Read
  * docs/hw3.md first; run the tests with `make grade HW=3` or
- * `ctest --test-dir build -L hw3`.
+ * `(cd build && ctest -L hw3)`.
  *
  * Given complete: normal_fragment_shader (the worked example), and the small
  * shaders that only combine your helpers (phong, bump).

@@ -547,6 +547,17 @@ static const char *str_or(const cJSON *obj, const char *key, const char *fallbac
     return cJSON_IsString(v) ? v->valuestring : fallback;
 }
 
+/* Time limits (issue 26): a test may use test_time_limit_s of processor time
+ * (tests/unit/ras_test_main.h sets it as the test process's RLIMIT_CPU), so a
+ * loaded machine, which slows a test down but does not make it compute more,
+ * never costs a point. The clock is only a backstop, for a test that waits
+ * instead of computing: test_wall_limit_s, by default six times the processor
+ * limit and at least a minute. */
+static double wall_backstop(double cpu_s) { return 6 * cpu_s > 60 ? 6 * cpu_s : 60; }
+static double test_wall(const grader *g) {
+    return num_or(g->rubric, "test_wall_limit_s", wall_backstop(g->test_limit));
+}
+
 /* Points for a test from the rubric's "tests" object; *dflt set when the
  * rubric does not name it. */
 static double test_points(const grader *g, const cJSON *tests, const char *name, bool *dflt) {
@@ -557,14 +568,21 @@ static double test_points(const grader *g, const cJSON *tests, const char *name,
 
 /* Fills in score and status of a finished test from its run and output. */
 static void judge_test(item *it, run_result rr, bool failed_in_output, const char *out,
-                       double limit, const char *crash_hint) {
+                       double limit, double wall, const char *crash_hint) {
     sbuf o = {0};
     it->passed = false;
-    if (rr.kind == RUN_TIMEOUT) {
+    if (rr.kind == RUN_TIMEOUT && rr.code == 1) { /* fate_parse: stopped by the clock */
         it->status = xstrdup("TIMEOUT");
         sb_printf(&o,
-                  "the test did not finish within %.0f s and was stopped: an endless loop, or "
-                  "far too much work (e.g. a bounding box that is not clamped)\n",
+                  "the test was still running after %.0f s on the clock, without having used its "
+                  "%.0f s of processor time, and was stopped: it waits for something that never "
+                  "comes (an endless loop around sleep or read?)\n",
+                  wall, limit);
+    } else if (rr.kind == RUN_TIMEOUT) {
+        it->status = xstrdup("TIMEOUT");
+        sb_printf(&o,
+                  "the test used more than %.0f s of processor time and was stopped: an endless "
+                  "loop, or far too much work (e.g. a bounding box that is not clamped)\n",
                   limit);
     } else if (rr.kind == RUN_SIGNALED) {
         it->status = xstrdup("CRASH");
@@ -888,7 +906,7 @@ static void fate_text(run_result rr, double limit, char *buf, size_t size) {
               : rr.kind == RUN_EXITED && rr.code > 128 && rr.code < 160 ? rr.code - 128
                                                                         : 0;
     if (rr.kind == RUN_TIMEOUT)
-        fmt(buf, size, "was stopped after %.0f s (the time limit)", limit);
+        fmt(buf, size, "was stopped after %.0f s on the clock (the time limit)", limit);
     else if (rr.kind == RUN_NOT_STARTED)
         fmt(buf, size, "could not be started");
     else if (sig)
@@ -931,7 +949,9 @@ static void read_small(const char *path, char *buf, size_t n) {
 static run_result fate_parse(const char *fate) {
     const char *p;
     int v;
-    if (strstr(fate, "was stopped after")) return (run_result){RUN_TIMEOUT, 0, 0};
+    /* code 1: by the clock, 0: by its processor time (ras_test_main.h) */
+    if (strstr(fate, "was stopped after"))
+        return (run_result){RUN_TIMEOUT, strstr(fate, "on the clock") ? 1 : 0, 0};
     if ((p = strstr(fate, "was killed by signal ")) && sscanf(p + 21, "%d", &v) == 1)
         return (run_result){RUN_SIGNALED, v, 0};
     if ((p = strstr(fate, "exited with status ")) && sscanf(p + 19, "%d", &v) == 1)
@@ -1022,23 +1042,25 @@ static bool sanitizer_finding(const char *out, const cJSON *assignments, char *b
 
 /* One sandboxed chunk of a test worker (tests/unit/ras_test_main.h, RAS_EACH_*):
  * names[first, last) of `bin`, each test in a forked child with `per_test`
- * seconds, recording into the run's own folder, which also gets the list;
- * `own` is bound read-only too ("": none), `extra` adds to the environment
- * (at most 4). */
+ * seconds of processor time and `wall` on the clock, recording into the run's
+ * own folder, which also gets the list; `own` is bound read-only too ("":
+ * none), `extra` adds to the environment (at most 4). */
 static void worker_job(const grader *g, job *w, const char *bin, const char *own,
                        const name_list *names, int first, int last, double per_test,
-                       const char *const extra[]) {
-    char each[4][4300];
+                       double wall, const char *const extra[]) {
+    char each[5][4300];
     fmt(each[0], sizeof each[0], "RAS_EACH_NAMES=%s/runs/%d/names", g->work, g->runs);
     fmt(each[1], sizeof each[1], "RAS_EACH_OUT=%s/runs/%d", g->work, g->runs);
     fmt(each[2], sizeof each[2], "RAS_EACH_CALLS=%s/runs/%d", g->work, g->runs);
     fmt(each[3], sizeof each[3], "RAS_EACH_LIMIT=%.0f", per_test);
-    const char *env[11] = {each[0], each[1], each[2], each[3], "RAS_EACH_MODE=record",
+    fmt(each[4], sizeof each[4], "RAS_EACH_WALL=%.0f", wall);
+    const char *env[12] = {each[0], each[1], each[2], each[3], each[4], "RAS_EACH_MODE=record",
                            "RAS_RECORD_CAP_MB=256"};
     for (int i = 0; extra && extra[i] && i < 4; i++)
-        env[6 + i] = extra[i];
+        env[7 + i] = extra[i];
     fmt(w->extra_ro, sizeof w->extra_ro, "%s", own);
-    int k = sandbox_job(g, w, (last - first) * (per_test + 1) + 20, env);
+    /* the chunk's own backstop: every test at its wall-clock limit */
+    int k = sandbox_job(g, w, (last - first) * (wall + 1) + 20, env);
     w->argv[k++] = (char *)bin;
     w->argv[k] = NULL;
     char list_path[4200];
@@ -1069,7 +1091,8 @@ static void sanitizer_pass(const grader *g, assignment_result *a, const cJSON *a
     for (int c = 0; c < chunks; c++) {
         job *w = &jobs[c];
         int first = c * per, last = first + per > n ? n : first + per;
-        worker_job(g, w, worker, "", names, first, last, 3 * g->test_limit, sanitizers);
+        worker_job(g, w, worker, "", names, first, last, 3 * g->test_limit,
+                   wall_backstop(3 * g->test_limit), sanitizers);
         w->env[0] = "RAS_SANDBOX_NO_AS=1"; /* ASan reserves terabytes of address space */
         w->env[1] = NULL;
         fmt(w->out_path, sizeof w->out_path, "%s/runs/sanitized-%s-%d.out", g->work, a->id, c);
@@ -1157,7 +1180,7 @@ static void grade_tests(const grader *g, assignment_result *a, const cJSON *asg,
         job *w = &workers[c];
         int per = (n + chunks - 1) / chunks, first = c * per, last = first + per;
         if (last > n) last = n;
-        worker_job(g, w, worker_bin, own, &names, first, last, g->test_limit, NULL);
+        worker_job(g, w, worker_bin, own, &names, first, last, g->test_limit, test_wall(g), NULL);
         fmt(w->out_path, sizeof w->out_path, "%s/worker%d.out", xml_dir, c);
         for (int i = first; i < last; i++)
             chunk_of[i] = c;
@@ -1173,16 +1196,18 @@ static void grade_tests(const grader *g, assignment_result *a, const cJSON *asg,
         fmt(r->store[2], sizeof r->store[2], "RAS_EACH_OUT=%s", xml_dir);
         fmt(r->store[3], sizeof r->store[3], "RAS_EACH_CALLS=%s", w->rw);
         fmt(r->store[4], sizeof r->store[4], "RAS_EACH_LIMIT=%.0f", g->test_limit + 20);
+        fmt(r->store[5], sizeof r->store[5], "RAS_EACH_WALL=%.0f", test_wall(g) + 20);
         r->env[0] = r->store[1];
         r->env[1] = r->store[2];
         r->env[2] = r->store[3];
         r->env[3] = r->store[4];
-        r->env[4] = "RAS_EACH_MODE=replay";
-        r->env[5] = "CMOCKA_MESSAGE_OUTPUT=xml";
-        r->env[6] = NULL;
+        r->env[4] = r->store[5];
+        r->env[5] = "RAS_EACH_MODE=replay";
+        r->env[6] = "CMOCKA_MESSAGE_OUTPUT=xml";
+        r->env[7] = NULL;
         r->argv[0] = replay_bin;
         r->argv[1] = NULL;
-        r->limit = (last - first) * (g->test_limit + 21) + 20;
+        r->limit = (last - first) * (test_wall(g) + 21) + 20;
         r->mem_mb = g->mem_mb;
         fmt(r->out_path, sizeof r->out_path, "%s/replay%d.out", xml_dir, c);
     }
@@ -1262,7 +1287,7 @@ static void grade_tests(const grader *g, assignment_result *a, const cJSON *asg,
          * says more there than the assignment's generic hint */
         const char *own_crash =
             str_or(cJSON_GetObjectItemCaseSensitive(asg, "crash_hints"), name, crash_hint);
-        judge_test(it, verdict, xml_failure, clean, g->test_limit, own_crash);
+        judge_test(it, verdict, xml_failure, clean, g->test_limit, test_wall(g), own_crash);
         if (own[0] && !it->passed) {
             char *sealed = sealed_text(it->status, clean);
             free(it->output);
@@ -1606,7 +1631,8 @@ static void image_job(const grader *g, const cJSON *img, const char *dir, job *j
                       const char *own, const char *tag) {
     const cJSON *args = j->args;
     fmt(j->extra_ro, sizeof j->extra_ro, "%s", own ? own : "");
-    int n = sandbox_job(g, j, g->render_limit, NULL);
+    int n = sandbox_job(g, j, g->render_limit, NULL); /* processor seconds (--cpu-s) */
+    j->limit = wall_backstop(g->render_limit);        /* the clock: a backstop */
     fmt(j->store[14], sizeof j->store[14], "%s/bin/%s", own ? own : g->student_build,
         str_or(img, "program", ""));
     j->argv[n++] = j->store[14];
@@ -1997,6 +2023,8 @@ reference_ready:;
     run_result rr = file_exists(prog_path) ? j->rr : (run_result){RUN_NOT_STARTED, 0, 0};
     if (rr.kind == RUN_EXITED && rr.code > 128 && rr.code < 160) /* bwrap: 128 + signal */
         rr = (run_result){RUN_SIGNALED, rr.code - 128, rr.seconds};
+    if (rr.kind == RUN_SIGNALED && rr.code == SIGXCPU) /* its processor time ran out */
+        rr = (run_result){RUN_TIMEOUT, 0, rr.seconds};
     char *log = read_file(log_path, 16 * 1024);
     char *clean_raw = without_work_path(g->work, clean_output(log ? log : ""));
     char *clean = student_text(clean_raw, 3000);
@@ -2011,8 +2039,10 @@ reference_ready:;
         sb_printf(&o, "the program %s was not built\n", program);
     } else if (rr.kind == RUN_TIMEOUT) {
         it->status = xstrdup("TIMEOUT");
-        sb_printf(&o, "the program did not finish within %.0f s: an endless loop?\n",
-                  g->render_limit);
+        sb_printf(&o,
+                  "the program used more than %.0f s of processor time (or ran %.0f s on the "
+                  "clock) and was stopped: an endless loop?\n",
+                  g->render_limit, wall_backstop(g->render_limit));
     } else if (rr.kind == RUN_SIGNALED) {
         it->status = xstrdup("CRASH");
         sb_printf(&o, "the program crashed with %s\nlikely mistake: %s\n", signal_text(rr.code),

@@ -29,8 +29,13 @@
  *                         code: written (RAS_EACH_MODE=record) or replayed
  *                         (RAS_EACH_MODE=replay, with DIR/NAME.fate as what
  *                         happened to the recording process); tests/grading/ras_call.h;
- *   RAS_EACH_LIMIT=S      seconds per test (default 10): a child still running
- *                         then is killed with its process group.
+ *   RAS_EACH_LIMIT=S      processor seconds per test (default 10): the child's
+ *                         RLIMIT_CPU, so a loaded machine, which slows a test
+ *                         down without making it compute more, costs nothing;
+ *   RAS_EACH_WALL=S       seconds on the clock per test (default 6 x the limit,
+ *                         at least 60): the backstop for a test that waits
+ *                         instead of computing. A child over either limit is
+ *                         killed with its process group; its fate says which.
  */
 #ifndef RAS_TEST_MAIN_H
 #define RAS_TEST_MAIN_H
@@ -41,7 +46,8 @@
 #include <stdio.h>    /* printf, fprintf */
 #include <stdlib.h>   /* getenv, setenv */
 #include <string.h>   /* strcmp */
-#include <sys/wait.h> /* waitpid */
+#include <sys/resource.h> /* setrlimit, struct rusage */
+#include <sys/wait.h> /* wait4 */
 #include <time.h>     /* nanosleep, clock_gettime */
 #include <unistd.h>   /* fork, dup2 */
 
@@ -115,8 +121,11 @@ static inline int ras_test_each(const char *group_name, const struct CMUnitTest 
                                 CMFixtureFunction group_teardown) {
     const char *names = getenv("RAS_EACH_NAMES"), *out = getenv("RAS_EACH_OUT");
     const char *calls = getenv("RAS_EACH_CALLS"), *mode = getenv("RAS_EACH_MODE");
-    const char *limit_s = getenv("RAS_EACH_LIMIT");
+    const char *limit_s = getenv("RAS_EACH_LIMIT"), *wall_s = getenv("RAS_EACH_WALL");
     double limit = limit_s ? atof(limit_s) : 10;
+    if (limit < 1) limit = 1;
+    double wall = wall_s ? atof(wall_s) : (6 * limit > 60 ? 6 * limit : 60);
+    if (wall < limit) wall = limit;
     bool replay = mode && !strcmp(mode, "replay");
     FILE *list = out ? fopen(names, "r") : NULL;
     if (!list) {
@@ -138,6 +147,16 @@ static inline int ras_test_each(const char *group_name, const struct CMUnitTest 
         if (pid == 0) {
             setpgid(0, 0);
             on_exit(ras_test_child_exit, NULL); /* runs before the parent's handlers */
+            /* SIGXCPU after `limit` processor seconds (SIGKILL a second later if
+             * it is caught); never above a hard limit the sandbox set. */
+            struct rlimit cpu;
+            rlim_t want = (rlim_t)(limit + 0.999);
+            if (getrlimit(RLIMIT_CPU, &cpu) == 0) {
+                if (cpu.rlim_max == RLIM_INFINITY || cpu.rlim_max > want + 1)
+                    cpu.rlim_max = want + 1;
+                cpu.rlim_cur = want < cpu.rlim_max ? want : cpu.rlim_max;
+                setrlimit(RLIMIT_CPU, &cpu);
+            }
             snprintf(path, sizeof path, "%s/%s.out", out, name);
             int fd = open(path, O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
             if (fd >= 0) {
@@ -162,25 +181,38 @@ static inline int ras_test_each(const char *group_name, const struct CMUnitTest 
         }
         int status = 0, sig;
         bool timed_out = false;
+        struct rusage ru = {0};
         struct timespec t0, now, nap = {0, 2000000};
         clock_gettime(CLOCK_MONOTONIC, &t0);
-        while (pid > 0 && waitpid(pid, &status, WNOHANG) == 0) {
+        while (pid > 0 && wait4(pid, &status, WNOHANG, &ru) == 0) {
             clock_gettime(CLOCK_MONOTONIC, &now);
             if ((double)(now.tv_sec - t0.tv_sec) + 1e-9 * (double)(now.tv_nsec - t0.tv_nsec) >
-                limit) {
+                wall) {
                 kill(-pid, SIGKILL);
                 kill(pid, SIGKILL);
-                waitpid(pid, &status, 0);
+                wait4(pid, &status, 0, &ru);
                 timed_out = true;
                 break;
             }
             nanosleep(&nap, NULL);
         }
         if (pid > 0) kill(-pid, SIGKILL); /* what the test left running in its group */
+        double cpu_used = (double)(ru.ru_utime.tv_sec + ru.ru_stime.tv_sec) +
+                          1e-6 * (double)(ru.ru_utime.tv_usec + ru.ru_stime.tv_usec);
+        bool over_cpu = pid > 0 && !timed_out && WIFSIGNALED(status) &&
+                        (WTERMSIG(status) == SIGXCPU ||
+                         (WTERMSIG(status) == SIGKILL && cpu_used >= limit));
+        /* "was stopped after": the grader's word for a time limit (fate_parse) */
         if (pid < 0)
             snprintf(fate, sizeof fate, "could not be started");
         else if (timed_out)
-            snprintf(fate, sizeof fate, "was stopped after %.0f s (the time limit)", limit);
+            snprintf(fate, sizeof fate,
+                     "was stopped after %.0f s on the clock (the time limit; it had used %.1f s "
+                     "of processor time)",
+                     wall, cpu_used);
+        else if (over_cpu)
+            snprintf(fate, sizeof fate,
+                     "was stopped after %.0f s of processor time (the time limit)", limit);
         else if (WIFSIGNALED(status))
             snprintf(fate, sizeof fate, "was killed by signal %d (%s)", WTERMSIG(status),
                      ras_test_signal_name(WTERMSIG(status)));

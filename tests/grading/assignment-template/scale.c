@@ -1,7 +1,7 @@
 /* scale.c — hwX: YOUR implementation of scale.h.
  *
  * The function returns a placeholder (the identity) and prints a one-time
- * notice until you write it. Run the tests with `ctest --test-dir build -L hwX`.
+ * notice until you write it. Run the tests with `(cd build && ctest -L hwX)`.
  */
 /* When you write the function, DELETE its two notice lines (`static bool
  * shown;` and `ras_todo_notice(...)`): the grader gives no points to a test
