@@ -34,15 +34,15 @@
 #include <stdio.h>  /* fdopen, fread, fseek, fclose, snprintf */
 #include <stdlib.h> /* calloc, malloc, free */
 #include <string.h> /* memcpy, memcmp, memchr, strcmp, strrchr, strstr, strchr, strdup */
-#include <time.h>   /* clock_gettime: the import's time limit */
 #include <sys/stat.h> /* fstat */
 #include <unistd.h> /* close */
 
 #include "ras_io.h"     /* ras_io_open_input, ras_io_read_file, ras_io_text_nesting */
+#include "ras_job.h"    /* ras_job_run: the import on its own thread, with a time limit */
 #include "ras_memory.h" /* ras_memory_check, ras_memory_limit */
 
 #include <cjson/cJSON.h> /* cJSON_ParseWithLength: glTF node trees */
-#include <pthread.h>     /* pthread_create: the import's large stack */
+#include <pthread.h>     /* pthread_once: assimp opened once */
 #ifdef __GLIBC__
 #include <malloc.h> /* malloc_trim */
 #endif
@@ -910,52 +910,27 @@ static bool check_ply_lists(const char *path, ras_error *err) {
 
 static ras_mesh *import_mesh(const char *path, ras_error *err);
 
-/* The import's own copy of what it needs: when it outlives its time limit
- * the caller leaves, and the last of the two to let go frees it. */
-typedef struct ras_mesh_import_job {
+/* What the import needs and gives back, owned by whoever holds it last
+ * (ras_job.h): the caller, or the import's thread when its time ran out. */
+typedef struct import_work {
     char *path;
     ras_error err;
-    ras_mesh *mesh;
-    bool done, abandoned;
-    pthread_mutex_t lock;
-    pthread_cond_t finished;
-} ras_mesh_import_job;
-
-static void import_job_free(ras_mesh_import_job *job) {
-    pthread_mutex_destroy(&job->lock);
-    pthread_cond_destroy(&job->finished);
-    free(job->path);
-    free(job);
-}
+} import_work;
 
 /* The nesting check and the import, on the same thread: the check's cJSON
  * tree and assimp's allocations share one malloc arena, so the peak is the
  * larger of the two, not their sum. */
 static void *import_thread(void *arg) {
-    ras_mesh_import_job *job = arg;
-    ras_mesh *mesh = check_content(job->path, &job->err)
-                         ? import_mesh(job->path, &job->err)
-                         : NULL;
-    pthread_mutex_lock(&job->lock);
-    bool abandoned = job->abandoned;
-    job->mesh = mesh;
-    job->done = true;
-    pthread_cond_signal(&job->finished);
-    pthread_mutex_unlock(&job->lock);
-    if (abandoned) { /* the caller gave up on it: nobody will take the mesh */
-        ras_mesh_destroy(mesh);
-        import_job_free(job);
-    }
-    return NULL;
+    import_work *w = arg;
+    return check_content(w->path, &w->err) ? import_mesh(w->path, &w->err) : NULL;
 }
 
-/* Seconds an import may take: RAS_MESH_IMPORT_SECONDS, else
- * RAS_MESH_IMPORT_SECONDS_DEFAULT. assimp has importers that loop forever on
- * some malformed files; a limit turns that into an error. */
-static double import_seconds(void) {
-    const char *v = getenv("RAS_MESH_IMPORT_SECONDS");
-    double s = v ? atof(v) : 0;
-    return s > 0 ? s : RAS_MESH_IMPORT_SECONDS_DEFAULT;
+/* A late import's mesh, which nobody waits for any more. */
+static void import_discard(void *mesh, void *arg) {
+    import_work *w = arg;
+    ras_mesh_destroy(mesh);
+    free(w->path);
+    free(w);
 }
 
 ras_mesh *ras_mesh_load(const char *path, ras_error *err) {
@@ -988,43 +963,22 @@ ras_mesh *ras_mesh_load(const char *path, ras_error *err) {
      * level of the file's hierarchy: run them on a thread with a large stack
      * (address space only: pages are touched as they are used), sized to fit
      * the memory budget. If no such thread can be made, the import runs here. */
-    ras_mesh_import_job *job = calloc(1, sizeof *job);
-    char *path_copy = job ? strdup(path) : NULL;
-    if (!job || !path_copy) {
-        free(job);
+    import_work *work = calloc(1, sizeof *work);
+    char *path_copy = work ? strdup(path) : NULL;
+    if (!work || !path_copy) {
+        free(work);
         ras_error_set(err, "out of memory importing model '%s'", path);
         return NULL;
     }
-    job->path = path_copy;
-    pthread_mutex_init(&job->lock, NULL);
-    pthread_cond_init(&job->finished, NULL);
+    work->path = path_copy;
     size_t stack = ras_memory_limit() / 4;
     if (stack > RAS_MESH_IMPORT_STACK) stack = RAS_MESH_IMPORT_STACK;
     if (stack < (16u << 20)) stack = 16u << 20;
-    pthread_attr_t attr;
-    pthread_t thread;
-    bool threaded = pthread_attr_init(&attr) == 0;
-    if (threaded) {
-        threaded = pthread_attr_setstacksize(&attr, stack) == 0 &&
-                   pthread_attr_setdetachstate(&attr, PTHREAD_CREATE_DETACHED) == 0 &&
-                   pthread_create(&thread, &attr, import_thread, job) == 0;
-        pthread_attr_destroy(&attr);
-    }
-    if (!threaded) import_thread(job);
-    /* Wait for it, at most the import's time limit. */
-    double limit = import_seconds();
-    struct timespec deadline;
-    clock_gettime(CLOCK_REALTIME, &deadline);
-    deadline.tv_sec += (time_t)limit;
-    deadline.tv_nsec += (long)((limit - (double)(time_t)limit) * 1e9);
-    if (deadline.tv_nsec >= 1000000000L) deadline.tv_sec++, deadline.tv_nsec -= 1000000000L;
-    pthread_mutex_lock(&job->lock);
-    while (!job->done)
-        if (pthread_cond_timedwait(&job->finished, &job->lock, &deadline) != 0) break;
-    bool done = job->done;
-    if (!done) job->abandoned = true; /* the thread frees the job when it ends */
-    pthread_mutex_unlock(&job->lock);
-    if (!done)
+    /* At most the import's time limit: assimp has importers that loop
+     * forever on some malformed files. */
+    double limit = ras_job_seconds("RAS_MESH_IMPORT_SECONDS", RAS_MESH_IMPORT_SECONDS_DEFAULT);
+    void *result = NULL;
+    if (!ras_job_run(import_thread, work, import_discard, stack, limit, &result))
         return ras_error_set(err,
                              "the importer did not finish '%s' within %g s (assimp is stuck "
                              "on this file, or it is far too big); expected a model that "
@@ -1032,15 +986,16 @@ ras_mesh *ras_mesh_load(const char *path, ras_error *err) {
                              "RAS_MESH_IMPORT_SECONDS",
                              path, limit),
                NULL;
-    ras_mesh *mesh = job->mesh;
-    if (!mesh && err) *err = job->err;
-    import_job_free(job);
+    ras_mesh *mesh = result;
+    if (!mesh && err) *err = work->err;
+    free(work->path);
+    free(work);
 #ifdef __GLIBC__
     /* The import's memory was freed in the thread's own malloc arena, where
      * the renderer (on this thread) cannot reuse it: give it back, or the
      * peak is the import plus the render (980 instead of 667 MB measured on
      * a 40 MB OBJ). */
-    if (threaded) malloc_trim(0);
+    malloc_trim(0);
 #endif
     return mesh;
 }
