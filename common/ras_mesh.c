@@ -344,8 +344,16 @@ static enum aiReturn io_seek(struct aiFile *f, size_t offset, enum aiOrigin orig
 }
 static void io_flush(struct aiFile *f) { (void)f; }
 
+/* The name assimp is given for a file whose content is glTF but whose name
+ * does not end in .gltf/.glb (older assimp, 5.0, picks the glTF reader by
+ * name alone): the real path plus that suffix, opened as the real path. */
+typedef struct io_alias {
+    const char *alias, *path;
+} io_alias;
+
 static struct aiFile *io_open(struct aiFileIO *io, const char *path, const char *mode) {
-    (void)io;
+    const io_alias *a = (const io_alias *)io->UserData;
+    if (a && path && !strcmp(path, a->alias)) path = a->path;
     if (!mode || mode[0] != 'r') return NULL;
     char why[256];
     int fd = ras_io_open_input(path, why, sizeof why);
@@ -580,8 +588,10 @@ static bool check_glb(const char *path, const unsigned char *d, size_t len, cons
  * brace, any other text by having no NUL byte). Text is scanned for bracket
  * and element depth; glTF (JSON or binary) has its chunk lengths checked,
  * its node tree walked (1.0 and 2.0) and its external files confined to the
- * model's folder. True when the file is fine or not one of those. */
-static bool check_content(const char *path, ras_error *err) {
+ * model's folder. True when the file is fine or not one of those; *suffix
+ * is then ".glb" or ".gltf" when the content is glTF, else "". */
+static bool check_content(const char *path, const char **suffix, ras_error *err) {
+    *suffix = "";
     size_t len = 0;
     ras_error rerr = {{0}};
     char *data = ras_io_read_file(path, "model", RAS_MESH_MAX_SCAN_BYTES, &len, &rerr);
@@ -594,6 +604,7 @@ static bool check_content(const char *path, ras_error *err) {
         text_len = 0;
         ok = check_glb(path, u, len, &text, &text_len, err);
         json = ok;
+        if (ok) *suffix = ".glb";
     } else if (memchr(data, '\0', len)) {
         text_len = 0; /* binary (FBX, 3DS, binary PLY/STL...): the import thread's stack is the guard */
     } else {
@@ -642,6 +653,8 @@ static bool check_content(const char *path, ras_error *err) {
                                RAS_MESH_MAX_NESTING);
         } else {
             ok = check_gltf_uris(path, root, err);
+            if (ok && !glb && cJSON_IsObject(cJSON_GetObjectItemCaseSensitive(root, "asset")))
+                *suffix = ".gltf"; /* every glTF, 1.0 and 2.0, has "asset" */
         }
         cJSON_Delete(root);
     }
@@ -908,7 +921,7 @@ static bool check_ply_lists(const char *path, ras_error *err) {
 /* ------------------------------------------------------------------------ */
 /* Loading                                                                   */
 
-static ras_mesh *import_mesh(const char *path, ras_error *err);
+static ras_mesh *import_mesh(const char *path, const char *suffix, ras_error *err);
 
 /* What the import needs and gives back, owned by whoever holds it last
  * (ras_job.h): the caller, or the import's thread when its time ran out. */
@@ -922,7 +935,8 @@ typedef struct import_work {
  * larger of the two, not their sum. */
 static void *import_thread(void *arg) {
     import_work *w = arg;
-    return check_content(w->path, &w->err) ? import_mesh(w->path, &w->err) : NULL;
+    const char *suffix;
+    return check_content(w->path, &suffix, &w->err) ? import_mesh(w->path, suffix, &w->err) : NULL;
 }
 
 /* A late import's mesh, which nobody waits for any more. */
@@ -1056,7 +1070,7 @@ static bool load_assimp(const char *path, ras_error *err) {
                          path, assimp.error);
 }
 
-static ras_mesh *import_mesh(const char *path, ras_error *err) {
+static ras_mesh *import_mesh(const char *path, const char *suffix, ras_error *err) {
     if (!load_assimp(path, err)) return NULL;
 
     /* Triangulate: quads and n-gons become fans the rasterizer can draw.
@@ -1067,8 +1081,15 @@ static ras_mesh *import_mesh(const char *path, ras_error *err) {
      * with a message instead of handing it over. Normals are made here. */
     const unsigned flags = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
                            aiProcess_SortByPType | aiProcess_ValidateDataStructure;
-    struct aiFileIO io = {io_open, io_close, NULL};
-    const struct aiScene *scene = assimp.import_file_ex(path, flags, &io);
+    char ext[16], alias[PATH_MAX + 8];
+    file_extension(path, ext, sizeof ext);
+    io_alias named = {path, path};
+    if (*suffix && strcmp(ext, suffix + 1) && strlen(path) < PATH_MAX) {
+        snprintf(alias, sizeof alias, "%s%s", path, suffix);
+        named.alias = alias;
+    }
+    struct aiFileIO io = {io_open, io_close, (aiUserData)&named};
+    const struct aiScene *scene = assimp.import_file_ex(named.alias, flags, &io);
     if (!scene) {
         /* assimp's own text names its internals ("OBJ: Invalid face indice",
          * "Unable to open file"): the project's sentence comes first, with
