@@ -806,7 +806,9 @@ static char *sealed_text(const char *status, const char *replay_out) {
                         other = true;
                     j++;
                 }
-                if (other || digits >= 3) sb_add(&b, "#");
+                /* a TODO's number is the hint's, not a value */
+                bool todo = i >= 5 && !strncmp(h + i - 5, "TODO ", 5) && digits < 3;
+                if (!todo && (other || digits >= 3)) sb_add(&b, "#");
                 else sb_addn(&b, h + i, j - i);
                 i = j;
             } else {
@@ -1289,7 +1291,15 @@ static void grade_tests(const grader *g, assignment_result *a, const cJSON *asg,
             str_or(cJSON_GetObjectItemCaseSensitive(asg, "crash_hints"), name, crash_hint);
         judge_test(it, verdict, xml_failure, clean, g->test_limit, test_wall(g), own_crash);
         if (own[0] && !it->passed) {
-            char *sealed = sealed_text(it->status, clean);
+            /* a crash's hint is the rubric's (crash_hints), said before the
+             * replay's generic "did not return" */
+            char crash_line[1200];
+            const char *said = clean;
+            if (it->status && !strcmp(it->status, "CRASH")) {
+                fmt(crash_line, sizeof crash_line, "Likely mistake: %s", own_crash);
+                said = crash_line;
+            }
+            char *sealed = sealed_text(it->status, said);
             free(it->output);
             it->output = sealed;
             free(it->reason);
@@ -1923,6 +1933,17 @@ static void buffer_evidence(const grader *g, item *it, sbuf *o, const cJSON *img
               !strcmp(ev->owner, "hw3") ? "your shader" : "your rasterizer wrote");
 }
 
+/* Where a variant's reference, rendered at grading time, is kept: in the
+ * work folder (never handed out), named by the assignment that owns the
+ * image (`id`, not the integration part grading it again) so the whole-chain
+ * run and the attribution compare with the picture the own-code run just
+ * rendered with the same arguments — and never with one a previous grading
+ * left in a reused work folder (--reuse-build). */
+static void variant_reference_path(const grader *g, const char *dir, const char *id,
+                                   const char *name, char *buf, size_t size) {
+    fmt(buf, size, "%s/%s-%s.expected.png", g->work ? g->work : dir, id, name);
+}
+
 /* Grades one image run (image_job). `sealed`: the program held reference
  * code (an own-code link), so neither its output nor its picture goes into
  * the report, only the verdict. `whole`: the run of the student's whole
@@ -1955,8 +1976,7 @@ static bool grade_image(const grader *g, assignment_result *a, const cJSON *img,
         fmt(ref_prog_path, sizeof ref_prog_path, "%s/bin/%s", g->build, ref_program);
         /* in the work folder: a variant's reference is never handed out,
          * only the difference from it */
-        fmt(ref_path, sizeof ref_path, "%s/%s-%s.expected.png", g->work ? g->work : dir, a->id,
-            name);
+        variant_reference_path(g, dir, reldir, name, ref_path, sizeof ref_path);
         fmt(ref_log, sizeof ref_log, "%s/%s.reference.log", dir, name);
         if (whole && file_exists(ref_path)) goto reference_ready;
         unlink(ref_path);
@@ -2268,7 +2288,7 @@ static void attribute_image(grader *g, item *it, const cJSON *img, const char *d
                             const char *id, const job *graded, bool own_passed,
                             const assignment_result *as, int n_as) {
     char ref_path[4096], why[1200] = "", loss[700];
-    fmt(ref_path, sizeof ref_path, "%s/%s.expected.png", dir, str_or(img, "name", "image"));
+    variant_reference_path(g, dir, id, str_or(img, "name", "image"), ref_path, sizeof ref_path);
     if (!str_or(img, "reference_program", NULL))
         fmt(ref_path, sizeof ref_path, "%s/tests/reference/%s", g->source,
             str_or(img, "reference", ""));
