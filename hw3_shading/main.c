@@ -28,10 +28,10 @@ typedef struct hw3 {
 
 /* The options the settings do not carry; notes once the scene has loaded. */
 static bool prepare(ras_app *app, ras_error *err) {
+    (void)err; /* only notes: nothing here fails */
     hw3 *h = app->user;
     const ras_cli *cli = &app->cli;
     h->opt = hw3_render_options_from_ras(app->scene);
-    if (cli->renderer && !hw3_renderer_parse(cli->renderer, &h->opt.renderer, err)) return false;
     if (app->set.shader == RAS_SHADER_FLAT) {
         app->set.shader = RAS_SHADER_NORMAL;
         fprintf(stderr, "hw3_shading: note: the scene's shader \"flat\" is hw2's unlit colour; "
@@ -129,11 +129,9 @@ int main(int argc, char **argv) {
             "  --texture spot_texture.png --shader texture  (bump/displacement read --height,\n"
             "  or the --texture image as the course does with hmap.jpg)\n"
             "--compare writes the difference beside -o FILE (FILE_diff.png), or without -o\n"
-            "  as <reference>_diff.png in the current folder.\n"
-            "--renderer: teaching (default); hw3_shading_ref also offers fast, the same\n"
-            "  picture drawn in screen tiles on threads (docs/performance.md).\n",
+            "  as <reference>_diff.png in the current folder.\n",
         .options = RAS_OPT_SHADING | RAS_OPT_MODEL | RAS_OPT_AA | RAS_OPT_SCENE | RAS_OPT_STATS |
-                   RAS_OPT_COMPARE | RAS_OPT_RENDERER,
+                   RAS_OPT_COMPARE,
         .scene = "hw3_default", .model_scene = "hw3_model", .load_assets = true,
         .positional_shader = true, .compare = RAS_COMPARE_PSNR,
         .example = "--shader phong -o out.png", .reference_dir = RAS_REFERENCE_DIR,

@@ -253,35 +253,6 @@ unsigned hw3_frame_varyings(const ras_scene *scene, const ras_scene_assets *asse
     return v;
 }
 
-/* ---- the renderer hook ---------------------------------------------------- */
-
-#define MAX_RENDERERS 4
-static const hw3_renderer *renderers[MAX_RENDERERS];
-static int renderer_count;
-
-bool hw3_renderer_register(const hw3_renderer *renderer) {
-    if (!renderer || renderer_count == MAX_RENDERERS) return false;
-    renderers[renderer_count++] = renderer;
-    return true;
-}
-
-bool hw3_renderer_parse(const char *name, const hw3_renderer **out, ras_error *err) {
-    if (!strcmp(name, "teaching")) {
-        *out = NULL;
-        return true;
-    }
-    char names[128] = "teaching";
-    for (int i = 0; i < renderer_count; i++) {
-        if (!strcmp(name, renderers[i]->name)) {
-            *out = renderers[i];
-            return true;
-        }
-        size_t len = strlen(names);
-        snprintf(names + len, sizeof names - len, ", %s", renderers[i]->name);
-    }
-    return ras_error_set(err, "unknown renderer '%s'; this program has: %s", name, names);
-}
-
 /* --dump's fragment-stage buffers, for the varyings this frame interpolates;
  * false on out of memory. */
 static bool gbuffer_create(hw3_gbuffer *g, int width, int height, unsigned varyings) {
@@ -373,32 +344,8 @@ static bool shader_reads_texture(hw3_shader shader) {
     return shader == HW3_SHADER_TEXTURE;
 }
 
-/* The renderer hook: `r` draws the frame when it accepts it. 1 drawn, 0
- * failed (err set), -1 declined or no memory for the matrices (hw3_render
- * draws it the teaching way then). */
-static int render_with(const hw3_renderer *r, const ras_scene *scene,
-                       const ras_scene_assets *assets, const hw3_render_options *opt,
-                       const hw3_fragment_stage *stage, mat4s view, mat4s projection,
-                       uint64_t mip_levels, ras_image *out, ras_counters *stats, ras_error *err) {
-    mat4s *models = malloc((size_t)scene->object_count * sizeof *models);
-    if (!models) return -1;
-    for (int i = 0; i < scene->object_count; i++)
-        models[i] = hw3_object_model(&scene->objects[i], opt->angle_deg);
-    hw3_frame frame = {.scene = scene, .assets = assets, .opt = opt, .stage = stage,
-                       .models = models, .view = view, .projection = projection};
-    int drawn = -1;
-    if (r->accepts(r, &frame)) {
-        ras_counters k = {.mip_levels_built = mip_levels,
-                          .stages_run = mip_levels ? RAS_STAGE_MIPMAP : 0u};
-        drawn = r->draw(r, &frame, out, &k, err);
-        if (stats) *stats = k;
-    }
-    free(models);
-    return drawn;
-}
-
-bool hw3_render(const ras_scene *scene, ras_scene_assets *assets, const hw3_render_options *opt,
-                ras_image *out, ras_counters *stats, ras_error *err) {
+bool hw3_frame_setup(const ras_scene *scene, ras_scene_assets *assets,
+                     const hw3_render_options *opt, hw3_frame *frame, ras_error *err) {
     uint64_t mip_levels = 0;
     /* Mip levels only when trilinear filtering reads a colour map, once. */
     if (opt->filter == FILTER_TRILINEAR && shader_reads_texture(opt->shader)) {
@@ -410,11 +357,13 @@ bool hw3_render(const ras_scene *scene, ras_scene_assets *assets, const hw3_rend
             mip_levels += (uint64_t)(tex->level_count - 1);
         }
     }
-    hw3_fragment_stage stage = {.shader = hw3_shader_function(opt->shader),
-                                .varyings = hw3_frame_varyings(scene, assets, opt->shader),
-                                .perspective = !opt->affine};
-    fragment_shader_payload *b = &stage.base;
-    b->filter = opt->filter; /* the material (ka, ks, p, ...) is set per object below */
+    *frame = (hw3_frame){.mip_levels = mip_levels};
+    hw3_fragment_stage *stage = &frame->stage;
+    *stage = (hw3_fragment_stage){.shader = hw3_shader_function(opt->shader),
+                                  .varyings = hw3_frame_varyings(scene, assets, opt->shader),
+                                  .perspective = !opt->affine};
+    fragment_shader_payload *b = &stage->base;
+    b->filter = opt->filter; /* the material (ka, ks, p, ...) is set per object */
     mat4s view = ras_scene_view_matrix(scene);
     /* Every scene file's lights fit (RAS_SCENE_MAX_LIGHTS). */
     _Static_assert(HW3_MAX_LIGHTS >= RAS_SCENE_MAX_LIGHTS, "hw3 must take every scene's lights");
@@ -427,15 +376,21 @@ bool hw3_render(const ras_scene *scene, ras_scene_assets *assets, const hw3_rend
     }
     b->ambient_intensity = scene->ambient;
     const ras_scene_camera *cam = &scene->camera;
-    mat4s projection = (opt->projection ? opt->projection : get_projection_matrix)(
+    frame->view = view;
+    frame->projection = (opt->projection ? opt->projection : get_projection_matrix)(
         cam->fov_deg, (float)scene->width / (float)scene->height, cam->z_near, cam->z_far);
-    /* The renderer hook: another renderer draws the frame when it accepts it. */
-    const hw3_renderer *r = opt->renderer;
-    if (r && !opt->dump_dir && !opt->capture && !opt->step) {
-        int drawn = render_with(r, scene, assets, opt, &stage, view, projection, mip_levels, out,
-                                stats, err);
-        if (drawn >= 0) return drawn;
-    }
+    return true;
+}
+
+bool hw3_render(const ras_scene *scene, ras_scene_assets *assets, const hw3_render_options *opt,
+                ras_image *out, ras_counters *stats, ras_error *err) {
+    hw3_frame frame;
+    if (!hw3_frame_setup(scene, assets, opt, &frame, err)) return false;
+    hw3_fragment_stage stage = frame.stage;
+    fragment_shader_payload *b = &stage.base;
+    mat4s view = frame.view, projection = frame.projection;
+    uint64_t mip_levels = frame.mip_levels;
+    const ras_scene_camera *cam = &scene->camera;
     ras_pipeline_config cfg = {.width = scene->width,
                                .height = scene->height,
                                .clear_color = scene->clear_color,

@@ -7,10 +7,9 @@
  *                        exactly the varyings the chosen shader reads
  *                        (perspective-correct, with your interpolate_*),
  *                        fills a fragment_shader_payload, runs the shader
- *   hw3_render           one frame of a scene with a shader and a filter
- *   hw3_renderer         the renderer hook: another way through a frame that
- *                        draws the same picture (hw3_render_options.renderer;
- *                        NULL, the default, is the teaching pipeline)
+ *   hw3_render           one frame of a scene with a shader and a filter:
+ *                        hw3_frame_setup, then every object through the
+ *                        pipeline
  *
  * The scene is the core's (ras_scene.h): a scene file, or a built-in one from
  * scenes/ (ras_builtin_scenes.h: hw3_default.json, and hw3_model.json for
@@ -84,7 +83,7 @@ vec3s hw3_shade_fragment(const ras_triangle *t, const ras_fragment *f, void *use
 /* Object i's material as payload fields: colour (kd when the scene gives
  * kd, else the colour: the base colour of phong and displacement, and the
  * texel's stand-in for texture), colour map, height map, ka, ks, p, kh, kn.
- * The teaching loop and a renderer set them the same way through this. */
+ * hw3_render sets them through this, per object. */
 void hw3_object_material(const ras_scene *scene, const ras_scene_assets *assets, int i,
                          fragment_shader_payload *payload);
 
@@ -92,7 +91,7 @@ void hw3_object_material(const ras_scene *scene, const ras_scene_assets *assets,
  * · R · S (ras_scene_model_matrix's order). A last rotation about +y or -y
  * joins the turn (one R_y of the summed angle), and rotations about x and y
  * use hw3's own matrices, so a scene's matrices come out bit for bit the
- * same on every run of every renderer. */
+ * same on every run. */
 mat4s hw3_object_model(const ras_scene_object *object, float angle_deg);
 
 typedef struct hw3_render_options {
@@ -105,11 +104,6 @@ typedef struct hw3_render_options {
     /* NULL: hw1's get_projection_matrix (the program carries your hw1 forward);
      * the tests pass their own so hw3 is graded on its own. */
     mat4s (*projection)(float fov_deg, float aspect, float z_near, float z_far);
-    /* Who draws the frame: NULL (the default) is the teaching pipeline, one
-     * triangle at a time through rasterize_triangle and hw3_shade_fragment
-     * (the loop in hw3_render). Another renderer (hw3_renderer below) may draw
-     * it faster, but must draw the same picture and counters bit for bit. */
-    const struct hw3_renderer *renderer;
     ras_cull_mode cull;  /* default none */
     ras_depth_format depth; /* default z01 (inverse_w: with the scene's z_near, stage3_setup.h) */
     /* --dump DIR: the frame's buffers are written there (ras_dump.h: depth,
@@ -141,44 +135,6 @@ void hw3_capture_release(hw3_capture *capture);
  * for any other name, or a buffer the frame did not make. */
 bool hw3_capture_buffer(const hw3_capture *capture, const char *name, ras_dump_buffer *out);
 
-/* One frame as hw3_render has set it up for the teaching loop: the scene,
- * its options, the fragment stage (shader, varyings, per-scene payload
- * fields: the filter, the lights in view space, the ambient light; a renderer
- * sets each object's own with hw3_object_material) and every object's
- * matrices (models[i] is object i's). */
-typedef struct hw3_frame {
-    const ras_scene *scene;
-    const ras_scene_assets *assets; /* the scene's meshes and textures */
-    const hw3_render_options *opt;
-    const hw3_fragment_stage *stage;
-    const mat4s *models;
-    mat4s view, projection;
-} hw3_frame;
-
-/* The renderer hook: another way through a frame, for speed only. The
- * teaching pipeline is the reference; a renderer must give the same image
- * and the same work counters (all but the ms_* timings and buffer_bytes).
- *   accepts  may it draw this frame (its options, its scene)? false: hw3_render
- *            draws it the teaching way
- *   draw     the frame into `out`, its counters added to *k (never NULL; it
- *            holds the mip levels this frame built); false and err on bad
- *            sizes or out of memory
- *   user     the renderer's own settings */
-typedef struct hw3_renderer {
-    const char *name; /* as --renderer spells it */
-    bool (*accepts)(const struct hw3_renderer *self, const hw3_frame *frame);
-    bool (*draw)(const struct hw3_renderer *self, const hw3_frame *frame, ras_image *out,
-                 ras_counters *k, ras_error *err);
-    void *user;
-} hw3_renderer;
-
-/* A program offers renderers by registering them (at most 4, before parsing
- * its options); "teaching" is always there and means NULL. False when full. */
-bool hw3_renderer_register(const hw3_renderer *renderer);
-/* --renderer NAME: "teaching" gives NULL, a registered name its renderer;
- * false and err (naming the ones this program has) otherwise. */
-bool hw3_renderer_parse(const char *name, const hw3_renderer **out, ras_error *err);
-
 /* Defaults: normal shader, bilinear, angle 0, no AA, perspective-correct. */
 hw3_render_options hw3_render_defaults(void);
 
@@ -198,6 +154,20 @@ void hw3_render_options_apply(hw3_render_options *opt, const ras_app_settings *s
  * displacement), no view position when there are no lights to light it with. */
 unsigned hw3_frame_varyings(const ras_scene *scene, const ras_scene_assets *assets,
                              hw3_shader shader);
+
+/* One frame's set-up, before anything is drawn: the fragment stage (the
+ * shader, the varyings it reads, the filter, the lights moved into view
+ * space, the ambient light; each object's material is set per object with
+ * hw3_object_material), the view and projection matrices, and the mip levels
+ * trilinear filtering reads, built the first time (mip_levels: how many this
+ * frame built, for the counters). False and err when out of memory. */
+typedef struct hw3_frame {
+    hw3_fragment_stage stage;
+    mat4s view, projection;
+    uint64_t mip_levels;
+} hw3_frame;
+bool hw3_frame_setup(const ras_scene *scene, ras_scene_assets *assets,
+                     const hw3_render_options *opt, hw3_frame *frame, ras_error *err);
 
 /* Renders one frame of `scene` into `out` (the scene's size), its meshes and
  * textures from `assets` (ras_scene_load_assets of that scene). Lights with

@@ -7,8 +7,8 @@
  * procedural checker colour map and bumps height map). For every shader
  * (normal, phong, texture, bump, displacement) × AA (none, MSAA 4x, SSAA 4x)
  * it times whole frames (hw3_render: setup, raster, shading, resolve) in the
- * plain teaching pipeline and in the fast path (hw3_shading/fast/, through
- * hw3_render's renderer hook) with 1 and 2 threads, and
+ * plain teaching pipeline and in the fast path (fast/, fast_render) with 1
+ * and 2 threads, and
  * prints median/min/max ms, fragments shaded and ns per fragment. It checks
  * that every fast image equals the plain one bit for bit. Then it times the
  * whole program (hw3_shading_ref -o out.png) against the program that only
@@ -51,7 +51,7 @@
 #define CALLGRIND_ZERO_STATS
 #define CALLGRIND_DUMP_STATS_AT(name) ((void)(name))
 #endif
-#include "fast_render.h" /* hw3_fast_renderer: the fast path, chosen explicitly */
+#include "fast_render.h" /* fast_render: the fast path, chosen explicitly */
 #include "ras_mesh.h"
 #include "ras_builtin_scenes.h" /* ras_builtin_scene_with_model: the classic scene */
 #include "scene.h"
@@ -119,9 +119,7 @@ static bool render(const ras_scene *scene, ras_scene_assets *assets, hw3_shader 
                    ras_image *out, ras_counters *k, uint64_t *shaded, double *ms, double *cpu) {
     hw3_render_options opt = hw3_render_defaults();
     *shaded = UINT64_MAX; /* the plain pipeline leaves it: it shades what it counts */
-    hw3_fast_settings settings = {.threads = threads, .shaded = shaded};
-    hw3_renderer fast = hw3_fast_renderer(&settings);
-    opt.renderer = plain ? NULL : &fast;
+    fast_settings settings = {.threads = threads, .shaded = shaded};
     opt.shader = shader;
     if (bench_filter_set) opt.filter = bench_filter;
     opt.aa = aa;
@@ -133,7 +131,8 @@ static bool render(const ras_scene *scene, ras_scene_assets *assets, hw3_shader 
     }
     ras_error err = {{0}};
     double c0 = cpu_ms(), t0 = ras_now_ms();
-    bool ok = hw3_render(scene, assets, &opt, out, k, &err);
+    int drawn = plain ? -1 : fast_render(scene, assets, &opt, &settings, out, k, &err);
+    bool ok = drawn < 0 ? hw3_render(scene, assets, &opt, out, k, &err) : drawn;
     *ms = ras_now_ms() - t0;
     *cpu = cpu_ms() - c0;
     if (!ok) fprintf(stderr, "bench_perf: %s\n", err.msg);
