@@ -4,12 +4,12 @@
     tests/include_graph_test.py SOURCE_DIR
 
 1. No student-visible file includes from solution/ or fast/. Student-visible:
-   every .c/.h under an assignment folder (hw*/) outside its solution/ and
-   fast/ folders, i.e. what the handout ships of it. An include is from
-   solution/ or fast/ when its path goes through such a folder
-   ("solution/shading.c", "../hw3_shading/fast/fast_render.h") or when its
-   file exists only there (`#include "fast_render.h"` found through an
-   include directory the build adds).
+   every .c/.h under an assignment folder (hw*/) outside its solution/
+   folder, i.e. what the handout ships of it. An include is from solution/
+   or fast/ (the fast renderer, top-level, solution code) when its path goes
+   through such a folder ("solution/shading.c", "../fast/fast_render.h") or
+   when its file exists only there (`#include "fast_render.h"` found through
+   an include directory the build adds).
 2. Nothing in common/ includes from an assignment or from tests/: the core is
    the "GPU" the assignments plug into, and it is built and shipped alone. An
    include of common/ must name a file of common/ (or a system header, <...>).
@@ -42,9 +42,11 @@ def includes(root, rel):
 
 
 def hidden(rel):
-    """True for a file in an assignment's solution/ or fast/ folder."""
+    """True for a file in an assignment's solution/ folder or in fast/."""
     parts = rel.split(os.sep)
-    return len(parts) > 2 and parts[0].startswith("hw") and parts[1] in ("solution", "fast")
+    if len(parts) > 1 and parts[0] == "fast":
+        return True
+    return len(parts) > 2 and parts[0].startswith("hw") and parts[1] == "solution"
 
 
 def main():
@@ -58,7 +60,8 @@ def main():
     # Names a build could find through an include directory: those that exist
     # only in solution/ or fast/ are hidden names.
     visible_names = {os.path.basename(f) for f in hw_files + common_files if not hidden(f)}
-    hidden_names = {os.path.basename(f) for f in hw_files if hidden(f)} - visible_names
+    fast_files = list(files_under(root, "fast")) if os.path.isdir(os.path.join(root, "fast")) else []
+    hidden_names = {os.path.basename(f) for f in hw_files + fast_files if hidden(f)} - visible_names
     common_names = {os.path.basename(f) for f in common_files}
 
     bad = []
