@@ -92,7 +92,7 @@ attacks: configure
 	@tests/grading/run-attacks --build $(BUILD)
 
 # The performance report: frame times of the classic hw3 scene, the teaching
-# pipeline vs the fast renderer (hw3_shading/fast/), into docs/performance.md.
+# pipeline vs the fast renderer (fast/), into docs/performance.md.
 # SPOT=DIR uses DIR/spot_triangulated_good.obj (else a built-in teapot).
 .PHONY: bench-perf
 # Beside them Mesa llvmpipe (issue 18; tests/bench/bench_llvmpipe.c, OSMesa installed by

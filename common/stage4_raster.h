@@ -34,7 +34,7 @@
  * reference's), draws nothing of a triangle out of range, counts it in
  * triangles_rejected_range and keeps the first refusal's message, which names
  * the corner and its position (ras_pipeline.refused). The fast renderer
- * (hw3_shading/fast/) refuses and counts at the same point with the same
+ * (fast/) refuses and counts at the same point with the same
  * test. From a scene it cannot happen: the clipper's guard band keeps every
  * corner within 4.5 frames of RAS_IMAGE_MAX_SIDE = 16384 px (73 728 px); a
  * screen-space caller meets it through ras_pipeline_draw_screen_triangle.

@@ -120,7 +120,7 @@ static bool worker_init(worker *w, frame *fr, size_t tile_samples) {
     const ras_scene *scene = fr->scene;
     w->fr = fr;
     w->color = malloc((tile_samples + 2) * sizeof *w->color); /* + 2: resolve4 */
-    /* DEPTH_PAD more: the first is draw_in_tile_1x32's spare slot for the
+    /* DEPTH_PAD more: the first is x1_draw's spare slot for the
      * depth of a fragment that failed the test (written, never read) */
     w->depth = malloc((tile_samples + DEPTH_PAD) * sizeof *w->depth);
     /* room for a tile's worth of fragments; defer_fragment grows it. One

@@ -58,7 +58,7 @@ _Static_assert(RAS_RASTER_MAX_COORD <= FIXED_LIMIT_PX,
 /* ---- triangle records ------------------------------------------------------ */
 
 typedef struct fast_tri {
-    /* What rasterizing reads first, together (three cache lines; do_tile
+    /* What rasterizing reads first, together (three cache lines; fast_tile_draw
      * prefetches them): */
     /* E_k(P) = a[k]·Px + b[k]·Py + c[k] (sub-pixel units) for the edge
      * opposite corner k of the CCW-ordered triangle; covered when
@@ -127,14 +127,14 @@ typedef struct frame {
     uint64_t varyings_per_fragment;
     int centre_sample; /* a sample whose position is the pixel centre, or -1 */
     /* per object (each has its own p): powf(x, p) is +0 for 0 <= x <= spec_zero
-     * (spec_zero_of) */
+     * (fast_spec_zero) */
     float spec_zero[FAST_MAX_OBJECTS];
     /* bins: tile t holds bin_tri[bin_start[t] .. bin_start[t+1]) */
     int tiles_x, tiles_y;
     size_t *bin_start;
     const fast_tri **bin_tri;
     atomic_int next_tile;
-    /* setup, shared out in chunks (setup_chunks) */
+    /* setup, shared out in chunks (fast_setup_triangles) */
     const mat4s *models;
     mat4s view, projection;
     ras_clip_vertex *clip; /* every object's vertices, object o from clip_base[o] */
@@ -155,7 +155,7 @@ typedef struct frame {
     int batch; /* BATCH_*: shade through the queue, four at a time */
     /* One sample per pixel and a batched shader: a fragment that passes the
      * depth test is recorded at its pixel (frags[base]), replacing the one
-     * it hides, instead of appended (see shade_deferred). */
+     * it hides, instead of appended (see fast_shade_tile). */
     bool per_pixel;
 } frame;
 
@@ -219,7 +219,7 @@ static inline void fast_defer_set_owner(worker *w, int base, uint64_t mask, int3
 
 /* A fragment that passed the depth test at the samples `mask` (of tile
  * sample index `base`), kept until the tile is drawn: only the samples it
- * still owns then take its colour (shade_deferred). */
+ * still owns then take its colour (fast_shade_tile). */
 static inline void fast_defer_fragment(worker *w, const fast_tri *r, vec3s bary, int base,
                                   uint64_t mask) {
     if (w->nfrag == w->frag_cap) {

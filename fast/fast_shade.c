@@ -181,7 +181,7 @@ static inline void queue_fragment(worker *w, const queued *f) {
 
 /* What shading `count` fragments of object o adds to the counters
  * (shade_prepare, shade_finish, texture_sample), for fragments
- * shade_deferred need not shade: the counters stay the teaching pipeline's,
+ * fast_shade_tile need not shade: the counters stay the teaching pipeline's,
  * which shades every fragment that passes a depth test. */
 static void count_unshaded(worker *w, int o, uint64_t count) {
     const frame *fr = w->fr;

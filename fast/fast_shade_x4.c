@@ -5,7 +5,7 @@
  * straight-line float arithmetic, so visible fragments are queued (in drawing order) and shaded
  * four at a time by the same operations in vector lanes (fast_simd.h says why
  * that is bit-exact). Colours are written when the queue is flushed; the
- * fragments shade_deferred queues own disjoint samples, so the order of the
+ * fragments fast_shade_tile queues own disjoint samples, so the order of the
  * writes does not matter (depth was tested and written when each fragment
  * was drawn). A queue
  * holds one object's fragments (one material). powf, nearest lookups and the

@@ -1,7 +1,7 @@
 /* fast/fast_simd.h — four fragments side by side, bit for bit. RASTER101-SOLUTION
  * This marker must never appear in a student handout.
  *
- * The fast path's batched shading (fast_render.c) computes four fragments at
+ * The fast path's batched shading (fast_shade_x4.c) computes four fragments at
  * once with GCC/clang vector extensions. Lane-wise +, -, *, / and sqrt are
  * IEEE operations rounded exactly like their scalar forms (SSE's mulps/divps/
  * sqrtps give the same bits as mulss/divss/sqrtss), and the build's

@@ -1,10 +1,10 @@
 /* test_fast_path.c — the fast renderer draws what the teaching pipeline draws.
  *
- * The teaching pipeline (hw3_render with no renderer: one triangle at a time
- * through rasterize_triangle and hw3_shade_fragment, the reference functions
- * of solution/) is the reference. The fast renderer (hw3_shading/fast/,
- * chosen through the renderer hook) keeps private copies of some of those
- * functions for speed. Every scene × shader × AA mode here must give the same
+ * The teaching pipeline (hw3_render: one triangle at a time through
+ * rasterize_triangle and hw3_shade_fragment, the reference functions of
+ * solution/) is the reference. The fast renderer (fast/, fast_render) keeps
+ * private copies of some of those functions for speed (fast/README.md lists
+ * them). Every scene × shader × AA mode here must give the same
  * image, byte for byte, and the same counters (all but the timings and the
  * buffer memory) with the teaching pipeline and with the fast renderer on 1,
  * 2 and 3 threads. When a reference function changes and its copy does not,
@@ -25,34 +25,38 @@
 #include <stdlib.h> /* malloc, free */
 #include <string.h> /* memcmp */
 
-#define FAST_C "hw3_shading/fast/fast_render.c"
+#define X4_C "fast/fast_shade_x4.c"
+#define SHADE_C "fast/fast_shade.c"
 
 /* For each shader, the fast renderer's copies of the reference functions it
- * draws with: the one to update when the pictures drift apart. */
+ * draws with: the one to update when the pictures drift apart (all of them:
+ * fast/README.md). */
 static const char *const fast_copies[HW3_SHADER_COUNT] = {
-    [HW3_SHADER_NORMAL] = "the normal lanes of shade_prepare (" FAST_C
+    [HW3_SHADER_NORMAL] = "the normal lanes of shade_prepare (" X4_C
                           "), its copy of normal_fragment_shader",
-    [HW3_SHADER_PHONG] = "fast_blinn_phong and its four-lane form in light_terms_x4/shade_finish ("
-                         FAST_C "), its copies of blinn_phong_lighting and phong_fragment_shader",
-    [HW3_SHADER_TEXTURE] = "fast_blinn_phong and shade_finish (" FAST_C "), its copies of "
+    [HW3_SHADER_PHONG] = "fast_blinn_phong (" SHADE_C ") and its four-lane form in "
+                         "light_terms_x4/shade_finish (" X4_C "), copies of blinn_phong_lighting "
+                         "and phong_fragment_shader",
+    [HW3_SHADER_TEXTURE] = "fast_blinn_phong (" SHADE_C ") and shade_finish (" X4_C "), copies of "
                            "blinn_phong_lighting and texture_fragment_shader, or "
-                           "bilinear_x4_footprint/bilinear_x4_blend, its copy of "
+                           "bilinear_x4_footprint/bilinear_x4_blend (" X4_C "), the copy of "
                            "texture_sample_bilinear",
-    [HW3_SHADER_BUMP] = "bump_normal_x4 and the bump lanes of shade_prepare (" FAST_C "), its "
-                        "copies of bump_normal, tangent_frame, height_sample and "
-                        "bump_fragment_shader, or axis_x4/footprint_of/bilinear_x4_blend, its "
+    [HW3_SHADER_BUMP] = "bump_normal_x4 and the bump lanes of shade_prepare (" X4_C "), copies "
+                        "of bump_normal, tangent_frame, height_sample and "
+                        "bump_fragment_shader, or axis_x4/footprint_of/bilinear_x4_blend, the "
                         "copy of texture_sample_bilinear",
     [HW3_SHADER_DISPLACEMENT] = "bump_normal_x4, the displacement lanes of shade_prepare and "
-                                "fast_blinn_phong's four-lane form in light_terms_x4 (" FAST_C
-                                "), its copies of displacement_fragment_shader, bump_normal, "
+                                "the four-lane Blinn-Phong in light_terms_x4 (" X4_C
+                                "), copies of displacement_fragment_shader, bump_normal, "
                                 "height_sample and blinn_phong_lighting",
 };
 /* What every shader shares. The normal shader is checked first: when it
  * differs, these may be the cause; when a later shader differs, they are not. */
-#define FAST_SHARED                                                                         \
-    "; or, if the other shaders differ too, the shared copies: setup_fixed and draw_in_tile " \
-    "(" FAST_C ") of rasterize_triangle (hw2_rasterize/solution/rasterizer.c), resolve4 of "  \
-    "resolve_pixel, persp_bary and weights_x4 of perspective_correct_barycentric"
+#define FAST_SHARED                                                                           \
+    "; or, if the other shaders differ too, the shared copies: setup_fixed (fast/fast_setup.c) " \
+    "and the tile variants (fast/fast_rast.c) of rasterize_triangle "                           \
+    "(hw2_rasterize/solution/rasterizer.c), resolve4 (fast/fast_tile.c) of resolve_pixel, "     \
+    "persp_bary (" SHADE_C ") and weights_x4 (" X4_C ") of perspective_correct_barycentric"
 
 /* The program's default scene (scenes/hw3_default.json as built in) and its
  * meshes and textures; the tests change it, then put it back. */
@@ -155,7 +159,7 @@ static void check_all(const char *label, hw3_render_options base) {
                 }
                 check_same_counters(&kp, &kf, what);
                 if (shaded == UINT64_MAX)
-                    fail_msg("%s: the fast renderer did not draw (fast_accepts declined)", what);
+                    fail_msg("%s: the fast renderer did not draw (fast_render declined)", what);
                 /* Deferred shading shades each fragment still owning a sample
                  * once: never more than the counter (every fragment that
                  * passed a depth test), none when nothing passed, the same
