@@ -152,30 +152,34 @@ static bool run_workers(frame *fr, worker *workers, int threads) {
     return !atomic_load(&fr->failed);
 }
 
+/* A worker's counts added into k: setup's (ks: the triangles) or the
+ * tiles' (k: samples, fragments, shading); each leaves the other's zero. */
+static void add_work(ras_counters *k, const ras_counters *s) {
+    k->stages_run |= s->stages_run;
+    k->triangles_in += s->triangles_in;
+    k->triangles_rejected_nonfinite += s->triangles_rejected_nonfinite;
+    k->triangles_rejected_range += s->triangles_rejected_range;
+    k->triangles_clipped_away += s->triangles_clipped_away;
+    k->triangles_clip_split += s->triangles_clip_split;
+    k->triangles_rasterized += s->triangles_rasterized;
+    k->triangles_degenerate += s->triangles_degenerate;
+    k->samples_tested += s->samples_tested;
+    k->samples_covered += s->samples_covered;
+    k->depth_tests_passed += s->depth_tests_passed;
+    k->fragments_shaded += s->fragments_shaded;
+    k->varyings_interpolated += s->varyings_interpolated;
+    k->texels_fetched += s->texels_fetched;
+    k->lighting_evaluations += s->lighting_evaluations;
+}
+
 /* The workers' counters, setup's and the tiles', added into k, with the
  * buffers they used; *settings->shaded gets the fragments really shaded. */
 static void sum_counters(const frame *fr, const worker *workers, int threads,
                          size_t tile_samples, const fast_settings *settings,
                          ras_counters *k) {
     for (int i = 0; i < threads; i++) {
-        const ras_counters *s = &workers[i].ks;
-        k->stages_run |= s->stages_run;
-        k->triangles_in += s->triangles_in;
-        k->triangles_rejected_nonfinite += s->triangles_rejected_nonfinite;
-        k->triangles_rejected_range += s->triangles_rejected_range;
-        k->triangles_clipped_away += s->triangles_clipped_away;
-        k->triangles_clip_split += s->triangles_clip_split;
-        k->triangles_rasterized += s->triangles_rasterized;
-        k->triangles_degenerate += s->triangles_degenerate;
-        const ras_counters *c = &workers[i].k;
-        k->stages_run |= c->stages_run;
-        k->samples_tested += c->samples_tested;
-        k->samples_covered += c->samples_covered;
-        k->depth_tests_passed += c->depth_tests_passed;
-        k->fragments_shaded += c->fragments_shaded;
-        k->varyings_interpolated += c->varyings_interpolated;
-        k->texels_fetched += c->texels_fetched;
-        k->lighting_evaluations += c->lighting_evaluations;
+        add_work(k, &workers[i].ks);
+        add_work(k, &workers[i].k);
     }
     if (fr->n > 1) k->stages_run |= RAS_STAGE_RESOLVE;
     k->buffer_bytes = (size_t)threads * tile_samples * (sizeof(vec3s) + sizeof(float));

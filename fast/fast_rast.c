@@ -140,6 +140,24 @@ static inline unsigned bary_depth_x4(const fast_tri *r, const vi4 e[3], v3x4 *b,
 #define BARY_X4 0
 #endif
 
+/* The shading point of a pixel whose centre is not covered: the visible
+ * sample nearest the centre (the first of equals), as rasterize_triangle
+ * chooses it. */
+static inline int nearest_visible(const frame *fr, uint64_t visible, const int n) {
+    int best = -1;
+    float best_d2 = 0;
+    for (int k = 0; k < n; k++) {
+        if (!(visible >> k & 1)) continue;
+        float dx = fr->pattern.offsets[k].x - 0.5f, dy = fr->pattern.offsets[k].y - 0.5f;
+        float d2 = dx * dx + dy * dy;
+        if (best < 0 || d2 < best_d2) {
+            best = k;
+            best_d2 = d2;
+        }
+    }
+    return best;
+}
+
 static inline __attribute__((always_inline)) void
 draw_pixel_samples(worker *w, const fast_tri *r, int x, int y, int tx0, int ty0,
                    int64_t e[][3], const int n, uint64_t covered) {
@@ -179,18 +197,7 @@ draw_pixel_samples(worker *w, const fast_tri *r, int x, int y, int tx0, int ty0,
     } else if (ec[0] >= r->thr[0] && ec[1] >= r->thr[1] && ec[2] >= r->thr[2]) {
         bc = bary_of(r, ec);
     } else {
-        int best = -1;
-        float best_d2 = 0;
-        for (int k = 0; k < n; k++) {
-            if (!(visible >> k & 1)) continue;
-            float dx = fr->pattern.offsets[k].x - 0.5f, dy = fr->pattern.offsets[k].y - 0.5f;
-            float d2 = dx * dx + dy * dy;
-            if (best < 0 || d2 < best_d2) {
-                best = k;
-                best_d2 = d2;
-            }
-        }
-        bc = bary[best];
+        bc = bary[nearest_visible(fr, visible, n)];
     }
     if (n == 1)
         fast_defer_pixel(w, r, bc, base);
@@ -248,18 +255,7 @@ draw_pixel4_v(worker *w, const fast_tri *r, int x, int y, int tx0, int ty0, cons
         int64_t e3[3] = {c0 + r->thr[0], c1 + r->thr[1], c2 + r->thr[2]};
         fast_defer_fragment(w, r, bary_div(r, e3), base, visible);
     } else {
-        int best = -1;
-        float best_d2 = 0;
-        for (int k = 0; k < 4; k++) {
-            if (!(visible >> k & 1)) continue;
-            float dx = fr->pattern.offsets[k].x - 0.5f, dy = fr->pattern.offsets[k].y - 0.5f;
-            float d2 = dx * dx + dy * dy;
-            if (best < 0 || d2 < best_d2) {
-                best = k;
-                best_d2 = d2;
-            }
-        }
-        defer_fragment_v(w, r, bv[best], base, visible);
+        defer_fragment_v(w, r, bv[nearest_visible(fr, visible, 4)], base, visible);
     }
 }
 #endif

@@ -35,19 +35,30 @@ static void put_row(vec3s *dst, const vec3s *src, int count) {
     memcpy(dst, src, sizeof *dst * (size_t)count);
 }
 
-/* count copies of c */
+#if defined(__SSE2__)
+/* count copies of c at dst, four pixels as three vectors (rgbr gbrg brgb);
+ * count a multiple of 4, dst 16-byte aligned. stream: non-temporal stores
+ * (the image), else cached ones (the tile's buffer, read back soon). */
+static inline __attribute__((always_inline)) void fill_x4(vec3s *dst, vec3s c, int count,
+                                                          const bool stream) {
+    const __m128 v[3] = {_mm_setr_ps(c.x, c.y, c.z, c.x), _mm_setr_ps(c.y, c.z, c.x, c.y),
+                         _mm_setr_ps(c.z, c.x, c.y, c.z)};
+    float *d = &dst[0].x;
+    for (int i = 0; i < 3 * count; i += 12)
+        for (int k = 0; k < 3; k++) {
+            if (stream)
+                _mm_stream_ps(d + i + 4 * k, v[k]);
+            else
+                _mm_store_ps(d + i + 4 * k, v[k]);
+        }
+}
+#endif
+
+/* count copies of c into the image */
 static void fill_row(vec3s *dst, vec3s c, int count) {
 #if defined(__SSE2__)
     if (((uintptr_t)dst & 15) == 0 && count % 4 == 0) {
-        /* four pixels are three vectors: rgbr gbrg brgb */
-        __m128 v0 = _mm_setr_ps(c.x, c.y, c.z, c.x), v1 = _mm_setr_ps(c.y, c.z, c.x, c.y),
-               v2 = _mm_setr_ps(c.z, c.x, c.y, c.z);
-        float *d = &dst[0].x;
-        for (int i = 0; i < 3 * count; i += 12) {
-            _mm_stream_ps(d + i, v0);
-            _mm_stream_ps(d + i + 4, v1);
-            _mm_stream_ps(d + i + 8, v2);
-        }
+        fill_x4(dst, c, count, true);
         return;
     }
 #endif
@@ -55,19 +66,11 @@ static void fill_row(vec3s *dst, vec3s c, int count) {
         dst[i] = c;
 }
 
-/* count copies of c into the tile's colour buffer (cached: it is read back
- * soon), four samples as three vector stores; count is a multiple of 4 and
- * the buffer 16-byte aligned (malloc's). */
+/* count copies of c into the tile's colour buffer; count is a multiple of 4
+ * and the buffer 16-byte aligned (malloc's). */
 static void fill_colour(vec3s *dst, vec3s c, int count) {
 #if defined(__SSE2__)
-    __m128 v0 = _mm_setr_ps(c.x, c.y, c.z, c.x), v1 = _mm_setr_ps(c.y, c.z, c.x, c.y),
-           v2 = _mm_setr_ps(c.z, c.x, c.y, c.z);
-    float *d = &dst[0].x;
-    for (int i = 0; i < 3 * count; i += 12) {
-        _mm_store_ps(d + i, v0);
-        _mm_store_ps(d + i + 4, v1);
-        _mm_store_ps(d + i + 8, v2);
-    }
+    fill_x4(dst, c, count, false);
 #else
     for (int i = 0; i < count; i++)
         dst[i] = c;
