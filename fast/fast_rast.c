@@ -143,7 +143,8 @@ static inline unsigned bary_depth_x4(const fast_tri *r, const vi4 e[3], v3x4 *b,
 /* The shading point of a pixel whose centre is not covered: the visible
  * sample nearest the centre (the first of equals), as rasterize_triangle
  * chooses it. */
-static inline int nearest_visible(const frame *fr, uint64_t visible, const int n) {
+static inline __attribute__((always_inline)) int nearest_visible(const frame *fr,
+                                                                 uint64_t visible, const int n) {
     int best = -1;
     float best_d2 = 0;
     for (int k = 0; k < n; k++) {

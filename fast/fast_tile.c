@@ -36,21 +36,27 @@ static void put_row(vec3s *dst, const vec3s *src, int count) {
 }
 
 #if defined(__SSE2__)
+/* One 16-byte store: non-temporal (stream: the image) or cached (the tile's
+ * buffer, read back soon). */
+static inline __attribute__((always_inline)) void store4(float *d, __m128 v, const bool stream) {
+    if (stream)
+        _mm_stream_ps(d, v);
+    else
+        _mm_store_ps(d, v);
+}
+
 /* count copies of c at dst, four pixels as three vectors (rgbr gbrg brgb);
- * count a multiple of 4, dst 16-byte aligned. stream: non-temporal stores
- * (the image), else cached ones (the tile's buffer, read back soon). */
+ * count a multiple of 4, dst 16-byte aligned. */
 static inline __attribute__((always_inline)) void fill_x4(vec3s *dst, vec3s c, int count,
                                                           const bool stream) {
-    const __m128 v[3] = {_mm_setr_ps(c.x, c.y, c.z, c.x), _mm_setr_ps(c.y, c.z, c.x, c.y),
-                         _mm_setr_ps(c.z, c.x, c.y, c.z)};
+    __m128 v0 = _mm_setr_ps(c.x, c.y, c.z, c.x), v1 = _mm_setr_ps(c.y, c.z, c.x, c.y),
+           v2 = _mm_setr_ps(c.z, c.x, c.y, c.z);
     float *d = &dst[0].x;
-    for (int i = 0; i < 3 * count; i += 12)
-        for (int k = 0; k < 3; k++) {
-            if (stream)
-                _mm_stream_ps(d + i + 4 * k, v[k]);
-            else
-                _mm_store_ps(d + i + 4 * k, v[k]);
-        }
+    for (int i = 0; i < 3 * count; i += 12) {
+        store4(d + i, v0, stream);
+        store4(d + i + 4, v1, stream);
+        store4(d + i + 8, v2, stream);
+    }
 }
 #endif
 

@@ -105,6 +105,7 @@ static frame render_spec(const spec *s, bool plain) {
     return f;
 }
 
+#ifdef RAS_HAVE_FAST_RENDERER
 /* The work counters of the plain and the fast path agree (timings and
  * buffer_bytes differ by design: the fast path draws into tiles). */
 static void assert_same_work(const ras_counters *a, const ras_counters *b) {
@@ -121,6 +122,7 @@ static void assert_same_work(const ras_counters *a, const ras_counters *b) {
     assert_int_equal(a->mip_levels_built, b->mip_levels_built);
     assert_int_equal(a->lighting_evaluations, b->lighting_evaluations);
 }
+#endif
 
 /* The plain pipeline's frame, after checking the fast path did the same work. */
 static frame render(const spec *s) {
