@@ -129,7 +129,8 @@ static bool worker_init(worker *w, frame *fr, size_t tile_samples) {
     w->frags = malloc((w->frag_cap + 1) * sizeof *w->frags);
     w->owner = malloc(tile_samples * sizeof *w->owner);
     if (!(w->color && w->depth && w->frags && w->owner)) return false;
-    for (int i = 0; i < DEPTH_PAD; i++) w->depth[tile_samples + i] = INFINITY;
+    for (int i = 0; i < DEPTH_PAD; i++)
+        w->depth[tile_samples + i] = INFINITY;
     for (int o = 0; o < scene->object_count; o++) {
         fragment_shader_payload *p = &w->pay[o];
         *p = fr->stage->base;
@@ -145,10 +146,10 @@ static bool worker_init(worker *w, frame *fr, size_t tile_samples) {
 static bool run_workers(frame *fr, worker *workers, int threads) {
     int started = 1;
     for (; started < threads; started++)
-        if (pthread_create(&workers[started].thread, NULL, worker_main, &workers[started]))
-            break;
+        if (pthread_create(&workers[started].thread, NULL, worker_main, &workers[started])) break;
     worker_main(&workers[0]);
-    for (int i = 1; i < started; i++) pthread_join(workers[i].thread, NULL);
+    for (int i = 1; i < started; i++)
+        pthread_join(workers[i].thread, NULL);
     return !atomic_load(&fr->failed);
 }
 
@@ -174,9 +175,8 @@ static void add_work(ras_counters *k, const ras_counters *s) {
 
 /* The workers' counters, setup's and the tiles', added into k, with the
  * buffers they used; *settings->shaded gets the fragments really shaded. */
-static void sum_counters(const frame *fr, const worker *workers, int threads,
-                         size_t tile_samples, const fast_settings *settings,
-                         ras_counters *k) {
+static void sum_counters(const frame *fr, const worker *workers, int threads, size_t tile_samples,
+                         const fast_settings *settings, ras_counters *k) {
     for (int i = 0; i < threads; i++) {
         add_work(k, &workers[i].ks);
         add_work(k, &workers[i].k);
@@ -223,9 +223,11 @@ static bool fast_draw(frame *fr, const hw3_render_options *opt, const fast_setti
     int width = scene->width, height = scene->height;
     if (width < 1 || height < 1 || width > RAS_IMAGE_MAX_SIDE || height > RAS_IMAGE_MAX_SIDE)
         return ras_error_set(err, "frame size %dx%d is out of range", width, height);
-    ras_sample_pattern pattern = opt->aa == RAS_AA_NONE ? ras_sample_pattern_center() : opt->pattern;
+    ras_sample_pattern pattern =
+        opt->aa == RAS_AA_NONE ? ras_sample_pattern_center() : opt->pattern;
     if (pattern.count < 1 || pattern.count > RAS_MAX_SAMPLES)
-        return ras_error_set(err, "the sample pattern is empty: build it with ras_sample_pattern_make");
+        return ras_error_set(err,
+                             "the sample pattern is empty: build it with ras_sample_pattern_make");
     double t0 = ras_now_ms();
     fr->width = width, fr->height = height;
     fr->n = pattern.count, fr->ssaa = opt->aa == RAS_AA_SSAA, fr->pattern = pattern;
@@ -250,7 +252,8 @@ static bool fast_draw(frame *fr, const hw3_render_options *opt, const fast_setti
     atomic_init(&fr->next_tile, 0);
     fr->t_setup = t0;
     size_t tile_samples = (size_t)TILE * TILE * (size_t)fr->n;
-    for (int i = 0; ok && i < threads; i++) ok = worker_init(&workers[i], fr, tile_samples);
+    for (int i = 0; ok && i < threads; i++)
+        ok = worker_init(&workers[i], fr, tile_samples);
     if (ok) ok = run_workers(fr, workers, threads);
     if (ok)
         sum_counters(fr, workers, threads, tile_samples, settings, k);
@@ -281,8 +284,13 @@ int fast_render(const ras_scene *scene, ras_scene_assets *assets, const hw3_rend
         free(models);
         return 0;
     }
-    frame fr = {.scene = scene, .assets = assets, .stage = &setup.stage, .out = out,
-                .models = models, .view = setup.view, .projection = setup.projection};
+    frame fr = {.scene = scene,
+                .assets = assets,
+                .stage = &setup.stage,
+                .out = out,
+                .models = models,
+                .view = setup.view,
+                .projection = setup.projection};
     ras_counters k = {.mip_levels_built = setup.mip_levels,
                       .stages_run = setup.mip_levels ? RAS_STAGE_MIPMAP : 0u};
     bool ok = fast_draw(&fr, opt, settings, &k, err);

@@ -41,8 +41,8 @@
 #include <stdlib.h>    /* realloc */
 #include <string.h>    /* memcpy */
 
-#define TILE 64         /* pixels per tile side */
-#define BLOCK 8         /* pixels per rejection block side */
+#define TILE 64 /* pixels per tile side */
+#define BLOCK 8 /* pixels per rejection block side */
 #define MAX_THREADS 64
 /* Objects a frame may have: the per-object payloads and counters are kept in
  * fixed arrays (a worker's); fast_accepts declines larger scenes, which the
@@ -54,7 +54,6 @@
 _Static_assert(RAS_RASTER_MAX_COORD <= FIXED_LIMIT_PX,
                "the fast path's int64 edge functions must hold the rasterizer's whole range");
 
-
 /* ---- triangle records ------------------------------------------------------ */
 
 typedef struct fast_tri {
@@ -64,8 +63,8 @@ typedef struct fast_tri {
      * opposite corner k of the CCW-ordered triangle; covered when
      * E_k >= thr[k] (thr = -bias: 0 on top-left edges, 1 elsewhere). */
     int64_t a[3], b[3], c[3], thr[3], area2;
-    double inv_area2; /* RN(1 / area2), for ratio_to_float */
-    int order[3]; /* original vertex index of corner k */
+    double inv_area2;   /* RN(1 / area2), for ratio_to_float */
+    int order[3];       /* original vertex index of corner k */
     int x0, x1, y0, y1; /* pixel bounding box, clamped, inclusive */
     int object;
     float z[3]; /* t.v[i].z: depth_of's operands */
@@ -105,12 +104,12 @@ enum { SCALAR_REFERENCE, SCALAR_LIT_COLOUR, SCALAR_LIT_TEXTURE };
  * (fast_shade.c's fast_shaders, one row per hw3_shader): it is found by the
  * shader's name in the render options, never by its function's address. */
 typedef struct fast_shader {
-    int batch;      /* BATCH_*: its four-lane form */
-    unsigned needs; /* RAS_VARYING_*: what the four-lane form reads */
-    bool lit;       /* the four-lane form needs a light (else one at a time) */
+    int batch;       /* BATCH_*: its four-lane form */
+    unsigned needs;  /* RAS_VARYING_*: what the four-lane form reads */
+    bool lit;        /* the four-lane form needs a light (else one at a time) */
     bool any_filter; /* false: trilinear (per-fragment uv derivatives) is
                       * shaded one at a time */
-    int scalar;     /* SCALAR_*: the one-at-a-time path */
+    int scalar;      /* SCALAR_*: the one-at-a-time path */
 } fast_shader;
 
 typedef struct frame {
@@ -137,13 +136,13 @@ typedef struct frame {
     /* setup, shared out in chunks (fast_setup_triangles) */
     const mat4s *models;
     mat4s view, projection;
-    ras_clip_vertex *clip; /* every object's vertices, object o from clip_base[o] */
-    vec4s *screen;         /* their ras_viewport */
-    unsigned char *vflags; /* VERTEX_FINITE | SCREEN_FINITE */
+    ras_clip_vertex *clip;   /* every object's vertices, object o from clip_base[o] */
+    vec4s *screen;           /* their ras_viewport */
+    unsigned char *vflags;   /* VERTEX_FINITE | SCREEN_FINITE */
     unsigned char *voutcode; /* ras_clip_outcode */
-    size_t *clip_base;     /* [object_count] */
-    size_t *tri_first;     /* [object_count + 1]: object o's first triangle, counted over all */
-    int vchunks, tchunks;  /* vertex chunks: (vchunk_obj, vchunk_start) */
+    size_t *clip_base;       /* [object_count] */
+    size_t *tri_first;       /* [object_count + 1]: object o's first triangle, counted over all */
+    int vchunks, tchunks;    /* vertex chunks: (vchunk_obj, vchunk_start) */
     int *vchunk_obj;
     size_t *vchunk_start;
     tri_list *lists; /* [tchunks]: chunk c's records, in submission order */
@@ -152,7 +151,7 @@ typedef struct frame {
     double t_setup;     /* when setup ended (ms_vertex) */
     ras_image *out;
     const fast_shader *shader; /* the frame's shader, as fast_shaders declares it */
-    int batch; /* BATCH_*: shade through the queue, four at a time */
+    int batch;                 /* BATCH_*: shade through the queue, four at a time */
     /* One sample per pixel and a batched shader: a fragment that passes the
      * depth test is recorded at its pixel (frags[base]), replacing the one
      * it hides, instead of appended (see fast_shade_tile). */
@@ -166,7 +165,7 @@ typedef struct queued {
     vec3s bary;
     float pad; /* 0: bary is loaded as four floats (shade_prepare) */
     int base;
-    int object; /* r->object, at hand for queue_fragment */
+    int object;    /* r->object, at hand for queue_fragment */
     uint64_t mask; /* RAS_MAX_SAMPLES is 64 */
 } queued;
 /* shade_prepare loads bary and pad as one four-float vector */
@@ -221,7 +220,7 @@ static inline void fast_defer_set_owner(worker *w, int base, uint64_t mask, int3
  * sample index `base`), kept until the tile is drawn: only the samples it
  * still owns then take its colour (fast_shade_tile). */
 static inline void fast_defer_fragment(worker *w, const fast_tri *r, vec3s bary, int base,
-                                  uint64_t mask) {
+                                       uint64_t mask) {
     if (w->nfrag == w->frag_cap) {
         size_t cap = 2 * w->frag_cap;
         /* owner indices are int32: past that (80 GB of fragments) the frame
@@ -258,10 +257,10 @@ static inline void fast_defer_pixel(worker *w, const fast_tri *r, vec3s bary, in
     w->hidden[r->object]++;
 }
 
-
 /* What height_sample and bump_normal add to the counters for `count`
  * fragments: `lookups` height lookups each. */
-static inline void fast_count_heights(const fragment_shader_payload *pay, uint64_t lookups, uint64_t count) {
+static inline void fast_count_heights(const fragment_shader_payload *pay, uint64_t lookups,
+                                      uint64_t count) {
     if (!pay->counters || !pay->height_map) return;
     pay->counters->stages_run |= RAS_STAGE_TEXTURE | RAS_STAGE_BUMP;
     pay->counters->texels_fetched += lookups * (pay->filter == FILTER_NEAREST ? 1 : 4) * count;

@@ -82,8 +82,7 @@ static bool block_outside(const fast_tri *r, int bx0, int by0, int bx1, int by1,
 
 /* fast_defer_fragment with the barycentrics in lanes 0-2 of bv (lane 3 is 0: the
  * record's pad). */
-static inline void defer_fragment_v(worker *w, const fast_tri *r, vf4 bv, int base,
-                                    uint64_t mask) {
+static inline void defer_fragment_v(worker *w, const fast_tri *r, vf4 bv, int base, uint64_t mask) {
     if (__builtin_expect(w->nfrag == w->frag_cap, 0)) {
         vec3s b = {{bv[0], bv[1], bv[2]}};
         fast_defer_fragment(w, r, b, base, mask);
@@ -116,8 +115,8 @@ static inline vi4 ratios_x4(vi4 e, __m128d inv, vf4 *out) {
     __m128i m = _mm_set1_epi32(0x1FFFFFFF), c = _mm_set1_epi32(0x10000000 - 8);
     __m128i vlo = _mm_sub_epi32(_mm_and_si128(_mm_castpd_si128(qlo), m), c);
     __m128i vhi = _mm_sub_epi32(_mm_and_si128(_mm_castpd_si128(qhi), m), c);
-    vi4 v = (vi4)_mm_castps_si128(_mm_shuffle_ps(_mm_castsi128_ps(vlo), _mm_castsi128_ps(vhi),
-                                                 _MM_SHUFFLE(2, 0, 2, 0)));
+    vi4 v = (vi4)_mm_castps_si128(
+        _mm_shuffle_ps(_mm_castsi128_ps(vlo), _mm_castsi128_ps(vhi), _MM_SHUFFLE(2, 0, 2, 0)));
     /* (uint32)(low29 − …) <= 16, as a signed compare with the sign flipped */
     return (v ^ INT32_MIN) < INT32_MIN + 17;
 }
@@ -143,8 +142,8 @@ static inline unsigned bary_depth_x4(const fast_tri *r, const vi4 e[3], v3x4 *b,
 /* The shading point of a pixel whose centre is not covered: the visible
  * sample nearest the centre (the first of equals), as rasterize_triangle
  * chooses it. */
-static inline __attribute__((always_inline)) int nearest_visible(const frame *fr,
-                                                                 uint64_t visible, const int n) {
+static inline __attribute__((always_inline)) int nearest_visible(const frame *fr, uint64_t visible,
+                                                                 const int n) {
     int best = -1;
     float best_d2 = 0;
     for (int k = 0; k < n; k++) {
@@ -159,9 +158,10 @@ static inline __attribute__((always_inline)) int nearest_visible(const frame *fr
     return best;
 }
 
-static inline __attribute__((always_inline)) void
-draw_pixel_samples(worker *w, const fast_tri *r, int x, int y, int tx0, int ty0,
-                   int64_t e[][3], const int n, uint64_t covered) {
+static inline __attribute__((always_inline)) void draw_pixel_samples(worker *w, const fast_tri *r,
+                                                                     int x, int y, int tx0, int ty0,
+                                                                     int64_t e[][3], const int n,
+                                                                     uint64_t covered) {
     const frame *fr = w->fr;
     int base = ((y - ty0) * TILE + (x - tx0)) * n;
     vec3s bary[RAS_MAX_SAMPLES];
@@ -261,7 +261,6 @@ draw_pixel4_v(worker *w, const fast_tri *r, int x, int y, int tx0, int ty0, cons
 }
 #endif
 
-
 /* ---- the variants, each from fast_rast_tile_tmp.h ------------------------ */
 
 /* What every variant is handed: the tile's corner and the part of the
@@ -285,7 +284,8 @@ n_begin(worker *w, const fast_tri *r, const tile_box *box, n_state *s, const int
     (void)box;
     s->reject_x0 = fr->omin_x, s->reject_x1 = fr->omax_x;
     s->reject_y0 = fr->omin_y, s->reject_y1 = fr->omax_y;
-    for (int i = 0; i < 3; i++) s->step[i] = r->a[i] * SUBPIXEL_ONE;
+    for (int i = 0; i < 3; i++)
+        s->step[i] = r->a[i] * SUBPIXEL_ONE;
     /* Edge values are kept for the n samples and the pixel centre, except at
      * one sample that is the centre (no AA): draw_pixel_samples reads the
      * centre's values only when no visible sample lies there. */
@@ -297,9 +297,10 @@ n_begin(worker *w, const fast_tri *r, const tile_box *box, n_state *s, const int
  * first (n bits per pixel), without a branch per sample (edges of small
  * triangles are unpredictable), then only the pixels with a covered sample,
  * their edge values stepped from the row start (still exact). */
-static inline __attribute__((always_inline)) void
-n_row_masked(worker *w, const fast_tri *r, const tile_box *box, const n_state *s, int bx0,
-             int bx1, int y, int64_t e[][3], const int n) {
+static inline __attribute__((always_inline)) void n_row_masked(worker *w, const fast_tri *r,
+                                                               const tile_box *box,
+                                                               const n_state *s, int bx0, int bx1,
+                                                               int y, int64_t e[][3], const int n) {
     /* E >= thr on all three edges <=> every E - thr has its sign bit clear
      * <=> so has their bitwise or. */
     uint32_t mask = 0;
@@ -325,9 +326,9 @@ n_row_masked(worker *w, const fast_tri *r, const tile_box *box, const n_state *s
     }
 }
 
-static inline __attribute__((always_inline)) void
-n_block(worker *w, const fast_tri *r, const tile_box *box, n_state *s, int bx0, int by0, int bx1,
-        int by1, const int n) {
+static inline __attribute__((always_inline)) void n_block(worker *w, const fast_tri *r,
+                                                          const tile_box *box, n_state *s, int bx0,
+                                                          int by0, int bx1, int by1, const int n) {
     const frame *fr = w->fr;
     for (int y = by0; y <= by1; y++) {
         /* Edge values at (bx0, y) for every sample and the centre, then one
@@ -337,7 +338,8 @@ n_block(worker *w, const fast_tri *r, const tile_box *box, n_state *s, int bx0, 
         for (int k = 0; k < s->ne; k++) {
             int64_t px = (int64_t)bx0 * SUBPIXEL_ONE + fr->off_x[k];
             int64_t py = (int64_t)y * SUBPIXEL_ONE + fr->off_y[k];
-            for (int i = 0; i < 3; i++) e[k][i] = r->a[i] * px + r->b[i] * py + r->c[i];
+            for (int i = 0; i < 3; i++)
+                e[k][i] = r->a[i] * px + r->b[i] * py + r->c[i];
         }
         if (n * BLOCK <= 32) {
             n_row_masked(w, r, box, s, bx0, bx1, y, e, n);
@@ -346,7 +348,8 @@ n_block(worker *w, const fast_tri *r, const tile_box *box, n_state *s, int bx0, 
         for (int x = bx0; x <= bx1; x++) {
             draw_pixel_samples(w, r, x, y, box->tx0, box->ty0, e, n, 0);
             for (int k = 0; k < s->ne; k++)
-                for (int i = 0; i < 3; i++) e[k][i] += s->step[i];
+                for (int i = 0; i < 3; i++)
+                    e[k][i] += s->step[i];
         }
     }
 }
@@ -433,9 +436,10 @@ x1_begin(worker *w, const fast_tri *r, const tile_box *box, x1_state *s, const b
 /* The block's coverage, all its rows without a branch (a row's covered count
  * is unpredictable, and so is whether it has any): eight bits a row in the
  * mask returned, each row's E (lanes + thr: they fit) into eblk. */
-static inline __attribute__((always_inline)) uint64_t
-x1_coverage(const fast_tri *r, const x1_state *s, int bx0, int by0, int bx1, int by1,
-            int32_t eblk[BLOCK][3][BLOCK]) {
+static inline __attribute__((always_inline)) uint64_t x1_coverage(const fast_tri *r,
+                                                                  const x1_state *s, int bx0,
+                                                                  int by0, int bx1, int by1,
+                                                                  int32_t eblk[BLOCK][3][BLOCK]) {
     unsigned row_lanes = (1u << (bx1 - bx0 + 1)) - 1;
     int64_t px = (int64_t)bx0 * SUBPIXEL_ONE + s->cx;
     int64_t py0 = (int64_t)by0 * SUBPIXEL_ONE + s->cy;
@@ -466,9 +470,10 @@ x1_coverage(const fast_tri *r, const x1_state *s, int bx0, int by0, int bx1, int
 }
 
 /* The block's coverage first, then its covered pixels, one loop. */
-static inline __attribute__((always_inline)) void
-x1_block(worker *w, const fast_tri *r, const tile_box *box, x1_state *s, int bx0, int by0,
-         int bx1, int by1, const bool per_pixel) {
+static inline __attribute__((always_inline)) void x1_block(worker *w, const fast_tri *r,
+                                                           const tile_box *box, x1_state *s,
+                                                           int bx0, int by0, int bx1, int by1,
+                                                           const bool per_pixel) {
     int32_t eblk[BLOCK][3][BLOCK];
     uint64_t covered = x1_coverage(r, s, bx0, by0, bx1, by1, eblk);
     const int base_blk = (by0 - box->ty0) * TILE + (bx0 - box->tx0);
@@ -501,8 +506,8 @@ x1_block(worker *w, const fast_tri *r, const tile_box *box, x1_state *s, int bx0
     }
 }
 
-static inline __attribute__((always_inline)) void
-x1_end(worker *w, const fast_tri *r, x1_state *s, const bool per_pixel) {
+static inline __attribute__((always_inline)) void x1_end(worker *w, const fast_tri *r, x1_state *s,
+                                                         const bool per_pixel) {
     w->k.samples_covered += s->covered_n;
     w->k.depth_tests_passed += s->passed_n;
     if (per_pixel) w->hidden[r->object] += (int64_t)s->passed_n;
@@ -539,8 +544,8 @@ typedef struct x4_state {
 #endif
 } x4_state;
 
-static inline __attribute__((always_inline)) bool
-x4_begin(worker *w, const fast_tri *r, const tile_box *box, x4_state *s) {
+static inline __attribute__((always_inline)) bool x4_begin(worker *w, const fast_tri *r,
+                                                           const tile_box *box, x4_state *s) {
     const frame *fr = w->fr;
     const int n = 4;
     s->reject_x0 = fr->omin_x, s->reject_x1 = fr->omax_x;
@@ -552,7 +557,8 @@ x4_begin(worker *w, const fast_tri *r, const tile_box *box, x4_state *s) {
                       (int64_t)box->y0 * SUBPIXEL_ONE + s->reject_y0,
                       (int64_t)(box->y1 + 1) * SUBPIXEL_ONE + s->reject_y1))
         return false;
-    for (int i = 0; i < 3; i++) s->step[i] = r->a[i] * SUBPIXEL_ONE;
+    for (int i = 0; i < 3; i++)
+        s->step[i] = r->a[i] * SUBPIXEL_ONE;
     for (int k = 0; k <= n; k++)
         for (int i = 0; i < 3; i++)
             s->off[k][i] = r->a[i] * fr->off_x[k] + r->b[i] * fr->off_y[k];
@@ -562,7 +568,8 @@ x4_begin(worker *w, const fast_tri *r, const tile_box *box, x4_state *s) {
     }
 #if BARY_X4
     for (int i = 0; i < 3; i++) {
-        for (int k = 0; k < n; k++) s->dlane[i][k] = (int)(s->off[k][i] - s->off[0][i]);
+        for (int k = 0; k < n; k++)
+            s->dlane[i][k] = (int)(s->off[k][i] - s->off[0][i]);
         s->dcen[i] = s->off[n][i] - s->off[0][i];
         int sy = (int)(r->b[i] * SUBPIXEL_ONE), t = (int)r->thr[i];
         s->vstepy[i] = (vi4){sy, sy, sy, sy};
@@ -574,9 +581,9 @@ x4_begin(worker *w, const fast_tri *r, const tile_box *box, x4_state *s) {
 }
 
 #if BARY_X4
-static inline __attribute__((always_inline)) void
-x4_block(worker *w, const fast_tri *r, const tile_box *box, x4_state *s, int bx0, int by0,
-         int bx1, int by1) {
+static inline __attribute__((always_inline)) void x4_block(worker *w, const fast_tri *r,
+                                                           const tile_box *box, x4_state *s,
+                                                           int bx0, int by0, int bx1, int by1) {
     /* E − thr at the four samples of pixel (bx0, by0), then one vector
      * addition per row and per pixel (exact: every value used lies in the
      * checked box) */
@@ -611,13 +618,14 @@ x4_block(worker *w, const fast_tri *r, const tile_box *box, x4_state *s, int bx0
             draw_pixel4_v(w, r, bx0 + i, y, box->tx0, box->ty0, e, s->thrv, covv,
                           mask >> (4 * i) & 0xFu, s->dcen, s->counts);
         }
-        for (int i = 0; i < 3; i++) evrow[i] += s->vstepy[i];
+        for (int i = 0; i < 3; i++)
+            evrow[i] += s->vstepy[i];
     }
 }
 #else
-static inline __attribute__((always_inline)) void
-x4_block(worker *w, const fast_tri *r, const tile_box *box, x4_state *s, int bx0, int by0,
-         int bx1, int by1) {
+static inline __attribute__((always_inline)) void x4_block(worker *w, const fast_tri *r,
+                                                           const tile_box *box, x4_state *s,
+                                                           int bx0, int by0, int bx1, int by1) {
     const int n = 4;
     for (int y = by0; y <= by1; y++) {
         int64_t corner[3]; /* E at the corner of pixel (bx0, y) */
@@ -625,20 +633,24 @@ x4_block(worker *w, const fast_tri *r, const tile_box *box, x4_state *s, int bx0
         for (int i = 0; i < 3; i++) {
             corner[i] = r->a[i] * ((int64_t)bx0 * SUBPIXEL_ONE) +
                         r->b[i] * ((int64_t)y * SUBPIXEL_ONE) + r->c[i];
-            for (int k = 0; k < n; k++) ev[i][k] = (int)(corner[i] + s->off[k][i] - r->thr[i]);
+            for (int k = 0; k < n; k++)
+                ev[i][k] = (int)(corner[i] + s->off[k][i] - r->thr[i]);
         }
         for (int x = bx0; x <= bx1; x++) {
             unsigned covered = ~vi4_sign_bits(ev[0] | ev[1] | ev[2]) & 0xFu;
             if (covered) {
                 int64_t e[RAS_MAX_SAMPLES + 1][3];
                 for (int k = 0; k < n; k++)
-                    for (int i = 0; i < 3; i++) e[k][i] = (int64_t)ev[i][k] + r->thr[i];
+                    for (int i = 0; i < 3; i++)
+                        e[k][i] = (int64_t)ev[i][k] + r->thr[i];
                 /* the centre (read when no visible sample is there) */
                 int64_t dx = (int64_t)(x - bx0);
-                for (int i = 0; i < 3; i++) e[n][i] = corner[i] + dx * s->step[i] + s->off[n][i];
+                for (int i = 0; i < 3; i++)
+                    e[n][i] = corner[i] + dx * s->step[i] + s->off[n][i];
                 draw_pixel_samples(w, r, x, y, box->tx0, box->ty0, e, n, covered);
             }
-            for (int i = 0; i < 3; i++) ev[i] += s->vstep[i];
+            for (int i = 0; i < 3; i++)
+                ev[i] += s->vstep[i];
         }
     }
 }

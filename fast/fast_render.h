@@ -34,7 +34,6 @@ typedef struct fast_settings {
  * z01, scenes of more than 64 objects, and frames whose buffers are kept
  * (opt->dump_dir, opt->capture, opt->step). */
 int fast_render(const ras_scene *scene, ras_scene_assets *assets, const hw3_render_options *opt,
-                const fast_settings *settings, ras_image *out, ras_counters *stats,
-                ras_error *err);
+                const fast_settings *settings, ras_image *out, ras_counters *stats, ras_error *err);
 
 #endif

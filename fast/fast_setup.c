@@ -28,7 +28,6 @@
 
 /* ---- one triangle ---------------------------------------------------------- */
 
-
 /* floor(a / 256) for a sub-pixel coordinate (|a| <= 2^28 within the
  * fixed-point limit): shifted while offset to a positive value, where >> is
  * exact floor division (on a negative value C leaves it to the compiler). */
@@ -87,8 +86,8 @@ static bool setup_fixed(fast_tri *r, int width, int height) {
     r->x1 = clamp_int(floor_px(maxx), 0, width - 1);
     r->y0 = clamp_int(floor_px(miny), 0, height - 1);
     r->y1 = clamp_int(floor_px(maxy), 0, height - 1);
-    if (floor_px(maxx) < 0 || floor_px(minx) >= width ||
-        floor_px(maxy) < 0 || floor_px(miny) >= height)
+    if (floor_px(maxx) < 0 || floor_px(minx) >= width || floor_px(maxy) < 0 ||
+        floor_px(miny) >= height)
         r->x1 = r->x0 - 1;
     return true;
 }
@@ -149,18 +148,21 @@ static bool setup_triangle(tri_list *L, const ras_clip_vertex *a, const ras_clip
         if (cr == RAS_CLIP_INSIDE) {
             /* ras_setup_triangle's viewport per corner, and its finiteness
              * test (the varyings passed VERTEX_FINITE) */
-            for (int v = 0; v < 3; v++) pos[v] = screen[v];
+            for (int v = 0; v < 3; v++)
+                pos[v] = screen[v];
             set = flags[0] & flags[1] & flags[2] & SCREEN_FINITE;
         } else {
             set = ras_setup_triangle(&poly[0], &poly[i], &poly[i + 1], width, height, &t);
             in[0] = &poly[0], in[1] = &poly[i], in[2] = &poly[i + 1];
-            for (int v = 0; v < 3; v++) pos[v] = &t.v[v];
+            for (int v = 0; v < 3; v++)
+                pos[v] = &t.v[v];
         }
         if (!set) {
             k->triangles_rejected_nonfinite++;
             continue;
         }
-        for (int v = 0; v < 3; v++) r->v[v] = *pos[v];
+        for (int v = 0; v < 3; v++)
+            r->v[v] = *pos[v];
         /* The rasterizer's range (stage4_raster.h), tested where and as the
          * teaching pipeline tests it (ras_raster_check_range, before the
          * rasterize hook): a triangle beyond it is refused and counted by
@@ -169,7 +171,8 @@ static bool setup_triangle(tri_list *L, const ras_clip_vertex *a, const ras_clip
          * the pipeline makes reaches it; the fixed-point arithmetic below
          * holds to FIXED_LIMIT_PX, further still. */
         ras_triangle rt;
-        for (int v = 0; v < 3; v++) rt.v[v] = r->v[v];
+        for (int v = 0; v < 3; v++)
+            rt.v[v] = r->v[v];
         if (!ras_raster_in_range(&rt)) {
             k->triangles_rejected_range++;
             continue;
@@ -238,13 +241,12 @@ void fast_setup_triangles(worker *w, int c) {
         const ras_clip_vertex *clip = fr->clip + base;
         const unsigned char flags[3] = {fr->vflags[base + idx[0]], fr->vflags[base + idx[1]],
                                         fr->vflags[base + idx[2]]};
-        const unsigned char outcode[3] = {fr->voutcode[base + idx[0]],
-                                          fr->voutcode[base + idx[1]],
+        const unsigned char outcode[3] = {fr->voutcode[base + idx[0]], fr->voutcode[base + idx[1]],
                                           fr->voutcode[base + idx[2]]};
         const vec4s *screen[3] = {&fr->screen[base + idx[0]], &fr->screen[base + idx[1]],
                                   &fr->screen[base + idx[2]]};
-        if (!setup_triangle(L, &clip[idx[0]], &clip[idx[1]], &clip[idx[2]], flags, outcode,
-                            screen, o, fr->width, fr->height, &w->ks)) {
+        if (!setup_triangle(L, &clip[idx[0]], &clip[idx[1]], &clip[idx[2]], flags, outcode, screen,
+                            o, fr->width, fr->height, &w->ks)) {
             atomic_store(&fr->failed, true);
             return;
         }

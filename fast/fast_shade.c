@@ -23,19 +23,30 @@
  * is the ambient term alone: one at a time); the texture shader's trilinear
  * lookups need each fragment's uv derivatives (one at a time). */
 static const fast_shader fast_shaders[HW3_SHADER_COUNT] = {
-    [HW3_SHADER_NORMAL] = {.batch = BATCH_NORMAL, .needs = RAS_VARYING_NORMAL,
-                           .any_filter = true, .scalar = SCALAR_REFERENCE},
-    [HW3_SHADER_PHONG] = {.batch = BATCH_PHONG, .needs = RAS_VARYING_NORMAL | RAS_VARYING_VIEW_POS,
-                          .lit = true, .any_filter = true, .scalar = SCALAR_LIT_COLOUR},
+    [HW3_SHADER_NORMAL] = {.batch = BATCH_NORMAL,
+                           .needs = RAS_VARYING_NORMAL,
+                           .any_filter = true,
+                           .scalar = SCALAR_REFERENCE},
+    [HW3_SHADER_PHONG] = {.batch = BATCH_PHONG,
+                          .needs = RAS_VARYING_NORMAL | RAS_VARYING_VIEW_POS,
+                          .lit = true,
+                          .any_filter = true,
+                          .scalar = SCALAR_LIT_COLOUR},
     [HW3_SHADER_TEXTURE] = {.batch = BATCH_TEXTURE,
                             .needs = RAS_VARYING_NORMAL | RAS_VARYING_VIEW_POS | RAS_VARYING_UV,
-                            .lit = true, .any_filter = false, .scalar = SCALAR_LIT_TEXTURE},
-    [HW3_SHADER_BUMP] = {.batch = BATCH_BUMP, .needs = RAS_VARYING_NORMAL | RAS_VARYING_UV,
-                         .any_filter = true, .scalar = SCALAR_REFERENCE},
+                            .lit = true,
+                            .any_filter = false,
+                            .scalar = SCALAR_LIT_TEXTURE},
+    [HW3_SHADER_BUMP] = {.batch = BATCH_BUMP,
+                         .needs = RAS_VARYING_NORMAL | RAS_VARYING_UV,
+                         .any_filter = true,
+                         .scalar = SCALAR_REFERENCE},
     [HW3_SHADER_DISPLACEMENT] = {.batch = BATCH_DISPLACEMENT,
-                                 .needs = RAS_VARYING_NORMAL | RAS_VARYING_VIEW_POS |
-                                          RAS_VARYING_UV,
-                                 .lit = true, .any_filter = true, .scalar = SCALAR_REFERENCE},
+                                 .needs =
+                                     RAS_VARYING_NORMAL | RAS_VARYING_VIEW_POS | RAS_VARYING_UV,
+                                 .lit = true,
+                                 .any_filter = true,
+                                 .scalar = SCALAR_REFERENCE},
 };
 
 const fast_shader *fast_shade_find(hw3_shader shader) {
@@ -112,8 +123,8 @@ static vec3s fast_blinn_phong(const fragment_shader_payload *payload, vec3s kd, 
         float x = nh > 0.0f ? nh : 0.0f;
         float specular = x <= spec_zero ? 0.0f : powf(x, payload->p);
         color = glms_vec3_add(color, glms_vec3_scale(glms_vec3_mul(kd, irradiance), diffuse));
-        color = glms_vec3_add(color,
-                              glms_vec3_scale(glms_vec3_mul(payload->ks, irradiance), specular));
+        color =
+            glms_vec3_add(color, glms_vec3_scale(glms_vec3_mul(payload->ks, irradiance), specular));
     }
     return color;
 }
@@ -134,10 +145,10 @@ static vec3s shade(worker *w, const fast_tri *r, vec3s bary) {
             float area2 = (v[1].x - v[0].x) * (v[2].y - v[0].y) -
                           (v[2].x - v[0].x) * (v[1].y - v[0].y); /* ras_triangle_area2 */
             float inv = area2 != 0.0f ? 1.0f / area2 : 0.0f;
-            vec3s d_dx = {{-(v[2].y - v[1].y) * inv, -(v[0].y - v[2].y) * inv,
-                           -(v[1].y - v[0].y) * inv}};
-            vec3s d_dy = {{(v[2].x - v[1].x) * inv, (v[0].x - v[2].x) * inv,
-                           (v[1].x - v[0].x) * inv}};
+            vec3s d_dx = {
+                {-(v[2].y - v[1].y) * inv, -(v[0].y - v[2].y) * inv, -(v[1].y - v[0].y) * inv}};
+            vec3s d_dy = {
+                {(v[2].x - v[1].x) * inv, (v[0].x - v[2].x) * inv, (v[1].x - v[0].x) * inv}};
             vec3s bx = glms_vec3_add(bary, d_dx), by = glms_vec3_add(bary, d_dy);
             vec2s uv_x = interp2(persp ? persp_bary(r->w3, bx) : bx, r->attr, 6);
             vec2s uv_y = interp2(persp ? persp_bary(r->w3, by) : by, r->attr, 6);

@@ -32,7 +32,7 @@ typedef struct footprint {
     vi4 o[4];
     vf4 sx, sy;
     unsigned looked_up, fallback; /* lanes done here / by the reference */
-    bool last; /* some offset is the last texel: no 16-byte load there */
+    bool last;                    /* some offset is the last texel: no 16-byte load there */
 } footprint;
 
 static inline const vec3s *footprint_texel(const footprint *F, int lane, int k) {
@@ -109,8 +109,7 @@ static void footprint_of(const ras_texture *tex, const axis4 *X, const axis4 *Y,
     F->looked_up = all & ~F->fallback;
 }
 
-static void bilinear_x4_footprint(const ras_texture *tex, vf4 u, vf4 v, int lanes,
-                                  footprint *F) {
+static void bilinear_x4_footprint(const ras_texture *tex, vf4 u, vf4 v, int lanes, footprint *F) {
     const int w = tex->level_width[0], h = tex->level_height[0];
     axis4 X = axis_x4(u, w, 1, tex->wrap), Y = axis_x4(v, h, w, tex->wrap);
     footprint_of(tex, &X, &Y, lanes, F);
@@ -126,8 +125,10 @@ static v3x4 bilinear_x4_blend(const footprint *F) {
             a = vf4_load(&footprint_texel(F, i, 0)->x), b = vf4_load(&footprint_texel(F, i, 1)->x);
             c = vf4_load(&footprint_texel(F, i, 2)->x), d = vf4_load(&footprint_texel(F, i, 3)->x);
         } else {
-            a = vf4_load3(&footprint_texel(F, i, 0)->x), b = vf4_load3(&footprint_texel(F, i, 1)->x);
-            c = vf4_load3(&footprint_texel(F, i, 2)->x), d = vf4_load3(&footprint_texel(F, i, 3)->x);
+            a = vf4_load3(&footprint_texel(F, i, 0)->x),
+            b = vf4_load3(&footprint_texel(F, i, 1)->x);
+            c = vf4_load3(&footprint_texel(F, i, 2)->x),
+            d = vf4_load3(&footprint_texel(F, i, 3)->x);
         }
         vf4 s = vf4_splat(F->sx[i]), tt = vf4_splat(F->sy[i]);
         vf4 bottom = a + (b - a) * s, top = c + (d - c) * s;
@@ -138,8 +139,7 @@ static v3x4 bilinear_x4_blend(const footprint *F) {
 }
 
 /* 255·|rgb| of the bilinear lookups of footprint F (at u, v). */
-static inline vf4 height_of(const ras_texture *tex, const footprint *F, vf4 u, vf4 v,
-                            int lanes) {
+static inline vf4 height_of(const ras_texture *tex, const footprint *F, vf4 u, vf4 v, int lanes) {
     v3x4 rgb = bilinear_x4_blend(F);
     if (__builtin_expect(F->fallback != 0, 0))
         for (int i = 0; i < lanes; i++) {
@@ -177,8 +177,8 @@ static vf4 height_x4(const fragment_shader_payload *pay, vf4 u, vf4 v, int lanes
  * float operations in its order, lane by lane; a lane whose result is not
  * finite keeps n, as the reference does. *h receives h(u, v) (displacement
  * reuses it: the same lookup gives the same float). */
-static v3x4 bump_normal_x4(const fragment_shader_payload *pay, v3x4 normal, vf4 u, vf4 v,
-                           int lanes, vi4 *odd, vf4 *h_out) {
+static v3x4 bump_normal_x4(const fragment_shader_payload *pay, v3x4 normal, vf4 u, vf4 v, int lanes,
+                           vi4 *odd, vf4 *h_out) {
     v3x4 n = v3_normalize(normal, odd);
     const ras_texture *hm = pay->height_map;
     if (!hm) {
@@ -233,7 +233,7 @@ typedef struct lanes4 {
     int lanes;
     vi4 odd;
     v3x4 b, color;
-    vf4 u, v; /* texture coordinates (BATCH_TEXTURE) */
+    vf4 u, v;         /* texture coordinates (BATCH_TEXTURE) */
     footprint texels; /* their bilinear footprints (BATCH_TEXTURE, a texture) */
     /* per light: I/r², max(0, n·l), the specular power */
     v3x4 irradiance[HW3_MAX_LIGHTS];
@@ -266,8 +266,8 @@ static inline __attribute__((always_inline)) v3x4 weights_x4(const frame *fr,
  * a0·b.x + a1·b.y + a2·b.z — interp3's and interp2's operations in their
  * order — then transposed to one vector per varying. hi only with want_hi
  * (the Normal shader reads the normal alone). */
-static inline __attribute__((always_inline)) void
-varyings_x4(const queued *const e[4], v3x4 b, bool want_hi, vf4 lo[4], vf4 hi[4]) {
+static inline __attribute__((always_inline)) void varyings_x4(const queued *const e[4], v3x4 b,
+                                                              bool want_hi, vf4 lo[4], vf4 hi[4]) {
     for (int i = 0; i < 4; i++) {
         const float(*a)[8] = e[i]->r->attr;
         vf4 bx = vf4_splat(b.x[i]), by = vf4_splat(b.y[i]), bz = vf4_splat(b.z[i]);
@@ -286,9 +286,10 @@ varyings_x4(const queued *const e[4], v3x4 b, bool want_hi, vf4 lo[4], vf4 hi[4]
 
 /* fast_blinn_phong up to kd, in lanes: per light, I/r², max(0, n·l) and the
  * specular power (powf lane by lane, only where it can be non-zero). */
-static inline __attribute__((always_inline)) void
-light_terms_x4(const fragment_shader_payload *pay, float spec_zero, int lanes, v3x4 normal,
-               v3x4 point, vi4 *odd, lanes4 *S) {
+static inline __attribute__((always_inline)) void light_terms_x4(const fragment_shader_payload *pay,
+                                                                 float spec_zero, int lanes,
+                                                                 v3x4 normal, v3x4 point, vi4 *odd,
+                                                                 lanes4 *S) {
     if (pay->counters) {
         pay->counters->stages_run |= RAS_STAGE_LIGHTING;
         pay->counters->lighting_evaluations += (uint64_t)pay->light_count * (uint64_t)lanes;
@@ -385,10 +386,10 @@ static void shade_prepare(worker *w, const queued *const *q, int lanes, lanes4 *
         bilinear_x4_footprint(pay->texture, S->u, S->v, lanes, &S->texels);
         for (int i = 0; i < lanes; i++)
             if (S->texels.looked_up >> i & 1)
-                for (int k = 0; k < 4; k++) __builtin_prefetch(footprint_texel(&S->texels, i, k));
+                for (int k = 0; k < 4; k++)
+                    __builtin_prefetch(footprint_texel(&S->texels, i, k));
     }
 }
-
 
 /* Four copies of c at d: three vectors, rgbr gbrg brgb. */
 static inline void put4(vec3s *d, vec3s c) {

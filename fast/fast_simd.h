@@ -14,8 +14,8 @@
 #ifndef FAST_SIMD_H
 #define FAST_SIMD_H
 
-#include <float.h> /* FLT_EPSILON, FLT_MAX */
-#include <math.h>  /* sqrtf */
+#include <float.h>  /* FLT_EPSILON, FLT_MAX */
+#include <math.h>   /* sqrtf */
 #include <stdint.h> /* INT32_MIN */
 #include <string.h> /* memcpy */
 
@@ -68,7 +68,8 @@ static inline void vf4_transpose(vf4 *a, vf4 *b, vf4 *c, vf4 *d) {
 #else
     vf4 r[4] = {*a, *b, *c, *d}, t[4];
     for (int i = 0; i < 4; i++)
-        for (int j = 0; j < 4; j++) t[i][j] = r[j][i];
+        for (int j = 0; j < 4; j++)
+            t[i][j] = r[j][i];
     *a = t[0], *b = t[1], *c = t[2], *d = t[3];
 #endif
 }
@@ -80,7 +81,7 @@ static inline void vf4_transpose(vf4 *a, vf4 *b, vf4 *c, vf4 *d) {
 static inline vf4 vf4_floor(vf4 x) {
     vi4 sign = {INT32_MIN, INT32_MIN, INT32_MIN, INT32_MIN};
     vf4 mag = (vf4)((vi4)x & ~sign);
-    vi4 small = mag < vf4_splat(8388608.0f); /* 2^23 */
+    vi4 small = mag < vf4_splat(8388608.0f);        /* 2^23 */
     vf4 xs = vf4_select(small, x, vf4_splat(0.0f)); /* no out-of-range conversion */
     vf4 t = __builtin_convertvector(__builtin_convertvector(xs, vi4), vf4);
     t = vf4_select(t > xs, t - vf4_splat(1.0f), t);

@@ -90,7 +90,8 @@ static void fill_colour(vec3s *dst, vec3s c, int count) {
  * room). */
 static inline void resolve4(vec3s *dst, const vec3s *c) {
     vf4 sum = vf4_splat(0.0f);
-    for (int s = 0; s < 4; s++) sum = sum + vf4_load(&c[s].x);
+    for (int s = 0; s < 4; s++)
+        sum = sum + vf4_load(&c[s].x);
     sum = sum * vf4_splat(1.0f / (float)4);
     memcpy(dst, &sum, sizeof sum);
 }
@@ -145,8 +146,8 @@ void fast_tile_draw(worker *w, int tile) {
     fast_shade_tile(w);
     /* Resolve: sample 0 with one sample (ras_resolve_frame), else the hw2
      * reference resolve_pixel on a framebuffer view of this tile. */
-    ras_framebuffer view = {.width = TILE, .height = TILE, .samples = n,
-                            .color = w->color, .depth = w->depth};
+    ras_framebuffer view = {
+        .width = TILE, .height = TILE, .samples = n, .color = w->color, .depth = w->depth};
     for (int y = ty0; y <= ty1; y++) {
         vec3s *dst = &fr->out->pixels[(size_t)(fr->height - 1 - y) * (size_t)fr->width];
         const vec3s *src = &w->color[(size_t)(y - ty0) * TILE * (size_t)n];
@@ -158,7 +159,8 @@ void fast_tile_draw(worker *w, int tile) {
             _Alignas(16) vec3s row[TILE + 1]; /* + 1: resolve4's last store */
             if (n == 4)
                 for (int x = tx0; x <= tx1; x++)
-                    resolve4(&row[x - tx0], &w->color[((size_t)(y - ty0) * TILE + (size_t)(x - tx0)) * 4]);
+                    resolve4(&row[x - tx0],
+                             &w->color[((size_t)(y - ty0) * TILE + (size_t)(x - tx0)) * 4]);
             else
                 for (int x = tx0; x <= tx1; x++)
                     row[x - tx0] = resolve_pixel(&view, x - tx0, TILE - 1 - (y - ty0));
