@@ -1,4 +1,4 @@
-/* fast/fast_frame.c — one frame of the fast renderer: the plan, the worker
+/* fast/fast_frame.c — one frame of the fast renderer: the plan, the fast_worker
  * threads, the counters. RASTER101-SOLUTION
  * This marker must never appear in a student handout.
  *
@@ -32,8 +32,8 @@ static void wait_for(atomic_int *v, int target) {
 }
 
 static void *worker_main(void *arg) {
-    worker *w = arg;
-    frame *fr = w->fr;
+    fast_worker *w = arg;
+    fast_frame *fr = w->fr;
     for (int c; (c = atomic_fetch_add(&fr->next_vchunk, 1)) < fr->vchunks;) {
         fast_setup_vertices(fr, c);
         atomic_fetch_add(&fr->vchunks_done, 1);
@@ -86,7 +86,7 @@ static int thread_count(const fast_settings *s) {
 /* The frame's sample offsets in sub-pixels (the centre's at [n]), the box
  * they span (block rejection's corners), the sample at the centre if there is
  * one, and what shading needs per frame. */
-static void plan_samples(frame *fr, const ras_sample_pattern *pattern) {
+static void plan_samples(fast_frame *fr, const ras_sample_pattern *pattern) {
     const ras_scene *scene = fr->scene;
     for (int s = 0; s <= fr->n; s++) {
         vec2s o = s < fr->n ? pattern->offsets[s] : (vec2s){{0.5f, 0.5f}};
@@ -116,7 +116,7 @@ static void plan_samples(frame *fr, const ras_sample_pattern *pattern) {
 /* One worker's tile buffers, fragment list and sample owners, and its
  * payloads (one per object, counting into the worker's counters). False: out
  * of memory (free_frame frees what was allocated). */
-static bool worker_init(worker *w, frame *fr, size_t tile_samples) {
+static bool worker_init(fast_worker *w, fast_frame *fr, size_t tile_samples) {
     const ras_scene *scene = fr->scene;
     w->fr = fr;
     w->color = malloc((tile_samples + 2) * sizeof *w->color); /* + 2: resolve4 */
@@ -141,9 +141,9 @@ static bool worker_init(worker *w, frame *fr, size_t tile_samples) {
 }
 
 /* The calling thread is worker 0; the others get threads of their own
- * (fewer workers, if some fail to start, is only slower). False: the frame
+ * (fewer workers, if some fail to start, is only slower). False: the fast_frame
  * failed (out of memory somewhere). */
-static bool run_workers(frame *fr, worker *workers, int threads) {
+static bool run_workers(fast_frame *fr, fast_worker *workers, int threads) {
     int started = 1;
     for (; started < threads; started++)
         if (pthread_create(&workers[started].thread, NULL, worker_main, &workers[started])) break;
@@ -175,8 +175,8 @@ static void add_work(ras_counters *k, const ras_counters *s) {
 
 /* The workers' counters, setup's and the tiles', added into k, with the
  * buffers they used; *settings->shaded gets the fragments really shaded. */
-static void sum_counters(const frame *fr, const worker *workers, int threads, size_t tile_samples,
-                         const fast_settings *settings, ras_counters *k) {
+static void sum_counters(const fast_frame *fr, const fast_worker *workers, int threads,
+                         size_t tile_samples, const fast_settings *settings, ras_counters *k) {
     for (int i = 0; i < threads; i++) {
         add_work(k, &workers[i].ks);
         add_work(k, &workers[i].k);
@@ -186,13 +186,14 @@ static void sum_counters(const frame *fr, const worker *workers, int threads, si
     uint64_t shaded = 0;
     for (int i = 0; i < threads; i++) {
         shaded += workers[i].shaded;
-        k->buffer_bytes += tile_samples * sizeof(int32_t) + workers[i].frag_cap * sizeof(queued);
+        k->buffer_bytes +=
+            tile_samples * sizeof(int32_t) + workers[i].frag_cap * sizeof(fast_queued);
     }
     if (settings && settings->shaded) *settings->shaded = shaded;
 }
 
 /* Everything fast_draw allocated (NULL-safe: a frame that failed halfway). */
-static void free_frame(frame *fr, worker *workers, int threads) {
+static void free_frame(fast_frame *fr, fast_worker *workers, int threads) {
     for (int i = 0; workers && i < threads; i++) {
         free(workers[i].color);
         free(workers[i].depth);
@@ -217,7 +218,7 @@ static void free_frame(frame *fr, worker *workers, int threads) {
 
 /* One frame: plan, set up and bin (worker_main, shared out), tiles on the
  * workers, then the counters and times as the teaching pipeline reports them. */
-static bool fast_draw(frame *fr, const hw3_render_options *opt, const fast_settings *settings,
+static bool fast_draw(fast_frame *fr, const hw3_render_options *opt, const fast_settings *settings,
                       ras_counters *k, ras_error *err) {
     const ras_scene *scene = fr->scene;
     int width = scene->width, height = scene->height;
@@ -241,7 +242,7 @@ static bool fast_draw(frame *fr, const hw3_render_options *opt, const fast_setti
     int tiles = fr->tiles_x * fr->tiles_y;
     int threads = thread_count(settings);
     if (threads > tiles) threads = tiles;
-    worker *workers = calloc((size_t)threads, sizeof *workers);
+    fast_worker *workers = calloc((size_t)threads, sizeof *workers);
     bool ok = fast_setup_plan(fr, k) && workers;
     atomic_init(&fr->next_vchunk, 0);
     atomic_init(&fr->vchunks_done, 0);
@@ -284,13 +285,13 @@ int fast_render(const ras_scene *scene, ras_scene_assets *assets, const hw3_rend
         free(models);
         return 0;
     }
-    frame fr = {.scene = scene,
-                .assets = assets,
-                .stage = &setup.stage,
-                .out = out,
-                .models = models,
-                .view = setup.view,
-                .projection = setup.projection};
+    fast_frame fr = {.scene = scene,
+                     .assets = assets,
+                     .stage = &setup.stage,
+                     .out = out,
+                     .models = models,
+                     .view = setup.view,
+                     .projection = setup.projection};
     ras_counters k = {.mip_levels_built = setup.mip_levels,
                       .stages_run = setup.mip_levels ? RAS_STAGE_MIPMAP : 0u};
     bool ok = fast_draw(&fr, opt, settings, &k, err);

@@ -43,9 +43,8 @@
 
 #define TILE 64 /* pixels per tile side */
 #define BLOCK 8 /* pixels per rejection block side */
-#define MAX_THREADS 64
 /* Objects a frame may have: the per-object payloads and counters are kept in
- * fixed arrays (a worker's); fast_accepts declines larger scenes, which the
+ * fixed arrays (a worker's); fast_render declines larger scenes, which the
  * teaching pipeline draws. */
 #define FAST_MAX_OBJECTS 64
 #define SUBPIXEL_BITS 8 /* as hw2_rasterize/solution/rasterizer.c */
@@ -79,10 +78,10 @@ typedef struct fast_tri {
     vec4s v[3];
 } fast_tri;
 
-typedef struct tri_list {
+typedef struct fast_tri_list {
     fast_tri *tri;
     size_t count, capacity;
-} tri_list;
+} fast_tri_list;
 
 /* Per vertex, computed once when the vertex is transformed (a vertex is shared
  * by about six triangles): */
@@ -112,7 +111,7 @@ typedef struct fast_shader {
     int scalar;      /* SCALAR_*: the one-at-a-time path */
 } fast_shader;
 
-typedef struct frame {
+typedef struct fast_frame {
     const ras_scene *scene;
     const ras_scene_assets *assets;
     const hw3_fragment_stage *stage;
@@ -145,7 +144,7 @@ typedef struct frame {
     int vchunks, tchunks;    /* vertex chunks: (vchunk_obj, vchunk_start) */
     int *vchunk_obj;
     size_t *vchunk_start;
-    tri_list *lists; /* [tchunks]: chunk c's records, in submission order */
+    fast_tri_list *lists; /* [tchunks]: chunk c's records, in submission order */
     atomic_int next_vchunk, vchunks_done, next_tchunk, tchunks_done, binned;
     atomic_bool failed; /* out of memory somewhere */
     double t_setup;     /* when setup ended (ms_vertex) */
@@ -156,39 +155,39 @@ typedef struct frame {
      * depth test is recorded at its pixel (frags[base]), replacing the one
      * it hides, instead of appended (see fast_shade_tile). */
     bool per_pixel;
-} frame;
+} fast_frame;
 
 /* A visible fragment waiting to be shaded: its colour goes to the tile
  * samples base + k for every bit k of mask. */
-typedef struct queued {
+typedef struct fast_queued {
     const fast_tri *r;
     vec3s bary;
     float pad; /* 0: bary is loaded as four floats (shade_prepare) */
     int base;
     int object;    /* r->object, at hand for queue_fragment */
     uint64_t mask; /* RAS_MAX_SAMPLES is 64 */
-} queued;
+} fast_queued;
 /* shade_prepare loads bary and pad as one four-float vector */
-_Static_assert(offsetof(queued, pad) == offsetof(queued, bary) + 3 * sizeof(float),
-               "queued.pad must follow bary");
+_Static_assert(offsetof(fast_queued, pad) == offsetof(fast_queued, bary) + 3 * sizeof(float),
+               "fast_queued.pad must follow bary");
 
 #define QUEUE 8
 #define DEPTH_PAD 8 /* floats past a tile's depth samples (one is used) */
 
-typedef struct worker {
-    frame *fr;
+typedef struct fast_worker {
+    fast_frame *fr;
     vec3s *color; /* TILE² · n, sample s of tile pixel (lx, ly) at (ly·TILE + lx)·n + s */
     float *depth;
     fragment_shader_payload pay[FAST_MAX_OBJECTS];
     ras_counters k;
     ras_counters ks; /* setup's counters */
     pthread_t thread;
-    const queued *q[QUEUE]; /* fragments of frags, queued for shading */
+    const fast_queued *q[QUEUE]; /* fragments of frags, queued for shading */
     int qn;
     /* Deferred shading (every shader): the tile's fragments in drawing
      * order, and for every sample the fragment that last passed its depth
      * test (read only where the depth is below +inf). */
-    queued *frags;
+    fast_queued *frags;
     size_t nfrag, frag_cap;
     int32_t *owner;
     uint64_t shaded; /* fragments this worker really shaded */
@@ -202,11 +201,11 @@ typedef struct worker {
      * shaded) when the worker is done. per_pixel mode adds every pass and
      * takes back the ones still visible. */
     int64_t hidden[FAST_MAX_OBJECTS];
-} worker;
+} fast_worker;
 
 /* Fragment i owns the samples `mask` of tile sample index base; four
  * samples in a row (a whole pixel of 4x, the common case) are one store. */
-static inline void fast_defer_set_owner(worker *w, int base, uint64_t mask, int32_t i) {
+static inline void fast_defer_set_owner(fast_worker *w, int base, uint64_t mask, int32_t i) {
     if (mask == 0xF) {
         int32_t four[4] = {i, i, i, i};
         memcpy(&w->owner[base], four, sizeof four);
@@ -219,13 +218,13 @@ static inline void fast_defer_set_owner(worker *w, int base, uint64_t mask, int3
 /* A fragment that passed the depth test at the samples `mask` (of tile
  * sample index `base`), kept until the tile is drawn: only the samples it
  * still owns then take its colour (fast_shade_tile). */
-static inline void fast_defer_fragment(worker *w, const fast_tri *r, vec3s bary, int base,
+static inline void fast_defer_fragment(fast_worker *w, const fast_tri *r, vec3s bary, int base,
                                        uint64_t mask) {
     if (w->nfrag == w->frag_cap) {
         size_t cap = 2 * w->frag_cap;
-        /* owner indices are int32: past that (80 GB of fragments) the frame
+        /* owner indices are int32: past that (80 GB of fragments) the fast_frame
          * fails like any other allocation */
-        queued *grown = cap <= INT32_MAX ? realloc(w->frags, (cap + 1) * sizeof *grown) : NULL;
+        fast_queued *grown = cap <= INT32_MAX ? realloc(w->frags, (cap + 1) * sizeof *grown) : NULL;
         if (!grown) { /* the frame fails with "out of memory" */
             atomic_store(&w->fr->failed, true);
             return;
@@ -234,21 +233,21 @@ static inline void fast_defer_fragment(worker *w, const fast_tri *r, vec3s bary,
         w->frag_cap = cap;
     }
     int32_t i = (int32_t)w->nfrag++;
-    w->frags[i] = (queued){r, bary, 0.0f, base, r->object, mask};
+    w->frags[i] = (fast_queued){r, bary, 0.0f, base, r->object, mask};
     fast_defer_set_owner(w, base, mask, i);
 }
 
 /* defer_fragment for a pixel's one sample (n = 1; mask 1). In per_pixel mode
  * the fragment is written at its pixel, over the one it hides (shade_pixels
  * fills in the rest), and counted as hidden until shade_pixels finds it. */
-static inline void fast_defer_put_pixel(worker *w, const fast_tri *r, vec3s bary, int base) {
-    queued *f = &w->frags[base];
+static inline void fast_defer_put_pixel(fast_worker *w, const fast_tri *r, vec3s bary, int base) {
+    fast_queued *f = &w->frags[base];
     f->r = r;
     f->bary = bary;
     f->pad = 0.0f;
 }
 
-static inline void fast_defer_pixel(worker *w, const fast_tri *r, vec3s bary, int base) {
+static inline void fast_defer_pixel(fast_worker *w, const fast_tri *r, vec3s bary, int base) {
     if (!w->fr->per_pixel) {
         fast_defer_fragment(w, r, bary, base, 1);
         return;
@@ -272,17 +271,17 @@ static inline void fast_count_heights(const fragment_shader_payload *pay, uint64
  * start, the vertex and triangle chunks the workers share out, the arrays
  * setup fills; the vertex stage counted into k. False: out of memory (what
  * was allocated is freed by fast_frame.c's free_frame). */
-bool fast_setup_plan(frame *fr, ras_counters *k);
+bool fast_setup_plan(fast_frame *fr, ras_counters *k);
 /* Vertex chunk c: transformed, viewport, outcodes, finiteness. */
-void fast_setup_vertices(frame *fr, int c);
+void fast_setup_vertices(fast_frame *fr, int c);
 /* Triangle chunk c into its record list, counted into w->ks. */
-void fast_setup_triangles(worker *w, int c);
+void fast_setup_triangles(fast_worker *w, int c);
 /* The chunk lists in order into the tiles' bins (one thread, once). */
-void fast_setup_bin(frame *fr);
+void fast_setup_bin(fast_frame *fr);
 
 /* fast_rast.c: the part of r's box inside the tile [tx0, tx1] × [ty0, ty1],
  * rasterized, depth-tested and its fragments recorded. */
-void fast_rast_triangle(worker *w, const fast_tri *r, int tx0, int ty0, int tx1, int ty1);
+void fast_rast_triangle(fast_worker *w, const fast_tri *r, int tx0, int ty0, int tx1, int ty1);
 
 /* fast_shade.c. The frame's shader as fast_shaders declares it (NULL: not
  * one of hw3's); the four-lane form the frame can use (BATCH_NONE: one at a
@@ -293,18 +292,18 @@ int fast_shade_batch(const fast_shader *shader, const hw3_render_options *opt,
 /* powf(x, p) is +0 for 0 <= x <= fast_spec_zero(p) (-1: never). */
 float fast_spec_zero(float p);
 /* The end of a tile: its recorded fragments shaded, or counted. */
-void fast_shade_tile(worker *w);
+void fast_shade_tile(fast_worker *w);
 /* The end of a worker: the fragments it counted as hidden, into its
  * counters. */
-void fast_shade_count_hidden(worker *w);
+void fast_shade_count_hidden(fast_worker *w);
 /* One fragment one at a time, without counting (a lane the four-lane path
  * has already counted). */
-vec3s fast_shade_silent(worker *w, const fast_tri *r, vec3s bary);
+vec3s fast_shade_silent(fast_worker *w, const fast_tri *r, vec3s bary);
 
 /* fast_shade_x4.c: the queued fragments, shaded four at a time. */
-void fast_shade_x4_flush(worker *w);
+void fast_shade_x4_flush(fast_worker *w);
 
 /* fast_tile.c: tile number `tile` of the frame, from clear to image. */
-void fast_tile_draw(worker *w, int tile);
+void fast_tile_draw(fast_worker *w, int tile);
 
 #endif

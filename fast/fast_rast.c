@@ -82,14 +82,15 @@ static bool block_outside(const fast_tri *r, int bx0, int by0, int bx1, int by1,
 
 /* fast_defer_fragment with the barycentrics in lanes 0-2 of bv (lane 3 is 0: the
  * record's pad). */
-static inline void defer_fragment_v(worker *w, const fast_tri *r, vf4 bv, int base, uint64_t mask) {
+static inline void defer_fragment_v(fast_worker *w, const fast_tri *r, vf4 bv, int base,
+                                    uint64_t mask) {
     if (__builtin_expect(w->nfrag == w->frag_cap, 0)) {
         vec3s b = {{bv[0], bv[1], bv[2]}};
         fast_defer_fragment(w, r, b, base, mask);
         return;
     }
     int32_t i = (int32_t)w->nfrag++;
-    queued *f = &w->frags[i];
+    fast_queued *f = &w->frags[i];
     f->r = r;
     memcpy(&f->bary, &bv, sizeof bv); /* bary and pad */
     f->base = base;
@@ -142,8 +143,8 @@ static inline unsigned bary_depth_x4(const fast_tri *r, const vi4 e[3], v3x4 *b,
 /* The shading point of a pixel whose centre is not covered: the visible
  * sample nearest the centre (the first of equals), as rasterize_triangle
  * chooses it. */
-static inline __attribute__((always_inline)) int nearest_visible(const frame *fr, uint64_t visible,
-                                                                 const int n) {
+static inline __attribute__((always_inline)) int nearest_visible(const fast_frame *fr,
+                                                                 uint64_t visible, const int n) {
     int best = -1;
     float best_d2 = 0;
     for (int k = 0; k < n; k++) {
@@ -158,11 +159,10 @@ static inline __attribute__((always_inline)) int nearest_visible(const frame *fr
     return best;
 }
 
-static inline __attribute__((always_inline)) void draw_pixel_samples(worker *w, const fast_tri *r,
-                                                                     int x, int y, int tx0, int ty0,
-                                                                     int64_t e[][3], const int n,
-                                                                     uint64_t covered) {
-    const frame *fr = w->fr;
+static inline __attribute__((always_inline)) void
+draw_pixel_samples(fast_worker *w, const fast_tri *r, int x, int y, int tx0, int ty0,
+                   int64_t e[][3], const int n, uint64_t covered) {
+    const fast_frame *fr = w->fr;
     int base = ((y - ty0) * TILE + (x - tx0)) * n;
     vec3s bary[RAS_MAX_SAMPLES];
     float z[RAS_MAX_SAMPLES];
@@ -213,9 +213,9 @@ static inline __attribute__((always_inline)) void draw_pixel_samples(worker *w, 
  * lanes (bary_depth_x4), the depth test and write on the pixel's four
  * depths at once, then draw_pixel_samples' choice of the shading point. */
 static inline __attribute__((always_inline)) void
-draw_pixel4_v(worker *w, const fast_tri *r, int x, int y, int tx0, int ty0, const vi4 ev[3],
+draw_pixel4_v(fast_worker *w, const fast_tri *r, int x, int y, int tx0, int ty0, const vi4 ev[3],
               const vi4 thrv[3], vi4 covv, unsigned covered, const int64_t dcen[3], vi4 *counts) {
-    const frame *fr = w->fr;
+    const fast_frame *fr = w->fr;
     int base = ((y - ty0) * TILE + (x - tx0)) * 4;
     vi4 E[3] = {ev[0] + thrv[0], ev[1] + thrv[1], ev[2] + thrv[2]};
     v3x4 b;
@@ -279,8 +279,8 @@ typedef struct n_state {
 } n_state;
 
 static inline __attribute__((always_inline)) bool
-n_begin(worker *w, const fast_tri *r, const tile_box *box, n_state *s, const int n) {
-    const frame *fr = w->fr;
+n_begin(fast_worker *w, const fast_tri *r, const tile_box *box, n_state *s, const int n) {
+    const fast_frame *fr = w->fr;
     (void)box;
     s->reject_x0 = fr->omin_x, s->reject_x1 = fr->omax_x;
     s->reject_y0 = fr->omin_y, s->reject_y1 = fr->omax_y;
@@ -297,7 +297,7 @@ n_begin(worker *w, const fast_tri *r, const tile_box *box, n_state *s, const int
  * first (n bits per pixel), without a branch per sample (edges of small
  * triangles are unpredictable), then only the pixels with a covered sample,
  * their edge values stepped from the row start (still exact). */
-static inline __attribute__((always_inline)) void n_row_masked(worker *w, const fast_tri *r,
+static inline __attribute__((always_inline)) void n_row_masked(fast_worker *w, const fast_tri *r,
                                                                const tile_box *box,
                                                                const n_state *s, int bx0, int bx1,
                                                                int y, int64_t e[][3], const int n) {
@@ -326,10 +326,10 @@ static inline __attribute__((always_inline)) void n_row_masked(worker *w, const 
     }
 }
 
-static inline __attribute__((always_inline)) void n_block(worker *w, const fast_tri *r,
+static inline __attribute__((always_inline)) void n_block(fast_worker *w, const fast_tri *r,
                                                           const tile_box *box, n_state *s, int bx0,
                                                           int by0, int bx1, int by1, const int n) {
-    const frame *fr = w->fr;
+    const fast_frame *fr = w->fr;
     for (int y = by0; y <= by1; y++) {
         /* Edge values at (bx0, y) for every sample and the centre, then one
          * addition per pixel: exact integers, the same values the reference
@@ -354,8 +354,8 @@ static inline __attribute__((always_inline)) void n_block(worker *w, const fast_
     }
 }
 
-static inline __attribute__((always_inline)) void n_end(worker *w, const fast_tri *r, n_state *s,
-                                                        const int n) {
+static inline __attribute__((always_inline)) void n_end(fast_worker *w, const fast_tri *r,
+                                                        n_state *s, const int n) {
     (void)w, (void)r, (void)s, (void)n;
 }
 
@@ -404,9 +404,10 @@ typedef struct x1_state {
     uint64_t covered_n, passed_n;
 } x1_state;
 
-static inline __attribute__((always_inline)) bool
-x1_begin(worker *w, const fast_tri *r, const tile_box *box, x1_state *s, const bool per_pixel) {
-    const frame *fr = w->fr;
+static inline __attribute__((always_inline)) bool x1_begin(fast_worker *w, const fast_tri *r,
+                                                           const tile_box *box, x1_state *s,
+                                                           const bool per_pixel) {
+    const fast_frame *fr = w->fr;
     const int64_t cx = fr->off_x[0], cy = fr->off_y[0];
     (void)per_pixel;
     /* x1 + 7: a block row's eight lanes may run past x1; y1 + 1: the
@@ -470,7 +471,7 @@ static inline __attribute__((always_inline)) uint64_t x1_coverage(const fast_tri
 }
 
 /* The block's coverage first, then its covered pixels, one loop. */
-static inline __attribute__((always_inline)) void x1_block(worker *w, const fast_tri *r,
+static inline __attribute__((always_inline)) void x1_block(fast_worker *w, const fast_tri *r,
                                                            const tile_box *box, x1_state *s,
                                                            int bx0, int by0, int bx1, int by1,
                                                            const bool per_pixel) {
@@ -506,8 +507,8 @@ static inline __attribute__((always_inline)) void x1_block(worker *w, const fast
     }
 }
 
-static inline __attribute__((always_inline)) void x1_end(worker *w, const fast_tri *r, x1_state *s,
-                                                         const bool per_pixel) {
+static inline __attribute__((always_inline)) void x1_end(fast_worker *w, const fast_tri *r,
+                                                         x1_state *s, const bool per_pixel) {
     w->k.samples_covered += s->covered_n;
     w->k.depth_tests_passed += s->passed_n;
     if (per_pixel) w->hidden[r->object] += (int64_t)s->passed_n;
@@ -544,9 +545,9 @@ typedef struct x4_state {
 #endif
 } x4_state;
 
-static inline __attribute__((always_inline)) bool x4_begin(worker *w, const fast_tri *r,
+static inline __attribute__((always_inline)) bool x4_begin(fast_worker *w, const fast_tri *r,
                                                            const tile_box *box, x4_state *s) {
-    const frame *fr = w->fr;
+    const fast_frame *fr = w->fr;
     const int n = 4;
     s->reject_x0 = fr->omin_x, s->reject_x1 = fr->omax_x;
     s->reject_y0 = fr->omin_y, s->reject_y1 = fr->omax_y;
@@ -581,7 +582,7 @@ static inline __attribute__((always_inline)) bool x4_begin(worker *w, const fast
 }
 
 #if BARY_X4
-static inline __attribute__((always_inline)) void x4_block(worker *w, const fast_tri *r,
+static inline __attribute__((always_inline)) void x4_block(fast_worker *w, const fast_tri *r,
                                                            const tile_box *box, x4_state *s,
                                                            int bx0, int by0, int bx1, int by1) {
     /* E − thr at the four samples of pixel (bx0, by0), then one vector
@@ -623,7 +624,7 @@ static inline __attribute__((always_inline)) void x4_block(worker *w, const fast
     }
 }
 #else
-static inline __attribute__((always_inline)) void x4_block(worker *w, const fast_tri *r,
+static inline __attribute__((always_inline)) void x4_block(fast_worker *w, const fast_tri *r,
                                                            const tile_box *box, x4_state *s,
                                                            int bx0, int by0, int bx1, int by1) {
     const int n = 4;
@@ -656,7 +657,7 @@ static inline __attribute__((always_inline)) void x4_block(worker *w, const fast
 }
 #endif
 
-static inline __attribute__((always_inline)) void x4_end(worker *w, const fast_tri *r,
+static inline __attribute__((always_inline)) void x4_end(fast_worker *w, const fast_tri *r,
                                                          x4_state *s) {
     (void)r;
 #if BARY_X4
@@ -676,7 +677,7 @@ static inline __attribute__((always_inline)) void x4_end(worker *w, const fast_t
 
 /* fast_priv.h: the part of r's box inside the tile, drawn by the variant
  * that fits. */
-void fast_rast_triangle(worker *w, const fast_tri *r, int tx0, int ty0, int tx1, int ty1) {
+void fast_rast_triangle(fast_worker *w, const fast_tri *r, int tx0, int ty0, int tx1, int ty1) {
     tile_box box = {.tx0 = tx0, .ty0 = ty0};
     box.x0 = r->x0 > tx0 ? r->x0 : tx0, box.x1 = r->x1 < tx1 ? r->x1 : tx1;
     box.y0 = r->y0 > ty0 ? r->y0 : ty0, box.y1 = r->y1 < ty1 ? r->y1 : ty1;

@@ -19,15 +19,15 @@
  *   TAG(state)   what the variant computes once per triangle, with
  *                reject_x0/x1/y0/y1: the extreme sample offsets, in
  *                sub-pixels (block_outside's corners)
- *   bool TAG(begin)(worker *, const fast_tri *, const tile_box *,
+ *   bool TAG(begin)(fast_worker *, const fast_tri *, const tile_box *,
  *                   TAG(state) * TILE_PARAMS)
  *                false when the variant cannot draw this triangle (its edge
  *                values would leave its lanes' range)
- *   void TAG(block)(worker *, const fast_tri *, const tile_box *,
+ *   void TAG(block)(fast_worker *, const fast_tri *, const tile_box *,
  *                   TAG(state) *, int bx0, int by0, int bx1, int by1 TILE_PARAMS)
  *                one block of pixels [bx0, bx1] × [by0, by1] that is not
  *                wholly outside an edge
- *   void TAG(end)(worker *, const fast_tri *, TAG(state) * TILE_PARAMS)
+ *   void TAG(end)(fast_worker *, const fast_tri *, TAG(state) * TILE_PARAMS)
  *                after the last block (the counts kept in the state)
  *
  * It defines TAG(draw): the triangle's box within the tile, in BLOCK × BLOCK
@@ -37,7 +37,7 @@
  * more than it saves. False: TAG(begin) declined (draw with another variant).
  */
 
-TILE_ATTR bool TAG(draw)(worker *w, const fast_tri *r, const tile_box *box TILE_PARAMS) {
+TILE_ATTR bool TAG(draw)(fast_worker *w, const fast_tri *r, const tile_box *box TILE_PARAMS) {
     TAG(state) s;
     if (!TAG(begin)(w, r, box, &s TILE_ARGS)) return false;
     const int x0 = box->x0, y0 = box->y0, x1 = box->x1, y1 = box->y1;

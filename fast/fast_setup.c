@@ -105,7 +105,7 @@ static bool clip_vertex_finite(const ras_clip_vertex *v) {
 
 /* ras_pipeline_draw_clip_triangle + the reference rasterizer's prologue, with
  * the same counters; records what would be rasterized. */
-static bool setup_triangle(tri_list *L, const ras_clip_vertex *a, const ras_clip_vertex *b,
+static bool setup_triangle(fast_tri_list *L, const ras_clip_vertex *a, const ras_clip_vertex *b,
                            const ras_clip_vertex *c, const unsigned char flags[3],
                            const unsigned char outcode[3], const vec4s *screen[3], int object,
                            int width, int height, ras_counters *k) {
@@ -167,7 +167,7 @@ static bool setup_triangle(tri_list *L, const ras_clip_vertex *a, const ras_clip
          * teaching pipeline tests it (ras_raster_check_range, before the
          * rasterize hook): a triangle beyond it is refused and counted by
          * both, never skipped by one and drawn by the other. The guard band
-         * (stage2_clip.h) keeps every corner within 4.5 frames, so no frame
+         * (stage2_clip.h) keeps every corner within 4.5 frames, so no fast_frame
          * the pipeline makes reaches it; the fixed-point arithmetic below
          * holds to FIXED_LIMIT_PX, further still. */
         ras_triangle rt;
@@ -202,7 +202,7 @@ static bool setup_triangle(tri_list *L, const ras_clip_vertex *a, const ras_clip
 
 /* ---- in chunks ------------------------------------------------------------- */
 
-void fast_setup_vertices(frame *fr, int c) {
+void fast_setup_vertices(fast_frame *fr, int c) {
     int o = fr->vchunk_obj[c];
     const ras_mesh *mesh = fr->assets->meshes[o];
     size_t start = fr->vchunk_start[c];
@@ -224,11 +224,11 @@ void fast_setup_vertices(frame *fr, int c) {
     }
 }
 
-void fast_setup_triangles(worker *w, int c) {
-    frame *fr = w->fr;
+void fast_setup_triangles(fast_worker *w, int c) {
+    fast_frame *fr = w->fr;
     size_t g = (size_t)c * TRIANGLE_CHUNK, end = g + TRIANGLE_CHUNK;
     if (end > fr->tri_first[fr->scene->object_count]) end = fr->tri_first[fr->scene->object_count];
-    tri_list *L = &fr->lists[c];
+    fast_tri_list *L = &fr->lists[c];
     int o = 0;
     while (fr->tri_first[o + 1] <= g)
         o++;
@@ -254,7 +254,7 @@ void fast_setup_triangles(worker *w, int c) {
 }
 
 /* fast_priv.h */
-void fast_setup_bin(frame *fr) {
+void fast_setup_bin(fast_frame *fr) {
     int tiles = fr->tiles_x * fr->tiles_y;
     for (int c = 0; c < fr->tchunks; c++)
         for (size_t i = 0; i < fr->lists[c].count; i++) {
@@ -288,7 +288,7 @@ void fast_setup_bin(frame *fr) {
  * the arrays setup fills. The vertex stage is counted here (every vertex is
  * transformed). False: out of memory (what was allocated is freed by
  * free_frame). */
-bool fast_setup_plan(frame *fr, ras_counters *k) {
+bool fast_setup_plan(fast_frame *fr, ras_counters *k) {
     const ras_scene *scene = fr->scene;
     int objects = scene->object_count;
     size_t vertices = 0, vchunks = 0;

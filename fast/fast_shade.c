@@ -129,8 +129,8 @@ static vec3s fast_blinn_phong(const fragment_shader_payload *payload, vec3s kd, 
     return color;
 }
 
-static vec3s shade(worker *w, const fast_tri *r, vec3s bary) {
-    const frame *fr = w->fr;
+static vec3s shade(fast_worker *w, const fast_tri *r, vec3s bary) {
+    const fast_frame *fr = w->fr;
     fragment_shader_payload *pay = &w->pay[r->object];
     bool persp = fr->stage->perspective;
     unsigned vary = fr->varyings;
@@ -172,7 +172,7 @@ static vec3s shade(worker *w, const fast_tri *r, vec3s bary) {
 
 /* shade() without counting: for a lane redone by the scalar path after the
  * vector path has already counted it. */
-vec3s fast_shade_silent(worker *w, const fast_tri *r, vec3s bary) {
+vec3s fast_shade_silent(fast_worker *w, const fast_tri *r, vec3s bary) {
     ras_counters saved = w->k; /* the payloads' counters point at w->k too */
     vec3s c = shade(w, r, bary);
     w->k = saved;
@@ -183,7 +183,7 @@ vec3s fast_shade_silent(worker *w, const fast_tri *r, vec3s bary) {
 
 /* Queue a fragment for shading: its colour goes to the samples `mask` of
  * tile sample index `base`. */
-static inline void queue_fragment(worker *w, const queued *f) {
+static inline void queue_fragment(fast_worker *w, const fast_queued *f) {
     /* one object's fragments (one material) per queue */
     if (w->qn == QUEUE || (w->qn && w->q[0]->object != f->object)) fast_shade_x4_flush(w);
     w->q[w->qn++] = f;
@@ -194,8 +194,8 @@ static inline void queue_fragment(worker *w, const queued *f) {
  * (shade_prepare, shade_finish, texture_sample), for fragments
  * fast_shade_tile need not shade: the counters stay the teaching pipeline's,
  * which shades every fragment that passes a depth test. */
-static void count_unshaded(worker *w, int o, uint64_t count) {
-    const frame *fr = w->fr;
+static void count_unshaded(fast_worker *w, int o, uint64_t count) {
+    const fast_frame *fr = w->fr;
     const fragment_shader_payload *pay = &w->pay[o];
     w->k.fragments_shaded += count;
     w->k.varyings_interpolated += fr->varyings_per_fragment * count;
@@ -211,7 +211,7 @@ static void count_unshaded(worker *w, int o, uint64_t count) {
 }
 
 /* What shading one fragment of f's object added to w->k since `before`. */
-static void learn_counts(worker *w, const queued *f, const ras_counters *before) {
+static void learn_counts(fast_worker *w, const fast_queued *f, const ras_counters *before) {
     ras_counters *d = &w->per_fragment[f->r->object];
     d->stages_run = w->k.stages_run;
     d->fragments_shaded = w->k.fragments_shaded - before->fragments_shaded;
@@ -224,7 +224,7 @@ static void learn_counts(worker *w, const queued *f, const ras_counters *before)
 /* shade() for a deferred fragment of an unbatched shader, its colour into
  * the samples it owns; the first one of each object teaches what a fragment
  * adds to the counters. */
-static void shade_scalar(worker *w, const queued *f) {
+static void shade_scalar(fast_worker *w, const fast_queued *f) {
     ras_counters before = w->k;
     vec3s c = shade(w, f->r, f->bary);
     w->shaded++;
@@ -238,7 +238,7 @@ static void shade_scalar(worker *w, const queued *f) {
  * shaded as a probe — its colour unused, its counts learnt and then taken
  * back, so that the counters, and the count of fragments really shaded for
  * their colour, do not depend on which worker met which fragment first. */
-static void count_unshaded_scalar(worker *w, const queued *f) {
+static void count_unshaded_scalar(fast_worker *w, const fast_queued *f) {
     int o = f->r->object;
     if (!w->per_fragment_known[o]) {
         ras_counters saved = w->k;
@@ -260,7 +260,7 @@ static void count_unshaded_scalar(worker *w, const queued *f) {
  * once; shading is a pure function of the fragment, so the order (here the
  * pixels', not the drawing's) changes no colour. The ones they replaced are
  * counted as shaded (hidden[]) when the worker is done. */
-static void shade_pixels(worker *w) {
+static void shade_pixels(fast_worker *w) {
     const vf4 inf = vf4_splat(INFINITY);
     _Static_assert(TILE == 64, "shade_pixels keeps a tile row in a 64-bit mask");
     for (int row = 0; row < TILE * TILE; row += TILE) {
@@ -271,7 +271,7 @@ static void shade_pixels(worker *w) {
             drawn |= (uint64_t)vi4_sign_bits(vf4_load(&w->depth[row + x]) == inf) << x;
         for (drawn = ~drawn; drawn; drawn &= drawn - 1) {
             int s = row + __builtin_ctzll(drawn);
-            queued *f = &w->frags[s];
+            fast_queued *f = &w->frags[s];
             f->base = s;
             f->object = f->r->object;
             f->mask = 1;
@@ -288,7 +288,7 @@ static void shade_pixels(worker *w) {
  * of the cow's) are counted but not shaded; the others are shaded in
  * drawing order, for exactly the samples they own. Every colour is what the
  * immediate order would have left there, bit for bit. */
-void fast_shade_tile(worker *w) {
+void fast_shade_tile(fast_worker *w) {
     if (w->fr->per_pixel) {
         shade_pixels(w);
         return;
@@ -309,18 +309,18 @@ void fast_shade_tile(worker *w) {
         if (clear == 0xF) continue; /* no fragment passed here */
         const int32_t *o = &w->owner[s0];
         if (n == 4 && !clear && o[0] == o[1] && o[0] == o[2] && o[0] == o[3]) {
-            queued *f = &w->frags[o[0]];
+            fast_queued *f = &w->frags[o[0]];
             f->mask |= (uint64_t)0xF << (s0 - f->base);
             continue;
         }
         for (int k = 0; k < 4; k++) {
             if (clear >> k & 1) continue;
-            queued *f = &w->frags[o[k]];
+            fast_queued *f = &w->frags[o[k]];
             f->mask |= (uint64_t)1 << (s0 + k - f->base);
         }
     }
     for (size_t i = 0; i < w->nfrag; i++) {
-        queued *f = &w->frags[i];
+        fast_queued *f = &w->frags[i];
         if (n == 1 && w->owner[f->base] != (int32_t)i) f->mask = 0;
         if (batch && f->mask)
             queue_fragment(w, f);
@@ -335,7 +335,7 @@ void fast_shade_tile(worker *w) {
     fast_shade_x4_flush(w);
 }
 
-void fast_shade_count_hidden(worker *w) {
+void fast_shade_count_hidden(fast_worker *w) {
     for (int o = 0; o < w->fr->scene->object_count; o++)
         if (w->hidden[o]) count_unshaded(w, o, (uint64_t)w->hidden[o]);
 }

@@ -229,7 +229,7 @@ static v3x4 bump_normal_x4(const fragment_shader_payload *pay, v3x4 normal, vf4 
 
 /* Four fragments between the two halves of their shading. */
 typedef struct lanes4 {
-    const queued *const *q;
+    const fast_queued *const *q;
     int lanes;
     vi4 odd;
     v3x4 b, color;
@@ -243,8 +243,8 @@ typedef struct lanes4 {
 /* The gather: four fragments' screen barycentrics and corner w, one record
  * per vector, transposed into one vector per field (unused lanes repeat lane
  * 0, as e[] does), then persp_bary in lanes. */
-static inline __attribute__((always_inline)) v3x4 weights_x4(const frame *fr,
-                                                             const queued *const e[4]) {
+static inline __attribute__((always_inline)) v3x4 weights_x4(const fast_frame *fr,
+                                                             const fast_queued *const e[4]) {
     v3x4 bs, wv;
     vf4 pad;
     bs.x = vf4_load(&e[0]->bary.x), bs.y = vf4_load(&e[1]->bary.x);
@@ -266,7 +266,7 @@ static inline __attribute__((always_inline)) v3x4 weights_x4(const frame *fr,
  * a0·b.x + a1·b.y + a2·b.z — interp3's and interp2's operations in their
  * order — then transposed to one vector per varying. hi only with want_hi
  * (the Normal shader reads the normal alone). */
-static inline __attribute__((always_inline)) void varyings_x4(const queued *const e[4], v3x4 b,
+static inline __attribute__((always_inline)) void varyings_x4(const fast_queued *const e[4], v3x4 b,
                                                               bool want_hi, vf4 lo[4], vf4 hi[4]) {
     for (int i = 0; i < 4; i++) {
         const float(*a)[8] = e[i]->r->attr;
@@ -333,12 +333,12 @@ static inline v3x4 normal_colour_x4(v3x4 n) {
  * the terms that do not involve kd. Then the texels the lookups will read are
  * prefetched, and shade_finish (called after the other half-queue's prepare)
  * finds them in cache. */
-static void shade_prepare(worker *w, const queued *const *q, int lanes, lanes4 *S) {
-    const frame *fr = w->fr;
+static void shade_prepare(fast_worker *w, const fast_queued *const *q, int lanes, lanes4 *S) {
+    const fast_frame *fr = w->fr;
     const fragment_shader_payload *pay = &w->pay[q[0]->r->object];
     S->q = q;
     S->lanes = lanes;
-    const queued *e[4];
+    const fast_queued *e[4];
     for (int i = 0; i < 4; i++)
         e[i] = q[i < lanes ? i : 0];
     v3x4 b = weights_x4(fr, e);
@@ -405,9 +405,9 @@ static inline void put4(vec3s *d, vec3s c) {
 
 /* kd (the texture lookups), the sums in fast_blinn_phong's order, and the
  * colours into the tile. */
-static void shade_finish(worker *w, lanes4 *S) {
-    const frame *fr = w->fr;
-    const queued *const *q = S->q;
+static void shade_finish(fast_worker *w, lanes4 *S) {
+    const fast_frame *fr = w->fr;
+    const fast_queued *const *q = S->q;
     int lanes = S->lanes;
     fragment_shader_payload *pay = &w->pay[q[0]->r->object];
     v3x4 color = S->color;
@@ -465,7 +465,7 @@ static void shade_finish(worker *w, lanes4 *S) {
 
 /* Both halves prepared before either is finished: the lighting of one hides
  * the texel fetches of the other. */
-void fast_shade_x4_flush(worker *w) {
+void fast_shade_x4_flush(fast_worker *w) {
     int n = w->qn;
     w->qn = 0;
     lanes4 S[QUEUE / 4];

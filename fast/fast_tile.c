@@ -97,8 +97,8 @@ static inline void resolve4(vec3s *dst, const vec3s *c) {
 }
 
 /* fast_priv.h */
-void fast_tile_draw(worker *w, int tile) {
-    frame *fr = w->fr;
+void fast_tile_draw(fast_worker *w, int tile) {
+    fast_frame *fr = w->fr;
     const int n = fr->n;
     int tx = tile % fr->tiles_x, ty = tile / fr->tiles_x;
     int tx0 = tx * TILE, ty0 = ty * TILE;
