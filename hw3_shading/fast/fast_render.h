@@ -9,8 +9,8 @@
  * fast_render.c), and test_fast_path holds them equal. See fast_render.c and
  * docs/performance.md.
  */
-#ifndef HW3_FAST_RENDER_H
-#define HW3_FAST_RENDER_H
+#ifndef RAS_FAST_RENDER_H
+#define RAS_FAST_RENDER_H
 
 #include "scene.h"
 
