@@ -67,7 +67,7 @@ handout:
 autograder:
 	@tests/grading/make-autograder --out $(BUILD)/autograder
 
-# The accuracy report (issue 6): time and error of every accuracy option,
+# The accuracy report: time and error of every accuracy option,
 # measured on this machine, into docs/accuracy.md, docs/accuracy.csv and
 # docs/img/accuracy_*.png. A few minutes; `bench_accuracy --quick` for seconds.
 .PHONY: bench-accuracy
@@ -83,7 +83,7 @@ bench-accuracy: configure
 mutants: configure
 	@tests/grading/run-mutants --build $(BUILD)
 
-# The grader is tested against cheating (issue 14): every hostile submission of
+# The grader is tested against cheating: every hostile submission of
 # tests/grading/attacks/ must score 0 on what it attacks, leave no process and no file
 # changed, and not change honest students' grades in a mixed grade-all batch
 # (tests/grading/run-attacks, docs/grading.md "The attack catalogue"; instructors' only).
@@ -95,7 +95,7 @@ attacks: configure
 # pipeline vs the fast renderer (fast/), into docs/performance.md.
 # SPOT=DIR uses DIR/spot_triangulated_good.obj (else a built-in teapot).
 .PHONY: bench-perf
-# Beside them Mesa llvmpipe (issue 18; tests/bench/bench_llvmpipe.c, OSMesa installed by
+# Beside them Mesa llvmpipe (tests/bench/bench_llvmpipe.c, OSMesa installed by
 # scripts/install-bench-deps), and the rows as CSV into docs/performance.csv.
 # INSTRUCTIONS=1 also counts one frame's instructions with callgrind (minutes).
 bench-perf: BUILD = build-perf
@@ -106,7 +106,7 @@ bench-perf:
 	@$(BUILD)/bin/bench_perf $(if $(SPOT),--spot $(SPOT)) --out docs/performance.md \
 	  --csv docs/performance.csv $(if $(INSTRUCTIONS),--instructions)
 
-# How long a student waits for a verdict (issue 28): the first `make test` in a fresh
+# How long a student waits for a verdict: the first `make test` in a fresh
 # handout, edit → `make grade HW=n`, edit → the student's `ctest -L hwN`, a whole
 # `make grade` and one class-graded submission, RUNS rounds alternating, with the
 # load average, into docs/feedback.md and docs/feedback.csv (tests/bench/bench-feedback;

@@ -16,8 +16,8 @@
  * a plain getenv. So a program that writes a PNG, or only prints --version,
  * loads none of OpenCV's ~150 libraries (docs/startup.md).
  */
-#ifndef CV_BRIDGE_H
-#define CV_BRIDGE_H
+#ifndef RAS_CV_BRIDGE_H
+#define RAS_CV_BRIDGE_H
 
 #include <stdbool.h>
 #include <stddef.h>

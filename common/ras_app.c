@@ -82,8 +82,8 @@ bool ras_app_resolve(const ras_app_hooks *h, const ras_cli *cli, const ras_scene
 }
 
 /* Whether two settings draw the picture of the same reference image. The
- * edge and depth modes are left out: they decide only exact ties (samples on
- * an edge, equal depths), which the comparisons tolerate; a whole turn of
+ * depth format is left out: it decides only exact ties (equal depths), which
+ * the comparisons tolerate; a whole turn of
  * the angle is the same picture. The size is checked where the image is
  * read (another size: "render at the reference's size"). */
 static bool same_picture(const ras_app_settings *a, const ras_app_settings *b) {
@@ -314,7 +314,7 @@ static int next_count(ras_pattern_kind kind, int count) {
     return 4; /* every pattern has 4 */
 }
 
-/* m: AA mode, s: sample count, p: pattern, e: edge functions. */
+/* m: AA mode, s: sample count, p: pattern. */
 static bool aa_key(ras_app_settings *s, int key) {
     if (key == 'm') s->aa = s->aa == RAS_AA_NONE ? RAS_AA_MSAA
                           : s->aa == RAS_AA_MSAA ? RAS_AA_SSAA

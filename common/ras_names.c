@@ -57,3 +57,17 @@ const char *ras_names_list(const ras_names *t, int first, char *buf, size_t size
     }
     return buf;
 }
+
+/* The name functions of the enums the pipeline's own modules declare
+ * (stage3_setup.h, stage4_raster.h, ras_sample_pattern.h) live here, so
+ * those modules do not include this one: the names depend on the stages,
+ * never the other way. */
+const char *ras_depth_format_name(ras_depth_format format) {
+    return ras_name_of(&ras_names_depth, (int)format);
+}
+
+const char *ras_aa_mode_name(ras_aa_mode aa) { return ras_name_of(&ras_names_aa, (int)aa); }
+
+const char *ras_pattern_kind_name(ras_pattern_kind kind) {
+    return ras_name_of(&ras_names_pattern, (int)kind);
+}

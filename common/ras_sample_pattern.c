@@ -1,8 +1,6 @@
 /* ras_sample_pattern.c — see ras_sample_pattern.h. */
 #include "ras_sample_pattern.h"
 
-#include "ras_names.h"
-
 /* D3D11 / Vulkan standard sample locations, 1/16 px from the centre. */
 static const signed char standard2[2][2] = {{4, 4}, {-4, -4}};
 static const signed char standard4[4][2] = {{-2, -6}, {6, -2}, {-6, 2}, {2, 6}};
@@ -55,8 +53,4 @@ bool ras_sample_pattern_make(ras_pattern_kind kind, int count, ras_sample_patter
     }
     *out = p;
     return true;
-}
-
-const char *ras_pattern_kind_name(ras_pattern_kind kind) {
-    return ras_name_of(&ras_names_pattern, (int)kind);
 }

@@ -3,7 +3,7 @@
  * A scene file says what to draw (objects: a built-in shape or a model file,
  * a transform, a material), from where (camera), under which lights, and
  * which effects the pipeline runs (anti-aliasing, shader, texture filter,
- * culling, edge functions, depth format). docs/scenes.md documents every key; in short:
+ * culling, depth format). docs/scenes.md documents every key; in short:
  *
  *   {
  *     "image":  {"width": 700, "height": 700},

@@ -4,8 +4,8 @@
  * stages read are computed (the `varyings` mask): an unlit, untextured scene
  * transforms no normals and copies no UVs.
  */
-#ifndef STAGE1_VERTEX_H
-#define STAGE1_VERTEX_H
+#ifndef RAS_STAGE1_VERTEX_H
+#define RAS_STAGE1_VERTEX_H
 
 #include "ras_mesh.h"
 

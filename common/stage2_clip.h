@@ -21,8 +21,8 @@
  * outside an earlier one, is clamped back. tests/unit/test_clip.c holds this
  * over 300 000 random legal cameras and 200 000 raw clip-space triangles.
  */
-#ifndef STAGE2_CLIP_H
-#define STAGE2_CLIP_H
+#ifndef RAS_STAGE2_CLIP_H
+#define RAS_STAGE2_CLIP_H
 
 #include "stage1_vertex.h"
 

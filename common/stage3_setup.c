@@ -1,13 +1,7 @@
 /* stage3_setup.c — see stage3_setup.h. */
 #include "stage3_setup.h"
 
-#include "ras_names.h"
-
 #include <math.h> /* round, fabs, isfinite */
-
-const char *ras_depth_format_name(ras_depth_format format) {
-    return ras_name_of(&ras_names_depth, (int)format);
-}
 
 vec4s ras_viewport_depth(vec4s p_clip, int width, int height, ras_depth_format format,
                          float z_near) {

@@ -49,8 +49,8 @@
  *     gets 2.5 instead of 1.6 — and intersecting surfaces would meet in the
  *     wrong place.
  */
-#ifndef STAGE3_SETUP_H
-#define STAGE3_SETUP_H
+#ifndef RAS_STAGE3_SETUP_H
+#define RAS_STAGE3_SETUP_H
 
 #include "ras_triangle.h"
 #include "stage1_vertex.h"

@@ -1,10 +1,7 @@
-/* stage4_raster.c — names for the stage-4 options (the rasterizers themselves
- * are the hw2 student's and the reference's; see stage4_raster.h). */
+/* stage4_raster.c — the range every rasterizer may be handed (the
+ * rasterizers themselves are the hw2 student's and the reference's; see
+ * stage4_raster.h). */
 #include "stage4_raster.h"
-
-#include "ras_names.h"
-
-const char *ras_aa_mode_name(ras_aa_mode aa) { return ras_name_of(&ras_names_aa, (int)aa); }
 
 bool ras_raster_check_range(const ras_triangle *t, ras_error *err) {
     if (ras_raster_in_range(t)) return true;

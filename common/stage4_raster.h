@@ -14,8 +14,8 @@
  *   The colour comes from ctx->shade (once per pixel for MSAA and NONE, once
  *   per sample for SSAA), or is the interpolated vertex colour when NULL.
  */
-#ifndef STAGE4_RASTER_H
-#define STAGE4_RASTER_H
+#ifndef RAS_STAGE4_RASTER_H
+#define RAS_STAGE4_RASTER_H
 
 #include "ras_counters.h"
 #include "ras_error.h"

@@ -6,8 +6,8 @@
  * Barycentrics here are SCREEN-space (λ): they interpolate depth (z/w is affine
  * in screen space) but not attributes — those need the 1/w correction (hw3).
  */
-#ifndef STAGE5_FRAGMENT_H
-#define STAGE5_FRAGMENT_H
+#ifndef RAS_STAGE5_FRAGMENT_H
+#define RAS_STAGE5_FRAGMENT_H
 
 #include "ras_math.h"
 #include "ras_triangle.h"

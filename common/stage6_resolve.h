@@ -5,8 +5,8 @@
  * run. With several, the hw2 hook (resolve_pixel) turns each pixel's samples
  * into one colour.
  */
-#ifndef STAGE6_RESOLVE_H
-#define STAGE6_RESOLVE_H
+#ifndef RAS_STAGE6_RESOLVE_H
+#define RAS_STAGE6_RESOLVE_H
 
 #include "ras_image.h"
 #include "stage4_raster.h"

@@ -27,8 +27,8 @@
  * Every private copy of a reference function is listed, with the test that
  * holds it equal, in fast/README.md.
  */
-#ifndef FAST_PRIV_H
-#define FAST_PRIV_H
+#ifndef RAS_FAST_PRIV_H
+#define RAS_FAST_PRIV_H
 
 #include "fast_render.h"
 

@@ -9,8 +9,8 @@
  * private copies of some reference functions for speed; fast/README.md
  * lists every one with the test that holds it equal. See docs/performance.md.
  */
-#ifndef FAST_RENDER_H
-#define FAST_RENDER_H
+#ifndef RAS_FAST_RENDER_H
+#define RAS_FAST_RENDER_H
 
 #include "scene.h"
 

@@ -11,8 +11,8 @@
  * -march flag is needed: SSE2 is the x86-64 baseline; other targets get the
  * same arithmetic lane by lane.
  */
-#ifndef FAST_SIMD_H
-#define FAST_SIMD_H
+#ifndef RAS_FAST_SIMD_H
+#define RAS_FAST_SIMD_H
 
 #include <float.h>  /* FLT_EPSILON, FLT_MAX */
 #include <math.h>   /* sqrtf */

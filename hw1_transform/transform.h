@@ -8,8 +8,8 @@
  * z in [-z_far, -z_near]). Build matrices with ras_mat4_rows(), which takes
  * the 16 numbers in the order you read them on paper.
  */
-#ifndef HW1_TRANSFORM_H
-#define HW1_TRANSFORM_H
+#ifndef RAS_HW1_TRANSFORM_H
+#define RAS_HW1_TRANSFORM_H
 
 #include "ras_math.h"
 

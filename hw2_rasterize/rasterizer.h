@@ -17,8 +17,8 @@
  * by the pipeline with a message naming the corner, and counted
  * (triangles_rejected_range); it never reaches this code.
  */
-#ifndef HW2_RASTERIZER_H
-#define HW2_RASTERIZER_H
+#ifndef RAS_HW2_RASTERIZER_H
+#define RAS_HW2_RASTERIZER_H
 
 #include "stage4_raster.h"
 

@@ -24,8 +24,8 @@
  * ras_scene_view_matrix's (the GAMES101 one, a translation by -eye, unless
  * the scene's camera looks at a point).
  */
-#ifndef HW3_SCENE_H
-#define HW3_SCENE_H
+#ifndef RAS_HW3_SCENE_H
+#define RAS_HW3_SCENE_H
 
 #include "ras_app.h"  /* ras_app_settings */
 #include "ras_dump.h" /* ras_dump_buffer */

@@ -29,8 +29,8 @@
  *     the height map's RGB colour in 8-bit units, 255·|rgb| (0 to 441.7), see
  *     height_sample().
  */
-#ifndef HW3_SHADING_H
-#define HW3_SHADING_H
+#ifndef RAS_HW3_SHADING_H
+#define RAS_HW3_SHADING_H
 
 #include "ras_counters.h"
 #include "ras_texture.h"

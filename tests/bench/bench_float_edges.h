@@ -10,8 +10,8 @@
  * samples it covers twice or not at all on shared edges, next to the
  * reference's exact fixed-point coverage, which covers each exactly once.
  */
-#ifndef BENCH_FLOAT_EDGES_H
-#define BENCH_FLOAT_EDGES_H
+#ifndef RAS_BENCH_FLOAT_EDGES_H
+#define RAS_BENCH_FLOAT_EDGES_H
 
 #include "stage4_raster.h"
 

@@ -23,8 +23,8 @@
  *   "quit"
  * The first line the child writes is "ready RENDERER" (GL_RENDERER).
  */
-#ifndef BENCH_LLVMPIPE_H
-#define BENCH_LLVMPIPE_H
+#ifndef RAS_BENCH_LLVMPIPE_H
+#define RAS_BENCH_LLVMPIPE_H
 
 #include "ras_image.h"
 #include "scene.h" /* hw3_shader */

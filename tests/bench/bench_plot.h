@@ -12,8 +12,8 @@
  *   bench_plot_save(p, "out.png", &err);
  *   bench_plot_destroy(p);
  */
-#ifndef BENCH_PLOT_H
-#define BENCH_PLOT_H
+#ifndef RAS_BENCH_PLOT_H
+#define RAS_BENCH_PLOT_H
 
 #include "ras_error.h"
 #include "ras_image.h"

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # teaching_instructions_skip_test.sh — on a toolchain other than the recorded
 # one, teaching_instructions_test.sh must skip (exit 77, saying how to record
-# budgets) before it starts the counting run under callgrind (issue 28, item 4).
+# budgets) before it starts the counting run under callgrind.
 #
 #   teaching_instructions_skip_test.sh TEACHING_TEST.sh BUDGETS.json
 #

@@ -511,7 +511,7 @@ case(H3, ["-o", OUT], 2, "RAS_MEMORY_LIMIT_MB expects a whole number", hard=True
 case(C, ["--metric", "exact", "--memory-limit", "0", REF, REF], 2, "--memory-limit expects",
      absent=(), hard=True)
 
-# ---- issue 16: deep models and deep JSON (common/ras_mesh.c, ras_scene.c) ----
+# ---- issue 16: deep models and deep JSON (common/ras_mesh_check.c, ras_scene.c) ----
 def deep_gltf(name, levels):
     nodes = ",".join('{"children":[%d]}' % (k + 1) for k in range(levels - 1)) + ',{"mesh":0}'
     tri = "AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA"  # 3 vec3 floats, base64

@@ -148,7 +148,7 @@ cases = [(broken, "broken.json: aa.samples:"), (missing_map, "objects[0].materia
 for program in ("hw1_transform_ref", "hw2_rasterize_ref", "hw3_shading_ref"):
     for path, expected in cases:
         if path == missing_map and program != "hw3_shading_ref":
-            # Only what a program draws is loaded (issue 27): hw1 and hw2 draw
+            # Only what a program draws is loaded: hw1 and hw2 draw
             # flat colours and never open the map.
             out = os.path.join(WORK, "flat.png")
             code, stdout, stderr = run(program, ["--scene", path, "-o", out])

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# stale_program_test.sh — ctest stale_program (issue 25, item 8): the
+# stale_program_test.sh — ctest stale_program (item 8): the
 # student's programs are current, or say they are not.
 #   1. a student program older than one of its sources says, first, that it
 #      runs older code (a copy dated 2000-01-01 of each program); a fresh one

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# startup_test.sh BIN — issue 18 item 5: a program loads OpenCV (and Qt with
+# startup_test.sh BIN — a program loads OpenCV (and Qt with
 # it) and assimp only when it uses them (docs/startup.md). Reads which
 # libraries the dynamic linker initialised (LD_DEBUG=libs) for:
 #   --version and headless PNG renders: none of OpenCV, Qt, GDAL or assimp,

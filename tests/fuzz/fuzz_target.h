@@ -10,8 +10,8 @@
  *     crash input ever found stay regression tests without libFuzzer.
  * A target returns 0; it aborts (via fuzz_check) when an invariant breaks.
  */
-#ifndef FUZZ_TARGET_H
-#define FUZZ_TARGET_H
+#ifndef RAS_FUZZ_TARGET_H
+#define RAS_FUZZ_TARGET_H
 
 #include <stddef.h> /* size_t */
 #include <stdint.h> /* uint8_t */

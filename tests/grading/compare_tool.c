@@ -237,20 +237,17 @@ static int compare_buffers(const char *ref_dir, const char *got_dir, const char 
     return differing ? 1 : 0;
 }
 
-int main(int argc, char **argv) {
-    if (argc >= 2 && !strcmp(argv[1], "--buffers")) {
-        bool with_pictures = argc == 6 && !strcmp(argv[4], "--pictures");
-        if (argc != 4 && !with_pictures) {
-            fprintf(stderr,
-                    "raster101-compare: --buffers expects two folders (the reference's "
-                    "--dump, then yours), then optionally --pictures OUT_DIR; got %d "
-                    "argument(s)\n",
-                    argc - 2);
-            usage(stderr);
-            return 2;
-        }
-        return compare_buffers(argv[2], argv[3], with_pictures ? argv[5] : NULL);
-    }
+/* What the command line asked for; NaN thresholds were not given. */
+typedef struct compare_args {
+    const char *metric, *diff_path, *crop_path, *as, *catalogue_path;
+    double tol, max_bad, min_psnr, min_ssim;
+    bool mask;
+    int first_image; /* argv index of EXPECTED (optind) */
+} compare_args;
+
+/* Parses the options of the image comparison into a; -1 to go on, else the
+ * exit status (0 after --help, 2 on a bad option, said on stderr). */
+static int parse_args(int argc, char **argv, compare_args *a) {
     enum { OPT_TOL = 256, OPT_MAXBAD, OPT_PSNR, OPT_SSIM, OPT_MASK, OPT_MEMORY, OPT_AS, OPT_CAT };
     static const struct option longopts[] = {{"metric", required_argument, NULL, 'm'},
                                              {"diff", required_argument, NULL, 'd'},
@@ -265,25 +262,23 @@ int main(int argc, char **argv) {
                                              {"as", required_argument, NULL, OPT_AS},
                                              {"catalogue", required_argument, NULL, OPT_CAT},
                                              {NULL, 0, NULL, 0}};
-    const char *metric = NULL, *diff_path = NULL, *crop_path = NULL, *as = NULL,
-               *catalogue_path = RAS_REFERENCE_DIR "/catalogue.json";
-    double tol = NAN, max_bad = NAN, min_psnr = NAN, min_ssim = NAN;
-    bool mask = false;
+    *a = (compare_args){.catalogue_path = RAS_REFERENCE_DIR "/catalogue.json",
+                        .tol = NAN, .max_bad = NAN, .min_psnr = NAN, .min_ssim = NAN};
     int c;
     while ((c = getopt_long(argc, argv, "m:d:c:h", longopts, NULL)) != -1) {
         double *target = NULL;
         const char *option = "";
         switch (c) {
-        case 'm': metric = optarg; break;
-        case 'd': diff_path = optarg; break;
-        case 'c': crop_path = optarg; break;
-        case OPT_TOL: target = &tol, option = "--tolerance"; break;
-        case OPT_MAXBAD: target = &max_bad, option = "--max-bad"; break;
-        case OPT_PSNR: target = &min_psnr, option = "--min-psnr"; break;
-        case OPT_SSIM: target = &min_ssim, option = "--min-ssim"; break;
-        case OPT_MASK: mask = true; break;
-        case OPT_AS: as = optarg; break;
-        case OPT_CAT: catalogue_path = optarg; break;
+        case 'm': a->metric = optarg; break;
+        case 'd': a->diff_path = optarg; break;
+        case 'c': a->crop_path = optarg; break;
+        case OPT_TOL: target = &a->tol, option = "--tolerance"; break;
+        case OPT_MAXBAD: target = &a->max_bad, option = "--max-bad"; break;
+        case OPT_PSNR: target = &a->min_psnr, option = "--min-psnr"; break;
+        case OPT_SSIM: target = &a->min_ssim, option = "--min-ssim"; break;
+        case OPT_MASK: a->mask = true; break;
+        case OPT_AS: a->as = optarg; break;
+        case OPT_CAT: a->catalogue_path = optarg; break;
         case OPT_MEMORY: {
             ras_error merr = {{0}};
             if (!ras_memory_set_limit_mb(optarg, &merr)) {
@@ -299,35 +294,46 @@ int main(int argc, char **argv) {
             fprintf(stderr, "raster101-compare: %s expects a number; got '%s'\n", option, optarg);
             return 2;
         }
-        if ((target == &tol &&
-             !number_in_range("--tolerance", optarg, tol, 0, 255, true, "a whole number 0..255")) ||
-            (target == &max_bad && !number_in_range("--max-bad", optarg, max_bad, 0, 1, false,
-                                                    "a fraction of the pixels, 0..1")) ||
-            (target == &min_psnr &&
-             !number_in_range("--min-psnr", optarg, min_psnr, 0, INFINITY, false,
+        if ((target == &a->tol &&
+             !number_in_range("--tolerance", optarg, a->tol, 0, 255, true, "a whole number 0..255")) ||
+            (target == &a->max_bad && !number_in_range("--max-bad", optarg, a->max_bad, 0, 1, false,
+                                                       "a fraction of the pixels, 0..1")) ||
+            (target == &a->min_psnr &&
+             !number_in_range("--min-psnr", optarg, a->min_psnr, 0, INFINITY, false,
                               "decibels, 0 or more (inf: identical)")) ||
-            (target == &min_ssim &&
-             !number_in_range("--min-ssim", optarg, min_ssim, -1, 1, false, "a value -1..1")))
+            (target == &a->min_ssim &&
+             !number_in_range("--min-ssim", optarg, a->min_ssim, -1, 1, false, "a value -1..1")))
             return 2;
     }
-    if (as && (metric || !isnan(tol) || !isnan(max_bad) || !isnan(min_psnr) || !isnan(min_ssim))) {
+    a->first_image = optind;
+    return -1;
+}
+
+/* The comparison the arguments name: --as's row of the catalogue, or
+ * --metric's defaults with the thresholds given over them. False (said on
+ * stderr) when they name none, or both. */
+static bool comparison_options(int argc, const compare_args *a, ras_compare_options *opt,
+                               ras_compare_kind *kind) {
+    const char *metric = a->metric;
+    if (a->as && (metric || !isnan(a->tol) || !isnan(a->max_bad) || !isnan(a->min_psnr) ||
+                  !isnan(a->min_ssim))) {
         fprintf(stderr, "raster101-compare: --as %s takes its metric and thresholds from the "
                         "catalogue; expected no --metric, --tolerance, --max-bad, --min-psnr or "
                         "--min-ssim with it\n",
-                as);
-        return 2;
+                a->as);
+        return false;
     }
     ras_compare_options table_opt;
-    if (as) {
+    if (a->as) {
         ras_catalogue *cat = malloc(sizeof *cat);
         ras_error cerr = {{0}};
-        bool found = cat && ras_catalogue_load(catalogue_path, cat, &cerr) &&
-                     ras_catalogue_comparison_options(cat, as, &table_opt, &cerr);
+        bool found = cat && ras_catalogue_load(a->catalogue_path, cat, &cerr) &&
+                     ras_catalogue_comparison_options(cat, a->as, &table_opt, &cerr);
         free(cat);
         if (!found) {
-            fprintf(stderr, "raster101-compare: --as %s: %s\n", as,
+            fprintf(stderr, "raster101-compare: --as %s: %s\n", a->as,
                     cerr.msg[0] ? cerr.msg : "out of memory");
-            return 2;
+            return false;
         }
         metric = ras_compare_kind_name(table_opt.kind);
     }
@@ -335,35 +341,40 @@ int main(int argc, char **argv) {
         fprintf(stderr, "raster101-compare: expected --metric exact|edge|psnr|ssim or --as NAME; "
                         "got none\n");
         usage(stderr);
-        return 2;
+        return false;
     }
-    if (argc - optind != 2) {
+    int images = argc - a->first_image;
+    if (images != 2) {
         fprintf(stderr,
                 "raster101-compare: expected two images, EXPECTED and GOT; got %d argument%s\n",
-                argc - optind, argc - optind == 1 ? "" : "s");
+                images, images == 1 ? "" : "s");
         usage(stderr);
-        return 2;
+        return false;
     }
-    if (!output_ok("--diff", diff_path) || !output_ok("--crop", crop_path)) return 2;
+    if (!output_ok("--diff", a->diff_path) || !output_ok("--crop", a->crop_path)) return false;
     ras_error err = {{0}};
-    ras_compare_kind kind;
-    if (!ras_compare_kind_parse(metric, &kind, &err)) {
+    if (!ras_compare_kind_parse(metric, kind, &err)) {
         fprintf(stderr, "raster101-compare: %s\n", err.msg);
-        return 2;
+        return false;
     }
-    ras_compare_options opt = as ? table_opt : ras_compare_defaults(kind);
-    if (!isnan(tol)) opt.tolerance = (int)tol;
-    if (!isnan(max_bad)) opt.max_bad_fraction = max_bad;
-    if (!isnan(min_psnr)) opt.min_psnr_db = min_psnr;
-    if (!isnan(min_ssim)) opt.min_ssim = min_ssim;
+    *opt = a->as ? table_opt : ras_compare_defaults(*kind);
+    if (!isnan(a->tol)) opt->tolerance = (int)a->tol;
+    if (!isnan(a->max_bad)) opt->max_bad_fraction = a->max_bad;
+    if (!isnan(a->min_psnr)) opt->min_psnr_db = a->min_psnr;
+    if (!isnan(a->min_ssim)) opt->min_ssim = a->min_ssim;
+    return true;
+}
 
-    const char *expected_path = argv[optind], *got_path = argv[optind + 1];
+/* Before anything is decoded: the memory budget, and no output over an
+ * input. False (said on stderr) when the comparison must not start. */
+static bool inputs_ok(const compare_args *a, const char *expected_path, const char *got_path) {
+    ras_error err = {{0}};
     if (!ras_memory_check_env(&err)) {
         fprintf(stderr, "raster101-compare: %s\n", err.msg);
-        return 2;
+        return false;
     }
     /* --diff or --crop over one of the inputs would destroy it. */
-    const char *outputs[2][2] = {{"--diff", diff_path}, {"--crop", crop_path}};
+    const char *outputs[2][2] = {{"--diff", a->diff_path}, {"--crop", a->crop_path}};
     for (int k = 0; k < 2; k++)
         if (outputs[k][1] &&
             (same_file(outputs[k][1], expected_path) || same_file(outputs[k][1], got_path))) {
@@ -371,7 +382,7 @@ int main(int argc, char **argv) {
                     "raster101-compare: %s '%s' would overwrite one of the images being "
                     "compared; expected a new file name, e.g. diff.png\n",
                     outputs[k][0], outputs[k][1]);
-            return 2;
+            return false;
         }
     /* Both images, the comparison's own buffers and the heat map, estimated
      * from the files' headers before either is decoded. */
@@ -384,9 +395,74 @@ int main(int argc, char **argv) {
                                   COMPARE_BYTES_PER_PIXEL,
                               what, "compare smaller images", &err)) {
             fprintf(stderr, "raster101-compare: %s\n", err.msg);
-            return 2;
+            return false;
         }
     }
+    return true;
+}
+
+/* The summary line, then what was asked besides (--mask, --diff, --crop);
+ * the exit status: 0 match, 1 differ, 2 an error. */
+static int report(const compare_args *a, const ras_image *expected, const ras_image *got,
+                  const ras_compare_options *opt, ras_compare_kind kind) {
+    ras_error err = {{0}};
+    ras_compare_result r;
+    if (!ras_compare_images(expected, got, opt, &r, &err)) {
+        fprintf(stderr, "raster101-compare: %s\n", err.msg);
+        return 2;
+    }
+    printf("%s\n", r.summary);
+    int status = r.pass ? 0 : 1;
+    if (a->mask) {
+        char buf[4096];
+        if (ras_compare_ascii_mask(expected, got, (vec3s){{0, 0, 0}},
+                                   r.worst_col < 0 ? 0 : r.worst_col,
+                                   r.worst_row < 0 ? 0 : r.worst_row, 12, buf, sizeof buf, &err))
+            printf("coverage around (%d,%d), %s:\n%s", r.worst_col, r.worst_row,
+                   RAS_COMPARE_ASCII_LEGEND, buf);
+    }
+    if (a->diff_path) {
+        ras_image *heat = ras_compare_heatmap(expected, got, kind, &err);
+        if (!heat || !ras_image_save(heat, a->diff_path, &err)) {
+            fprintf(stderr, "raster101-compare: --diff: %s\n", err.msg);
+            status = 2;
+        }
+        ras_image_destroy(heat);
+    }
+    if (a->crop_path) {
+        ras_image *crop = ras_compare_crop(expected, got, kind, r.worst_col, r.worst_row, &err);
+        if (!crop || !ras_image_save(crop, a->crop_path, &err)) {
+            fprintf(stderr, "raster101-compare: --crop: %s\n", err.msg);
+            status = 2;
+        }
+        ras_image_destroy(crop);
+    }
+    return status;
+}
+
+int main(int argc, char **argv) {
+    if (argc >= 2 && !strcmp(argv[1], "--buffers")) {
+        bool with_pictures = argc == 6 && !strcmp(argv[4], "--pictures");
+        if (argc != 4 && !with_pictures) {
+            fprintf(stderr,
+                    "raster101-compare: --buffers expects two folders (the reference's "
+                    "--dump, then yours), then optionally --pictures OUT_DIR; got %d "
+                    "argument(s)\n",
+                    argc - 2);
+            usage(stderr);
+            return 2;
+        }
+        return compare_buffers(argv[2], argv[3], with_pictures ? argv[5] : NULL);
+    }
+    compare_args a;
+    int status = parse_args(argc, argv, &a);
+    if (status >= 0) return status;
+    ras_compare_options opt;
+    ras_compare_kind kind;
+    if (!comparison_options(argc, &a, &opt, &kind)) return 2;
+    const char *expected_path = argv[a.first_image], *got_path = argv[a.first_image + 1];
+    if (!inputs_ok(&a, expected_path, got_path)) return 2;
+    ras_error err = {{0}};
     ras_image *expected = ras_image_load(expected_path, &err);
     if (!expected) {
         fprintf(stderr, "raster101-compare: expected image: %s\n", err.msg);
@@ -398,39 +474,7 @@ int main(int argc, char **argv) {
         ras_image_destroy(expected);
         return 2;
     }
-    int status = 2;
-    ras_compare_result r;
-    if (!ras_compare_images(expected, got, &opt, &r, &err)) {
-        fprintf(stderr, "raster101-compare: %s\n", err.msg);
-        goto done;
-    }
-    printf("%s\n", r.summary);
-    status = r.pass ? 0 : 1;
-    if (mask) {
-        char buf[4096];
-        if (ras_compare_ascii_mask(expected, got, (vec3s){{0, 0, 0}},
-                                   r.worst_col < 0 ? 0 : r.worst_col,
-                                   r.worst_row < 0 ? 0 : r.worst_row, 12, buf, sizeof buf, &err))
-            printf("coverage around (%d,%d), %s:\n%s", r.worst_col, r.worst_row,
-                   RAS_COMPARE_ASCII_LEGEND, buf);
-    }
-    if (diff_path) {
-        ras_image *heat = ras_compare_heatmap(expected, got, kind, &err);
-        if (!heat || !ras_image_save(heat, diff_path, &err)) {
-            fprintf(stderr, "raster101-compare: --diff: %s\n", err.msg);
-            status = 2;
-        }
-        ras_image_destroy(heat);
-    }
-    if (crop_path) {
-        ras_image *crop = ras_compare_crop(expected, got, kind, r.worst_col, r.worst_row, &err);
-        if (!crop || !ras_image_save(crop, crop_path, &err)) {
-            fprintf(stderr, "raster101-compare: --crop: %s\n", err.msg);
-            status = 2;
-        }
-        ras_image_destroy(crop);
-    }
-done:
+    status = report(&a, expected, got, &opt, kind);
     ras_image_destroy(expected);
     ras_image_destroy(got);
     return status;

@@ -5,8 +5,8 @@
  * ras_mat4_rows(), which takes the 16 numbers in the order you read them on
  * paper.
  */
-#ifndef HWX_SCALE_H
-#define HWX_SCALE_H
+#ifndef RAS_HWX_SCALE_H
+#define RAS_HWX_SCALE_H
 
 #include "ras_math.h"
 

@@ -1,0 +1,536 @@
+/* ras_mesh_load.c — model files through assimp.
+ *
+ * Loading merges every triangle mesh of the file into one indexed list, with
+ * each node's transform applied (an instanced mesh appears once per node that
+ * uses it). Points and lines are dropped: the rasterizer draws triangles
+ * only. The file is checked first (ras_mesh_check.c), then imported on a
+ * thread of its own with a time limit (ras_job.h).
+ *
+ * assimp is not linked: it is opened with dlopen when the first model file is
+ * read (load_assimp), so programs that draw built-in shapes never load it
+ * (docs/startup.md). Every file assimp opens goes through this file's
+ * aiFileIO, which reads regular files only.
+ */
+#include "ras_mesh.h"
+
+#include <assimp/cfileio.h>     /* aiFileIO, aiFile */
+#include <assimp/cimport.h>     /* aiImportFileEx, aiReleaseImport, aiGetErrorString */
+#include <assimp/postprocess.h> /* aiProcess_* */
+#include <assimp/scene.h>       /* aiScene, aiNode, aiMesh */
+
+#include <assert.h> /* assert */
+#include <dlfcn.h>  /* dlopen, dlsym, dlerror: assimp, loaded on first use */
+#include <limits.h> /* UINT_MAX, PATH_MAX */
+#include <math.h>   /* isfinite */
+#include <stdint.h> /* SIZE_MAX */
+#include <stdio.h>  /* fdopen, fread, fseek, fclose, snprintf */
+#include <stdlib.h> /* calloc, malloc, free */
+#include <string.h> /* memcpy, strcmp, strrchr, strdup */
+#include <sys/stat.h> /* fstat */
+#include <unistd.h> /* close */
+
+#include "ras_io.h"     /* ras_io_open_input */
+#include "ras_job.h"    /* ras_job_run: the import on its own thread, with a time limit */
+#include "ras_memory.h" /* ras_memory_check, ras_memory_limit */
+#include "ras_mesh_parts.h"
+
+#include <pthread.h> /* pthread_once: assimp opened once */
+#ifdef __GLIBC__
+#include <malloc.h> /* malloc_trim */
+#endif
+
+/* ------------------------------------------------------------------------ */
+/* Loading through assimp                                                    */
+
+/* One use of an assimp mesh by a node, with the node's accumulated transform. */
+typedef struct ras_mesh_instance {
+    const struct aiMesh *mesh;
+    struct aiMatrix4x4 transform;
+} ras_mesh_instance;
+
+typedef struct ras_mesh_node_item {
+    const struct aiNode *node;
+    struct aiMatrix4x4 transform;
+} ras_mesh_node_item;
+
+/* a * b for assimp's row-major matrices (p' = M p). */
+static struct aiMatrix4x4 ai_mul(const struct aiMatrix4x4 *a, const struct aiMatrix4x4 *b) {
+    const float *A = &a->a1, *B = &b->a1;
+    struct aiMatrix4x4 r;
+    float *R = &r.a1;
+    for (int i = 0; i < 4; i++)
+        for (int j = 0; j < 4; j++) {
+            float s = 0.0f;
+            for (int k = 0; k < 4; k++) s += A[4 * i + k] * B[4 * k + j];
+            R[4 * i + j] = s;
+        }
+    return r;
+}
+
+static struct aiMatrix4x4 ai_identity(void) {
+    struct aiMatrix4x4 m;
+    memset(&m, 0, sizeof m);
+    m.a1 = m.b2 = m.c3 = m.d4 = 1.0f;
+    return m;
+}
+
+/* Lists every (mesh, transform) pair of the node tree. Iterative, so a file
+ * with a very deep hierarchy cannot overflow the C stack. Returns false on
+ * OOM; *out is then NULL. */
+static bool collect_instances(const struct aiScene *scene, ras_mesh_instance **out,
+                                       size_t *out_count) {
+    *out = NULL;
+    *out_count = 0;
+    size_t inst_cap = 16, inst_n = 0, stack_cap = 16, stack_n = 0;
+    ras_mesh_instance *inst = malloc(inst_cap * sizeof *inst);
+    ras_mesh_node_item *stack = malloc(stack_cap * sizeof *stack);
+    if (!inst || !stack) goto oom;
+    stack[stack_n++] = (ras_mesh_node_item){scene->mRootNode, ai_identity()};
+    while (stack_n > 0) {
+        ras_mesh_node_item item = stack[--stack_n];
+        const struct aiNode *node = item.node;
+        if (!node) continue;
+        struct aiMatrix4x4 m = ai_mul(&item.transform, &node->mTransformation);
+        for (unsigned i = 0; i < node->mNumMeshes; i++) {
+            unsigned mi = node->mMeshes[i];
+            if (mi >= scene->mNumMeshes || !scene->mMeshes[mi]) continue;
+            if (inst_n == inst_cap) {
+                if (inst_cap > SIZE_MAX / 2 / sizeof *inst) goto oom;
+                ras_mesh_instance *grown = realloc(inst, 2 * inst_cap * sizeof *inst);
+                if (!grown) goto oom;
+                inst = grown;
+                inst_cap *= 2;
+            }
+            inst[inst_n++] = (ras_mesh_instance){scene->mMeshes[mi], m};
+        }
+        for (unsigned c = 0; c < node->mNumChildren; c++) {
+            if (stack_n == stack_cap) {
+                if (stack_cap > SIZE_MAX / 2 / sizeof *stack) goto oom;
+                ras_mesh_node_item *grown = realloc(stack, 2 * stack_cap * sizeof *stack);
+                if (!grown) goto oom;
+                stack = grown;
+                stack_cap *= 2;
+            }
+            stack[stack_n++] = (ras_mesh_node_item){node->mChildren[c], m};
+        }
+    }
+    free(stack);
+    *out = inst;
+    *out_count = inst_n;
+    return true;
+oom:
+    free(inst);
+    free(stack);
+    return false;
+}
+
+static size_t ai_triangle_count(const struct aiMesh *m) {
+    size_t n = 0;
+    for (unsigned f = 0; f < m->mNumFaces; f++)
+        if (m->mFaces[f].mNumIndices == 3) n++;
+    return n;
+}
+
+/* Fills the merged mesh from the instances. Returns false (err set) on an
+ * out-of-range index or a non-finite position. `repair` flags the normals
+ * to rebuild from faces. */
+static bool fill_from_instances(ras_mesh *mesh, bool *repair,
+                                         const ras_mesh_instance *inst, size_t inst_count,
+                                         const char *path, ras_error *err) {
+    size_t vbase = 0, tbase = 0;
+    for (size_t k = 0; k < inst_count; k++) {
+        const struct aiMesh *am = inst[k].mesh;
+        if (ai_triangle_count(am) == 0) continue;
+        const struct aiMatrix4x4 *M = &inst[k].transform;
+        /* Normals transform by the inverse transpose; the cofactor matrix is
+         * det(M) times that, so it needs no division (works for singular M
+         * too) and only its sign must be fixed for mirroring transforms. */
+        float a = M->a1, b = M->a2, c = M->a3, d = M->b1, e = M->b2, f = M->b3, g = M->c1,
+              h = M->c2, i = M->c3;
+        float cof[3][3] = {{e * i - f * h, f * g - d * i, d * h - e * g},
+                           {c * h - b * i, a * i - c * g, b * g - a * h},
+                           {b * f - c * e, c * d - a * f, a * e - b * d}};
+        float det = a * cof[0][0] + b * cof[0][1] + c * cof[0][2];
+        float nsign = det < 0.0f ? -1.0f : 1.0f;
+        /* A mirroring transform turns the winding around; swapping two
+         * corners keeps faces counter-clockwise from outside. */
+        bool flip = det < 0.0f;
+
+        for (unsigned v = 0; v < am->mNumVertices; v++) {
+            struct aiVector3D p = am->mVertices[v];
+            vec3s pos = v3(M->a1 * p.x + M->a2 * p.y + M->a3 * p.z + M->a4,
+                                    M->b1 * p.x + M->b2 * p.y + M->b3 * p.z + M->b4,
+                                    M->c1 * p.x + M->c2 * p.y + M->c3 * p.z + M->c4);
+            if (!ras_vec3_finite(pos))
+                return ras_error_set(err,
+                                     "model '%s': vertex %u of mesh %zu has a position that is not "
+                                     "a finite number (%g, %g, %g); expected finite coordinates — "
+                                     "repair or re-export the model",
+                                     path, v, k, (double)pos.x, (double)pos.y, (double)pos.z);
+            size_t dst = vbase + v;
+            mesh->positions[dst] = pos;
+            repair[dst] = true;
+            if (am->mNormals) {
+                struct aiVector3D n = am->mNormals[v];
+                vec3s nt = v3(cof[0][0] * n.x + cof[0][1] * n.y + cof[0][2] * n.z,
+                                       cof[1][0] * n.x + cof[1][1] * n.y + cof[1][2] * n.z,
+                                       cof[2][0] * n.x + cof[2][1] * n.y + cof[2][2] * n.z);
+                nt = glms_vec3_scale(nt, nsign);
+                if (ras_mesh_normal_ok(nt)) {
+                    mesh->normals[dst] = ras_mesh_unit_or(nt, v3(0, 1, 0));
+                    repair[dst] = false;
+                }
+            }
+            if (am->mTextureCoords[0]) {
+                struct aiVector3D t = am->mTextureCoords[0][v];
+                /* A NaN UV would poison every interpolated varying. */
+                mesh->uvs[dst] = (vec2s){{isfinite(t.x) ? t.x : 0.0f, isfinite(t.y) ? t.y : 0.0f}};
+            }
+            vec3s col = v3(1, 1, 1);
+            if (am->mColors[0]) {
+                struct aiColor4D cc = am->mColors[0][v];
+                float ch[3] = {cc.r, cc.g, cc.b};
+                for (int q = 0; q < 3; q++)
+                    col.raw[q] = isnan(ch[q]) ? 1.0f : ch[q] < 0.0f ? 0.0f : ch[q] > 1.0f ? 1.0f : ch[q];
+            }
+            mesh->colors[dst] = col;
+        }
+        for (unsigned fi = 0; fi < am->mNumFaces; fi++) {
+            const struct aiFace *face = &am->mFaces[fi];
+            if (face->mNumIndices != 3) continue;
+            for (int q = 0; q < 3; q++)
+                if (face->mIndices[q] >= am->mNumVertices)
+                    return ras_error_set(err,
+                                         "model '%s': face %u of mesh %zu uses vertex index %u but "
+                                         "the mesh has only %u vertices; expected indices below the "
+                                         "vertex count — the file is corrupt, re-export it",
+                                         path, fi, k, face->mIndices[q], am->mNumVertices);
+            unsigned *dst = &mesh->indices[3 * tbase];
+            dst[0] = (unsigned)(vbase + face->mIndices[0]);
+            dst[1] = (unsigned)(vbase + face->mIndices[flip ? 2 : 1]);
+            dst[2] = (unsigned)(vbase + face->mIndices[flip ? 1 : 2]);
+            tbase++;
+        }
+        vbase += am->mNumVertices;
+    }
+    return true;
+}
+
+/* ------------------------------------------------------------------------ */
+/* assimp's file access: regular files only                                  */
+
+/* Every file assimp opens (the model, and what it names: an OBJ's .mtl, a
+ * glTF's .bin) goes through ras_io_open_input, so a FIFO or a device named by
+ * a model fails at once instead of blocking the import forever. */
+static size_t io_read(struct aiFile *f, char *buf, size_t size, size_t count) {
+    return fread(buf, size, count, (FILE *)f->UserData);
+}
+static size_t io_write(struct aiFile *f, const char *buf, size_t size, size_t count) {
+    (void)f, (void)buf, (void)size, (void)count;
+    return 0; /* models are only read */
+}
+static size_t io_tell(struct aiFile *f) {
+    long pos = ftell((FILE *)f->UserData);
+    return pos < 0 ? 0 : (size_t)pos;
+}
+static size_t io_size(struct aiFile *f) {
+    struct stat st;
+    if (fstat(fileno((FILE *)f->UserData), &st) != 0 || st.st_size < 0) return 0;
+    return (size_t)st.st_size;
+}
+static enum aiReturn io_seek(struct aiFile *f, size_t offset, enum aiOrigin origin) {
+    int whence = origin == aiOrigin_CUR ? SEEK_CUR : origin == aiOrigin_END ? SEEK_END : SEEK_SET;
+    if (offset > LONG_MAX) return aiReturn_FAILURE;
+    return fseek((FILE *)f->UserData, (long)offset, whence) == 0 ? aiReturn_SUCCESS
+                                                                : aiReturn_FAILURE;
+}
+static void io_flush(struct aiFile *f) { (void)f; }
+
+/* The name assimp is given for a file whose content is glTF but whose name
+ * does not end in .gltf/.glb (older assimp, 5.0, picks the glTF reader by
+ * name alone): the real path plus that suffix, opened as the real path. */
+typedef struct io_alias {
+    const char *alias, *path;
+} io_alias;
+
+static struct aiFile *io_open(struct aiFileIO *io, const char *path, const char *mode) {
+    const io_alias *a = (const io_alias *)io->UserData;
+    if (a && path && !strcmp(path, a->alias)) path = a->path;
+    if (!mode || mode[0] != 'r') return NULL;
+    char why[256];
+    int fd = ras_io_open_input(path, why, sizeof why);
+    if (fd < 0) return NULL;
+    FILE *fp = fdopen(fd, "rb");
+    struct aiFile *f = fp ? calloc(1, sizeof *f) : NULL;
+    if (!f) {
+        if (fp) fclose(fp);
+        else close(fd);
+        return NULL;
+    }
+    f->ReadProc = io_read;
+    f->WriteProc = io_write;
+    f->TellProc = io_tell;
+    f->FileSizeProc = io_size;
+    f->SeekProc = io_seek;
+    f->FlushProc = io_flush;
+    f->UserData = (aiUserData)fp;
+    return f;
+}
+
+static void io_close(struct aiFileIO *io, struct aiFile *f) {
+    (void)io;
+    if (!f) return;
+    fclose((FILE *)f->UserData);
+    free(f);
+}
+
+/* ------------------------------------------------------------------------ */
+/* Loading                                                                   */
+
+static ras_mesh *import_mesh(const char *path, const char *suffix, ras_error *err);
+
+/* What the import needs and gives back, owned by whoever holds it last
+ * (ras_job.h): the caller, or the import's thread when its time ran out. */
+typedef struct import_work {
+    char *path;
+    ras_error err;
+} import_work;
+
+/* The nesting check and the import, on the same thread: the check's cJSON
+ * tree and assimp's allocations share one malloc arena, so the peak is the
+ * larger of the two, not their sum. */
+static void *import_thread(void *arg) {
+    import_work *w = arg;
+    const char *suffix;
+    return ras_mesh_check_content(w->path, &suffix, &w->err) ? import_mesh(w->path, suffix, &w->err) : NULL;
+}
+
+/* A late import's mesh, which nobody waits for any more. */
+static void import_discard(void *mesh, void *arg) {
+    import_work *w = arg;
+    ras_mesh_destroy(mesh);
+    free(w->path);
+    free(w);
+}
+
+ras_mesh *ras_mesh_load(const char *path, ras_error *err) {
+    assert(path);
+    /* Checked first because assimp's own message for a missing file does not
+     * say why (permissions, no such file, a folder, a FIFO). */
+    char why[256];
+    int probe = ras_io_open_input(path, why, sizeof why);
+    if (probe < 0) {
+        ras_error_set(err,
+                      "cannot open model file '%s' (%s); expected a readable mesh file such as "
+                      "OBJ, PLY or STL — check the path (relative paths start from the current "
+                      "directory)",
+                      path, why);
+        return NULL;
+    }
+    struct stat st;
+    double file_bytes = fstat(probe, &st) == 0 ? (double)st.st_size : 0;
+    close(probe);
+    char what[1200];
+    snprintf(what, sizeof what, "importing model '%s' (%.1f MB)", path, file_bytes / 1e6);
+    if (!ras_memory_check(file_bytes * RAS_MESH_IMPORT_BYTES_PER_FILE_BYTE, what,
+                          "use a smaller model", err))
+        return NULL;
+    char ext[16];
+    ras_mesh_file_extension(path, ext, sizeof ext);
+    if (!ras_mesh_check_declared_counts(path, file_bytes, err) || !ras_mesh_check_ply_lists(path, err))
+        return NULL;
+    /* assimp's importers, post-processing and node destructors recurse per
+     * level of the file's hierarchy: run them on a thread with a large stack
+     * (address space only: pages are touched as they are used), sized to fit
+     * the memory budget. If no such thread can be made, the import runs here. */
+    import_work *work = calloc(1, sizeof *work);
+    char *path_copy = work ? strdup(path) : NULL;
+    if (!work || !path_copy) {
+        free(work);
+        ras_error_set(err, "out of memory importing model '%s'", path);
+        return NULL;
+    }
+    work->path = path_copy;
+    size_t stack = ras_memory_limit() / 4;
+    if (stack > RAS_MESH_IMPORT_STACK) stack = RAS_MESH_IMPORT_STACK;
+    if (stack < (16u << 20)) stack = 16u << 20;
+    /* At most the import's time limit: assimp has importers that loop
+     * forever on some malformed files. */
+    double limit = ras_job_seconds("RAS_MESH_IMPORT_SECONDS", RAS_MESH_IMPORT_SECONDS_DEFAULT);
+    void *result = NULL;
+    if (!ras_job_run(import_thread, work, import_discard, stack, limit, &result))
+        return ras_error_set(err,
+                             "the importer did not finish '%s' within %g s (assimp is stuck "
+                             "on this file, or it is far too big); expected a model that "
+                             "imports in time — check the file, or raise "
+                             "RAS_MESH_IMPORT_SECONDS",
+                             path, limit),
+               NULL;
+    ras_mesh *mesh = result;
+    if (!mesh && err) *err = work->err;
+    free(work->path);
+    free(work);
+#ifdef __GLIBC__
+    /* The import's memory was freed in the thread's own malloc arena, where
+     * the renderer (on this thread) cannot reuse it: give it back, or the
+     * peak is the import plus the render (980 instead of 667 MB measured on
+     * a 40 MB OBJ). */
+    malloc_trim(0);
+#endif
+    return mesh;
+}
+
+/* ------------------------------------------------------------------------ */
+/* assimp, opened on the first import                                        */
+
+/* The library's file name (its SONAME, libassimp.so.5), found by
+ * common/CMakeLists.txt from the one this build was compiled against. */
+#ifndef RAS_ASSIMP_LIBRARY
+#define RAS_ASSIMP_LIBRARY "libassimp.so.5"
+#endif
+
+/* The three functions of assimp's C API the loader calls. */
+static struct {
+    const struct aiScene *(*import_file_ex)(const char *, unsigned int, struct aiFileIO *);
+    void (*release_import)(const struct aiScene *);
+    const char *(*get_error_string)(void);
+    char error[512];
+} assimp;
+static pthread_once_t assimp_once = PTHREAD_ONCE_INIT;
+
+static void *assimp_symbol(void *lib, const char *name) {
+    void *p = dlsym(lib, name);
+    if (!p && !assimp.error[0])
+        snprintf(assimp.error, sizeof assimp.error, "%s has no %s", RAS_ASSIMP_LIBRARY, name);
+    return p;
+}
+
+static void open_assimp(void) {
+    void *lib = dlopen(RAS_ASSIMP_LIBRARY, RTLD_LAZY | RTLD_LOCAL); /* as at start-up */
+    if (!lib) {
+        const char *why = dlerror();
+        snprintf(assimp.error, sizeof assimp.error, "%s", why ? why : RAS_ASSIMP_LIBRARY);
+        return;
+    }
+    union {
+        void *p;
+        const struct aiScene *(*import_file_ex)(const char *, unsigned int, struct aiFileIO *);
+        void (*release_import)(const struct aiScene *);
+        const char *(*get_error_string)(void);
+    } f[3] = {{assimp_symbol(lib, "aiImportFileEx")},
+              {assimp_symbol(lib, "aiReleaseImport")},
+              {assimp_symbol(lib, "aiGetErrorString")}};
+    if (!f[0].p || !f[1].p || !f[2].p) return; /* the library stays open: harmless */
+    assimp.import_file_ex = f[0].import_file_ex;
+    assimp.release_import = f[1].release_import;
+    assimp.get_error_string = f[2].get_error_string;
+}
+
+/* True when assimp is there; else false and err says why. */
+static bool load_assimp(const char *path, ras_error *err) {
+    pthread_once(&assimp_once, open_assimp);
+    if (assimp.import_file_ex) return true;
+    return ras_error_set(err,
+                         "cannot read model '%s': the model importer (assimp) could not be "
+                         "loaded (%s); install it (scripts/install-deps)",
+                         path, assimp.error);
+}
+
+static ras_mesh *import_mesh(const char *path, const char *suffix, ras_error *err) {
+    if (!load_assimp(path, err)) return NULL;
+
+    /* Triangulate: quads and n-gons become fans the rasterizer can draw.
+     * JoinIdenticalVertices: OBJ stores one vertex per face corner; sharing
+     * them is what makes smooth generated normals possible.
+     * SortByPType: points and lines end up in meshes of their own, dropped below.
+     * ValidateDataStructure: assimp rejects inconsistent data (bad indices)
+     * with a message instead of handing it over. Normals are made here. */
+    const unsigned flags = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
+                           aiProcess_SortByPType | aiProcess_ValidateDataStructure;
+    char ext[16], alias[PATH_MAX + 8];
+    ras_mesh_file_extension(path, ext, sizeof ext);
+    io_alias named = {path, path};
+    if (*suffix && strcmp(ext, suffix + 1) && strlen(path) < PATH_MAX) {
+        snprintf(alias, sizeof alias, "%s%s", path, suffix);
+        named.alias = alias;
+    }
+    struct aiFileIO io = {io_open, io_close, (aiUserData)&named};
+    const struct aiScene *scene = assimp.import_file_ex(named.alias, flags, &io);
+    if (!scene) {
+        /* assimp's own text names its internals ("OBJ: Invalid face indice",
+         * "Unable to open file"): the project's sentence comes first, with
+         * the file and what was expected, and assimp's words last, as detail. */
+        const char *why = assimp.get_error_string();
+        ras_error_set(err,
+                      "could not read model '%s': it is not a complete mesh file in a format the "
+                      "importer knows (expected OBJ, PLY, STL, glTF, OFF, COLLADA, ...) — check "
+                      "the file, or re-export it [the importer said: %.300s]",
+                      path, why && *why ? why : "nothing");
+        return NULL;
+    }
+    if ((scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) || !scene->mRootNode) {
+        assimp.release_import(scene);
+        ras_error_set(err,
+                      "model '%s' is incomplete (an animation or skeleton without geometry); "
+                      "expected triangles — export the mesh itself",
+                      path);
+        return NULL;
+    }
+
+    ras_mesh_instance *inst = NULL;
+    size_t inst_count = 0;
+    if (!collect_instances(scene, &inst, &inst_count)) {
+        assimp.release_import(scene);
+        ras_error_set(err, "out of memory while reading the node tree of '%s'", path);
+        return NULL;
+    }
+
+    size_t vcount = 0, tcount = 0;
+    bool overflow = false, all_normals = true, any_uv = false;
+    for (size_t k = 0; k < inst_count; k++) {
+        const struct aiMesh *am = inst[k].mesh;
+        size_t t = ai_triangle_count(am);
+        if (t == 0) continue;
+        if (vcount > SIZE_MAX - am->mNumVertices || tcount > SIZE_MAX - t) overflow = true;
+        else {
+            vcount += am->mNumVertices;
+            tcount += t;
+        }
+        if (!am->mNormals) all_normals = false;
+        if (am->mTextureCoords[0]) any_uv = true;
+    }
+    ras_mesh *mesh = NULL;
+    if (tcount == 0 && !overflow) {
+        ras_error_set(err,
+                      "model '%s' has no triangles (only points, lines or empty meshes); "
+                      "expected at least one face with three or more corners — export the "
+                      "model with faces",
+                      path);
+    } else if (overflow || vcount > (size_t)UINT_MAX ||
+               !(mesh = ras_mesh_create(vcount, tcount))) {
+        ras_error_set(err,
+                      "model '%s' is too big: %zu vertices and %zu triangles do not fit in "
+                      "memory or in 32-bit indices; expected at most %u vertices — "
+                      "simplify the model",
+                      path, vcount, tcount, UINT_MAX);
+    } else {
+        bool *repair = ras_mesh_calloc(vcount, sizeof *repair);
+        if (!repair) {
+            ras_error_set(err, "out of memory for the %zu vertices of '%s'", vcount, path);
+            ras_mesh_destroy(mesh);
+            mesh = NULL;
+        } else if (!fill_from_instances(mesh, repair, inst, inst_count, path, err)) {
+            ras_mesh_destroy(mesh);
+            mesh = NULL;
+        } else {
+            ras_mesh_smooth_normals(mesh, repair);
+            mesh->has_uv = any_uv; /* meshes without UVs in a mixed file get (0,0) */
+            mesh->has_normals_from_file = all_normals;
+        }
+        free(repair);
+    }
+    free(inst);
+    assimp.release_import(scene);
+    return mesh;
+}
+
