@@ -1,7 +1,7 @@
 /* fast/fast_render.c — the fast renderer (hw3_fast). RASTER101-SOLUTION
  * This marker must never appear in a student handout.
  *
- * Draws exactly what hw3_render's teaching loop draws (common/ras_pipeline.c →
+ * Draws exactly what hw3_render's teaching loop draws (common/pipeline/ras_pipeline.c →
  * hw2's rasterize_triangle → hw3_shade_fragment → the shader → resolve_pixel),
  * bit for bit, counters included, but organised for speed
  * (docs/performance.md says why each step keeps the result):
