@@ -1,7 +1,7 @@
 /* fast/fast_setup.c — the fast renderer's setup and binning. RASTER101-SOLUTION
  * This marker must never appear in a student handout.
  *
- * In submission order, as the teaching pipeline (common/ras_pipeline.c) does
+ * In submission order, as the teaching pipeline (common/pipeline/ras_pipeline.c) does
  * it and with its counters: every vertex transformed (ras_vertex_transform,
  * the reference's), every triangle clipped (ras_clip_triangle), put on
  * screen (ras_viewport, ras_setup_triangle) and snapped to the reference

@@ -16,7 +16,7 @@
  * without it, from the built-in copy of scenes/hw1_classic.json; -r, --axis
  * and --size override it. hw1 has no rasterizer yet: every scene is drawn as
  * a wireframe, each object in its material colour. Everything else (options,
- * the window, --stats) is the shell's: common/ras_app.h.
+ * the window, --stats) is the shell's: common/app/ras_app.h.
  */
 #include "ras_app.h"
 #include "ras_dump.h"

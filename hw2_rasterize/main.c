@@ -23,7 +23,7 @@
  * override its values. hw2 draws flat colours (material × vertex colour):
  * a scene's hw3 shader, textures and lights are not used here. Everything
  * else (options, the window and its pixel inspector, --compare, --stats) is
- * the shell's: common/ras_app.h.
+ * the shell's: common/app/ras_app.h.
  */
 #include "ras_app.h"
 #include "rasterizer.h"

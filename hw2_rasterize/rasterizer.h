@@ -2,10 +2,10 @@
  *
  * Implemented twice with the same signatures: rasterizer.c (yours, TODOs) and
  * the reference solution (instructors' edition only). The pipeline
- * (common/ras_pipeline.h) calls rasterize_triangle() for every triangle after
+ * (common/pipeline/ras_pipeline.h) calls rasterize_triangle() for every triangle after
  * clipping and the viewport, and resolve_pixel() for every pixel when there are
  * several samples.
- * See docs/hw2.md, and common/stage4_raster.h for the contract.
+ * See docs/hw2.md, and common/pipeline/stage4_raster.h for the contract.
  *
  * Conventions: screen y grows up; pixel (x, y) covers [x, x+1) × [y, y+1) and
  * its centre is (x + 0.5, y + 0.5); depth: smaller is closer.

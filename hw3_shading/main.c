@@ -9,7 +9,7 @@
  *
  * The scene comes from --scene FILE, the built-in scenes/hw3_default.json, or
  * --model FILE (put into the built-in scenes/hw3_model.json, the classic
- * GAMES101 scene); the options override it. The shell (common/ras_app.h)
+ * GAMES101 scene); the options override it. The shell (common/app/ras_app.h)
  * loads it and its meshes and textures, and does the rest (options, the
  * window, --compare, --stats).
  * Examples: docs/hw3.md, or hw3_shading --help.

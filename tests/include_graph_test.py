@@ -13,6 +13,10 @@
 2. Nothing in common/ includes from an assignment or from tests/: the core is
    the "GPU" the assignments plug into, and it is built and shipped alone. An
    include of common/ must name a file of common/ (or a system header, <...>).
+3. Within common/, the layers go one way (common/README.md): base → io →
+   pipeline → scene → app. A file includes headers of its own layer or of the
+   layers before it, never after: the stages do not know the scene files or
+   the program shell, the file and image code does not know the stages.
 
 Prints each offending line as FILE:LINE: #include "..." — the rule it breaks;
 exit 0 when the graph holds, 1 when it does not, 2 on bad arguments.
@@ -49,6 +53,15 @@ def hidden(rel):
     return len(parts) > 2 and parts[0].startswith("hw") and parts[1] == "solution"
 
 
+LAYERS = ("base", "io", "pipeline", "scene", "app")
+
+
+def layer_of(rel):
+    """The layer of a file under common/ (its folder), or None."""
+    parts = rel.split(os.sep)
+    return parts[1] if len(parts) > 2 and parts[0] == "common" and parts[1] in LAYERS else None
+
+
 def main():
     if len(sys.argv) != 2 or not os.path.isdir(sys.argv[1]):
         print("usage: include_graph_test.py SOURCE_DIR", file=sys.stderr)
@@ -63,6 +76,7 @@ def main():
     fast_files = list(files_under(root, "fast")) if os.path.isdir(os.path.join(root, "fast")) else []
     hidden_names = {os.path.basename(f) for f in hw_files + fast_files if hidden(f)} - visible_names
     common_names = {os.path.basename(f) for f in common_files}
+    layer_by_name = {os.path.basename(f): layer_of(f) for f in common_files}
 
     bad = []
     checked = 0
@@ -83,6 +97,13 @@ def main():
             if not target.startswith("common" + os.sep) or os.path.basename(inc) not in common_names:
                 bad.append(f'{rel}:{no}: #include "{inc}" — common/ includes a file that is not in '
                            f'common/ (an assignment\'s or tests/\'s): the core names no assignment')
+                continue
+            mine, theirs = layer_of(rel), layer_by_name.get(os.path.basename(inc))
+            if mine is None:
+                bad.append(f'{rel}: a file of common/ outside its layers ({", ".join(LAYERS)})')
+            elif theirs is not None and LAYERS.index(theirs) > LAYERS.index(mine):
+                bad.append(f'{rel}:{no}: #include "{inc}" — {mine}/ includes from {theirs}/, a later '
+                           f'layer (common/README.md: {" → ".join(LAYERS)})')
     for line in bad:
         print(line)
     print(f"include_graph: {checked} includes in {len(hw_files)} assignment and {len(common_files)} "

@@ -161,7 +161,7 @@ PROGRAMS = [p + "_ref" for p in subprocess.run(
     [os.path.join(BIN, "raster101-catalogue"), "programs"], capture_output=True, text=True,
     check=True).stdout.split()]
 
-# ---- what every program shares (common/ras_cli.c, ras_image_check_output) ----
+# ---- what every program shares (common/app/ras_cli.c, ras_image_check_output) ----
 # Each main checks -o, the display and the scene itself: those cases run on all
 # three programs. The parser is one for all: its cases take turns (each process
 # start costs ~0.3 s under ASan).
@@ -173,7 +173,7 @@ for p in PROGRAMS:
     case(p, ["-o", path("out.txt")], 2, "expected an image extension", absent=(path("out.txt"),))
     case(p, ["--scene", MISSING_MODEL_SCENE, "-o", OUT], 2, "no-such-model.obj")
     case(p, ["--size", "16x16", "-o", OUT], 0, "wrote", absent=(), present=(OUT,))
-# --dump (common/ras_dump.h): only with a headless frame, only into a folder;
+# --dump (common/pipeline/ras_dump.h): only with a headless frame, only into a folder;
 # each program writes its own buffers (hw1 its vertices).
 case(PROGRAMS[0], ["--dump", path("dump-none")], 2,
      "--dump DIR writes the buffers of one headless frame", absent=(path("dump-none"),))
@@ -247,7 +247,7 @@ H3 = "hw3_shading_ref"
 case(H3, ["--shader", "bogus", "-o", OUT], 2, "--shader expects normal, phong")
 case(H3, ["phong", OUT], 2, "--shader expects")  # positional arguments in the wrong order
 case(H3, ["-o", OUT, path("b.png")], 2, "unexpected argument", absent=(OUT, path("b.png")))
-# One rule set (common/ras_app.h): --samples N alone means MSAA in every program.
+# One rule set (common/app/ras_app.h): --samples N alone means MSAA in every program.
 case(H3, ["--samples", "8", "--size", "16x16", "-o", OUT], 0, "wrote", absent=(), present=(OUT,))
 case(H3, ["--aa", "none", "--samples", "4", "-o", OUT], 2, "--aa none draws one sample")
 case(H3, ["--compare", "--filter", "nearest", "-o", OUT], 2,
@@ -296,7 +296,7 @@ case(G, ["--source", SRC, "--build", BUILD, "--out", GOUT, "--hw", "hw9"], 2,
 case(G, ["--source", SRC, "--build", BUILD, "--out", EMPTY, "--hw", "hw1"], 2,
      "it is a file", absent=())
 
-# ---- issue 16: writes are atomic and verified (common/ras_io.c) ----
+# ---- issue 16: writes are atomic and verified (common/io/ras_io.c) ----
 # A file-size limit one byte short of the picture (the disk-full repro: the
 # error lands in the last bytes), PNG, BMP and PPM, every writer: the good
 # file already there stays byte-identical, no temporary file is left.
@@ -372,7 +372,7 @@ elif shutil.which("setpriv") and subprocess.run(
     case(C, ["--metric", "exact", REF, UNREADABLE_OBJ], "nonzero", "Permission denied",
          absent=(), hard=True, env=NOBODY)
 
-# ---- issue 16: the memory budget (common/ras_memory.c) ----
+# ---- issue 16: the memory budget (common/base/ras_memory.c) ----
 # Each of these asked for gigabytes before: refused from the header or the
 # scene's parameters, before the allocation, under the 1 GiB cap.
 import struct
@@ -511,7 +511,7 @@ case(H3, ["-o", OUT], 2, "RAS_MEMORY_LIMIT_MB expects a whole number", hard=True
 case(C, ["--metric", "exact", "--memory-limit", "0", REF, REF], 2, "--memory-limit expects",
      absent=(), hard=True)
 
-# ---- issue 16: deep models and deep JSON (common/ras_mesh_check.c, ras_scene.c) ----
+# ---- issue 16: deep models and deep JSON (common/io/ras_mesh_check.c, ras_scene.c) ----
 def deep_gltf(name, levels):
     nodes = ",".join('{"children":[%d]}' % (k + 1) for k in range(levels - 1)) + ',{"mesh":0}'
     tri = "AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA"  # 3 vec3 floats, base64

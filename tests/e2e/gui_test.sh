@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # gui_test.sh — the programs' windows, driven like a user would under a
-# virtual X display (ctest label `gui`; docs: common/ras_viewer.h).
+# virtual X display (ctest label `gui`; docs: common/app/ras_viewer.h).
 #
 #   tests/e2e/gui_test.sh BIN_DIR SOURCE_DIR [OUT_DIR]
 #
@@ -15,7 +15,7 @@
 #                      (hw1_r20); v → the difference view (black); Esc quits
 #   hw2_rasterize_ref  = hw2_1x; m → MSAA 4x = hw2_msaa4; v v → black
 #   hw3_shading_ref    = hw3_normal; 2 → hw3_phong; v v → black
-#   step view (common/ras_app.h; pixels counted below the status rows, STEP_MASK):
+#   step view (common/app/ras_app.h; pixels counted below the status rows, STEP_MASK):
 #   hw2_rasterize_ref  t → nothing drawn; n → one triangle: fewer pixels than
 #                      the whole frame; 9 → the whole frame again; - → the one
 #                      triangle again; b → depth: other colours on the same
@@ -360,7 +360,7 @@ if [[ -d "$src/hw1_transform/solution" ]]; then
     keys v v && expect "v v → difference view" "$tmp/black.png"
     stop
   fi
-  # The step view: t, n, -, 0-9, b (common/ras_app.h). Each check needs the
+  # The step view: t, n, -, 0-9, b (common/app/ras_app.h). Each check needs the
   # one before it: the first failure ends the program's chain.
   if start hw2_rasterize_ref; then
     expect "1x, before stepping" "$(ref_for hw2_rasterize)" && grab "$tmp/full.ppm" &&
@@ -420,7 +420,7 @@ if [[ -d "$src/hw1_transform/solution" ]]; then
 fi
 # The student program: the reference view does not depend on the student's code.
 # Closed by its close button, after it has drawn several frames (OpenCV 4.5.1's
-# GTK backend answers -1 for WND_PROP_VISIBLE: common/cv_bridge.cpp).
+# GTK backend answers -1 for WND_PROP_VISIBLE: common/io/cv_bridge.cpp).
 if start hw1_transform -r 20; then
   keys v && expect "v → reference view" "$(ref_for hw1_transform -r 20)"
   stop close

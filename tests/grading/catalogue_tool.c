@@ -1,5 +1,5 @@
 /* catalogue_tool.c — raster101-catalogue: the reference catalogue
- * (tests/reference/catalogue.json, common/ras_catalogue.h) for scripts.
+ * (tests/reference/catalogue.json, common/app/ras_catalogue.h) for scripts.
  *
  *   raster101-catalogue [--catalogue FILE] list
  *       one line an image: REFERENCE<TAB>PROGRAM<TAB>DEMO (or -)<TAB>ARGS

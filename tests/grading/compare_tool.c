@@ -1,5 +1,5 @@
 /* compare_tool.c — raster101-compare: compares two images from the command
- * line with the metrics of common/ras_compare.h.
+ * line with the metrics of common/app/ras_compare.h.
  *
  *   raster101-compare --metric exact|edge|psnr|ssim EXPECTED.png GOT.png
  *                     [--tolerance N] [--max-bad F] [--min-psnr DB] [--min-ssim S]
@@ -16,7 +16,7 @@
  * --buffers compares two --dump folders buffer by buffer, in the order a frame
  * makes them (vertices, coverage, depth, overdraw, normal, uv, view_depth,
  * sample_colour), each with
- * its kind's tolerance (common/ras_dump.h), and names the first that differs:
+ * its kind's tolerance (common/pipeline/ras_dump.h), and names the first that differs:
  * where a picture is wrong, the first wrong buffer says which stage made it.
  * --pictures OUT_DIR draws that buffer for both, on the reference's range,
  * and their difference (reference.png, yours.png, difference.png).

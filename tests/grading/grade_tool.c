@@ -14,7 +14,7 @@
  *      without ras_test_main.h runs once, whole, and its console output is
  *      split per test.
  *   2. images: runs the program with each graded scene's arguments and
- *      compares the PNG with tests/reference/ (common/ras_compare.h), writing
+ *      compares the PNG with tests/reference/ (common/app/ras_compare.h), writing
  *      a heatmap and a crop of the worst region.
  * Outputs in OUT: results.json (Gradescope), report.md (with images),
  * scores.csv (one row per item, for tests/grading/grade-all), hwN/cmocka.xml; a table
@@ -1657,7 +1657,7 @@ static void image_job(const grader *g, const cJSON *img, const char *dir, job *j
 
 /* The comparison the rubric asks of an image; false for an unknown metric. */
 /* The rubric names a comparison; its thresholds live only in the
- * catalogue's table (tests/reference/catalogue.json, common/ras_catalogue.h),
+ * catalogue's table (tests/reference/catalogue.json, common/app/ras_catalogue.h),
  * which the students' --compare and raster101-compare read too. */
 static bool image_options(const grader *g, const cJSON *img, ras_compare_kind *kind,
                           ras_compare_options *opt, ras_error *err) {
@@ -2464,7 +2464,7 @@ static void mark_build_failed(const grader *g, assignment_result *a, const cJSON
     free(tail.s);
 }
 
-/* The grader's reports go through the atomic write of common/ras_io.h: a
+/* The grader's reports go through the atomic write of common/io/ras_io.h: a
  * full disk or a kill leaves the previous report whole, never half of one. */
 static FILE *report_begin(ras_io_report *r) {
     memset(r, 0, sizeof *r);

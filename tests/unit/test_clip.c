@@ -1,4 +1,4 @@
-/* test_clip.c — the clipper's contract (common/stage2_clip.h) under extreme
+/* test_clip.c — the clipper's contract (common/pipeline/stage2_clip.h) under extreme
  * but legal cameras, and the rasterizer's exact range (stage4_raster.h).
  *
  * Groups:

@@ -1,4 +1,4 @@
-/* test_depth.c — the depth formats of stage 3 (common/stage3_setup.h):
+/* test_depth.c — the depth formats of stage 3 (common/pipeline/stage3_setup.h):
  * RAS_DEPTH_Z01, (1 − z_ndc)/2, and RAS_DEPTH_INV_W, −near/w.
  *
  *   hand-worked   near 0.1, far 50: view depths 40 and 40.001 get the same

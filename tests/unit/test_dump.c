@@ -1,4 +1,4 @@
-/* test_dump.c — --dump's buffer files (common/ras_dump.h, ras_pipeline_dump)
+/* test_dump.c — --dump's buffer files (common/pipeline/ras_dump.h, ras_pipeline_dump)
  * checked against the buffers in memory:
  *
  *   exact       depth.pfm read back is the framebuffer's depth bit for bit

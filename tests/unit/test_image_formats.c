@@ -1,5 +1,5 @@
 /* test_image_formats.c — image files read by content, bounded before they
- * decode (common/ras_image.h, ras_jpeg.h): the header sizes the decoders
+ * decode (common/io/ras_image.h, ras_jpeg.h): the header sizes the decoders
  * would find (junk before a JPEG frame, BigTIFF, OS/2 BMP), the formats
  * refused, the JPEG scan and time limits, and libjpeg's pixels against
  * OpenCV's decode of the same bytes (the decoder this one replaced).

@@ -3,7 +3,7 @@
  *
  * For every row of the table: run build/bin/<program>_ref with the row's
  * arguments and `-o` into a temporary folder, compare with
- * tests/reference/<name>.png by the row's metric (common/ras_compare.h), and
+ * tests/reference/<name>.png by the row's metric (common/app/ras_compare.h), and
  * run the row's sanity check — values worked out by hand or properties that
  * hold whatever the renderer does, so a wrong reference cannot bless itself.
  * Regenerate the references with `make reference-images` when a change to the

@@ -9,7 +9,7 @@
  *   hwX_template --compare -o out.png  and compare with the reference image
  *
  * Everything else (options, the window, --stats) is the shell's:
- * common/ras_app.h. This is the template of docs/instructors.md, "Add an
+ * common/app/ras_app.h. This is the template of docs/instructors.md, "Add an
  * assignment": replace the scale by the lesson's own step.
  */
 #include "ras_app.h"
