@@ -189,10 +189,10 @@ mat4s hw3_object_model(const ras_scene_object *so, float angle_deg) {
     mat4s orient = glms_mat4_identity();
     for (int i = 0; i < n; i++)
         orient = i == 0 ? rotation(&so->rotations[0])
-                        : glms_mat4_mul(rotation(&so->rotations[i]), orient);
+                        : ras_mat4_mul(rotation(&so->rotations[i]), orient);
     vec3s k = so->scale;
-    if (k.x != 1 || k.y != 1 || k.z != 1) orient = glms_mat4_mul(orient, glms_scale_make(k));
-    return glms_mat4_mul(glms_mat4_mul(place, rotate_y(yaw_deg + angle_deg)), orient);
+    if (k.x != 1 || k.y != 1 || k.z != 1) orient = ras_mat4_mul(orient, glms_scale_make(k));
+    return ras_mat4_mul(ras_mat4_mul(place, rotate_y(yaw_deg + angle_deg)), orient);
 }
 
 void hw3_object_material(const ras_scene *scene, const ras_scene_assets *assets, int i,
@@ -371,7 +371,7 @@ bool hw3_frame_setup(const ras_scene *scene, ras_scene_assets *assets,
     for (int i = 0; i < scene->light_count; i++) {
         const ras_scene_light *l = &scene->lights[i];
         /* The shaders work in view space (shading.h): world lights move there. */
-        vec3s pos = l->in_world ? glms_mat4_mulv3(view, l->position, 1.0f) : l->position;
+        vec3s pos = l->in_world ? ras_mat4_mulv3(view, l->position, 1.0f) : l->position;
         b->lights[i] = (light){pos, l->intensity};
     }
     b->ambient_intensity = scene->ambient;

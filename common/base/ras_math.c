@@ -19,6 +19,16 @@ mat4s ras_mat4_rows(float a00, float a01, float a02, float a03,
     return m;
 }
 
+mat4s ras_mat4_mul(mat4s a, mat4s b) {
+    mat4s m;
+    for (int c = 0; c < 4; c++)
+        for (int r = 0; r < 4; r++)
+            m.raw[c][r] = ((a.raw[0][r] * b.raw[c][0] + a.raw[1][r] * b.raw[c][1]) +
+                           a.raw[2][r] * b.raw[c][2]) +
+                          a.raw[3][r] * b.raw[c][3];
+    return m;
+}
+
 float ras_mat4_max_diff(mat4s a, mat4s b) {
     float worst = 0.0f;
     for (int c = 0; c < 4; c++)

@@ -445,7 +445,7 @@ ras_mesh *ras_mesh_create_teapot(int divisions) {
      * the unit sphere, so a scene can swap one for the other. */
     mat4s fit = ras_mesh_fit_matrix(mesh, 2.0f);
     for (size_t k = 0; k < mesh->vertex_count; k++)
-        mesh->positions[k] = glms_mat4_mulv3(fit, mesh->positions[k], 1.0f);
+        mesh->positions[k] = ras_mat4_mulv3(fit, mesh->positions[k], 1.0f);
     ras_mesh_fill_color(mesh, v3(1, 1, 1));
     mesh->has_uv = true;
     return mesh;

@@ -274,9 +274,9 @@ bool ras_dump_vertices(const char *dir, const char *stem, const ras_mesh *mesh, 
     size_t n = mesh->vertex_count < 4096 ? mesh->vertex_count : 4096;
     for (size_t i = 0; i < n; i++) {
         vec4s object = glms_vec4(mesh->positions[i], 1.0f);
-        vec4s world = glms_mat4_mulv(model, object);
-        vec4s eye = glms_mat4_mulv(view, world);
-        vec4s clip = glms_mat4_mulv(projection, eye);
+        vec4s world = ras_mat4_mulv(model, object);
+        vec4s eye = ras_mat4_mulv(view, world);
+        vec4s clip = ras_mat4_mulv(projection, eye);
         vec4s ndc = glms_vec4_scale(clip, 1.0f / clip.w);
         vec4s screen = ras_viewport(clip, width, height);
         cJSON *v = cJSON_CreateObject();

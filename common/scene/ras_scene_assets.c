@@ -239,7 +239,7 @@ static ras_scene_assets *load_assets(const ras_scene *s, bool maps, ras_error *e
             /* Translation and uniform scale: normals keep their direction. */
             mat4s fit = ras_mesh_fit_matrix(mesh, o->params.fit);
             for (size_t v = 0; v < mesh->vertex_count; v++)
-                mesh->positions[v] = glms_mat4_mulv3(fit, mesh->positions[v], 1.0f);
+                mesh->positions[v] = ras_mat4_mulv3(fit, mesh->positions[v], 1.0f);
         }
         const ras_scene_material *mat = &o->material;
         for (size_t v = 0; v < mesh->vertex_count; v++) {

@@ -455,10 +455,10 @@ static void material_defaults(ras_scene_material *m) {
 static mat4s object_matrix(const ras_scene_object *o, mat4s spin) {
     mat4s r = glms_mat4_identity();
     for (int i = 0; i < o->rotation_count; i++)
-        r = glms_mat4_mul(
+        r = ras_mat4_mul(
             glms_rotate_make(ras_deg_to_rad(o->rotations[i].deg), o->rotations[i].axis), r);
-    mat4s m = glms_mat4_mul(glms_translate_make(o->translate), spin);
-    return glms_mat4_mul(glms_mat4_mul(m, r), glms_scale_make(o->scale));
+    mat4s m = ras_mat4_mul(glms_translate_make(o->translate), spin);
+    return ras_mat4_mul(ras_mat4_mul(m, r), glms_scale_make(o->scale));
 }
 
 mat4s ras_scene_model_matrix(const ras_scene_object *object, mat4s spin) {

@@ -31,7 +31,7 @@ mat4s get_projection_matrix(float eye_fov_deg, float aspect_ratio, float z_near,
                                  0, 1, 0, -(t + b) / 2,
                                  0, 0, 1, -(n + f) / 2,
                                  0, 0, 0, 1);
-    return glms_mat4_mul(glms_mat4_mul(scale, centre), persp_to_ortho);
+    return ras_mat4_mul(ras_mat4_mul(scale, centre), persp_to_ortho);
 }
 
 mat4s get_rotation(vec3s axis, float angle_deg) {

@@ -90,14 +90,14 @@ static mat4s scene_mvp(const scene *s) {
     mat4s proj = get_projection_matrix((float)s->fov_deg, (float)s->width / (float)s->height,
                                        (float)s->z_near, (float)s->z_far);
     vec3s eye = {{(float)s->eye[0], (float)s->eye[1], (float)s->eye[2]}};
-    return glms_mat4_mul(ras_projection_normalize_w(proj), ras_view_matrix_eye(eye));
+    return ras_mat4_mul(ras_projection_normalize_w(proj), ras_view_matrix_eye(eye));
 }
 
 static void scene_clip_vertices(const scene *s, ras_clip_vertex v[3]) {
     mat4s mvp = scene_mvp(s);
     for (int i = 0; i < 3; i++) {
         vec4s p = {{(float)s->tri[i][0], (float)s->tri[i][1], (float)s->tri[i][2], 1.0f}};
-        v[i] = (ras_clip_vertex){.p_clip = glms_mat4_mulv(mvp, p),
+        v[i] = (ras_clip_vertex){.p_clip = ras_mat4_mulv(mvp, p),
                                  .color = {{1, 1, 1}},
                                  .normal = {{0, 0, 1}}};
     }

@@ -43,6 +43,35 @@ static void test_math_nan_never_near(void **state) {
     assert_false(ras_mat4_near(a, b, 1e9f));
 }
 
+/* ras_mat4_mulv and ras_mat4_mul add their four products in one fixed order
+ * (cglm 0.8's, which drew the reference images), whatever cglm is installed:
+ * 1 + 2^-24 + 2^-24 + 2^-24 rounds to 1 + 2^-22 added from w down to x, to
+ * 1 + 2^-23 as cglm 0.7's (x + y) + (z + w), and to 1 from x up to w. */
+static void test_math_products_fixed_rounding_order(void **state) {
+    (void)state;
+    const float tiny = 0x1p-24f;
+    mat4s ones = ras_mat4_rows(1, 1, 1, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0);
+    vec4s p = ras_mat4_mulv(ones, (vec4s){{1, tiny, tiny, tiny}});
+    if (p.x != 1 + 0x1p-22f)
+        fail_msg("ras_mat4_mulv added 1 + 3 * 2^-24 to %a; expected %a (w + z, then y, then x)",
+                 (double)p.x, (double)(1 + 0x1p-22f));
+    vec3s q = ras_mat4_mulv3(ones, (vec3s){{1, tiny, tiny}}, tiny);
+    assert_true(q.x == p.x);
+    mat4s column = ras_mat4_rows(1, tiny, tiny, tiny, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0);
+    mat4s m = ras_mat4_mul(column, ras_mat4_rows(1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0));
+    if (ras_mat4_at(m, 0, 0) != 1)
+        fail_msg("ras_mat4_mul added 1 + 3 * 2^-24 to %a; expected 1 (x + y, then z, then w)",
+                 (double)ras_mat4_at(m, 0, 0));
+    /* And they are the products: a rotation and a translation compose. */
+    mat4s r = glms_rotate_make(0.7f, (vec3s){{1, 2, 3}});
+    mat4s t = ras_mat4_rows(1, 0, 0, 7, 0, 1, 0, 8, 0, 0, 1, 9, 0, 0, 0, 1);
+    assert_true(ras_mat4_near(ras_mat4_mul(t, r), glms_mat4_mul(t, r), 1e-6f));
+    vec4s v = {{0.3f, -1.2f, 2.5f, 1}};
+    vec4s a = ras_mat4_mulv(r, v), b = glms_mat4_mulv(r, v);
+    for (int k = 0; k < 4; k++)
+        assert_float_equal(a.raw[k], b.raw[k], 1e-6f);
+}
+
 /* Ordered grids sit at ((i+0.5)/n, (j+0.5)/n); standard 4x is D3D's table read y-up. */
 static void test_sample_patterns_positions(void **state) {
     (void)state;
@@ -359,6 +388,7 @@ int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_math_rows_constructor_is_row_major),
         cmocka_unit_test(test_math_nan_never_near),
+        cmocka_unit_test(test_math_products_fixed_rounding_order),
         cmocka_unit_test(test_sample_patterns_positions),
         cmocka_unit_test(test_framebuffer_index_math),
         cmocka_unit_test(test_clip_inside_untouched),
