@@ -1,6 +1,6 @@
 /* ---- atk_common.h: helpers shared by the hostile submissions of tests/grading/attacks/
- * (pasted into each attack's student file by tests/grading/attacks/_lib/assemble, since
- * a submission is one file). libc only, warning-free under -Wall -Wextra.
+ * (pasted into each attack's student file by tests/grading/attacks/_lib/assemble when the
+ * attacks run, since a submission is one file). libc only, warning-free under -Wall -Wextra.
  *
  * SAFETY. These attacks are meant to be stopped by the grader's sandbox; if the
  * sandbox fails they must not hurt this machine or anyone else's work on it:
