@@ -7,6 +7,8 @@
  * replay), and the -Wl,--wrap=NAME list of each test_hwN_worker/_replay
  * (tests/grading/CMakeLists.txt reads the hw and the name that open each row).
  * A row's signature is checked at compile time against the header's declaration.
+ * A new assignment N also needs, in ras_call.c, its header included and a
+ * FOR_HW_N; a new kind of input or output, its IN_/OUT_ macro there.
  *
  *   FN(hw, name, returns, (parameters), (arguments), (inputs), (outputs))
  *       returns a value, recorded whole;
@@ -20,7 +22,7 @@
  * the rows of hw <= N). (arguments): the parameters' names, in order.
  * (inputs): what the call's result depends on, hashed so that the replay
  * knows the record answers this very call (never a pointer's value, which
- * differs between the two processes):
+ * differs between the two processes; the kinds are ras_call.c's macros):
  *   IN(v)                 the bytes of v
  *   IN_ARRAY(p, n)        the n elements at p, if p
  *   IN_TRIANGLE(t)        a ras_triangle's fields
