@@ -3,9 +3,10 @@
  *
  * Built with RAS_CALL_HW=N (the assignment: its functions and those of the
  * assignments before it are wrapped) and one of RAS_CALL_RECORD or
- * RAS_CALL_REPLAY. The link adds -Wl,--wrap=NAME for each function below, so
- * a call to NAME from any other object lands in __wrap_NAME; the recorder
- * forwards it to __real_NAME (the student's code).
+ * RAS_CALL_REPLAY. The functions are the rows of ras_call_table.h; each
+ * row's __wrap_NAME is generated at the end of this file. The link adds
+ * -Wl,--wrap=NAME for each row, so a call to NAME from any other object lands
+ * in __wrap_NAME; the recorder forwards it to __real_NAME (the student's code).
  *
  * The record file ($RAS_RECORD, written through a shared mapping so that a
  * crash keeps every finished record) is:
@@ -30,6 +31,7 @@
 #include <cmocka.h>
 
 #include "ras_call.h"
+#include "ras_call_table.h"
 #include "ras_counters.h"
 #include "ras_error.h"
 #include "ras_framebuffer.h"
@@ -38,6 +40,11 @@
 #include "ras_triangle.h"
 #include "stage4_raster.h"
 #include "stage5_fragment.h"
+/* The assignments' headers: each row of the table is checked against them. */
+#include "transform.h"
+#if RAS_CALL_HW >= 2
+#include "rasterizer.h"
+#endif
 #if RAS_CALL_HW >= 3
 #include "scene.h"
 #include "shading.h"
@@ -59,19 +66,12 @@ enum { TAG_BEGIN = 1, TAG_END = 2, TAG_SHADE = 3, TAG_TODO = 4 };
 #define MAGIC "RASCALL1"
 #define HEADER 16
 
-/* The functions, by number; the names are for messages. */
-#define RAS_CALL_FUNCTIONS(X)                                                                       \
-    X(get_model_matrix) X(get_projection_matrix) X(get_rotation) X(inside_triangle)                \
-    X(compute_barycentric_2d) X(rasterize_triangle) X(resolve_pixel)                                \
-    X(perspective_correct_barycentric) X(interpolate_vec3) X(interpolate_vec2)                     \
-    X(normal_fragment_shader) X(blinn_phong_lighting) X(phong_fragment_shader)                     \
-    X(texture_fragment_shader) X(tangent_frame) X(bump_normal) X(bump_fragment_shader)             \
-    X(displacement_fragment_shader) X(texture_sample_bilinear) X(texture_sample_trilinear)          \
-    X(hw3_render)
-#define AS_ENUM(name) FN_##name,
-#define AS_NAME(name) #name,
-enum { RAS_CALL_FUNCTIONS(AS_ENUM) FN_COUNT };
-static const char *const fn_names[FN_COUNT] = {RAS_CALL_FUNCTIONS(AS_NAME)};
+/* The functions, by number (their rows in ras_call_table.h); the names are
+ * for messages. */
+#define AS_ENUM(hw, name, ...) FN_##name,
+#define AS_NAME(hw, name, ...) #name,
+enum { RAS_CALL_TABLE(AS_ENUM, AS_ENUM, AS_ENUM) FN_COUNT };
+static const char *const fn_names[FN_COUNT] = {RAS_CALL_TABLE(AS_NAME, AS_NAME, AS_NAME)};
 
 __attribute__((unused)) static const char *fn_name(uint32_t fn) { return fn < FN_COUNT ? fn_names[fn] : "(unknown)"; }
 
@@ -83,6 +83,8 @@ typedef struct region {
                 * itself initialised (a framebuffer); everything else whole,
                 * since an out-parameter's bytes before the call are garbage
                 * that differs between the two processes */
+    bool text; /* a message: its last byte is set to 0 after the call, since the
+                * replayed bytes come from the untrusted record */
 } region;
 
 /* ---- the inputs' fingerprint (FNV-1a): catches a record made for other calls */
@@ -122,7 +124,7 @@ void ras_call_watch_impl(void *p, size_t n) {
         watched_count = 0;
         return;
     }
-    if (watched_count < MAX_WATCH) watched[watched_count++] = (region){p, n, true};
+    if (watched_count < MAX_WATCH) watched[watched_count++] = (region){.p = p, .n = n, .diff = true};
 }
 
 #ifdef RAS_CALL_RECORD
@@ -484,7 +486,15 @@ static void replay(uint32_t fn, hash h, region *regs, int nregs, const ras_raste
     }
 }
 
-#define CALL(fn, h, real_call) replay(FN_##fn, h, c.regs, c.n, NULL)
+/* The student's function is not here: real_call stays unevaluated (inside
+ * sizeof, so nothing links to it), which also keeps the wrapper's parameters
+ * used when the call's inputs do not hash them all (hw3_render's scene). */
+#define CALL(fn, h, real_call)                                                                     \
+    do {                                                                                           \
+        replay(FN_##fn, h, c.regs, c.n, NULL);                                                     \
+        (void)sizeof((real_call), 0);                                                              \
+    } while (0)
+#define REAL(name) name
 
 typedef struct call {
     region regs[4 + MAX_WATCH];
@@ -494,88 +504,151 @@ typedef struct call {
 
 /* ================================================ the wrapped functions */
 
+/* A message's last byte is 0 after the call, in both processes. */
+static void call_finish(call *c) {
+    for (int i = 0; i < c->n; i++)
+        if (c->regs[i].text && c->regs[i].n) ((char *)c->regs[i].p)[c->regs[i].n - 1] = '\0';
+}
+
 #ifdef RAS_CALL_RECORD
-#define WRAP(ret, name, ...)                                                                       \
-    ret __real_##name(__VA_ARGS__);                                                                \
-    ret __wrap_##name(__VA_ARGS__)
+#define WRAP(ret, name, params)                                                                    \
+    ret __real_##name params;                                                                      \
+    ret __wrap_##name params
 #else
-#define WRAP(ret, name, ...) ret __wrap_##name(__VA_ARGS__)
+#define WRAP(ret, name, params) ret __wrap_##name params
 #endif
 
-/* The usual shape: a returned value r, maybe counters, maybe out-params. */
-#define RESULT(r) (c.regs[c.n++] = (region){&(r), sizeof(r), false})
+/* The regions of a call: its returned value r, and what else it writes. */
+#define RESULT(r) (c.regs[c.n++] = (region){.p = &(r), .n = sizeof(r)})
 #define REGION(ptr, size)                                                                          \
     do {                                                                                           \
-        if (ptr) c.regs[c.n++] = (region){(void *)(ptr), (size), false};                           \
+        if (ptr) c.regs[c.n++] = (region){.p = (void *)(ptr), .n = (size)};                        \
     } while (0)
 #define REGION_DIFF(ptr, size)                                                                     \
     do {                                                                                           \
-        if (ptr) c.regs[c.n++] = (region){(void *)(ptr), (size), true};                            \
+        if (ptr) c.regs[c.n++] = (region){.p = (void *)(ptr), .n = (size), .diff = true};          \
     } while (0)
 
-WRAP(mat4s, get_model_matrix, float angle) {
-    hash h = hash_start(FN_get_model_matrix);
-    HASH(h, angle);
-    mat4s r = {0};
-    call c = {.n = 0};
-    RESULT(r);
-    CALL(get_model_matrix, h, r = REAL(get_model_matrix)(angle));
-    return r;
+/* The (inputs) and (outputs) of a row (ras_call_table.h): statements on the
+ * wrapper's hash h and call c. */
+#define IN(v) HASH(h, v);
+#define IN_ARRAY(ptr, count)                                                                       \
+    if (ptr) hash_bytes(&h, (ptr), (count) * sizeof *(ptr));
+#define IN_TRIANGLE(t) hash_triangle(&h, (t));
+#define IN_FB_SIZE(fb)                                                                             \
+    if (fb) {                                                                                      \
+        HASH(h, (fb)->width);                                                                      \
+        HASH(h, (fb)->height);                                                                     \
+        HASH(h, (fb)->samples);                                                                    \
+    }
+#define IN_PAYLOAD(p) hash_payload(&h, (p));
+#define IN_TEXTURE(tex) hash_texture(&h, (tex));
+#define IN_RENDER_OPTIONS(o)                                                                       \
+    if (o) {                                                                                       \
+        HASH(h, (o)->shader);                                                                      \
+        HASH(h, (o)->filter);                                                                      \
+        HASH(h, (o)->angle_deg);                                                                   \
+    }
+#define IN_IMAGE_SIZE(img)                                                                         \
+    if (img) {                                                                                     \
+        HASH(h, (img)->width);                                                                     \
+        HASH(h, (img)->height);                                                                    \
+    }
+#define OUT(ptr) REGION(ptr, sizeof *(ptr));
+#define OUT_COUNTERS(p)                                                                            \
+    if (p) REGION((p)->counters, sizeof *(p)->counters);
+#define OUT_IMAGE(img)                                                                             \
+    if (img)                                                                                       \
+        REGION((img)->pixels,                                                                      \
+               (size_t)(img)->width * (size_t)(img)->height * sizeof *(img)->pixels);
+#define OUT_ERROR(err)                                                                             \
+    if (err) c.regs[c.n++] = (region){.p = (err), .n = sizeof *(err), .text = true};
+
+#if RAS_CALL_HW >= 3
+/* What a shader's result depends on, without the pointers (which differ
+ * between the two processes). */
+static void hash_payload(hash *h, const fragment_shader_payload *p) {
+    if (!p) return;
+    HASH(*h, p->view_pos);
+    HASH(*h, p->normal);
+    HASH(*h, p->uv);
+    HASH(*h, p->color);
+    HASH(*h, p->filter);
+    HASH(*h, p->light_count);
+    HASH(*h, p->p);
+    HASH(*h, p->kh);
+    HASH(*h, p->kn);
 }
 
-WRAP(mat4s, get_projection_matrix, float fov, float aspect, float n, float f) {
-    hash h = hash_start(FN_get_projection_matrix);
-    HASH(h, fov);
-    HASH(h, aspect);
-    HASH(h, n);
-    HASH(h, f);
-    mat4s r = {0};
-    call c = {.n = 0};
-    RESULT(r);
-    CALL(get_projection_matrix, h, r = REAL(get_projection_matrix)(fov, aspect, n, f));
-    return r;
+static void hash_texture(hash *h, const ras_texture *tex) {
+    if (!tex) return;
+    HASH(*h, tex->width);
+    HASH(*h, tex->height);
+    HASH(*h, tex->level_count);
 }
+#endif
 
-WRAP(mat4s, get_rotation, vec3s axis, float angle) {
-    hash h = hash_start(FN_get_rotation);
-    HASH(h, axis);
-    HASH(h, angle);
-    mat4s r = {0};
-    call c = {.n = 0};
-    RESULT(r);
-    CALL(get_rotation, h, r = REAL(get_rotation)(axis, angle));
-    return r;
-}
+/* FOR_HW(hw, code...): the code only in a build for assignment hw or a later
+ * one (RAS_CALL_HW), whose headers declare what it names. A new assignment N
+ * adds its FOR_HW_N (and includes its header above). */
+#define FOR_HW(hw, ...) FOR_HW_##hw(__VA_ARGS__)
+#define FOR_HW_1(...) __VA_ARGS__
+#if RAS_CALL_HW >= 2
+#define FOR_HW_2(...) __VA_ARGS__
+#else
+#define FOR_HW_2(...)
+#endif
+#if RAS_CALL_HW >= 3
+#define FOR_HW_3(...) __VA_ARGS__
+#else
+#define FOR_HW_3(...)
+#endif
+
+#define LIST(...) __VA_ARGS__
+/* A row's signature is the header's: a wrapper with other parameters would
+ * hand the student's code, or the test, the wrong bytes. */
+#define SAME_SIGNATURE(name, ret, params)                                                          \
+    _Static_assert(__builtin_types_compatible_p(__typeof__(&name), ret(*) params),                 \
+                   "ras_call_table.h: the row of " #name " differs from its declaration in the "   \
+                   "assignment's header; copy the header's parameters into the row");
+
+/* The generated wrappers: hash the inputs, name the regions, then record the
+ * student's call (worker) or answer it from the record (replay). */
+/* clang-format off */
+#define WRAP_FN(hw, name, ret, params, args, inputs, outputs)                                      \
+    FOR_HW(hw, SAME_SIGNATURE(name, ret, params)                                                   \
+    WRAP(ret, name, params) {                                                                      \
+        hash h = hash_start(FN_##name);                                                            \
+        LIST inputs                                                                                \
+        ret r = {0};                                                                               \
+        call c = {.n = 0};                                                                         \
+        RESULT(r);                                                                                 \
+        LIST outputs                                                                               \
+        CALL(name, h, r = REAL(name) args);                                                        \
+        call_finish(&c);                                                                           \
+        return r;                                                                                  \
+    })
+#define WRAP_FN_VOID(hw, name, params, args, inputs, outputs)                                      \
+    FOR_HW(hw, SAME_SIGNATURE(name, void, params)                                                  \
+    WRAP(void, name, params) {                                                                     \
+        hash h = hash_start(FN_##name);                                                            \
+        LIST inputs                                                                                \
+        call c = {.n = 0};                                                                         \
+        LIST outputs                                                                               \
+        CALL(name, h, REAL(name) args);                                                            \
+        call_finish(&c);                                                                           \
+    })
+/* clang-format on */
+/* A hand-written wrapper below: its signature checked all the same. */
+#define WRAP_FN_CUSTOM(hw, name, ret, params)                                                      \
+    FOR_HW(hw, SAME_SIGNATURE(name, ret, params) ret __wrap_##name params;)
+
+RAS_CALL_TABLE(WRAP_FN, WRAP_FN_VOID, WRAP_FN_CUSTOM)
 
 #if RAS_CALL_HW >= 2
-WRAP(bool, inside_triangle, float x, float y, const ras_triangle *t) {
-    hash h = hash_start(FN_inside_triangle);
-    HASH(h, x);
-    HASH(h, y);
-    hash_triangle(&h, t);
-    bool r = false;
-    call c = {.n = 0};
-    RESULT(r);
-    CALL(inside_triangle, h, r = REAL(inside_triangle)(x, y, t));
-    return r;
-}
-
-WRAP(bool, compute_barycentric_2d, float x, float y, const ras_triangle *t, vec3s *bary) {
-    hash h = hash_start(FN_compute_barycentric_2d);
-    HASH(h, x);
-    HASH(h, y);
-    hash_triangle(&h, t); /* not *bary: an out-parameter, often uninitialised */
-    bool r = false;
-    call c = {.n = 0};
-    RESULT(r);
-    REGION(bary, sizeof *bary);
-    CALL(compute_barycentric_2d, h, r = REAL(compute_barycentric_2d)(x, y, t, bary));
-    return r;
-}
-
 /* The framebuffer, the counters and any watched canaries; ctx->shade is seen
  * through the record, and called again in the replay. */
-WRAP(void, rasterize_triangle, const ras_triangle *t, const ras_raster_ctx *ctx) {
+WRAP(void, rasterize_triangle, (const ras_triangle *t, const ras_raster_ctx *ctx)) {
     hash h = hash_start(FN_rasterize_triangle);
     hash_triangle(&h, t);
     call c = {.n = 0};
@@ -607,177 +680,5 @@ WRAP(void, rasterize_triangle, const ras_triangle *t, const ras_raster_ctx *ctx)
 #else
     replay(FN_rasterize_triangle, h, c.regs, c.n, ctx);
 #endif
-}
-
-WRAP(vec3s, resolve_pixel, const ras_framebuffer *fb, int x, int y) {
-    hash h = hash_start(FN_resolve_pixel);
-    HASH(h, x);
-    HASH(h, y);
-    if (fb) {
-        HASH(h, fb->width);
-        HASH(h, fb->height);
-        HASH(h, fb->samples);
-    }
-    vec3s r = {0};
-    call c = {.n = 0};
-    RESULT(r);
-    CALL(resolve_pixel, h, r = REAL(resolve_pixel)(fb, x, y));
-    return r;
-}
-#endif
-
-#if RAS_CALL_HW >= 3
-WRAP(vec3s, perspective_correct_barycentric, const ras_triangle *t, vec3s bary) {
-    hash h = hash_start(FN_perspective_correct_barycentric);
-    hash_triangle(&h, t);
-    HASH(h, bary);
-    vec3s r = {0};
-    call c = {.n = 0};
-    RESULT(r);
-    CALL(perspective_correct_barycentric, h, r = REAL(perspective_correct_barycentric)(t, bary));
-    return r;
-}
-
-WRAP(vec3s, interpolate_vec3, const ras_triangle *t, vec3s bary, const vec3s attr[3],
-     bool perspective) {
-    hash h = hash_start(FN_interpolate_vec3);
-    hash_triangle(&h, t);
-    HASH(h, bary);
-    if (attr) hash_bytes(&h, attr, 3 * sizeof *attr);
-    HASH(h, perspective);
-    vec3s r = {0};
-    call c = {.n = 0};
-    RESULT(r);
-    CALL(interpolate_vec3, h, r = REAL(interpolate_vec3)(t, bary, attr, perspective));
-    return r;
-}
-
-WRAP(vec2s, interpolate_vec2, const ras_triangle *t, vec3s bary, const vec2s attr[3],
-     bool perspective) {
-    hash h = hash_start(FN_interpolate_vec2);
-    hash_triangle(&h, t);
-    HASH(h, bary);
-    if (attr) hash_bytes(&h, attr, 3 * sizeof *attr);
-    HASH(h, perspective);
-    vec2s r = {0};
-    call c = {.n = 0};
-    RESULT(r);
-    CALL(interpolate_vec2, h, r = REAL(interpolate_vec2)(t, bary, attr, perspective));
-    return r;
-}
-
-/* What a shader's result depends on, without the pointers (which differ
- * between the two processes). */
-static void hash_payload(hash *h, const fragment_shader_payload *p) {
-    if (!p) return;
-    HASH(*h, p->view_pos);
-    HASH(*h, p->normal);
-    HASH(*h, p->uv);
-    HASH(*h, p->color);
-    HASH(*h, p->filter);
-    HASH(*h, p->light_count);
-    HASH(*h, p->p);
-    HASH(*h, p->kh);
-    HASH(*h, p->kn);
-}
-
-#define SHADER(name)                                                                               \
-    WRAP(vec3s, name, const fragment_shader_payload *payload) {                                    \
-        hash h = hash_start(FN_##name);                                                            \
-        hash_payload(&h, payload);                                                                 \
-        vec3s r = {0};                                                                             \
-        call c = {.n = 0};                                                                         \
-        RESULT(r);                                                                      \
-        if (payload) REGION(payload->counters, sizeof *payload->counters);                         \
-        CALL(name, h, r = REAL(name)(payload));                                                    \
-        return r;                                                                                  \
-    }
-SHADER(normal_fragment_shader)
-SHADER(phong_fragment_shader)
-SHADER(texture_fragment_shader)
-SHADER(bump_normal)
-SHADER(bump_fragment_shader)
-SHADER(displacement_fragment_shader)
-
-WRAP(vec3s, blinn_phong_lighting, const fragment_shader_payload *payload, vec3s kd, vec3s point,
-     vec3s normal) {
-    hash h = hash_start(FN_blinn_phong_lighting);
-    hash_payload(&h, payload);
-    HASH(h, kd);
-    HASH(h, point);
-    HASH(h, normal);
-    vec3s r = {0};
-    call c = {.n = 0};
-    RESULT(r);
-    if (payload) REGION(payload->counters, sizeof *payload->counters);
-    CALL(blinn_phong_lighting, h, r = REAL(blinn_phong_lighting)(payload, kd, point, normal));
-    return r;
-}
-
-WRAP(void, tangent_frame, vec3s n, vec3s *t, vec3s *b) {
-    hash h = hash_start(FN_tangent_frame);
-    HASH(h, n);
-    call c = {.n = 0};
-    REGION(t, sizeof *t);
-    REGION(b, sizeof *b);
-    CALL(tangent_frame, h, REAL(tangent_frame)(n, t, b));
-}
-
-static void hash_texture(hash *h, const ras_texture *tex) {
-    if (!tex) return;
-    HASH(*h, tex->width);
-    HASH(*h, tex->height);
-    HASH(*h, tex->level_count);
-}
-
-WRAP(vec3s, texture_sample_bilinear, const ras_texture *tex, float u, float v) {
-    hash h = hash_start(FN_texture_sample_bilinear);
-    hash_texture(&h, tex);
-    HASH(h, u);
-    HASH(h, v);
-    vec3s r = {0};
-    call c = {.n = 0};
-    RESULT(r);
-    CALL(texture_sample_bilinear, h, r = REAL(texture_sample_bilinear)(tex, u, v));
-    return r;
-}
-
-WRAP(vec3s, texture_sample_trilinear, const ras_texture *tex, vec2s uv, vec2s dx, vec2s dy) {
-    hash h = hash_start(FN_texture_sample_trilinear);
-    hash_texture(&h, tex);
-    HASH(h, uv);
-    HASH(h, dx);
-    HASH(h, dy);
-    vec3s r = {0};
-    call c = {.n = 0};
-    RESULT(r);
-    CALL(texture_sample_trilinear, h, r = REAL(texture_sample_trilinear)(tex, uv, dx, dy));
-    return r;
-}
-
-/* A whole frame: the image, the counters and the error are what the test
- * sees; the shaders and the rasterizer inside are not recorded one by one. */
-WRAP(bool, hw3_render, const ras_scene *scene, ras_scene_assets *assets,
-     const hw3_render_options *opt, ras_image *out, ras_counters *stats, ras_error *err) {
-    (void)scene, (void)assets; /* the replay answers from the record */
-    hash h = hash_start(FN_hw3_render);
-    if (opt) {
-        HASH(h, opt->shader);
-        HASH(h, opt->filter);
-        HASH(h, opt->angle_deg);
-    }
-    if (out) {
-        HASH(h, out->width);
-        HASH(h, out->height);
-    }
-    bool r = false;
-    call c = {.n = 0};
-    RESULT(r);
-    if (out) REGION(out->pixels, (size_t)out->width * (size_t)out->height * sizeof *out->pixels);
-    REGION(stats, sizeof *stats);
-    REGION(err, sizeof *err);
-    CALL(hw3_render, h, r = REAL(hw3_render)(scene, assets, opt, out, stats, err));
-    if (err) err->msg[sizeof err->msg - 1] = '\0';
-    return r;
 }
 #endif

@@ -7,7 +7,8 @@
  *                             (students' own `ctest`, `make test`);
  *   test_hwN_worker           student code + tests/grading/ras_call.c in RECORD mode,
  *                             linked with `-Wl,--wrap=` for every function of
- *                             the student's API: each call the test makes
+ *                             the student's API (the rows of
+ *                             ras_call_table.h): each call the test makes
  *                             (directly or through given code such as the
  *                             pipeline) is written to $RAS_RECORD with what the
  *                             call returned and what it wrote. Runs in the

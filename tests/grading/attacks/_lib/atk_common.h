@@ -1,6 +1,6 @@
 /* ---- atk_common.h: helpers shared by the hostile submissions of tests/grading/attacks/
- * (pasted into each attack's student file by tests/grading/attacks/_lib/assemble, since
- * a submission is one file). libc only, warning-free under -Wall -Wextra.
+ * (pasted into each attack's student file by tests/grading/attacks/_lib/assemble when the
+ * attacks run, since a submission is one file). libc only, warning-free under -Wall -Wextra.
  *
  * SAFETY. These attacks are meant to be stopped by the grader's sandbox; if the
  * sandbox fails they must not hurt this machine or anyone else's work on it:
@@ -64,6 +64,24 @@ static ATK_UNUSED char *atk_slurp(const char *path, size_t max, size_t *len) {
     buf[n] = '\0';
     if (len) *len = n;
     return buf;
+}
+
+/* How many processes of the machine are named comm... (the floods' and
+ * daemons' own limit, so they stay harmless if the sandbox fails). */
+static ATK_UNUSED int atk_count_comm(const char *comm) {
+    DIR *proc = opendir("/proc");
+    struct dirent *e;
+    int n = 0;
+    while (proc && (e = readdir(proc))) {
+        if (atoi(e->d_name) <= 0) continue;
+        char p[sizeof e->d_name + 16]; /* "/proc/" NAME "/comm" */
+        snprintf(p, sizeof p, "/proc/%s/comm", e->d_name);
+        char *t = atk_slurp(p, 31, NULL);
+        if (t && !strncmp(t, comm, strlen(comm))) n++;
+        free(t);
+    }
+    if (proc) closedir(proc);
+    return n;
 }
 
 static ATK_UNUSED int atk_write(const char *path, const void *data, size_t n) {
@@ -158,6 +176,40 @@ static ATK_UNUSED const char *atk_opt(int argc, char **argv, const char *opt) {
     for (int i = 0; i + 1 < argc; i++)
         if (!strcmp(argv[i], opt)) return argv[i + 1];
     return NULL;
+}
+
+/* This submission's name: the folder or archive its graders were given
+ * (--submission, grade-all's --one), else fallback. */
+static ATK_UNUSED void atk_own_name(char *name, size_t cap, const char *fallback) {
+    snprintf(name, cap, "%s", fallback);
+    for (pid_t p = getppid(); p > 1; p = atk_parent_of(p)) {
+        char buf[16384], *argv[256];
+        int argc = atk_cmdline(p, buf, sizeof buf, argv, 256);
+        const char *s = atk_opt(argc, argv, "--submission");
+        if (!s) s = atk_opt(argc, argv, "--one");
+        if (s) {
+            const char *b = strrchr(s, '/');
+            snprintf(name, cap, "%s", b && b[1] ? b + 1 : s);
+            return;
+        }
+    }
+}
+
+/* A daemon, started the double-fork way (setsid between): returns 0 in the
+ * caller once the middle process is gone, 1 in the daemon, named
+ * RASATK_<tag>, its standard streams on /dev/null. */
+static ATK_UNUSED int atk_daemonize(const char *tag) {
+    pid_t c = fork();
+    if (c != 0) {
+        if (c > 0) waitpid(c, NULL, 0);
+        return 0;
+    }
+    setsid();
+    if (fork() != 0) _exit(0);
+    atk_name(tag);
+    int devnull = open("/dev/null", O_RDWR);
+    if (devnull >= 0) { dup2(devnull, 0); dup2(devnull, 1); dup2(devnull, 2); close(devnull); }
+    return 1;
 }
 
 /* This process' own -o FILE (image runs), resolved against its cwd. */
@@ -443,5 +495,66 @@ static ATK_UNUSED char *atk_find_solution(const char *rel) {
         if (t) return t;
     }
     return NULL;
+}
+/* ---- faking a passing test run (the worker's output decides nothing) ---- */
+
+/* hw1's tests as the rubric names them. */
+static ATK_UNUSED const char *atk_hw1_tests[] = {
+    "test_model_matrix_zero_is_identity", "test_model_matrix_90_turns_x_into_y",
+    "test_model_matrix_minus_30", "test_model_matrix_360_is_identity",
+    "test_projection_matches_hand_worked_matrix", "test_projection_classic_maps_frustum_to_cube",
+    "test_projection_respects_aspect", "test_rotation_about_z_matches_model_matrix",
+    "test_rotation_normalises_axis", "test_rotation_about_diagonal_cycles_axes",
+    "test_rotation_composes"};
+
+/* cmocka's console lines for a passing run of the test filter names (when
+ * the grader runs one test), else of all hw1's tests, and the matching JUnit
+ * XML at $CMOCKA_XML_FILE. */
+static ATK_UNUSED void atk_fake_passing_run(const char *filter) {
+    const char *one[1] = {filter};
+    const char **names = filter ? one : atk_hw1_tests;
+    size_t count = filter ? 1 : sizeof atk_hw1_tests / sizeof atk_hw1_tests[0];
+    printf("[==========] hw1: Running %zu test(s).\n", count);
+    for (size_t i = 0; i < count; i++) printf("[ RUN      ] %s\n[       OK ] %s\n", names[i], names[i]);
+    printf("[==========] hw1: %zu test(s) run.\n[  PASSED  ] %zu test(s).\n", count, count);
+    const char *xml = getenv("CMOCKA_XML_FILE");
+    if (xml) {
+        char x[8192];
+        int len = snprintf(x, sizeof x,
+                           "<?xml version=\"1.0\" encoding=\"UTF-8\" ?>\n<testsuites>\n"
+                           "  <testsuite name=\"hw1\" time=\"0.000\" tests=\"%zu\" failures=\"0\" "
+                           "errors=\"0\" skipped=\"0\" >\n", count);
+        for (size_t i = 0; i < count && len < 7000; i++)
+            len += snprintf(x + len, sizeof x - (size_t)len,
+                            "    <testcase name=\"%s\" time=\"0.001\" >\n    </testcase>\n", names[i]);
+        len += snprintf(x + len, sizeof x - (size_t)len, "  </testsuite>\n</testsuites>\n");
+        atk_write(xml, x, (size_t)len);
+    }
+}
+
+/* A JUnit XML file at path that says the one test name passed. */
+static ATK_UNUSED void atk_fake_xml_one(const char *path, const char *name) {
+    char x[2048];
+    int n = snprintf(x, sizeof x,
+                     "<?xml version=\"1.0\" encoding=\"UTF-8\" ?>\n<testsuites>\n"
+                     "  <testsuite name=\"hw1\" time=\"0.000\" tests=\"1\" failures=\"0\" "
+                     "errors=\"0\" skipped=\"0\" >\n    <testcase name=\"%s\" time=\"0.000\" >\n"
+                     "    </testcase>\n  </testsuite>\n</testsuites>\n", name);
+    atk_write(path, x, (size_t)n);
+}
+
+/* The constructor attacks' move: the reference image of this run's picture
+ * (beside or above -o, or anywhere readable) copied over -o, said, then exit 0
+ * before main. */
+static ATK_UNUSED void atk_copy_reference_and_exit(const char *tag) {
+    atk_name(tag);
+    char out[ATK_PATH], name[256], ref[ATK_PATH];
+    if (atk_own_output(out, sizeof out) && atk_image_name(name, sizeof name) &&
+        atk_find_reference(name, ref, sizeof ref)) {
+        atk_copy(ref, out);
+        printf("copied %s\n", ref);
+    }
+    fflush(stdout);
+    _exit(0);
 }
 /* ---- end of atk_common.h */

