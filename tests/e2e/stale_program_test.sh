@@ -5,7 +5,8 @@
 #      runs older code (a copy dated 2000-01-01 of each program); a fresh one
 #      (dated now) and the reference program say nothing of it;
 #   2. make grade (main and student-edition Makefiles) builds the student
-#      programs in build/bin before grading (make -n).
+#      programs in build/bin (grade --programs, in the grader's one make of
+#      the trusted side; HW=N: that assignment's program) (make -n).
 #   tests/e2e/stale_program_test.sh BIN_DIR SOURCE_DIR WORK_DIR
 set -uo pipefail
 bin=$1 src=$2 work=$3
@@ -41,8 +42,16 @@ for mk in "$src/Makefile" "$src/tests/grading/handout/Makefile"; do
   [[ -f $mk ]] || continue # the student edition has its Makefile at the top only
   # (not the calling make's jobserver or flags: ctest may run under make test)
   plan=$(env -u MAKEFLAGS -u MFLAGS -u MAKELEVEL make -n -f "$mk" -C "$src" grade BUILD="$work/b" 2>&1)
-  if grep -q -- '--target hw1_transform hw2_rasterize hw3_shading' <<<"$plan"; then
-    echo "ok   ${mk#"$src"/}: make grade builds the student programs first"
+  # (the grader builds them, --programs, in its one make of the trusted side;
+  # with HW=N the graded assignment's program alone)
+  plan2=$(env -u MAKEFLAGS -u MFLAGS -u MAKELEVEL make -n -f "$mk" -C "$src" grade HW=2 BUILD="$work/b" 2>&1)
+  if ! grep -q -- '--programs "hw2_rasterize"' <<<"$plan2"; then
+    echo "FAIL ${mk#"$src"/}: make grade HW=2 does not build hw2_rasterize (--programs \"hw2_rasterize\"); make -n said:"
+    sed 's/^/       /' <<<"$plan2" | head -8
+    fail=1
+  fi
+  if grep -q -- '--programs "hw1_transform hw2_rasterize hw3_shading"' <<<"$plan"; then
+    echo "ok   ${mk#"$src"/}: make grade builds the student programs (grade --programs)"
   else
     echo "FAIL ${mk#"$src"/}: make grade does not build hw1_transform hw2_rasterize hw3_shading; make -n said:"
     sed 's/^/       /' <<<"$plan" | head -8
