@@ -226,20 +226,21 @@ static int compare_with_reference(const ras_app *app, const ras_image *expected,
     ras_compare_options opt = e ? e->compare : ras_compare_defaults(app->hooks->compare);
     if (e) printf("comparison %s (tests/reference/catalogue.json, as the grader)\n", e->comparison);
     ras_compare_result res;
-    if (!ras_compare_images(expected, app->image, &opt, &res, &err)) {
+    ras_comparison *cmp = ras_comparison_create(expected, app->image, opt.kind, &err);
+    if (!cmp || !ras_comparison_result(cmp, &opt, &res, &err)) {
         fprintf(stderr, "%s: cannot compare with %s: %s\n", app->hooks->program, path, err.msg);
+        ras_comparison_destroy(cmp);
         return 1;
     }
     printf("compare %s: %s\n", path, res.summary);
     printf("  PSNR %.2f dB, SSIM %.4f, %ld pixels off by more than %d/255\n", res.psnr_db,
            res.ssim, res.bad_pixels, opt.tolerance);
-    save_beside(app, ras_compare_heatmap(expected, app->image, opt.kind, &err), "diff",
+    save_beside(app, ras_comparison_heatmap(cmp, &err), "diff",
                 "difference image (black = same, blue..red = more different)", &err);
     if (!res.pass)
-        save_beside(app,
-                    ras_compare_crop(expected, app->image, opt.kind, res.worst_col, res.worst_row,
-                                     &err),
-                    "worst", "worst region (expected | got | difference)", &err);
+        save_beside(app, ras_comparison_crop(cmp, res.worst_col, res.worst_row, &err), "worst",
+                    "worst region (expected | got | difference)", &err);
+    ras_comparison_destroy(cmp);
     return res.pass ? 0 : 1;
 }
 

@@ -155,6 +155,20 @@ ras_image *ras_compare_heatmap(const ras_image *expected, const ras_image *got,
 ras_image *ras_compare_crop(const ras_image *expected, const ras_image *got,
                             ras_compare_kind kind, int col, int row, ras_error *err);
 
+/* One comparison, many answers: the 8-bit copies and the difference map of
+ * `kind` made once, then the result, the heatmap and the crop read from them
+ * (each is what the function above of the same name returns, for a fraction
+ * of its cost: the grader asks all three of every picture). opt->kind must be
+ * the comparison's kind. NULL / false and err as above. */
+typedef struct ras_comparison ras_comparison;
+ras_comparison *ras_comparison_create(const ras_image *expected, const ras_image *got,
+                                      ras_compare_kind kind, ras_error *err);
+bool ras_comparison_result(const ras_comparison *c, const ras_compare_options *opt,
+                           ras_compare_result *out, ras_error *err);
+ras_image *ras_comparison_heatmap(const ras_comparison *c, ras_error *err);
+ras_image *ras_comparison_crop(const ras_comparison *c, int col, int row, ras_error *err);
+void ras_comparison_destroy(ras_comparison *c);
+
 /* Coverage masks as text, for failure messages. A pixel is covered when its
  * 8-bit value differs from `background` in any channel. Writes the window of
  * columns col-radius..col+radius and rows row-radius..row+radius, clipped to

@@ -407,8 +407,10 @@ static int report(const compare_args *a, const ras_image *expected, const ras_im
                   const ras_compare_options *opt, ras_compare_kind kind) {
     ras_error err = {{0}};
     ras_compare_result r;
-    if (!ras_compare_images(expected, got, opt, &r, &err)) {
+    ras_comparison *cmp = ras_comparison_create(expected, got, kind, &err);
+    if (!cmp || !ras_comparison_result(cmp, opt, &r, &err)) {
         fprintf(stderr, "raster101-compare: %s\n", err.msg);
+        ras_comparison_destroy(cmp);
         return 2;
     }
     printf("%s\n", r.summary);
@@ -422,7 +424,7 @@ static int report(const compare_args *a, const ras_image *expected, const ras_im
                    RAS_COMPARE_ASCII_LEGEND, buf);
     }
     if (a->diff_path) {
-        ras_image *heat = ras_compare_heatmap(expected, got, kind, &err);
+        ras_image *heat = ras_comparison_heatmap(cmp, &err);
         if (!heat || !ras_image_save(heat, a->diff_path, &err)) {
             fprintf(stderr, "raster101-compare: --diff: %s\n", err.msg);
             status = 2;
@@ -430,13 +432,14 @@ static int report(const compare_args *a, const ras_image *expected, const ras_im
         ras_image_destroy(heat);
     }
     if (a->crop_path) {
-        ras_image *crop = ras_compare_crop(expected, got, kind, r.worst_col, r.worst_row, &err);
+        ras_image *crop = ras_comparison_crop(cmp, r.worst_col, r.worst_row, &err);
         if (!crop || !ras_image_save(crop, a->crop_path, &err)) {
             fprintf(stderr, "raster101-compare: --crop: %s\n", err.msg);
             status = 2;
         }
         ras_image_destroy(crop);
     }
+    ras_comparison_destroy(cmp);
     return status;
 }
 

@@ -259,6 +259,14 @@ static double now_s(void) {
     return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
 }
 
+/* RAS_GRADE_PROFILE=1: where a grading's time goes, a line per phase on
+ * stderr (docs/feedback.md quotes it). */
+static void profile(const char *what, const char *id, double since) {
+    static int on = -1;
+    if (on < 0) on = getenv("RAS_GRADE_PROFILE") && *getenv("RAS_GRADE_PROFILE") == '1';
+    if (on) fprintf(stderr, "raster101-grade: profile: %-4s %-28s %6.3f s\n", id, what, now_s() - since);
+}
+
 /* Runs argv in its own process group with stdout+stderr captured through a
  * pipe (at most OUTPUT_CAP bytes kept, the rest read and dropped, so a flood
  * costs neither disk nor memory) and written to out_path; the
@@ -369,6 +377,12 @@ typedef struct job {
     run_result rr;
     const cJSON *args; /* an image's program arguments, as chosen for this grading */
     char extra_ro[4096]; /* one more read-only folder in its sandbox ("": none) */
+    /* A job to run right after this one in the same child of run_jobs (a
+     * chunk's trusted replay after its worker), `between` first: so one
+     * chunk's replay overlaps the other chunks' workers. */
+    struct job *then;
+    void (*between)(const struct job *j, void *arg);
+    void *between_arg;
 } job;
 
 /* Runs the jobs, `parallel` at a time, each through run_limited in a child
@@ -393,9 +407,17 @@ static void run_jobs(job *jobs, int n, int parallel) {
             pid_t pid = fork();
             if (pid == 0) {
                 close(p[0]);
-                run_result rr = run_limited(j->argv, j->env, j->out_path, j->limit, j->mem_mb);
-                ssize_t w = write(p[1], &rr, sizeof rr);
-                _exit(w == (ssize_t)sizeof rr ? 0 : 1);
+                run_result rr[2] = {run_limited(j->argv, j->env, j->out_path, j->limit, j->mem_mb),
+                                    {RUN_NOT_STARTED, 0, 0}};
+                job *t = j->then;
+                if (t) {
+                    j->rr = rr[0];
+                    if (j->between) j->between(j, j->between_arg);
+                    rr[1] = run_limited(t->argv, t->env, t->out_path, t->limit, t->mem_mb);
+                }
+                size_t want = (t ? 2 : 1) * sizeof rr[0];
+                ssize_t w = write(p[1], rr, want);
+                _exit(w == (ssize_t)want ? 0 : 1);
             }
             close(p[1]);
             pids[next] = pid;
@@ -414,6 +436,10 @@ static void run_jobs(job *jobs, int n, int parallel) {
             if (pids[i] == w) {
                 run_result rr;
                 if (read(fds[i], &rr, sizeof rr) == (ssize_t)sizeof rr) jobs[i].rr = rr;
+                if (jobs[i].then) {
+                    jobs[i].then->rr = (run_result){RUN_NOT_STARTED, 0, 0};
+                    if (read(fds[i], &rr, sizeof rr) == (ssize_t)sizeof rr) jobs[i].then->rr = rr;
+                }
                 close(fds[i]);
                 pids[i] = 0;
                 active--;
@@ -1048,7 +1074,7 @@ static bool sanitizer_finding(const char *out, const cJSON *assignments, char *b
  * own folder, which also gets the list; `own` is bound read-only too ("":
  * none), `extra` adds to the environment (at most 4). */
 static void worker_job(const grader *g, job *w, const char *bin, const char *own,
-                       const name_list *names, int first, int last, double per_test,
+                       const name_list *names, int chunk, int chunks, double per_test,
                        double wall, const char *const extra[]) {
     char each[5][4300];
     fmt(each[0], sizeof each[0], "RAS_EACH_NAMES=%s/runs/%d/names", g->work, g->runs);
@@ -1062,13 +1088,14 @@ static void worker_job(const grader *g, job *w, const char *bin, const char *own
         env[7 + i] = extra[i];
     fmt(w->extra_ro, sizeof w->extra_ro, "%s", own);
     /* the chunk's own backstop: every test at its wall-clock limit */
-    int k = sandbox_job(g, w, (last - first) * (wall + 1) + 20, env);
+    int in_chunk = (names->n - chunk + chunks - 1) / chunks;
+    int k = sandbox_job(g, w, in_chunk * (wall + 1) + 20, env);
     w->argv[k++] = (char *)bin;
     w->argv[k] = NULL;
     char list_path[4200];
     fmt(list_path, sizeof list_path, "%s/names", w->rw);
     FILE *lf = fopen(list_path, "w");
-    for (int i = first; i < last && lf; i++)
+    for (int i = chunk; i < names->n && lf; i += chunks)
         fprintf(lf, "%s\n", names->v[i]);
     if (lf) fclose(lf);
 }
@@ -1086,14 +1113,12 @@ static void sanitizer_pass(const grader *g, assignment_result *a, const cJSON *a
     if (chunks < 1) return;
     job *jobs = calloc((size_t)chunks, sizeof *jobs);
     if (!jobs) abort();
-    int per = (n + chunks - 1) / chunks;
     static const char *const sanitizers[] = {
         "ASAN_OPTIONS=detect_leaks=0:halt_on_error=1:abort_on_error=0",
         "UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1", NULL};
     for (int c = 0; c < chunks; c++) {
         job *w = &jobs[c];
-        int first = c * per, last = first + per > n ? n : first + per;
-        worker_job(g, w, worker, "", names, first, last, 3 * g->test_limit,
+        worker_job(g, w, worker, "", names, c, chunks, 3 * g->test_limit,
                    wall_backstop(3 * g->test_limit), sanitizers);
         w->env[0] = "RAS_SANDBOX_NO_AS=1"; /* ASan reserves terabytes of address space */
         w->env[1] = NULL;
@@ -1104,7 +1129,7 @@ static void sanitizer_pass(const grader *g, assignment_result *a, const cJSON *a
     const cJSON *files = cJSON_GetObjectItemCaseSensitive(g->rubric, "assignments");
     for (int i = 0; i < n; i++) {
         char path[4400], finding[800];
-        fmt(path, sizeof path, "%s/%s.out", jobs[i / per].rw, names->v[i]);
+        fmt(path, sizeof path, "%s/%s.out", jobs[i % chunks].rw, names->v[i]);
         char *out = read_small_file(path, 64 * 1024);
         if (out && sanitizer_finding(out, files, finding, sizeof finding)) {
             char *shown = student_text(finding, 600);
@@ -1120,6 +1145,35 @@ static void sanitizer_pass(const grader *g, assignment_result *a, const cJSON *a
         free(out);
     }
     free(jobs);
+}
+
+/* What the sandbox reported for tests whose process never wrote a fate (the
+ * whole worker died or was stopped) is the worker's own end; run between a
+ * chunk's worker and its replay (job.between), in run_jobs' child. */
+typedef struct chunk_fates {
+    const name_list *names;
+    int chunk, chunks;
+    const char *xml_dir;
+} chunk_fates;
+
+static void worker_fates(const job *w, void *arg) {
+    const chunk_fates *cf = arg;
+    for (int i = cf->chunk; i < cf->names->n; i += cf->chunks) {
+        char fate_path[4400], fate[200];
+        fmt(fate_path, sizeof fate_path, "%s/%s.fate", w->rw, cf->names->v[i]);
+        struct stat st;
+        if (lstat(fate_path, &st) != 0) {
+            fate_text(w->rr, w->limit, fate, sizeof fate);
+            FILE *f = fopen(fate_path, "w");
+            if (f) {
+                fprintf(f, "(the whole test program) %s", fate);
+                fclose(f);
+            }
+        }
+        char xml_path[4400];
+        fmt(xml_path, sizeof xml_path, "%s/%s.xml", cf->xml_dir, cf->names->v[i]);
+        unlink(xml_path);
+    }
 }
 
 static void grade_tests(const grader *g, assignment_result *a, const cJSON *asg, const char *dir) {
@@ -1169,29 +1223,32 @@ static void grade_tests(const grader *g, assignment_result *a, const cJSON *asg,
         if (*line) names_add(&names, line);
     int n = names.n;
     /* The tests in `chunks` groups, one sandbox and one process each (a
-     * forked child per test inside: tests/unit/ras_test_main.h, RAS_EACH_*). */
+     * forked child per test inside: tests/unit/ras_test_main.h, RAS_EACH_*),
+     * dealt round-robin: the expensive tests (whole frames) come last in a
+     * test program, and contiguous groups left one core idle while the other
+     * drew them all. */
     int chunks = g->jobs < n ? g->jobs : n;
     if (chunks < 1) chunks = 1;
     job *workers = calloc((size_t)chunks, sizeof *workers);
     job *replays = calloc((size_t)chunks, sizeof *replays);
     int *chunk_of = calloc((size_t)n + 1, sizeof *chunk_of);
-    if (!workers || !replays || !chunk_of) abort();
+    chunk_fates *fates = calloc((size_t)chunks, sizeof *fates);
+    if (!workers || !replays || !chunk_of || !fates) abort();
     for (int c = 0; c < chunks; c++) {
         /* 1. the student's code, in the sandbox: each test records what each
          * call of the student's functions returned */
         job *w = &workers[c];
-        int per = (n + chunks - 1) / chunks, first = c * per, last = first + per;
-        if (last > n) last = n;
-        worker_job(g, w, worker_bin, own, &names, first, last, g->test_limit, test_wall(g), NULL);
+        int in_chunk = (n - c + chunks - 1) / chunks;
+        worker_job(g, w, worker_bin, own, &names, c, chunks, g->test_limit, test_wall(g), NULL);
         fmt(w->out_path, sizeof w->out_path, "%s/worker%d.out", xml_dir, c);
-        for (int i = first; i < last; i++)
+        for (int i = c; i < n; i += chunks)
             chunk_of[i] = c;
         /* 2. the verdicts: the same tests, trusted, on the recorded outputs
          * (the trusted copy of the list: the worker could rewrite its own) */
         job *r = &replays[c];
         fmt(r->store[0], sizeof r->store[0], "%s/names%d", xml_dir, c);
         FILE *lf = fopen(r->store[0], "w");
-        for (int i = first; i < last; i++)
+        for (int i = c; i < n; i += chunks)
             if (lf) fprintf(lf, "%s\n", names.v[i]);
         if (lf) fclose(lf);
         fmt(r->store[1], sizeof r->store[1], "RAS_EACH_NAMES=%s", r->store[0]);
@@ -1209,30 +1266,19 @@ static void grade_tests(const grader *g, assignment_result *a, const cJSON *asg,
         r->env[7] = NULL;
         r->argv[0] = replay_bin;
         r->argv[1] = NULL;
-        r->limit = (last - first) * (test_wall(g) + 21) + 20;
+        r->limit = in_chunk * (test_wall(g) + 21) + 20;
         r->mem_mb = g->mem_mb;
         fmt(r->out_path, sizeof r->out_path, "%s/replay%d.out", xml_dir, c);
+        /* 3. each chunk's replay as soon as its own worker has ended */
+        fates[c] = (chunk_fates){&names, c, chunks, xml_dir};
+        w->then = r;
+        w->between = worker_fates;
+        w->between_arg = &fates[c];
     }
+    double t_tests = now_s();
     run_jobs(workers, chunks, g->jobs);
-    /* What the sandbox reported for tests whose process never wrote a fate
-     * (the whole worker died or was stopped) is the worker's own end. */
-    for (int i = 0; i < n; i++) {
-        char fate_path[4400], fate[200];
-        fmt(fate_path, sizeof fate_path, "%s/%s.fate", workers[chunk_of[i]].rw, names.v[i]);
-        struct stat st;
-        if (lstat(fate_path, &st) != 0) {
-            fate_text(workers[chunk_of[i]].rr, workers[chunk_of[i]].limit, fate, sizeof fate);
-            FILE *f = fopen(fate_path, "w");
-            if (f) {
-                fprintf(f, "(the whole test program) %s", fate);
-                fclose(f);
-            }
-        }
-        char xml_path[4400];
-        fmt(xml_path, sizeof xml_path, "%s/%s.xml", xml_dir, names.v[i]);
-        unlink(xml_path);
-    }
-    run_jobs(replays, chunks, g->jobs);
+    profile("tests: sandboxed workers, replays", a->id, t_tests);
+    double t_judge = now_s();
     for (int i = 0; i < n; i++) {
         const char *name = names.v[i];
         item *it = add_item(a);
@@ -1338,6 +1384,8 @@ static void grade_tests(const grader *g, assignment_result *a, const cJSON *asg,
     free(workers);
     free(replays);
     free(chunk_of);
+    free(fates);
+    profile("tests: verdicts", a->id, t_judge);
     if (g->sanitized) sanitizer_pass(g, a, asg, &names, a->n_items - n);
     for (const cJSON *t = tests ? tests->child : NULL; t; t = t->next) {
         if (names_has(&names, t->string)) continue;
@@ -2090,7 +2138,9 @@ reference_ready:;
         ras_compare_result r;
         fmt(rel, sizeof rel, "%s/%s.got.png", reldir, name);
         if (!sealed) it->img_got = xstrdup(rel);
-        if (!ras_compare_images(expected, got, &opt, &r, &err)) {
+        /* one comparison for the verdict, the heatmap and the crop */
+        ras_comparison *cmp = ras_comparison_create(expected, got, kind, &err);
+        if (!cmp || !ras_comparison_result(cmp, &opt, &r, &err)) {
             it->status = xstrdup("FAIL");
             sb_printf(&o, "%s\n", err.msg);
         } else {
@@ -2187,7 +2237,7 @@ reference_ready:;
             }
             free(defects.s);
             free(bufs.s);
-            ras_image *heat = sealed ? NULL : ras_compare_heatmap(expected, got, kind, &err);
+            ras_image *heat = sealed ? NULL : ras_comparison_heatmap(cmp, &err);
             char p[4096];
             fmt(p, sizeof p, "%s/%s.diff.png", dir, name);
             if (heat && ras_image_save(heat, p, &err)) {
@@ -2196,8 +2246,7 @@ reference_ready:;
             }
             ras_image_destroy(heat);
             if (!r.pass && !sealed && !ref_program) { /* a crop shows the reference */
-                ras_image *crop =
-                    ras_compare_crop(expected, got, kind, r.worst_col, r.worst_row, &err);
+                ras_image *crop = ras_comparison_crop(cmp, r.worst_col, r.worst_row, &err);
                 fmt(p, sizeof p, "%s/%s.crop.png", dir, name);
                 if (crop && ras_image_save(crop, p, &err)) {
                     fmt(rel, sizeof rel, "%s/%s.crop.png", reldir, name);
@@ -2206,6 +2255,7 @@ reference_ready:;
                 ras_image_destroy(crop);
             }
         }
+        ras_comparison_destroy(cmp);
     } else if (got) {
         it->status = xstrdup("ERROR");
         sb_printf(&o, "could not read the reference: %s\n", err.msg);
@@ -3096,7 +3146,10 @@ int main(int argc, char **argv) {
                     image_job(&g, img, dir, &runs[n_runs++], NULL, ".whole");
                 }
             }
+            double t_runs = now_s();
             run_jobs(runs, n_runs, g.jobs);
+            profile("images: sandboxed programs", id, t_runs);
+            double t_judge = now_s();
             i = 0;
             const char *crash_hint = str_or(asg, "crash_hint", "look for an out-of-bounds access");
             for (const cJSON *img = images ? images->child : NULL; img; img = img->next, i++) {
@@ -3113,6 +3166,7 @@ int main(int argc, char **argv) {
                 if (!whole_passed || it->score < it->max_score)
                     attribute_image(&g, it, img, dir, id, &runs[i], own_passed, as, k);
             }
+            profile("images: judged", id, t_judge);
             free(runs);
             free(whole_at);
             free(sealed);
@@ -3147,7 +3201,9 @@ int main(int argc, char **argv) {
         free(integration.id);
         free(integration.title);
     }
+    double t_out = now_s();
     bool written = write_outputs(&g, as, k, total, max_total);
+    profile("reports written", "all", t_out);
     print_table(&g, as, k, total, max_total);
     /* Freed although the process ends: the sanitizer CI step runs this tool
      * and counts any leak as a failure. */

@@ -11,7 +11,8 @@
 #include "ras_compare.h"
 
 #include <math.h>   /* INFINITY, isinf, log10, fabs */
-#include <string.h> /* strstr, strcmp */
+#include <stdlib.h> /* abs, malloc */
+#include <string.h> /* strstr, strcmp, memcmp */
 
 /* Fails with a message that says what was expected and what came. */
 #define CHECK(cond, ...)                                                     \
@@ -456,6 +457,91 @@ static void test_compare_defaults_and_names(void **state) {
           "an unknown name should be refused listing the valid ones, got \"%s\"", err.msg);
 }
 
+/* The edge-tolerant difference as the header states it, written out plainly
+ * (every neighbour tested against the border): the library's windowed loop
+ * must count the same bad pixels at every tolerance; and one comparison
+ * (ras_comparison_*) must answer what the three separate calls answer. */
+static int brute_channel_max(const uint8_t *a, const uint8_t *b) {
+    int d = 0;
+    for (int c = 0; c < 3; c++) d = abs(a[c] - b[c]) > d ? abs(a[c] - b[c]) : d;
+    return d;
+}
+static int brute_min(const uint8_t *px, const uint8_t *other, int w, int h, int col, int row) {
+    int best = 255;
+    for (int dr = -1; dr <= 1; dr++)
+        for (int dc = -1; dc <= 1; dc++) {
+            int r = row + dr, c = col + dc;
+            if (r < 0 || r >= h || c < 0 || c >= w) continue;
+            int d = brute_channel_max(px, other + 3 * (r * w + c));
+            if (d < best) best = d;
+        }
+    return best;
+}
+static void test_comparison_matches_separate_calls_and_the_stated_formula(void **state) {
+    (void)state;
+    const int w = 37, h = 23;
+    ras_image *e = make_texture(w, h, 0.0f, 1), *g = make_texture(w, h, 0.08f, 7);
+    fill_rect(g, 0, 0, 5, 4, (vec3s){{1, 0, 0}});    /* a corner block */
+    fill_rect(g, w - 3, 9, 3, 14, (vec3s){{0, 1, 0}}); /* on the right and bottom edges */
+    uint8_t *eb = malloc(3 * w * h), *gb = malloc(3 * w * h);
+    assert_non_null(eb);
+    assert_non_null(gb);
+    ras_image_to_rgb8(e, eb);
+    ras_image_to_rgb8(g, gb);
+    int diff[37 * 23];
+    for (int row = 0; row < h; row++)
+        for (int col = 0; col < w; col++) {
+            int i = row * w + col, d = brute_channel_max(eb + 3 * i, gb + 3 * i);
+            if (d > 0) {
+                int a = brute_min(gb + 3 * i, eb, w, h, col, row);
+                int b = brute_min(eb + 3 * i, gb, w, h, col, row);
+                d = a > b ? a : b;
+            }
+            diff[i] = d;
+        }
+    ras_error err = {{0}};
+    ras_comparison *c = ras_comparison_create(e, g, RAS_COMPARE_EDGE_TOLERANT, &err);
+    CHECK(c, "ras_comparison_create failed: %s", err.msg);
+    for (int tol = 0; tol <= 255; tol += 5) {
+        ras_compare_options opt = ras_compare_defaults(RAS_COMPARE_EDGE_TOLERANT);
+        opt.tolerance = tol;
+        long want = 0;
+        for (int i = 0; i < w * h; i++) want += diff[i] > tol;
+        ras_compare_result one, sep;
+        assert_true(ras_comparison_result(c, &opt, &one, &err));
+        assert_true(ras_compare_images(e, g, &opt, &sep, &err));
+        CHECK(one.bad_pixels == want && sep.bad_pixels == want,
+              "tolerance %d: expected %ld edge-tolerant bad pixels (the header's formula, "
+              "brute force), got %ld (one comparison) and %ld (ras_compare_images)",
+              tol, want, one.bad_pixels, sep.bad_pixels);
+        CHECK(!strcmp(one.summary, sep.summary) && one.ssim == sep.ssim &&
+                  one.psnr_db == sep.psnr_db && one.worst_col == sep.worst_col &&
+                  one.worst_row == sep.worst_row,
+              "tolerance %d: one comparison said '%s', ras_compare_images '%s'", tol, one.summary,
+              sep.summary);
+    }
+    ras_image *h1 = ras_comparison_heatmap(c, &err), *h2 = ras_compare_heatmap(e, g, RAS_COMPARE_EDGE_TOLERANT, &err);
+    ras_image *c1 = ras_comparison_crop(c, 2, 3, &err), *c2 = ras_compare_crop(e, g, RAS_COMPARE_EDGE_TOLERANT, 2, 3, &err);
+    assert_non_null(h1);
+    assert_non_null(h2);
+    assert_non_null(c1);
+    assert_non_null(c2);
+    CHECK(!memcmp(h1->pixels, h2->pixels, sizeof(vec3s) * (size_t)w * h),
+          "the comparison's heatmap differs from ras_compare_heatmap's");
+    CHECK(c1->width == c2->width && c1->height == c2->height &&
+              !memcmp(c1->pixels, c2->pixels, sizeof(vec3s) * (size_t)c1->width * c1->height),
+          "the comparison's crop differs from ras_compare_crop's");
+    ras_image_destroy(h1);
+    ras_image_destroy(h2);
+    ras_image_destroy(c1);
+    ras_image_destroy(c2);
+    ras_comparison_destroy(c);
+    free(eb);
+    free(gb);
+    ras_image_destroy(e);
+    ras_image_destroy(g);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_compare_identical_passes_every_metric),
@@ -472,6 +558,7 @@ int main(void) {
         cmocka_unit_test(test_compare_size_mismatch_names_both_sizes),
         cmocka_unit_test(test_compare_ascii_mask_small_case),
         cmocka_unit_test(test_compare_defaults_and_names),
+        cmocka_unit_test(test_comparison_matches_separate_calls_and_the_stated_formula),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
