@@ -1176,21 +1176,36 @@ static void worker_fates(const job *w, void *arg) {
     }
 }
 
-static void grade_tests(const grader *g, assignment_result *a, const cJSON *asg, const char *dir) {
-    const cJSON *tests = cJSON_GetObjectItemCaseSensitive(asg, "tests");
-    const char *crash_hint = str_or(asg, "crash_hint", "look for an out-of-bounds access");
-    char out_path[4096], xml_dir[4096], replay_bin[4096], worker_bin[4096];
-    fmt(xml_dir, sizeof xml_dir, "%s/xml", dir);
+/* An assignment's tests in flight: tests_prepare makes the jobs (a worker per
+ * chunk, its replay chained after it), the caller runs them together with
+ * the assignment's pictures (so a core a short chunk frees draws a picture),
+ * tests_finish reads the verdicts. */
+typedef struct test_batch {
+    name_list names;
+    char *listing;
+    int n, chunks;
+    job *workers, *replays;
+    int *chunk_of;
+    chunk_fates *fates;
+    /* what the jobs' argv point to, so it lives as long as they do */
+    char xml_dir[4096], own[4096], replay_bin[4096], worker_bin[4300];
+} test_batch;
+
+static bool tests_prepare(const grader *g, assignment_result *a, const char *dir, test_batch *b) {
+    memset(b, 0, sizeof *b);
+    char out_path[4096], *replay_bin = b->replay_bin, *worker_bin = b->worker_bin;
+    char *xml_dir = b->xml_dir, *own = b->own;
+    fmt(xml_dir, sizeof b->xml_dir, "%s/xml", dir);
     mkdirs(xml_dir);
-    fmt(replay_bin, sizeof replay_bin, "%s/tests/test_%s_replay", g->build, a->id);
-    fmt(worker_bin, sizeof worker_bin, "%s/tests/test_%s_worker", g->student_build, a->id);
+    fmt(replay_bin, sizeof b->replay_bin, "%s/tests/test_%s_replay", g->build, a->id);
+    fmt(worker_bin, sizeof b->worker_bin, "%s/tests/test_%s_worker", g->student_build, a->id);
     /* On its own code: the worker linked with the earlier references. It holds
      * reference code, so it is sealed: what it printed is not shown. */
-    char own[4096] = "", own_worker[4200];
-    if (own_dir(g, a->id, NULL, own, sizeof own)) {
+    char own_worker[4200];
+    if (own_dir(g, a->id, NULL, own, sizeof b->own)) {
         fmt(own_worker, sizeof own_worker, "%s/tests/test_%s_worker", own, a->id);
         if (file_exists(own_worker)) {
-            fmt(worker_bin, sizeof worker_bin, "%s", own_worker);
+            fmt(worker_bin, sizeof b->worker_bin, "%s", own_worker);
             if (!a->note) {
                 sbuf n = {0};
                 sb_printf(&n, "graded on your %s code alone, with the reference of the earlier "
@@ -1216,12 +1231,13 @@ static void grade_tests(const grader *g, assignment_result *a, const cJSON *asg,
         fprintf(stderr, "raster101-grade: %s could not list its tests (build it: cmake --build %s "
                         "--target test_%s_replay)\n",
                 replay_bin, g->build, a->id);
-        return;
+        return false;
     }
-    name_list names = {0};
+    b->listing = listing;
+    name_list *names = &b->names;
     for (char *line = strtok(listing + 14, "\n"); line; line = strtok(NULL, "\n"))
-        if (*line) names_add(&names, line);
-    int n = names.n;
+        if (*line) names_add(names, line);
+    int n = names->n;
     /* The tests in `chunks` groups, one sandbox and one process each (a
      * forked child per test inside: tests/unit/ras_test_main.h, RAS_EACH_*),
      * dealt round-robin: the expensive tests (whole frames) come last in a
@@ -1229,17 +1245,19 @@ static void grade_tests(const grader *g, assignment_result *a, const cJSON *asg,
      * drew them all. */
     int chunks = g->jobs < n ? g->jobs : n;
     if (chunks < 1) chunks = 1;
-    job *workers = calloc((size_t)chunks, sizeof *workers);
-    job *replays = calloc((size_t)chunks, sizeof *replays);
-    int *chunk_of = calloc((size_t)n + 1, sizeof *chunk_of);
-    chunk_fates *fates = calloc((size_t)chunks, sizeof *fates);
+    job *workers = b->workers = calloc((size_t)chunks, sizeof *workers);
+    job *replays = b->replays = calloc((size_t)chunks, sizeof *replays);
+    int *chunk_of = b->chunk_of = calloc((size_t)n + 1, sizeof *chunk_of);
+    chunk_fates *fates = b->fates = calloc((size_t)chunks, sizeof *fates);
     if (!workers || !replays || !chunk_of || !fates) abort();
+    b->n = n;
+    b->chunks = chunks;
     for (int c = 0; c < chunks; c++) {
         /* 1. the student's code, in the sandbox: each test records what each
          * call of the student's functions returned */
         job *w = &workers[c];
         int in_chunk = (n - c + chunks - 1) / chunks;
-        worker_job(g, w, worker_bin, own, &names, c, chunks, g->test_limit, test_wall(g), NULL);
+        worker_job(g, w, worker_bin, own, names, c, chunks, g->test_limit, test_wall(g), NULL);
         fmt(w->out_path, sizeof w->out_path, "%s/worker%d.out", xml_dir, c);
         for (int i = c; i < n; i += chunks)
             chunk_of[i] = c;
@@ -1249,7 +1267,7 @@ static void grade_tests(const grader *g, assignment_result *a, const cJSON *asg,
         fmt(r->store[0], sizeof r->store[0], "%s/names%d", xml_dir, c);
         FILE *lf = fopen(r->store[0], "w");
         for (int i = c; i < n; i += chunks)
-            if (lf) fprintf(lf, "%s\n", names.v[i]);
+            if (lf) fprintf(lf, "%s\n", names->v[i]);
         if (lf) fclose(lf);
         fmt(r->store[1], sizeof r->store[1], "RAS_EACH_NAMES=%s", r->store[0]);
         fmt(r->store[2], sizeof r->store[2], "RAS_EACH_OUT=%s", xml_dir);
@@ -1270,14 +1288,24 @@ static void grade_tests(const grader *g, assignment_result *a, const cJSON *asg,
         r->mem_mb = g->mem_mb;
         fmt(r->out_path, sizeof r->out_path, "%s/replay%d.out", xml_dir, c);
         /* 3. each chunk's replay as soon as its own worker has ended */
-        fates[c] = (chunk_fates){&names, c, chunks, xml_dir};
+        fates[c] = (chunk_fates){names, c, chunks, xml_dir};
         w->then = r;
         w->between = worker_fates;
         w->between_arg = &fates[c];
     }
-    double t_tests = now_s();
-    run_jobs(workers, chunks, g->jobs);
-    profile("tests: sandboxed workers, replays", a->id, t_tests);
+    return true;
+}
+
+/* The verdicts of a batch whose jobs have run (b->workers[c].rr and the
+ * replays' set); frees the batch. */
+static void tests_finish(const grader *g, assignment_result *a, const cJSON *asg, test_batch *b) {
+    const cJSON *tests = cJSON_GetObjectItemCaseSensitive(asg, "tests");
+    const char *crash_hint = str_or(asg, "crash_hint", "look for an out-of-bounds access");
+    const char *xml_dir = b->xml_dir, *own = b->own;
+    const name_list names = b->names;
+    int n = b->n;
+    const job *workers = b->workers;
+    const int *chunk_of = b->chunk_of;
     double t_judge = now_s();
     for (int i = 0; i < n; i++) {
         const char *name = names.v[i];
@@ -1381,10 +1409,10 @@ static void grade_tests(const grader *g, assignment_result *a, const cJSON *asg,
         free(raw);
         free(clean);
     }
-    free(workers);
-    free(replays);
-    free(chunk_of);
-    free(fates);
+    free(b->workers);
+    free(b->replays);
+    free(b->chunk_of);
+    free(b->fates);
     profile("tests: verdicts", a->id, t_judge);
     if (g->sanitized) sanitizer_pass(g, a, asg, &names, a->n_items - n);
     for (const cJSON *t = tests ? tests->child : NULL; t; t = t->next) {
@@ -1399,8 +1427,8 @@ static void grade_tests(const grader *g, assignment_result *a, const cJSON *asg,
         it->reason = xstrdup("not in the test program (rubric out of date; not counted)");
         junit_case(it, a->id, NULL);
     }
-    names_free(&names);
-    free(listing);
+    names_free(&b->names);
+    free(b->listing);
 }
 
 /* ------------------------------------------------------------- the images */
@@ -3117,15 +3145,25 @@ int main(int argc, char **argv) {
             a->note = xstrdup("not in this build yet");
         } else {
             a->graded = true;
+            test_batch tests;
+            bool has_tests = false;
             if (file_exists(test_bin))
-                grade_tests(&g, a, asg, dir);
+                has_tests = tests_prepare(&g, a, dir, &tests);
             else
                 a->note = xstrdup("no test program built; images only");
             int n_img = cJSON_GetArraySize(images);
-            /* runs[0, n_img): the graded runs, on the assignment's own code
-             * where it could be linked; then the whole-chain runs of the
-             * images with points (the integration part), whole_at[i] */
-            job *runs = calloc(2 * (size_t)n_img + 1, sizeof *runs);
+            int n_tests = has_tests ? tests.chunks : 0;
+            /* all[0, n_tests): the tests' chunks (each a worker, then its
+             * replay), started first; then runs[0, n_img): the graded runs,
+             * on the assignment's own code where it could be linked; then the
+             * whole-chain runs of the images with points (the integration
+             * part), whole_at[i]. One batch, so that no core waits while
+             * another finishes a chunk. */
+            job *all = calloc((size_t)n_tests + 2 * (size_t)n_img + 1, sizeof *all);
+            if (!all) abort();
+            for (int c = 0; c < n_tests; c++)
+                all[c] = tests.workers[c];
+            job *runs = all + n_tests;
             int *whole_at = calloc((size_t)n_img + 1, sizeof *whole_at);
             bool *sealed = calloc((size_t)n_img + 1, sizeof *sealed);
             if (!runs || !whole_at || !sealed) abort();
@@ -3147,8 +3185,13 @@ int main(int argc, char **argv) {
                 }
             }
             double t_runs = now_s();
-            run_jobs(runs, n_runs, g.jobs);
-            profile("images: sandboxed programs", id, t_runs);
+            run_jobs(all, n_tests + n_runs, g.jobs);
+            profile("tests and images: sandboxed runs", id, t_runs);
+            if (has_tests) {
+                for (int c = 0; c < n_tests; c++)
+                    tests.workers[c].rr = all[c].rr; /* (the replays' are set in place) */
+                tests_finish(&g, a, asg, &tests);
+            }
             double t_judge = now_s();
             i = 0;
             const char *crash_hint = str_or(asg, "crash_hint", "look for an out-of-bounds access");
@@ -3167,7 +3210,7 @@ int main(int argc, char **argv) {
                     attribute_image(&g, it, img, dir, id, &runs[i], own_passed, as, k);
             }
             profile("images: judged", id, t_judge);
-            free(runs);
+            free(all);
             free(whole_at);
             free(sealed);
         }

@@ -542,6 +542,49 @@ static void test_comparison_matches_separate_calls_and_the_stated_formula(void *
     ras_image_destroy(g);
 }
 
+/* SSIM as the header defines it, per pixel with its own clipped 11x11
+ * window (the library smooths separably and skips windows that agree): the
+ * same value within rounding on a picture that differs only in a band, so
+ * that most windows are skipped and the others are not. */
+static double brute_ssim(const ras_image *e, const ras_image *g) {
+    int w = e->width, h = e->height;
+    double sum = 0;
+    for (int row = 0; row < h; row++)
+        for (int col = 0; col < w; col++) {
+            double sw = 0, sx = 0, sy = 0, sxx = 0, syy = 0, sxy = 0;
+            for (int dr = -5; dr <= 5; dr++)
+                for (int dc = -5; dc <= 5; dc++) {
+                    int r = row + dr, c = col + dc;
+                    if (r < 0 || r >= h || c < 0 || c >= w) continue;
+                    double wk = exp(-(dr * dr + dc * dc) / (2.0 * 1.5 * 1.5));
+                    vec3s a = ras_image_get(e, c, r), b = ras_image_get(g, c, r);
+                    double x = 0.299 * ras_unit_to_byte(a.x) + 0.587 * ras_unit_to_byte(a.y) +
+                               0.114 * ras_unit_to_byte(a.z);
+                    double y = 0.299 * ras_unit_to_byte(b.x) + 0.587 * ras_unit_to_byte(b.y) +
+                               0.114 * ras_unit_to_byte(b.z);
+                    sw += wk, sx += wk * x, sy += wk * y;
+                    sxx += wk * x * x, syy += wk * y * y, sxy += wk * x * y;
+                }
+            double mx = sx / sw, my = sy / sw, vx = sxx / sw - mx * mx, vy = syy / sw - my * my,
+                   cxy = sxy / sw - mx * my, c1 = 6.5025, c2 = 58.5225;
+            sum += (2 * mx * my + c1) * (2 * cxy + c2) / ((mx * mx + my * my + c1) * (vx + vy + c2));
+        }
+    return sum / ((double)w * h);
+}
+static void test_compare_ssim_band_matches_per_pixel_windows(void **state) {
+    (void)state;
+    ras_image *e = make_texture(41, 47, 0.0f, 3), *g = ras_image_clone(e);
+    fill_rect(g, 4, 20, 30, 3, (vec3s){{0.9f, 0.1f, 0.3f}});
+    ras_compare_result r = compare(e, g, RAS_COMPARE_SSIM);
+    double want = brute_ssim(e, g);
+    CHECK(fabs(r.ssim - want) < 1e-12 && r.ssim < 0.99,
+          "SSIM of a picture against itself with a 30x3 band painted: expected %.15f (every "
+          "pixel's own window, brute force), got %.15f",
+          want, r.ssim);
+    ras_image_destroy(e);
+    ras_image_destroy(g);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_compare_identical_passes_every_metric),
@@ -559,6 +602,7 @@ int main(void) {
         cmocka_unit_test(test_compare_ascii_mask_small_case),
         cmocka_unit_test(test_compare_defaults_and_names),
         cmocka_unit_test(test_comparison_matches_separate_calls_and_the_stated_formula),
+        cmocka_unit_test(test_compare_ssim_band_matches_per_pixel_windows),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
