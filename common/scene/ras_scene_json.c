@@ -259,19 +259,23 @@ bool ras_json_read_int(ras_json_ctx *c, const cJSON *v, const char *path, int lo
 }
 
 /* Optional members: absent leaves *out (the default) as it is. */
+static const cJSON *opt_member(const cJSON *obj, const char *path, const char *key,
+                               char p[RAS_JSON_PATH_LEN]) {
+    ras_json_join(p, path, key);
+    return ras_json_member(obj, key);
+}
+
 bool ras_json_opt_float(ras_json_ctx *c, const cJSON *obj, const char *path, const char *key,
                         ras_json_range r, float *out) {
-    const cJSON *v = ras_json_member(obj, key);
     char p[RAS_JSON_PATH_LEN];
-    ras_json_join(p, path, key);
+    const cJSON *v = opt_member(obj, path, key, p);
     return !v || ras_json_read_float(c, v, p, r, out);
 }
 
 bool ras_json_opt_int(ras_json_ctx *c, const cJSON *obj, const char *path, const char *key, int lo,
                       int hi, int *out) {
-    const cJSON *v = ras_json_member(obj, key);
     char p[RAS_JSON_PATH_LEN];
-    ras_json_join(p, path, key);
+    const cJSON *v = opt_member(obj, path, key, p);
     return !v || ras_json_read_int(c, v, p, lo, hi, out);
 }
 
@@ -304,17 +308,15 @@ bool ras_json_read_vec3_or_scalar(ras_json_ctx *c, const cJSON *v, const char *p
 
 bool ras_json_opt_vec3(ras_json_ctx *c, const cJSON *obj, const char *path, const char *key,
                        ras_json_range r, vec3s *out) {
-    const cJSON *v = ras_json_member(obj, key);
     char p[RAS_JSON_PATH_LEN];
-    ras_json_join(p, path, key);
+    const cJSON *v = opt_member(obj, path, key, p);
     return !v || ras_json_read_vec3(c, v, p, r, out);
 }
 
 bool ras_json_opt_vec3_or_scalar(ras_json_ctx *c, const cJSON *obj, const char *path,
                                  const char *key, ras_json_range r, vec3s *out) {
-    const cJSON *v = ras_json_member(obj, key);
     char p[RAS_JSON_PATH_LEN];
-    ras_json_join(p, path, key);
+    const cJSON *v = opt_member(obj, path, key, p);
     return !v || ras_json_read_vec3_or_scalar(c, v, p, r, out);
 }
 
@@ -366,9 +368,8 @@ bool ras_json_read_color(ras_json_ctx *c, const cJSON *v, const char *path, vec3
 
 bool ras_json_opt_color(ras_json_ctx *c, const cJSON *obj, const char *path, const char *key,
                         vec3s *out) {
-    const cJSON *v = ras_json_member(obj, key);
     char p[RAS_JSON_PATH_LEN];
-    ras_json_join(p, path, key);
+    const cJSON *v = opt_member(obj, path, key, p);
     return !v || ras_json_read_color(c, v, p, out);
 }
 
@@ -394,9 +395,8 @@ bool ras_json_read_enum(ras_json_ctx *c, const cJSON *v, const char *path, const
 
 bool ras_json_opt_enum(ras_json_ctx *c, const cJSON *obj, const char *path, const char *key,
                        const char *const *names, int n, int *out) {
-    const cJSON *v = ras_json_member(obj, key);
     char p[RAS_JSON_PATH_LEN];
-    ras_json_join(p, path, key);
+    const cJSON *v = opt_member(obj, path, key, p);
     return !v || ras_json_read_enum(c, v, p, names, n, out);
 }
 
