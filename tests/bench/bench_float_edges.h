@@ -5,7 +5,7 @@
  * The way a first rasterizer is written: plain float edge functions with a
  * closed ">= 0" test, no snapping, no top-left rule. It is NOT part of the
  * student contract (common/pipeline/stage4_raster.h) and the reference does not offer
- * it: it exists so that docs/accuracy.md (tests/bench/bench_accuracy.c) and the fan
+ * it: it exists so that docs/accuracy.md (tests/bench/bench_accuracy_coverage.c) and the fan
  * figure of docs/hw2.md (hw2_rasterize/tools/hw2_figures.c) can count the
  * samples it covers twice or not at all on shared edges, next to the
  * reference's exact fixed-point coverage, which covers each exactly once.
