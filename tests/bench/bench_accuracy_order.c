@@ -188,8 +188,6 @@ void order_run(void) {
     ras_pipeline_destroy(both[1]);
 }
 
-/* The worst fraction of kind k at gap gi over all distances and tilts, and
- * where it is; the number of (distance, tilt) cells with any inversion. */
 double order_worst(int k, int gi, int *wd, int *wt, int *cells) {
     double worst = 0;
     *wd = *wt = 0;
@@ -203,9 +201,6 @@ double order_worst(int k, int gi, int *wd, int *wt, int *cells) {
     return worst;
 }
 
-/* Over all distances and tilts at gap gi: the mean fraction of kind k, and
- * the worst excess of kind k over the bound (the pipeline's own loss, beyond
- * what its float input already loses) with its cell. */
 double order_mean(int k, int gi) {
     double sum = 0;
     for (int di = 0; di < ORDER_D; di++)

@@ -426,24 +426,22 @@ static void md_interp(FILE *f) {
             "(√k−1)/(√k+1) for the worst affine error. Times render the same plane with an unlit "
             "bilinear texture.\n\n");
     table_interp(f);
-    {
-        acc_row *a2 = acc_find_row("interp", "w1/w0 = 2", "affine (screen-space)");
-        acc_row *a8 = acc_find_row("interp", "w1/w0 = 8", "affine (screen-space)");
-        acc_row *p8 = acc_find_row("interp", "w1/w0 = 8", "perspective-correct");
-        if (a2 && a8 && p8)
-            fprintf(f,
-                    "\n![interpolation error](img/accuracy_interp.png)\n\n"
-                    "**What it means.** Affine interpolation (what a pipeline that forces w = 1 "
-                    "silently does) is wrong by up to %.3f of the texture's range at a depth "
-                    "ratio of 2 — %.0f texels of a 256-texel texture — and by %.3f (%.0f texels) "
-                    "at 8, matching the formula to the pixel grid's resolution. Perspective-"
-                    "correct interpolation is exact up to float rounding (worst %.2g texels) and "
-                    "costs %.2f× the affine frame: one divide per fragment. There is no reason "
-                    "ever to skip it; the affine picture is the classic \"texture swims and "
-                    "bends along the diagonal\" bug.\n",
-                    a2->v_max, a2->uv_max_texels, a8->v_max, a8->uv_max_texels, p8->uv_max_texels,
-                    p8->rel);
-    }
+    acc_row *a2 = acc_find_row("interp", "w1/w0 = 2", "affine (screen-space)");
+    acc_row *a8 = acc_find_row("interp", "w1/w0 = 8", "affine (screen-space)");
+    acc_row *p8 = acc_find_row("interp", "w1/w0 = 8", "perspective-correct");
+    if (a2 && a8 && p8)
+        fprintf(f,
+                "\n![interpolation error](img/accuracy_interp.png)\n\n"
+                "**What it means.** Affine interpolation (what a pipeline that forces w = 1 "
+                "silently does) is wrong by up to %.3f of the texture's range at a depth "
+                "ratio of 2 — %.0f texels of a 256-texel texture — and by %.3f (%.0f texels) "
+                "at 8, matching the formula to the pixel grid's resolution. Perspective-"
+                "correct interpolation is exact up to float rounding (worst %.2g texels) and "
+                "costs %.2f× the affine frame: one divide per fragment. There is no reason "
+                "ever to skip it; the affine picture is the classic \"texture swims and "
+                "bends along the diagonal\" bug.\n",
+                a2->v_max, a2->uv_max_texels, a8->v_max, a8->uv_max_texels, p8->uv_max_texels,
+                p8->rel);
 }
 
 /* Section 4. */
@@ -497,99 +495,94 @@ static void md_depth(FILE *f) {
             "that encoding — lower bounds, untimed.\n\n",
             DEPTH_FAR);
     table_depth(f);
-    {
-        const char *D1 = "delta = 0.0001", *D3 = "delta = 0.0003";
-        acc_row *z1 = acc_find_row("depth", D1, DEPTH_ENCODINGS[0]);
-        acc_row *z3 = acc_find_row("depth", D3, DEPTH_ENCODINGS[0]);
-        acc_row *z10 = acc_find_row("depth", "delta = 0.001", DEPTH_ENCODINGS[0]);
-        acc_row *z30 = acc_find_row("depth", "delta = 0.003", DEPTH_ENCODINGS[0]);
-        acc_row *i10 = acc_find_row("depth", "delta = 0.001", DEPTH_ENCODINGS[1]);
-        acc_row *e1 = acc_find_row("depth", D1, DEPTH_ENCODINGS[2]);
-        acc_row *e3 = acc_find_row("depth", D3, DEPTH_ENCODINGS[2]);
-        acc_row *r1 = acc_find_row("depth", D1, DEPTH_ENCODINGS[4]);
-        double inv_worst = 0;
-        for (int d = 0; d < DEPTH_DELTA_COUNT; d++) {
-            char scene[40];
-            snprintf(scene, sizeof scene, "delta = %g", DEPTH_DELTAS[d]);
-            acc_row *r = acc_find_row("depth", scene, DEPTH_ENCODINGS[1]);
-            if (r) inv_worst = fmax(inv_worst, r->wrong);
-        }
-        /* Time ratios where both formats do the same work: from the first δ
-         * at which z01 is right on 99% of the pixels. */
-        int first_right = DEPTH_DELTA_COUNT - 1;
-        for (int d = DEPTH_DELTA_COUNT - 1; d >= 0; d--) {
-            char scene[40];
-            snprintf(scene, sizeof scene, "delta = %g", DEPTH_DELTAS[d]);
-            acc_row *r = acc_find_row("depth", scene, DEPTH_ENCODINGS[0]);
-            if (!r || !(r->wrong < 0.01)) break;
-            first_right = d;
-        }
-        double lo, hi;
-        depth_time_ratio_range(first_right, &lo, &hi);
-        acc_row *zt = acc_find_row("depth", DEPTH_TIME_SCENE, DEPTH_ENCODINGS[0]);
-        acc_row *it = acc_find_row("depth", DEPTH_TIME_SCENE, DEPTH_ENCODINGS[1]);
-        acc_row *i1 = acc_find_row("depth", D1, DEPTH_ENCODINGS[1]);
-        if (z1 && z3 && z10 && z30 && i10 && e1 && e3 && r1 && zt && it && i1) {
-            char tz[80], ti[80];
-            fmt_time(zt, tz, sizeof tz);
-            fmt_time(it, ti, sizeof ti);
-            fprintf(f,
-                    "\n**What it means.** With z in [0, 1] and near = 0.1, depth spends almost all "
-                    "of its range close to the camera: at 40 units a step of δ changes z by only "
-                    "about near·δ/d² = 6·10⁻⁵·δ, while float's steps just below 1 are 6·10⁻⁸. "
-                    "Stored exactly and rounded once, float z would still lose %.0f%% of the "
-                    "pixels at δ = 0.0001 and %.0f%% at 0.0003 (24-bit fixed point, the classic "
-                    "GPU depth buffer, has the same step near 1 and fares the same). The "
-                    "pipeline's z01 does worse than that bound — %.0f%% wrong at δ = 0.0001, "
-                    "%.0f%% at 0.0003, %.1f%% at 0.001, %.2f%% at 0.003 — because it computes z "
-                    "in float (the projection's z row, the divide by w, (1 − z)/2, then "
-                    "interpolation across the triangle) and every step rounds by about as much "
-                    "as the whole gap.\n\n"
-                    "The pipeline's **inverse_w** format (`\"depth\": \"inverse_w\"` in a scene "
-                    "file, `RAS_DEPTH_INV_W` in `ras_pipeline_config`) stores −near/w: reversed-z "
-                    "with the far plane at infinity, negated so that the rasterizer's \"smaller "
-                    "is closer\" test does not change. It is one division from w per vertex; 1/w "
-                    "is affine in screen space, so the rasterizer's linear interpolation is "
-                    "exact; and distant depths sit next to 0, where floats are dense, so the "
-                    "relative step is the same ~10⁻⁷ at every distance while the planes differ "
-                    "by δ/d ≥ 2·10⁻⁶ even at δ = 0.0001. Measured: %.2f%% wrong at worst over "
-                    "all δ. Its time, where both formats are right and so do the same work: "
-                    "%.2f× that of z01 at δ = 0.01 (%s ms against %s ms), %.2f–%.2f× over "
-                    "δ ≥ %g. The only extra work is one division per vertex (8 vertices a "
-                    "frame here), so a few percent either way is the noise of the machine. At "
-                    "δ = 0.0001 inverse_w takes %.2f× the time of z01, and that is the price of "
-                    "the right answer, not of the format: with z01 the nearer plane (drawn "
-                    "second) fails the depth test on %.0f%% of the pixels and is never "
-                    "written, with inverse_w it is written everywhere. Reversed-z needs float to "
-                    "pay off: stored as 24-bit "
-                    "fixed point, near/w has steps of 6·10⁻⁸ everywhere and at 40 units the gap "
-                    "is near·δ/d², as for z01, so it would lose %.0f%% at δ = 0.0001. View "
-                    "depth w itself is not a format: it is not affine in screen space (a "
-                    "rasterizer interpolating it linearly puts the midpoint of an edge from "
-                    "w = 1 to 4 at 2.5 instead of 1.6), and interpolated correctly, as "
-                    "1/(interpolated 1/w), it orders surfaces exactly as inverse_w does. "
-                    "Without changing formats the cheapest fix is the near plane: z01's "
-                    "resolution at distance d scales with near/d², so near = 1 instead of 0.1 "
-                    "buys a factor 10.\n",
-                    100 * e1->wrong, 100 * e3->wrong, 100 * z1->wrong, 100 * z3->wrong,
-                    100 * z10->wrong, 100 * z30->wrong, 100 * inv_worst, it->min / zt->min, ti, tz,
-                    lo, hi, DEPTH_DELTAS[first_right], i1->min / z1->min, 100 * z1->wrong,
-                    100 * r1->wrong);
-        }
+    const char *D1 = "delta = 0.0001", *D3 = "delta = 0.0003";
+    acc_row *z1 = acc_find_row("depth", D1, DEPTH_ENCODINGS[0]);
+    acc_row *z3 = acc_find_row("depth", D3, DEPTH_ENCODINGS[0]);
+    acc_row *z10 = acc_find_row("depth", "delta = 0.001", DEPTH_ENCODINGS[0]);
+    acc_row *z30 = acc_find_row("depth", "delta = 0.003", DEPTH_ENCODINGS[0]);
+    acc_row *i10 = acc_find_row("depth", "delta = 0.001", DEPTH_ENCODINGS[1]);
+    acc_row *e1 = acc_find_row("depth", D1, DEPTH_ENCODINGS[2]);
+    acc_row *e3 = acc_find_row("depth", D3, DEPTH_ENCODINGS[2]);
+    acc_row *r1 = acc_find_row("depth", D1, DEPTH_ENCODINGS[4]);
+    double inv_worst = 0;
+    for (int d = 0; d < DEPTH_DELTA_COUNT; d++) {
+        char scene[40];
+        snprintf(scene, sizeof scene, "delta = %g", DEPTH_DELTAS[d]);
+        acc_row *r = acc_find_row("depth", scene, DEPTH_ENCODINGS[1]);
+        if (r) inv_worst = fmax(inv_worst, r->wrong);
+    }
+    /* Time ratios where both formats do the same work: from the first δ
+     * at which z01 is right on 99% of the pixels. */
+    int first_right = DEPTH_DELTA_COUNT - 1;
+    for (int d = DEPTH_DELTA_COUNT - 1; d >= 0; d--) {
+        char scene[40];
+        snprintf(scene, sizeof scene, "delta = %g", DEPTH_DELTAS[d]);
+        acc_row *r = acc_find_row("depth", scene, DEPTH_ENCODINGS[0]);
+        if (!r || !(r->wrong < 0.01)) break;
+        first_right = d;
+    }
+    double lo, hi;
+    depth_time_ratio_range(first_right, &lo, &hi);
+    acc_row *zt = acc_find_row("depth", DEPTH_TIME_SCENE, DEPTH_ENCODINGS[0]);
+    acc_row *it = acc_find_row("depth", DEPTH_TIME_SCENE, DEPTH_ENCODINGS[1]);
+    acc_row *i1 = acc_find_row("depth", D1, DEPTH_ENCODINGS[1]);
+    if (z1 && z3 && z10 && z30 && i10 && e1 && e3 && r1 && zt && it && i1) {
+        char tz[80], ti[80];
+        fmt_time(zt, tz, sizeof tz);
+        fmt_time(it, ti, sizeof ti);
+        fprintf(f,
+                "\n**What it means.** With z in [0, 1] and near = 0.1, depth spends almost all "
+                "of its range close to the camera: at 40 units a step of δ changes z by only "
+                "about near·δ/d² = 6·10⁻⁵·δ, while float's steps just below 1 are 6·10⁻⁸. "
+                "Stored exactly and rounded once, float z would still lose %.0f%% of the "
+                "pixels at δ = 0.0001 and %.0f%% at 0.0003 (24-bit fixed point, the classic "
+                "GPU depth buffer, has the same step near 1 and fares the same). The "
+                "pipeline's z01 does worse than that bound — %.0f%% wrong at δ = 0.0001, "
+                "%.0f%% at 0.0003, %.1f%% at 0.001, %.2f%% at 0.003 — because it computes z "
+                "in float (the projection's z row, the divide by w, (1 − z)/2, then "
+                "interpolation across the triangle) and every step rounds by about as much "
+                "as the whole gap.\n\n"
+                "The pipeline's **inverse_w** format (`\"depth\": \"inverse_w\"` in a scene "
+                "file, `RAS_DEPTH_INV_W` in `ras_pipeline_config`) stores −near/w: reversed-z "
+                "with the far plane at infinity, negated so that the rasterizer's \"smaller "
+                "is closer\" test does not change. It is one division from w per vertex; 1/w "
+                "is affine in screen space, so the rasterizer's linear interpolation is "
+                "exact; and distant depths sit next to 0, where floats are dense, so the "
+                "relative step is the same ~10⁻⁷ at every distance while the planes differ "
+                "by δ/d ≥ 2·10⁻⁶ even at δ = 0.0001. Measured: %.2f%% wrong at worst over "
+                "all δ. Its time, where both formats are right and so do the same work: "
+                "%.2f× that of z01 at δ = 0.01 (%s ms against %s ms), %.2f–%.2f× over "
+                "δ ≥ %g. The only extra work is one division per vertex (8 vertices a "
+                "frame here), so a few percent either way is the noise of the machine. At "
+                "δ = 0.0001 inverse_w takes %.2f× the time of z01, and that is the price of "
+                "the right answer, not of the format: with z01 the nearer plane (drawn "
+                "second) fails the depth test on %.0f%% of the pixels and is never "
+                "written, with inverse_w it is written everywhere. Reversed-z needs float to "
+                "pay off: stored as 24-bit "
+                "fixed point, near/w has steps of 6·10⁻⁸ everywhere and at 40 units the gap "
+                "is near·δ/d², as for z01, so it would lose %.0f%% at δ = 0.0001. View "
+                "depth w itself is not a format: it is not affine in screen space (a "
+                "rasterizer interpolating it linearly puts the midpoint of an edge from "
+                "w = 1 to 4 at 2.5 instead of 1.6), and interpolated correctly, as "
+                "1/(interpolated 1/w), it orders surfaces exactly as inverse_w does. "
+                "Without changing formats the cheapest fix is the near plane: z01's "
+                "resolution at distance d scales with near/d², so near = 1 instead of 0.1 "
+                "buys a factor 10.\n",
+                100 * e1->wrong, 100 * e3->wrong, 100 * z1->wrong, 100 * z3->wrong,
+                100 * z10->wrong, 100 * z30->wrong, 100 * inv_worst, it->min / zt->min, ti, tz, lo,
+                hi, DEPTH_DELTAS[first_right], i1->min / z1->min, 100 * z1->wrong, 100 * r1->wrong);
     }
 }
 
 /* Section 5b. */
 static void md_order(FILE *f) {
-    {
-        int g14 = 1, d1000 = 3, t45 = 2; /* the cell issue #27 quoted */
-        int wd, wt, cells;
-        double worst_before = order_worst(ORDER_BEFORE, ORDER_G - 1, &wd, &wt, &cells);
-        int cells_before = cells;
-        int e_wd, e_wt, e_cells;
-        double e6 = order_excess(ORDER_AFTER, 3, &e_wd, &e_wt, &e_cells);
-        fprintf(
-            f,
+    int g14 = 1, d1000 = 3, t45 = 2; /* the cell issue #27 quoted */
+    int wd, wt, cells;
+    double worst_before = order_worst(ORDER_BEFORE, ORDER_G - 1, &wd, &wt, &cells);
+    int cells_before = cells;
+    int e_wd, e_wt, e_cells;
+    double e6 = order_excess(ORDER_AFTER, 3, &e_wd, &e_wt, &e_cells);
+    fprintf(f,
             "\n### 5b. inverse_w's order at every distance and tilt\n\n"
             "Two parallel planes z = −D − y·tan(tilt) in view space at distance d = 1, 10, "
             "100, 1000 and tilts 0, 30, 45, 60, 75, 85°, the second one a relative gap "
@@ -609,9 +602,8 @@ static void md_order(FILE *f) {
             "itself no longer separates the planes. Means over the 24 cells, and the "
             "worst excess over the bound:\n\n",
             acc_opt.quick ? 64 : 128, acc_opt.quick ? 64 : 128);
-        order_table(f);
-        fprintf(
-            f,
+    order_table(f);
+    fprintf(f,
             "\n**What it means.** Before, the snap moved each corner by up to 1/512 px in "
             "x and y while its depth stayed where it was, which tilts the interpolated "
             "depth plane by a different amount for each triangle: at gaps of 1e-6 and "
@@ -647,7 +639,6 @@ static void md_order(FILE *f) {
             100 * order_fraction(ORDER_BEFORE, g14, d1000, t45),
             100 * order_fraction(ORDER_AFTER, g14, d1000, t45),
             100 * order_fraction(ORDER_ROUNDED, g14, d1000, t45));
-    }
 }
 
 bool report_write_markdown(const char *path, const char *machine_name, const char *date,

@@ -14,10 +14,12 @@
 #include <math.h>   /* sqrt, fabs, tan, isinf */
 #include <stdlib.h> /* malloc, free */
 
+/* Section 3's error pass: the interpolated UV itself as the colour. */
 static vec3s shader_uv(const fragment_shader_payload *payload) {
     return (vec3s){{payload->uv.x, payload->uv.y, 0}};
 }
 
+/* The timed frames of sections 3 and 4: one texture lookup, no lighting. */
 static vec3s shader_unlit_texture(const fragment_shader_payload *payload) {
     return texture_sample(payload, payload->texture, payload->uv);
 }

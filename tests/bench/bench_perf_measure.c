@@ -5,10 +5,12 @@
  */
 #include "bench_perf.h"
 
-#if __has_include(<valgrind/measure_callgrind.h>)
-#include <valgrind/measure_callgrind.h> /* CALLGRIND_ZERO_STATS, CALLGRIND_DUMP_STATS_AT */
-#else /* no valgrind headers (scripts/install-deps installs them): the requests do nothing,        \
-       * and ctest teaching_instructions says it found no counted frame */
+/* Without valgrind's headers (scripts/install-deps installs them) the
+ * requests do nothing, and ctest teaching_instructions says it found no
+ * counted frame. */
+#if __has_include(<valgrind/callgrind.h>)
+#include <valgrind/callgrind.h> /* CALLGRIND_ZERO_STATS, CALLGRIND_DUMP_STATS_AT */
+#else
 #define CALLGRIND_ZERO_STATS
 #define CALLGRIND_DUMP_STATS_AT(name) ((void)(name))
 #endif
