@@ -98,7 +98,7 @@ mutants: configure
 # The grader is tested against cheating: every hostile submission of
 # tests/grading/attacks/ must score 0 on what it attacks, leave no process and no file
 # changed, and not change honest students' grades in a mixed grade-all batch
-# (tests/grading/run-attacks, docs/grading.md "The attack catalogue"; instructors' only).
+# (tests/grading/run-attacks, docs/grader.md "The attack catalogue"; instructors' only).
 .PHONY: attacks
 attacks: configure
 	@tests/grading/run-attacks --build $(BUILD)

@@ -1,4 +1,11 @@
-/* scene.c — see scene.h. */
+/* scene.c — see scene.h.
+ *
+ * Given code, no TODO. Worth reading: hw3_shade_fragment (what your shaders
+ * are handed: which varyings, interpolated with your interpolate_*, and the
+ * trilinear footprint) and hw3_render (one frame, object by object). The
+ * names, the options and the window's buffers you can skip. Leave it as it
+ * is: the grader takes only shading.c from a submission.
+ */
 #include "scene.h"
 
 #include "ras_dump.h"

@@ -1,7 +1,10 @@
 /* scene.h — hw3: the fragment stage that feeds your shaders, and one frame.
  *
  * Not a TODO file: it is the glue between the pipeline (common/) and
- * shading.h, shared by the program (main.c), the tests and the figures.
+ * shading.h, shared by the program (main.c) and the tests. Read
+ * hw3_fragment_stage and hw3_render_options to see what reaches your shaders
+ * and how a frame is set; the rest is the program's. Leave it as it is: the
+ * tests and the grader build against it as shipped.
  *
  *   hw3_shade_fragment   the ras_shade_fn the rasterizer calls: interpolates
  *                        exactly the varyings the chosen shader reads

@@ -1,5 +1,9 @@
 /* shading.h — hw3: from a covered pixel to its colour.
  *
+ * Read all of it: it is the contract of the functions you write in shading.c
+ * (what each takes, returns and counts). Leave it as it is: the tests and the
+ * grader compile your shading.c against this header as shipped.
+ *
  * Implemented twice with the same signatures: shading.c (yours, TODOs) and
  * the reference solution (instructors' edition only). The fragment stage (scene.c) calls the
  * interpolation functions to fill a fragment_shader_payload for every pixel

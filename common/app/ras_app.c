@@ -662,7 +662,7 @@ static void warn_if_stale(const ras_app_hooks *hooks) {
 }
 
 int ras_app_main(int argc, char **argv, const ras_app_hooks *hooks, void *user) {
-    ras_cli_reuse_freed_memory(); /* fewer page faults: docs/startup.md */
+    ras_cli_reuse_freed_memory(); /* fewer page faults: ras_cli.h */
     ras_app app = {.hooks = hooks, .argv0 = argc > 0 ? argv[0] : hooks->program, .user = user};
     int status = parse(&app, argc, argv);
     if (status >= 0) return status;

@@ -71,7 +71,7 @@ static const option_row options[] = {
      "sample positions: ordered (grid) or standard (D3D/Vulkan)"},
     {"depth", 0, RAS_OPT_AA, NAME, F(depth), F(depth_set), &ras_names_depth, 0, NULL, "F",
      "depth format: z01 ((1-z)/2, default) or inverse_w\n(-near/w: reversed-z, precise far "
-     "away; docs/accuracy.md)"},
+     "away; docs/scenes.md)"},
     {"shader", 0, RAS_OPT_SHADING, NAME, F(shader), F(shader_set), &ras_names_shader,
      RAS_SHADER_NORMAL, NULL, "NAME", "%s"},
     {"filter", 0, RAS_OPT_SHADING, NAME, F(filter), F(filter_set), &ras_names_filter, 0, NULL,

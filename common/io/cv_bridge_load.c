@@ -1,7 +1,8 @@
 /* cv_bridge_load.c — cv_bridge.h's functions for the C side: the OpenCV
  * module (libraster101_cv.so, built from cv_bridge.cpp) is opened with dlopen
  * on the first call that needs it, so a program that never opens a window or
- * touches a non-PNG file never loads OpenCV (docs/startup.md).
+ * touches a non-PNG file never loads OpenCV (common/README.md, "What is
+ * loaded when").
  *
  * Where the module is looked for, first found wins:
  *   1. RAS_CV_BRIDGE, when set (a path to the module);
@@ -36,7 +37,8 @@ static bool try_open(const char *path) {
     /* RTLD_LOCAL: OpenCV's symbols stay the module's. RTLD_LAZY: functions
      * are bound when first called, as at start-up; binding all of the ~150
      * libraries' functions now (RTLD_NOW) cost 40 M instructions more when a
-     * JPEG is written (docs/startup.md). A missing library still fails here. */
+     * JPEG is written (measured in the instructors' edition's start-up
+     * report). A missing library still fails here. */
     void *h = dlopen(path, RTLD_LAZY | RTLD_LOCAL);
     const char *why = NULL;
     if (h) {

@@ -8,7 +8,7 @@
  *
  * assimp is not linked: it is opened with dlopen when the first model file is
  * read (load_assimp), so programs that draw built-in shapes never load it
- * (docs/startup.md). Every file assimp opens goes through this file's
+ * (common/README.md, "What is loaded when"). Every file assimp opens goes through this file's
  * aiFileIO, which reads regular files only.
  */
 #include "ras_mesh.h"

@@ -34,8 +34,7 @@ vec4s ras_viewport(vec4s p_clip, int width, int height) {
 }
 
 /* x or y as the rasterizer snaps it: to the nearest 1/RAS_SUBPIXEL_ONE px,
- * half away from zero (hw2_rasterize/solution/rasterizer.c, snap; the fast
- * renderer's setup_fixed). */
+ * half away from zero (the reference rasterizer's snap, stage4_raster.h). */
 static double snapped(float v) { return round((double)v * RAS_SUBPIXEL_ONE) / RAS_SUBPIXEL_ONE; }
 
 /* RAS_DEPTH_INV_W: the snap carried into depth. The rasterizer computes
