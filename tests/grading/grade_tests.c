@@ -382,6 +382,8 @@ void tests_finish(const grader *g, assignment_result *a, const cJSON *asg, test_
     free(b->listing);
 }
 
+/* A build that failed: every test and image of the assignment lost to it,
+ * each quoting the compiler's error lines (at most 30). */
 void mark_build_failed(const grader *g, assignment_result *a, const cJSON *asg,
                        const char *log_path) {
     char *log = read_file(log_path, 0);
