@@ -100,7 +100,7 @@ enum { BATCH_NONE, BATCH_NORMAL, BATCH_PHONG, BATCH_TEXTURE, BATCH_BUMP, BATCH_D
 enum { SCALAR_REFERENCE, SCALAR_LIT_COLOUR, SCALAR_LIT_TEXTURE };
 
 /* What the fast path knows of one of hw3's shaders, declared in one table
- * (fast_shade.c's fast_shaders, one row per hw3_shader): it is found by the
+ * (fast_shade.c's fast_shaders, one row per hw3 shader): it is found by the
  * shader's name in the render options, never by its function's address. */
 typedef struct fast_shader {
     int batch;       /* BATCH_*: its four-lane form */
@@ -286,7 +286,7 @@ void fast_rast_triangle(fast_worker *w, const fast_tri *r, int tx0, int ty0, int
 /* fast_shade.c. The frame's shader as fast_shaders declares it (NULL: not
  * one of hw3's); the four-lane form the frame can use (BATCH_NONE: one at a
  * time). */
-const fast_shader *fast_shade_find(hw3_shader shader);
+const fast_shader *fast_shade_find(ras_scene_shader shader);
 int fast_shade_batch(const fast_shader *shader, const hw3_render_options *opt,
                      const hw3_fragment_stage *stage);
 /* powf(x, p) is +0 for 0 <= x <= fast_spec_zero(p) (-1: never). */

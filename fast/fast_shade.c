@@ -18,30 +18,30 @@
 
 /* ---- the shaders the fast path knows ------------------------------------- */
 
-/* One row per hw3 shader (shading.h). The four-lane forms read the varyings
- * of `needs`; the lit ones need a light to light them with (unlit, Blinn-Phong
- * is the ambient term alone: one at a time); the texture shader's trilinear
- * lookups need each fragment's uv derivatives (one at a time). */
-static const fast_shader fast_shaders[HW3_SHADER_COUNT] = {
-    [HW3_SHADER_NORMAL] = {.batch = BATCH_NORMAL,
+/* One row per hw3 shader (scene.h: the core's from normal on; flat has none). The four-lane forms
+ * read the varyings of `needs`; the lit ones need a light to light them with (unlit, Blinn-Phong is
+ * the ambient term alone: one at a time); the texture shader's trilinear lookups need each
+ * fragment's uv derivatives (one at a time). */
+static const fast_shader fast_shaders[RAS_SHADER_COUNT] = {
+    [RAS_SHADER_NORMAL] = {.batch = BATCH_NORMAL,
                            .needs = RAS_VARYING_NORMAL,
                            .any_filter = true,
                            .scalar = SCALAR_REFERENCE},
-    [HW3_SHADER_PHONG] = {.batch = BATCH_PHONG,
+    [RAS_SHADER_PHONG] = {.batch = BATCH_PHONG,
                           .needs = RAS_VARYING_NORMAL | RAS_VARYING_VIEW_POS,
                           .lit = true,
                           .any_filter = true,
                           .scalar = SCALAR_LIT_COLOUR},
-    [HW3_SHADER_TEXTURE] = {.batch = BATCH_TEXTURE,
+    [RAS_SHADER_TEXTURE] = {.batch = BATCH_TEXTURE,
                             .needs = RAS_VARYING_NORMAL | RAS_VARYING_VIEW_POS | RAS_VARYING_UV,
                             .lit = true,
                             .any_filter = false,
                             .scalar = SCALAR_LIT_TEXTURE},
-    [HW3_SHADER_BUMP] = {.batch = BATCH_BUMP,
+    [RAS_SHADER_BUMP] = {.batch = BATCH_BUMP,
                          .needs = RAS_VARYING_NORMAL | RAS_VARYING_UV,
                          .any_filter = true,
                          .scalar = SCALAR_REFERENCE},
-    [HW3_SHADER_DISPLACEMENT] = {.batch = BATCH_DISPLACEMENT,
+    [RAS_SHADER_DISPLACEMENT] = {.batch = BATCH_DISPLACEMENT,
                                  .needs =
                                      RAS_VARYING_NORMAL | RAS_VARYING_VIEW_POS | RAS_VARYING_UV,
                                  .lit = true,
@@ -49,8 +49,8 @@ static const fast_shader fast_shaders[HW3_SHADER_COUNT] = {
                                  .scalar = SCALAR_REFERENCE},
 };
 
-const fast_shader *fast_shade_find(hw3_shader shader) {
-    return (unsigned)shader < HW3_SHADER_COUNT ? &fast_shaders[shader] : NULL;
+const fast_shader *fast_shade_find(ras_scene_shader shader) {
+    return shader >= RAS_SHADER_NORMAL && shader < RAS_SHADER_COUNT ? &fast_shaders[shader] : NULL;
 }
 
 int fast_shade_batch(const fast_shader *shader, const hw3_render_options *opt,
