@@ -8,7 +8,7 @@
 
 #include "ras_names.h" /* the shader and filter spellings */
 
-#include <math.h>   /* cosf, sinf */
+#include <math.h>   /* INFINITY */
 #include <stdio.h>  /* snprintf */
 #include <stdlib.h> /* calloc, free */
 #include <string.h> /* strcmp */
@@ -131,59 +131,8 @@ vec3s hw3_shade_fragment(const ras_triangle *t, const ras_fragment *f, void *use
 
 /* ---- the scene's objects, as the shaders see them -------------------------- */
 
-static mat4s rotate_y(float deg) {
-    float a = ras_deg_to_rad(deg), c = cosf(a), s = sinf(a);
-    return ras_mat4_rows(c, 0, s, 0,
-                         0, 1, 0, 0,
-                         -s, 0, c, 0,
-                         0, 0, 0, 1);
-}
-
-static mat4s rotate_x(float deg) {
-    float a = ras_deg_to_rad(deg), c = cosf(a), s = sinf(a);
-    return ras_mat4_rows(1, 0, 0, 0,
-                         0, c, -s, 0,
-                         0, s, c, 0,
-                         0, 0, 0, 1);
-}
-
-static mat4s translate(float x, float y, float z) {
-    return ras_mat4_rows(1, 0, 0, x, 0, 1, 0, y, 0, 0, 1, z, 0, 0, 0, 1);
-}
-
-/* A rotation with hw3's own matrices about x and y (the reference images
- * were drawn with them, so they stay), and glms_rotate_make about any other
- * axis (no z matrix written out here: that is hw1's exercise, and this file
- * is in the student handout). */
-static mat4s rotation(const ras_scene_rotation *r) {
-    vec3s a = r->axis;
-    if (a.y == 0 && a.z == 0 && a.x > 0) return rotate_x(r->deg);
-    if (a.x == 0 && a.z == 0 && a.y > 0) return rotate_y(r->deg);
-    return glms_rotate_make(ras_deg_to_rad(r->deg), a);
-}
-
 mat4s hw3_object_model(const ras_scene_object *so, float angle_deg) {
-    /* T · R_y(yaw + angle) · orient: a last rotation about ±y becomes yaw —
-     * the program's turn about y and that rotation commute, so T · spin · R
-     * · S is kept. */
-    mat4s place = translate(so->translate.x, so->translate.y, so->translate.z);
-    float yaw_deg = 0;
-    int n = so->rotation_count;
-    const ras_scene_rotation *last = n > 0 ? &so->rotations[n - 1] : NULL;
-    if (last && last->axis.x == 0 && last->axis.z == 0 && last->axis.y != 0) {
-        yaw_deg = last->axis.y > 0 ? last->deg : -last->deg;
-        n--;
-    }
-    /* orient = R(rotations[n-1]) ⋯ R(rotations[0]) · S, skipping identity
-     * factors: the reference images were drawn with exactly these products
-     * (a product with the identity can still turn a -0 into +0). */
-    mat4s orient = glms_mat4_identity();
-    for (int i = 0; i < n; i++)
-        orient = i == 0 ? rotation(&so->rotations[0])
-                        : ras_mat4_mul(rotation(&so->rotations[i]), orient);
-    vec3s k = so->scale;
-    if (k.x != 1 || k.y != 1 || k.z != 1) orient = ras_mat4_mul(orient, glms_scale_make(k));
-    return ras_mat4_mul(ras_mat4_mul(place, rotate_y(yaw_deg + angle_deg)), orient);
+    return ras_scene_model_matrix(so, (ras_scene_spin){.turn_y_deg = angle_deg});
 }
 
 void hw3_object_material(const ras_scene *scene, const ras_scene_assets *assets, int i,

@@ -85,11 +85,9 @@ vec3s hw3_shade_fragment(const ras_triangle *t, const ras_fragment *f, void *use
 void hw3_object_material(const ras_scene *scene, const ras_scene_assets *assets, int i,
                          fragment_shader_payload *payload);
 
-/* The object's model matrix with the program's turn about y: T · R_y(angle)
- * · R · S (ras_scene_model_matrix's order). A last rotation about +y or -y
- * joins the turn (one R_y of the summed angle), and rotations about x and y
- * use hw3's own matrices, so a scene's matrices come out bit for bit the
- * same on every run. */
+/* The object's model matrix with the program's turn about y, T · R_y(angle)
+ * · R · S: ras_scene_model_matrix's turn about y (a last rotation about ±y
+ * joins the turn; the reference pictures were drawn with that form). */
 mat4s hw3_object_model(const ras_scene_object *object, float angle_deg);
 
 typedef struct hw3_render_options {

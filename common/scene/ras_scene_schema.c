@@ -452,19 +452,6 @@ static void material_defaults(ras_scene_material *m) {
                               .uv_scale = {{1, 1}}};
 }
 
-static mat4s object_matrix(const ras_scene_object *o, mat4s spin) {
-    mat4s r = glms_mat4_identity();
-    for (int i = 0; i < o->rotation_count; i++)
-        r = ras_mat4_mul(
-            glms_rotate_make(ras_deg_to_rad(o->rotations[i].deg), o->rotations[i].axis), r);
-    mat4s m = ras_mat4_mul(glms_translate_make(o->translate), spin);
-    return ras_mat4_mul(ras_mat4_mul(m, r), glms_scale_make(o->scale));
-}
-
-mat4s ras_scene_model_matrix(const ras_scene_object *object, mat4s spin) {
-    return object_matrix(object, spin);
-}
-
 static bool parse_object(ras_json_ctx *c, const cJSON *v, const char *path, ras_scene_object *o) {
     if (!ras_json_read_object(c, v, path)) return false;
     o->scale = (vec3s){{1, 1, 1}};
@@ -511,7 +498,8 @@ static bool parse_object(ras_json_ctx *c, const cJSON *v, const char *path, ras_
     if (tr && !parse_transform(c, tr, p, o)) return false;
     ras_json_join(p, path, "material");
     if (mat && !parse_material(c, mat, p, &o->material)) return false;
-    o->model = object_matrix(o, glms_mat4_identity());
+    mat4s identity = glms_mat4_identity();
+    o->model = ras_scene_model_matrix(o, (ras_scene_spin){.matrix = &identity});
     return true;
 }
 

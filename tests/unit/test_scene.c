@@ -295,7 +295,8 @@ static void test_scene_shape_params(void **state) {
     ras_scene_destroy(s);
 }
 
-/* The transform is T · R_last ⋯ R_first · S, and spin goes between T and R. */
+/* The transform is T · R_last ⋯ R_first · S, and spin (a matrix, or hw3's turn about
+ * y) goes between T and R. */
 static void test_scene_transform_order(void **state) {
     (void)state;
     ras_scene *s = parse_ok(
@@ -313,8 +314,20 @@ static void test_scene_transform_order(void **state) {
     mat4s spin = glms_rotate_make(ras_deg_to_rad(90), (vec3s){{0, 0, 1}});
     mat4s want_spin =
         glms_mat4_mul(glms_mat4_mul(glms_mat4_mul(t, spin), glms_mat4_mul(ry, rx)), sc);
-    assert_true(ras_mat4_near(ras_scene_model_matrix(o, spin), want_spin, 1e-6f));
-    assert_true(ras_mat4_near(ras_scene_model_matrix(o, glms_mat4_identity()), o->model, 0));
+    assert_true(ras_mat4_near(ras_scene_model_matrix(o, (ras_scene_spin){.matrix = &spin}),
+                              want_spin, 1e-6f));
+    mat4s identity = glms_mat4_identity();
+    assert_true(ras_mat4_near(ras_scene_model_matrix(o, (ras_scene_spin){.matrix = &identity}),
+                              o->model, 0));
+    /* hw3's form: the same product, with the turn about y (its last rotation,
+     * about +y, joins the turn) */
+    mat4s turn = glms_rotate_make(ras_deg_to_rad(-50), (vec3s){{0, 1, 0}});
+    mat4s want_turn =
+        glms_mat4_mul(glms_mat4_mul(glms_mat4_mul(t, turn), glms_mat4_mul(ry, rx)), sc);
+    assert_true(ras_mat4_near(ras_scene_model_matrix(o, (ras_scene_spin){.turn_y_deg = -50}),
+                              want_turn, 1e-6f));
+    assert_true(ras_mat4_near(ras_scene_model_matrix(o, (ras_scene_spin){.turn_y_deg = 0}),
+                              o->model, 1e-6f));
     ras_scene_destroy(s);
 }
 
