@@ -86,10 +86,12 @@ static int thread_count(const fast_settings *s) {
 /* The frame's sample offsets in sub-pixels (the centre's at [n]), the box
  * they span (block rejection's corners), the sample at the centre if there is
  * one, and what shading needs per frame. */
-static void plan_samples(fast_frame *fr, const ras_sample_pattern *pattern) {
+static void plan_samples(fast_frame *fr) {
     const ras_scene *scene = fr->scene;
-    for (int s = 0; s <= fr->n; s++) {
-        vec2s o = s < fr->n ? pattern->offsets[s] : (vec2s){{0.5f, 0.5f}};
+    const ras_sample_pattern *pattern = &fr->pattern;
+    const int n = pattern->count;
+    for (int s = 0; s <= n; s++) {
+        vec2s o = s < n ? pattern->offsets[s] : (vec2s){{0.5f, 0.5f}};
         fr->off_x[s] = llround((double)o.x * SUBPIXEL_ONE);
         fr->off_y[s] = llround((double)o.y * SUBPIXEL_ONE);
     }
@@ -97,16 +99,15 @@ static void plan_samples(fast_frame *fr, const ras_sample_pattern *pattern) {
         fr->spec_zero[o] = fast_spec_zero(scene->objects[o].material.p);
     fr->omin_x = fr->omax_x = fr->off_x[0];
     fr->omin_y = fr->omax_y = fr->off_y[0];
-    for (int k = 1; k <= fr->n; k++) {
+    for (int k = 1; k <= n; k++) {
         fr->omin_x = fr->off_x[k] < fr->omin_x ? fr->off_x[k] : fr->omin_x;
         fr->omax_x = fr->off_x[k] > fr->omax_x ? fr->off_x[k] : fr->omax_x;
         fr->omin_y = fr->off_y[k] < fr->omin_y ? fr->off_y[k] : fr->omin_y;
         fr->omax_y = fr->off_y[k] > fr->omax_y ? fr->off_y[k] : fr->omax_y;
     }
     fr->centre_sample = -1;
-    for (int s = 0; s < fr->n && fr->centre_sample < 0; s++)
-        if (fr->off_x[s] == fr->off_x[fr->n] && fr->off_y[s] == fr->off_y[fr->n])
-            fr->centre_sample = s;
+    for (int s = 0; s < n && fr->centre_sample < 0; s++)
+        if (fr->off_x[s] == fr->off_x[n] && fr->off_y[s] == fr->off_y[n]) fr->centre_sample = s;
     const hw3_fragment_stage *stage = fr->stage;
     fr->varyings_per_fragment = (uint64_t)(!!(stage->varyings & RAS_VARYING_NORMAL) +
                                            !!(stage->varyings & RAS_VARYING_VIEW_POS) +
@@ -181,7 +182,7 @@ static void sum_counters(const fast_frame *fr, const fast_worker *workers, int t
         add_work(k, &workers[i].ks);
         add_work(k, &workers[i].k);
     }
-    if (fr->n > 1) k->stages_run |= RAS_STAGE_RESOLVE;
+    if (fr->pattern.count > 1) k->stages_run |= RAS_STAGE_RESOLVE;
     k->buffer_bytes = (size_t)threads * tile_samples * (sizeof(vec3s) + sizeof(float));
     uint64_t shaded = 0;
     for (int i = 0; i < threads; i++) {
@@ -231,14 +232,14 @@ static bool fast_draw(fast_frame *fr, const hw3_render_options *opt, const fast_
                              "the sample pattern is empty: build it with ras_sample_pattern_make");
     double t0 = ras_now_ms();
     fr->width = width, fr->height = height;
-    fr->n = pattern.count, fr->ssaa = opt->aa == RAS_AA_SSAA, fr->pattern = pattern;
+    fr->ssaa = opt->aa == RAS_AA_SSAA, fr->pattern = pattern;
     fr->varyings = fr->stage->varyings;
     fr->tiles_x = (width + TILE - 1) / TILE, fr->tiles_y = (height + TILE - 1) / TILE;
-    plan_samples(fr, &pattern);
+    plan_samples(fr);
     fr->shader = fast_shade_find(opt->shader);
     fr->batch = fast_shade_batch(fr->shader, opt, fr->stage);
     /* frags holds a tile's pixels from the start (worker_init) */
-    fr->per_pixel = fr->n == 1 && fr->batch != BATCH_NONE;
+    fr->per_pixel = fr->pattern.count == 1 && fr->batch != BATCH_NONE;
     int tiles = fr->tiles_x * fr->tiles_y;
     int threads = thread_count(settings);
     if (threads > tiles) threads = tiles;
@@ -252,7 +253,7 @@ static bool fast_draw(fast_frame *fr, const hw3_render_options *opt, const fast_
     atomic_init(&fr->failed, false);
     atomic_init(&fr->next_tile, 0);
     fr->t_setup = t0;
-    size_t tile_samples = (size_t)TILE * TILE * (size_t)fr->n;
+    size_t tile_samples = (size_t)TILE * TILE * (size_t)fr->pattern.count;
     for (int i = 0; ok && i < threads; i++)
         ok = worker_init(&workers[i], fr, tile_samples);
     if (ok) ok = run_workers(fr, workers, threads);

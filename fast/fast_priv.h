@@ -115,9 +115,9 @@ typedef struct fast_frame {
     const ras_scene *scene;
     const ras_scene_assets *assets;
     const hw3_fragment_stage *stage;
-    int width, height, n; /* samples per pixel */
+    int width, height;
     bool ssaa;
-    ras_sample_pattern pattern;
+    ras_sample_pattern pattern; /* its count is the samples per pixel, n below */
     int64_t off_x[RAS_MAX_SAMPLES + 1], off_y[RAS_MAX_SAMPLES + 1]; /* [n] = centre */
     /* the box of those offsets (samples and centre): block rejection's corners */
     int64_t omin_x, omax_x, omin_y, omax_y;

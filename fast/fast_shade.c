@@ -293,7 +293,7 @@ void fast_shade_tile(fast_worker *w) {
         shade_pixels(w);
         return;
     }
-    const int n = w->fr->n;
+    const int n = w->fr->pattern.count;
     const bool batch = w->fr->batch != BATCH_NONE;
     /* With one sample a fragment (mask 1) still owns its sample when it is
      * the sample's owner: checked in the loop below. Otherwise the owners

@@ -454,7 +454,7 @@ static void shade_finish(fast_worker *w, lanes4 *S) {
             *dst = c;
             continue;
         }
-        if (mask == 0xF && fr->n == 4) { /* a whole pixel of 4x */
+        if (mask == 0xF && fr->pattern.count == 4) { /* a whole pixel of 4x */
             put4(dst, c);
             continue;
         }

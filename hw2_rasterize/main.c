@@ -57,7 +57,7 @@ static bool render(ras_app *app, ras_error *err) {
                                .clear_color = s->clear_color,
                                .cull = s->cull,
                                .aa = set->aa,
-                               .pattern = set->pattern,
+                               .pattern = ras_app_settings_pattern(set),
                                .depth = set->depth,
                                .z_near = s->camera.z_near,
                                .varyings = RAS_VARYING_COLOR,

@@ -213,7 +213,7 @@ void hw3_render_options_apply(hw3_render_options *opt, const ras_app_settings *s
     opt->shader = s->shader;
     opt->filter = s->filter;
     opt->aa = s->aa;
-    opt->pattern = s->pattern;
+    opt->pattern = ras_app_settings_pattern(s);
     opt->depth = s->depth;
     opt->angle_deg = s->angle;
     opt->affine = s->affine;

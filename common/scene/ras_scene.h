@@ -196,9 +196,11 @@ typedef struct ras_scene {
     int light_count; /* 0..RAS_SCENE_MAX_LIGHTS */
     vec3s ambient;
     ras_aa_mode aa;
-    int samples; /* as written (1 for RAS_AA_NONE) */
-    ras_pattern_kind pattern_kind;
-    ras_sample_pattern pattern; /* validated with ras_sample_pattern_make */
+    ras_pattern_kind pattern_kind; /* as written, also for RAS_AA_NONE */
+    /* The samples: pattern_kind's with aa.samples, validated with
+     * ras_sample_pattern_make; the centre (count 1) for RAS_AA_NONE. Its
+     * count is the scene's sample count: no other field holds it. */
+    ras_sample_pattern pattern;
     ras_scene_shader shader;
     ras_scene_filter filter;
     ras_cull_mode cull;

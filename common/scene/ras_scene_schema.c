@@ -583,11 +583,9 @@ static bool parse_aa(ras_json_ctx *c, const cJSON *v, ras_scene *s) {
                                  "expected 1 (or no \"samples\") with mode \"none\", got %d; set "
                                  "\"mode\": \"msaa\" or \"ssaa\" to use %d samples",
                                  samples, samples);
-        s->samples = 1;
         s->pattern = ras_sample_pattern_center();
         return true;
     }
-    s->samples = samples;
     ras_error inner;
     if (!ras_sample_pattern_make(s->pattern_kind, samples, &s->pattern, &inner))
         return ras_json_fail(c, "aa.samples", "%s (pattern \"%s\")", inner.msg,
@@ -646,7 +644,6 @@ void ras_scene_schema_defaults(ras_scene *s) {
     s->model_rotation_axis = (vec3s){{0, 0, 1}};
     s->ambient = (vec3s){{10, 10, 10}};
     s->aa = RAS_AA_NONE;
-    s->samples = 1;
     s->pattern_kind = RAS_PATTERN_ORDERED;
     s->pattern = ras_sample_pattern_center();
     s->shader = RAS_SHADER_FLAT;

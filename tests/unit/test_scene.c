@@ -252,7 +252,6 @@ static void test_scene_defaults(void **state) {
     assert_null(s->lights);
     assert_vec3_near(s->ambient, 10, 10, 10, 0);
     assert_int_equal(s->aa, RAS_AA_NONE);
-    assert_int_equal(s->samples, 1);
     assert_int_equal(s->pattern.count, 1);
     assert_int_equal(s->shader, RAS_SHADER_FLAT);
     assert_int_equal(s->filter, RAS_FILTER_BILINEAR);
@@ -384,7 +383,6 @@ static void test_scene_values_read(void **state) {
     assert_true(s->lights[1].in_world);
     assert_vec3_near(s->ambient, 1, 2, 3, 0);
     assert_int_equal(s->aa, RAS_AA_SSAA);
-    assert_int_equal(s->samples, 8);
     assert_int_equal(s->pattern.count, 8);
     assert_int_equal(s->pattern.kind, RAS_PATTERN_STANDARD);
     assert_int_equal(s->shader, RAS_SHADER_PHONG);
@@ -427,7 +425,6 @@ static void test_scene_depth_format(void **state) {
 static void test_scene_aa_defaults(void **state) {
     (void)state;
     ras_scene *s = parse_ok("{\"aa\": {\"mode\": \"msaa\"}," ONE_CUBE "}");
-    assert_int_equal(s->samples, 4);
     assert_int_equal(s->pattern.kind, RAS_PATTERN_ORDERED);
     assert_int_equal(s->pattern.count, 4);
     ras_scene_destroy(s);
