@@ -124,7 +124,7 @@ static bool worker_init(fast_worker *w, fast_frame *fr, size_t tile_samples) {
     /* DEPTH_PAD more: the first is x1_draw's spare slot for the
      * depth of a fragment that failed the test (written, never read) */
     w->depth = malloc((tile_samples + DEPTH_PAD) * sizeof *w->depth);
-    /* room for a tile's worth of fragments; defer_fragment grows it. One
+    /* room for a tile's worth of fragments; fast_defer_fragment grows it. One
      * more: per_pixel's spare record for fragments that fail the depth test */
     w->frag_cap = (size_t)TILE * TILE;
     w->frags = malloc((w->frag_cap + 1) * sizeof *w->frags);

@@ -237,7 +237,7 @@ static inline void fast_defer_fragment(fast_worker *w, const fast_tri *r, vec3s 
     fast_defer_set_owner(w, base, mask, i);
 }
 
-/* defer_fragment for a pixel's one sample (n = 1; mask 1). In per_pixel mode
+/* fast_defer_fragment for a pixel's one sample (n = 1; mask 1). In per_pixel mode
  * the fragment is written at its pixel, over the one it hides (shade_pixels
  * fills in the rest), and counted as hidden until shade_pixels finds it. */
 static inline void fast_defer_put_pixel(fast_worker *w, const fast_tri *r, vec3s bary, int base) {

@@ -648,8 +648,8 @@ static bool set_up(ras_app *app, ras_image **expected, char *ref_path, size_t si
 }
 
 /* A student program built before the student's last edit runs older code:
- * say so first (issue 25: after an edit, build/bin/hw1_transform still
- * printed the old TODO notice). Sources that cannot be read say nothing. */
+ * say so first (after an edit without a build, build/bin/hw1_transform would
+ * print the old TODO notice). Sources that cannot be read say nothing. */
 static void warn_if_stale(const ras_app_hooks *hooks) {
     struct stat exe, src;
     if (!hooks->student_sources || stat("/proc/self/exe", &exe) != 0) return;

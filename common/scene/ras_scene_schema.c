@@ -25,7 +25,7 @@
 static const char *const shape_names[RAS_SHAPE_COUNT] = {"triangle", "plane",  "cube",     "sphere",
                                                          "torus",    "teapot", "thin_fan", "model"};
 /* Option values are spelled by ras_names.h's tables; NAMES(t) passes one
- * to read_enum. */
+ * to ras_json_read_enum. */
 #define NAMES(t) (t).names, (t).count
 static const char *const space_names[] = {"view", "world"};
 static const char *const builtin_map_names[] = {"checker", "brick", "bumps"};
@@ -337,7 +337,7 @@ static bool parse_map(ras_json_ctx *c, const cJSON *v, const char *path, ras_sce
         if (!ras_json_read_path(c, file, p, "a file path (a non-empty string)", &m->path))
             return false;
     } else {
-        int kind = 0; /* gcc -O2 cannot see read_enum sets it on success */
+        int kind = 0; /* gcc -O2 cannot see ras_json_read_enum sets it on success */
         ras_json_join(p, path, "builtin");
         if (!ras_json_read_enum(c, builtin, p, builtin_map_names, COUNT(builtin_map_names), &kind))
             return false;

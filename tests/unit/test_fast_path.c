@@ -241,7 +241,7 @@ static void test_fast_path_clipping_affine(void **state) {
     scene->width = scene->height = 700;
 }
 
-/* Materials the default scene lacks: clamped textures (bilinear_x4's other
+/* Materials the default scene lacks: clamped textures (bilinear_x4_footprint's other
  * wrap), a 1×1 colour map, a coloured light (three divisions for its
  * irradiance, not one), then no light at all (the unbatched shaders' path for
  * Blinn-Phong and texture). */
@@ -280,7 +280,7 @@ static void test_fast_path_clamp_coloured_light_no_light(void **state) {
     scene->width = scene->height = 700;
 }
 
-/* Extreme but legal cameras (issue #27): near 0.1 and 0.01 with far 1e6,
+/* Extreme but legal cameras: near 0.1 and 0.01 with far 1e6,
  * triangles whose tip lies within 0.05 of the eye and whose far edge lies at
  * 900 000, and a floor 1e6 wide seen from 1e-3 above it with near 1e-4 (far
  * 1e6 is the largest a scene file takes). The
