@@ -67,7 +67,7 @@ static void *worker_main(void *arg) {
 /* What the fast path draws: one of hw3's shaders, no culling, z01 depth, at
  * most FAST_MAX_OBJECTS objects, and no frame the window or --dump keeps
  * buffers of (the teaching pipeline's pipeline and fragment buffers). */
-static bool fast_accepts(const ras_scene *scene, const hw3_render_options *opt) {
+static bool accepts(const ras_scene *scene, const hw3_render_options *opt) {
     return fast_shade_find(opt->shader) && opt->cull == RAS_CULL_NONE &&
            opt->depth == RAS_DEPTH_Z01 && scene->object_count <= FAST_MAX_OBJECTS &&
            !opt->dump_dir && !opt->capture && !opt->step;
@@ -193,7 +193,7 @@ static void sum_counters(const fast_frame *fr, const fast_worker *workers, int t
     if (settings && settings->shaded) *settings->shaded = shaded;
 }
 
-/* Everything fast_draw allocated (NULL-safe: a frame that failed halfway). */
+/* Everything draw_frame allocated (NULL-safe: a frame that failed halfway). */
 static void free_frame(fast_frame *fr, fast_worker *workers, int threads) {
     for (int i = 0; workers && i < threads; i++) {
         free(workers[i].color);
@@ -219,8 +219,8 @@ static void free_frame(fast_frame *fr, fast_worker *workers, int threads) {
 
 /* One frame: plan, set up and bin (worker_main, shared out), tiles on the
  * workers, then the counters and times as the teaching pipeline reports them. */
-static bool fast_draw(fast_frame *fr, const hw3_render_options *opt, const fast_settings *settings,
-                      ras_counters *k, ras_error *err) {
+static bool draw_frame(fast_frame *fr, const hw3_render_options *opt, const fast_settings *settings,
+                       ras_counters *k, ras_error *err) {
     const ras_scene *scene = fr->scene;
     int width = scene->width, height = scene->height;
     if (width < 1 || height < 1 || width > RAS_IMAGE_MAX_SIDE || height > RAS_IMAGE_MAX_SIDE)
@@ -273,7 +273,7 @@ static bool fast_draw(fast_frame *fr, const hw3_render_options *opt, const fast_
 int fast_render(const ras_scene *scene, ras_scene_assets *assets, const hw3_render_options *opt,
                 const fast_settings *settings, ras_image *out, ras_counters *stats,
                 ras_error *err) {
-    if (!fast_accepts(scene, opt)) return -1;
+    if (!accepts(scene, opt)) return -1;
     /* every object's model matrix, hw3_render's (the frame's turn included) */
     mat4s *models = malloc((size_t)scene->object_count * sizeof *models);
     if (!models) return -1;
@@ -295,7 +295,7 @@ int fast_render(const ras_scene *scene, ras_scene_assets *assets, const hw3_rend
                      .projection = setup.projection};
     ras_counters k = {.mip_levels_built = setup.mip_levels,
                       .stages_run = setup.mip_levels ? RAS_STAGE_MIPMAP : 0u};
-    bool ok = fast_draw(&fr, opt, settings, &k, err);
+    bool ok = draw_frame(&fr, opt, settings, &k, err);
     if (stats) *stats = k;
     free(models);
     return ok;

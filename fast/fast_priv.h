@@ -96,11 +96,11 @@ enum { BATCH_NONE, BATCH_NORMAL, BATCH_PHONG, BATCH_TEXTURE, BATCH_BUMP, BATCH_D
 /* How the one-at-a-time path (fast_shade.c's shade) colours a fragment of
  * a shader: the shader itself (the reference function), or Blinn-Phong with
  * the material's colour or with the colour map's texel as kd
- * (fast_blinn_phong, which skips powf where it is certainly +0). */
+ * (blinn_phong, which skips powf where it is certainly +0). */
 enum { SCALAR_REFERENCE, SCALAR_LIT_COLOUR, SCALAR_LIT_TEXTURE };
 
 /* What the fast path knows of one of hw3's shaders, declared in one table
- * (fast_shade.c's fast_shaders, one row per hw3 shader): it is found by the
+ * (fast_shade.c's shader_table, one row per hw3 shader): it is found by the
  * shader's name in the render options, never by its function's address. */
 typedef struct fast_shader {
     int batch;       /* BATCH_*: its four-lane form */
@@ -149,7 +149,7 @@ typedef struct fast_frame {
     atomic_bool failed; /* out of memory somewhere */
     double t_setup;     /* when setup ended (ms_vertex) */
     ras_image *out;
-    const fast_shader *shader; /* the frame's shader, as fast_shaders declares it */
+    const fast_shader *shader; /* the frame's shader, as shader_table declares it */
     int batch;                 /* BATCH_*: shade through the queue, four at a time */
     /* One sample per pixel and a batched shader: a fragment that passes the
      * depth test is recorded at its pixel (frags[base]), replacing the one
@@ -283,7 +283,7 @@ void fast_setup_bin(fast_frame *fr);
  * rasterized, depth-tested and its fragments recorded. */
 void fast_rast_triangle(fast_worker *w, const fast_tri *r, int tx0, int ty0, int tx1, int ty1);
 
-/* fast_shade.c. The frame's shader as fast_shaders declares it (NULL: not
+/* fast_shade.c. The frame's shader as shader_table declares it (NULL: not
  * one of hw3's); the four-lane form the frame can use (BATCH_NONE: one at a
  * time). */
 const fast_shader *fast_shade_find(ras_scene_shader shader);

@@ -34,10 +34,10 @@
 static const char *const fast_copies[RAS_SHADER_COUNT] = {
     [RAS_SHADER_NORMAL] =
         "the normal lanes of shade_prepare (" X4_C "), its copy of normal_fragment_shader",
-    [RAS_SHADER_PHONG] = "fast_blinn_phong (" SHADE_C ") and its four-lane form in "
+    [RAS_SHADER_PHONG] = "blinn_phong (" SHADE_C ") and its four-lane form in "
                          "light_terms_x4/shade_finish (" X4_C "), copies of blinn_phong_lighting "
                          "and phong_fragment_shader",
-    [RAS_SHADER_TEXTURE] = "fast_blinn_phong (" SHADE_C ") and shade_finish (" X4_C "), copies of "
+    [RAS_SHADER_TEXTURE] = "blinn_phong (" SHADE_C ") and shade_finish (" X4_C "), copies of "
                            "blinn_phong_lighting and texture_fragment_shader, or "
                            "bilinear_x4_footprint/bilinear_x4_blend (" X4_C "), the copy of "
                            "texture_sample_bilinear",
