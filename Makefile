@@ -37,7 +37,7 @@ reference-images: build
 	@scripts/reference-images $(BUILD)
 
 format:
-	@clang-format -i common/*.[ch] common/*.cpp hw*/*.[ch] hw*/solution/*.c \
+	@clang-format -i common/*/*.[ch] common/*/*.cpp fast/*.[ch] hw*/*.[ch] hw*/solution/*.c \
 	  tests/unit/*.[ch] tests/grading/*.[ch] tests/bench/*.[ch]
 
 clean:

@@ -543,13 +543,13 @@ static struct {
     void (*release_import)(const struct aiScene *);
     const char *(*get_error_string)(void);
     char error[512];
-} assimp;
-static pthread_once_t assimp_once = PTHREAD_ONCE_INIT;
+} g_assimp;
+static pthread_once_t g_assimp_once = PTHREAD_ONCE_INIT;
 
 static void *assimp_symbol(void *lib, const char *name) {
     void *p = dlsym(lib, name);
-    if (!p && !assimp.error[0])
-        snprintf(assimp.error, sizeof assimp.error, "%s has no %s", RAS_ASSIMP_LIBRARY, name);
+    if (!p && !g_assimp.error[0])
+        snprintf(g_assimp.error, sizeof g_assimp.error, "%s has no %s", RAS_ASSIMP_LIBRARY, name);
     return p;
 }
 
@@ -557,7 +557,7 @@ static void open_assimp(void) {
     void *lib = dlopen(RAS_ASSIMP_LIBRARY, RTLD_LAZY | RTLD_LOCAL); /* as at start-up */
     if (!lib) {
         const char *why = dlerror();
-        snprintf(assimp.error, sizeof assimp.error, "%s", why ? why : RAS_ASSIMP_LIBRARY);
+        snprintf(g_assimp.error, sizeof g_assimp.error, "%s", why ? why : RAS_ASSIMP_LIBRARY);
         return;
     }
     union {
@@ -569,19 +569,19 @@ static void open_assimp(void) {
               {assimp_symbol(lib, "aiReleaseImport")},
               {assimp_symbol(lib, "aiGetErrorString")}};
     if (!f[0].p || !f[1].p || !f[2].p) return; /* the library stays open: harmless */
-    assimp.import_file_ex = f[0].import_file_ex;
-    assimp.release_import = f[1].release_import;
-    assimp.get_error_string = f[2].get_error_string;
+    g_assimp.import_file_ex = f[0].import_file_ex;
+    g_assimp.release_import = f[1].release_import;
+    g_assimp.get_error_string = f[2].get_error_string;
 }
 
 /* True when assimp is there; else false and err says why. */
 static bool load_assimp(const char *path, ras_error *err) {
-    pthread_once(&assimp_once, open_assimp);
-    if (assimp.import_file_ex) return true;
+    pthread_once(&g_assimp_once, open_assimp);
+    if (g_assimp.import_file_ex) return true;
     return ras_error_set(err,
                          "cannot read model '%s': the model importer (assimp) could not be "
                          "loaded (%s); install it (scripts/install-deps)",
-                         path, assimp.error);
+                         path, g_assimp.error);
 }
 
 static ras_mesh *import_mesh(const char *path, const char *suffix, ras_error *err) {
@@ -603,12 +603,12 @@ static ras_mesh *import_mesh(const char *path, const char *suffix, ras_error *er
         named.alias = alias;
     }
     struct aiFileIO io = {io_open, io_close, (aiUserData)&named};
-    const struct aiScene *scene = assimp.import_file_ex(named.alias, flags, &io);
+    const struct aiScene *scene = g_assimp.import_file_ex(named.alias, flags, &io);
     if (!scene) {
         /* assimp's own text names its internals ("OBJ: Invalid face indice",
          * "Unable to open file"): the project's sentence comes first, with
          * the file and what was expected, and assimp's words last, as detail. */
-        const char *why = assimp.get_error_string();
+        const char *why = g_assimp.get_error_string();
         ras_error_set(err,
                       "could not read model '%s': it is not a complete mesh file in a format the "
                       "importer knows (expected OBJ, PLY, STL, glTF, OFF, COLLADA, ...) — check "
@@ -617,7 +617,7 @@ static ras_mesh *import_mesh(const char *path, const char *suffix, ras_error *er
         return NULL;
     }
     if ((scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) || !scene->mRootNode) {
-        assimp.release_import(scene);
+        g_assimp.release_import(scene);
         ras_error_set(err,
                       "model '%s' is incomplete (an animation or skeleton without geometry); "
                       "expected triangles — export the mesh itself",
@@ -628,7 +628,7 @@ static ras_mesh *import_mesh(const char *path, const char *suffix, ras_error *er
     ras_mesh_instance *inst = NULL;
     size_t inst_count = 0;
     if (!collect_instances(scene, &inst, &inst_count)) {
-        assimp.release_import(scene);
+        g_assimp.release_import(scene);
         ras_error_set(err, "out of memory while reading the node tree of '%s'", path);
         return NULL;
     }
@@ -678,7 +678,7 @@ static ras_mesh *import_mesh(const char *path, const char *suffix, ras_error *er
         free(repair);
     }
     free(inst);
-    assimp.release_import(scene);
+    g_assimp.release_import(scene);
     return mesh;
 }
 

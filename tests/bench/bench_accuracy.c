@@ -909,7 +909,7 @@ static void filtering(void) {
                                                       (vec3s){{0, 0, 0}}),
                                    .meshes = &m, .mesh_count = 1, .view = *identity(),
                                    .projection = proj, .img = img};
-            t[fi].r = new_row("filter", scene, hw3_filter_name(filters[fi]));
+            t[fi].r = new_row("filter", scene, ras_scene_filter_name(filters[fi]));
         }
         progress("filter / %s: timing nearest, bilinear, trilinear", scene);
         time_group(t, 3);

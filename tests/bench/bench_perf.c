@@ -78,7 +78,7 @@
 typedef struct row {
     const char *mode; /* "plain", "fast" or "llvmpipe" */
     int threads;
-    hw3_shader shader;
+    ras_scene_shader shader;
     ras_aa_mode aa;
     double median, min, max;
     double cpu_median; /* process CPU time per frame, all threads: robust to a busy machine */
@@ -115,7 +115,7 @@ static double cpu_ms(void) {
 static bool bench_filter_set;
 static texture_filter bench_filter;
 
-static bool render(const ras_scene *scene, ras_scene_assets *assets, hw3_shader shader, ras_aa_mode aa, bool plain, int threads,
+static bool render(const ras_scene *scene, ras_scene_assets *assets, ras_scene_shader shader, ras_aa_mode aa, bool plain, int threads,
                    ras_image *out, ras_counters *k, uint64_t *shaded, double *ms, double *cpu) {
     hw3_render_options opt = hw3_render_defaults();
     *shaded = UINT64_MAX; /* the plain pipeline leaves it: it shades what it counts */
@@ -158,7 +158,7 @@ typedef struct contender {
  * reference image), then `frames` rounds of one frame each, the order turned
  * by one every round. Every fast frame is compared with `expected` (outside
  * the timing). Fills each contender's row. */
-static bool measure_rounds(const ras_scene *scene, ras_scene_assets *assets, hw3_shader shader,
+static bool measure_rounds(const ras_scene *scene, ras_scene_assets *assets, ras_scene_shader shader,
                            ras_aa_mode aa, contender *cs, int n, int frames, ras_image *expected,
                            ras_image *img) {
     bool ok = true;
@@ -221,24 +221,24 @@ static void print_row(FILE *f, const row *r, bool md) {
         const char *check = !r->checked ? "" : r->check.pass ? "within tolerance" : "**OUTSIDE tolerance**";
         if (md)
             fprintf(f, "| %s | %s | llvmpipe | %d | %.2f | %.2f | %.2f | %.2f | — | — | — | — | %s |\n",
-                    hw3_shader_name(r->shader), aa_label(r->aa), r->threads, r->median, r->min,
+                    ras_scene_shader_name(r->shader), aa_label(r->aa), r->threads, r->median, r->min,
                     r->max, r->cpu_median, check);
         else
             fprintf(f, "%-12s %-8s %-8s %2d %9.2f %9.2f %9.2f %9.2f  %s\n",
-                    hw3_shader_name(r->shader), aa_label(r->aa), "llvmpipe", r->threads, r->median,
+                    ras_scene_shader_name(r->shader), aa_label(r->aa), "llvmpipe", r->threads, r->median,
                     r->min, r->max, r->cpu_median, r->checked ? (r->check.pass ? "pixels within tolerance" : "pixels OUTSIDE tolerance") : "");
         return;
     }
     if (md)
         fprintf(f,
                 "| %s | %s | %s | %d | %.2f | %.2f | %.2f | %.2f | %llu | %llu | %.1f | %.1f | %s |\n",
-                hw3_shader_name(r->shader), aa_label(r->aa), r->mode, r->threads, r->median, r->min,
+                ras_scene_shader_name(r->shader), aa_label(r->aa), r->mode, r->threads, r->median, r->min,
                 r->max, r->cpu_median, (unsigned long long)r->fragments,
                 (unsigned long long)r->shaded, ns,
                 (double)r->buffer_bytes / 1048576.0, r->identical ? "yes" : "**NO**");
     else
         fprintf(f, "%-12s %-8s %-8s %2d %9.2f %9.2f %9.2f %9.2f %9llu %9llu %8.1f %8.1f %s\n",
-                hw3_shader_name(r->shader), aa_label(r->aa), r->mode, r->threads, r->median, r->min,
+                ras_scene_shader_name(r->shader), aa_label(r->aa), r->mode, r->threads, r->median, r->min,
                 r->max, r->cpu_median, (unsigned long long)r->fragments,
                 (unsigned long long)r->shaded, ns,
                 (double)r->buffer_bytes / 1048576.0, r->identical ? "same" : "DIFFERENT");
@@ -302,18 +302,18 @@ static void machine_name(char *buf, size_t size) {
 static int count_frames(const ras_scene *scene, ras_scene_assets *assets, bool plain,
                         bool only_1x, ras_image *img) {
     const ras_aa_mode aas[2] = {RAS_AA_NONE, RAS_AA_MSAA};
-    for (int s = 0; s < HW3_SHADER_COUNT; s++)
+    for (int s = RAS_SHADER_NORMAL; s < RAS_SHADER_COUNT; s++)
         for (int a = 0; a < (only_1x ? 1 : 2); a++) {
             ras_counters k;
             uint64_t shaded;
             double ms, cpu;
             char name[64];
-            snprintf(name, sizeof name, "%s_%s", hw3_shader_name((hw3_shader)s), a ? "msaa" : "none");
-            if (!render(scene, assets, (hw3_shader)s, aas[a], plain, 1, img, &k, &shaded, &ms, &cpu))
+            snprintf(name, sizeof name, "%s_%s", ras_scene_shader_name((ras_scene_shader)s), a ? "msaa" : "none");
+            if (!render(scene, assets, (ras_scene_shader)s, aas[a], plain, 1, img, &k, &shaded, &ms, &cpu))
                 return 1;
             CALLGRIND_ZERO_STATS;
             bool ok =
-                render(scene, assets, (hw3_shader)s, aas[a], plain, 1, img, &k, &shaded, &ms, &cpu);
+                render(scene, assets, (ras_scene_shader)s, aas[a], plain, 1, img, &k, &shaded, &ms, &cpu);
             CALLGRIND_DUMP_STATS_AT(name);
             if (!ok) return 1;
         }
@@ -322,7 +322,7 @@ static int count_frames(const ras_scene *scene, ras_scene_assets *assets, bool p
 
 /* instr[shader][aa][renderer]: 0 teaching pipeline, 1 fast path, 2 llvmpipe,
  * 3 teaching pipeline with nearest lookups (the course framework's). */
-static uint64_t instr[HW3_SHADER_COUNT][2][4];
+static uint64_t instr[RAS_SHADER_COUNT][2][4];
 
 /* Runs argv under callgrind (LP_NUM_THREADS=1) and reads its dumps into
  * instr[..][..][who]. */
@@ -350,7 +350,7 @@ static bool callgrind(char *const argv[], int who) {
         return false;
     }
     int found = 0;
-    for (int part = 1; part <= 2 * HW3_SHADER_COUNT; part++) {
+    for (int part = 1; part <= 2 * (RAS_SHADER_COUNT - RAS_SHADER_NORMAL); part++) {
         char path[300], line[512], name[128] = "";
         snprintf(path, sizeof path, "%s.%d", out, part);
         FILE *f = fopen(path, "r");
@@ -364,10 +364,10 @@ static bool callgrind(char *const argv[], int who) {
         }
         fclose(f);
         remove(path);
-        for (int s = 0; s < HW3_SHADER_COUNT; s++)
+        for (int s = RAS_SHADER_NORMAL; s < RAS_SHADER_COUNT; s++)
             for (int a = 0; a < 2; a++) {
                 char want[64];
-                snprintf(want, sizeof want, "%s_%s", hw3_shader_name((hw3_shader)s),
+                snprintf(want, sizeof want, "%s_%s", ras_scene_shader_name((ras_scene_shader)s),
                          a ? "msaa" : "none");
                 if (!strcmp(name, want) && total) {
                     instr[s][a][who] = total;
@@ -376,15 +376,15 @@ static bool callgrind(char *const argv[], int who) {
             }
     }
     remove(out);
-    if (found != 2 * HW3_SHADER_COUNT)
+    if (found != 2 * (RAS_SHADER_COUNT - RAS_SHADER_NORMAL))
         fprintf(stderr, "bench_perf: callgrind of %s: %d of %d frames counted\n", argv[0], found,
-                2 * HW3_SHADER_COUNT);
-    return found == 2 * HW3_SHADER_COUNT;
+                2 * (RAS_SHADER_COUNT - RAS_SHADER_NORMAL));
+    return found == 2 * (RAS_SHADER_COUNT - RAS_SHADER_NORMAL);
 }
 
 /* ---- llvmpipe beside the project's renderers ------------------------------ */
 
-static const row *find_row(hw3_shader shader, ras_aa_mode aa, const char *mode, int threads) {
+static const row *find_row(ras_scene_shader shader, ras_aa_mode aa, const char *mode, int threads) {
     for (int i = 0; i < row_count; i++)
         if (rows[i].shader == shader && rows[i].aa == aa && !strcmp(rows[i].mode, mode) &&
             rows[i].threads == threads)
@@ -418,26 +418,26 @@ static bool same_check(const llvmpipe_check *a, const llvmpipe_check *b) {
  * instructions counted with callgrind, million. The framework cannot be
  * built here (it is not ours to ship: Eigen, OpenCV 4 C++ and the course's
  * code), so its figures are these constants; they hold for the spot cow only. */
-static const double course_framework_minstr[HW3_SHADER_COUNT] = {
-    [HW3_SHADER_NORMAL] = 76.6,       [HW3_SHADER_PHONG] = 143.0,
-    [HW3_SHADER_TEXTURE] = 168.3,     [HW3_SHADER_BUMP] = 125.1,
-    [HW3_SHADER_DISPLACEMENT] = 178.6,
+static const double course_framework_minstr[RAS_SHADER_COUNT] = {
+    [RAS_SHADER_NORMAL] = 76.6,       [RAS_SHADER_PHONG] = 143.0,
+    [RAS_SHADER_TEXTURE] = 168.3,     [RAS_SHADER_BUMP] = 125.1,
+    [RAS_SHADER_DISPLACEMENT] = 178.6,
 };
 static bool bench_on_spot; /* --spot: the framework's figures apply */
 
 /* The teaching pipeline's instructions beside the framework's (1x). */
 static void report_framework(FILE *f) {
     bool counted = true;
-    for (int s = 0; s < HW3_SHADER_COUNT; s++) counted = counted && instr[s][0][0] && instr[s][0][3];
+    for (int s = RAS_SHADER_NORMAL; s < RAS_SHADER_COUNT; s++) counted = counted && instr[s][0][0] && instr[s][0][3];
     if (!counted) return;
     fprintf(f, "\n### The teaching pipeline against the course's framework\n\n");
     if (!bench_on_spot) {
         fprintf(f, "The course framework's figures are for the spot cow: run `make bench-perf "
                    "INSTRUCTIONS=1 SPOT=…/spot` to compare. The teaching pipeline on this model, "
                    "1x, million instructions: ");
-        for (int s = 0; s < HW3_SHADER_COUNT; s++)
+        for (int s = RAS_SHADER_NORMAL; s < RAS_SHADER_COUNT; s++)
             fprintf(f, "%s%s %.1f (nearest lookups %.1f)", s ? ", " : "",
-                    hw3_shader_name((hw3_shader)s), instr[s][0][0] / 1e6, instr[s][0][3] / 1e6);
+                    ras_scene_shader_name((ras_scene_shader)s), instr[s][0][0] / 1e6, instr[s][0][3] / 1e6);
         fprintf(f, ".\n");
         return;
     }
@@ -454,16 +454,17 @@ static void report_framework(FILE *f) {
     fprintf(f, "| shader | framework | teaching, bilinear (default) | ÷ framework | teaching, "
                "nearest | ÷ framework |\n|---|---:|---:|---:|---:|---:|\n");
     int at_or_below = 0, at_or_below_nearest = 0;
-    for (int s = 0; s < HW3_SHADER_COUNT; s++) {
+    for (int s = RAS_SHADER_NORMAL; s < RAS_SHADER_COUNT; s++) {
         double fw = course_framework_minstr[s], b = instr[s][0][0] / 1e6, n = instr[s][0][3] / 1e6;
-        fprintf(f, "| %s | %.1f | %.1f | %.2f | %.1f | %.2f |\n", hw3_shader_name((hw3_shader)s), fw,
+        fprintf(f, "| %s | %.1f | %.1f | %.2f | %.1f | %.2f |\n", ras_scene_shader_name((ras_scene_shader)s), fw,
                 b, b / fw, n, n / fw);
         at_or_below += b <= fw;
         at_or_below_nearest += n <= fw;
     }
     fprintf(f, "\nAt or below the framework's count: %d of %d shaders with bilinear lookups, %d of "
                "%d with nearest.\n",
-            at_or_below, HW3_SHADER_COUNT, at_or_below_nearest, HW3_SHADER_COUNT);
+            at_or_below, RAS_SHADER_COUNT - RAS_SHADER_NORMAL, at_or_below_nearest,
+            RAS_SHADER_COUNT - RAS_SHADER_NORMAL);
 }
 
 /* The side-by-side tables of docs/performance.md: times, ratios, who is faster,
@@ -483,15 +484,15 @@ static void report_llvmpipe(FILE *f, const char *renderer) {
     int fast_wins = 0, fast_total = 0, plain_wins = 0, plain_total = 0, cpu_wins = 0,
         cpu_total = 0;
     char fast_losses[1024] = "", plain_list[1024] = "";
-    for (int s = 0; s < HW3_SHADER_COUNT; s++)
+    for (int s = RAS_SHADER_NORMAL; s < RAS_SHADER_COUNT; s++)
         for (int a = 0; a < 2; a++) {
-            const row *p = find_row((hw3_shader)s, aas[a], "plain", 1),
-                      *f1 = find_row((hw3_shader)s, aas[a], "fast", 1),
-                      *f2 = find_row((hw3_shader)s, aas[a], "fast", 2),
-                      *l1 = find_row((hw3_shader)s, aas[a], "llvmpipe", 1),
-                      *l2 = find_row((hw3_shader)s, aas[a], "llvmpipe", 2);
+            const row *p = find_row((ras_scene_shader)s, aas[a], "plain", 1),
+                      *f1 = find_row((ras_scene_shader)s, aas[a], "fast", 1),
+                      *f2 = find_row((ras_scene_shader)s, aas[a], "fast", 2),
+                      *l1 = find_row((ras_scene_shader)s, aas[a], "llvmpipe", 1),
+                      *l2 = find_row((ras_scene_shader)s, aas[a], "llvmpipe", 2);
             if (!l1 && !l2) continue;
-            fprintf(f, "| %s | %s |", hw3_shader_name((hw3_shader)s), aa_label(aas[a]));
+            fprintf(f, "| %s | %s |", ras_scene_shader_name((ras_scene_shader)s), aa_label(aas[a]));
             print_ms(f, p), print_ms(f, f1), print_ms(f, f2), print_ms(f, l1), print_ms(f, l2);
             print_ratio(f, p, l1), print_ratio(f, f1, l1), print_ratio(f, f2, l2);
             const char *w[2] = {"—", "—"};
@@ -505,7 +506,7 @@ static void report_llvmpipe(FILE *f, const char *renderer) {
                 if (!win) {
                     size_t len = strlen(fast_losses);
                     snprintf(fast_losses + len, sizeof fast_losses - len, "%s%s %s on %d thread%s",
-                             len ? ", " : "", hw3_shader_name((hw3_shader)s), aa_label(aas[a]),
+                             len ? ", " : "", ras_scene_shader_name((ras_scene_shader)s), aa_label(aas[a]),
                              th + 1, th ? "s" : "");
                 }
             }
@@ -515,7 +516,7 @@ static void report_llvmpipe(FILE *f, const char *renderer) {
                     plain_wins++;
                     size_t len = strlen(plain_list);
                     snprintf(plain_list + len, sizeof plain_list - len, "%s%s %s",
-                             len ? ", " : "", hw3_shader_name((hw3_shader)s), aa_label(aas[a]));
+                             len ? ", " : "", ras_scene_shader_name((ras_scene_shader)s), aa_label(aas[a]));
                 }
             }
             fprintf(f, " %s / %s |", w[0], w[1]);
@@ -538,7 +539,7 @@ static void report_llvmpipe(FILE *f, const char *renderer) {
                "in %d of %d shader × AA pairs.\n",
             cpu_wins, cpu_total);
     bool counted = false;
-    for (int s = 0; s < HW3_SHADER_COUNT; s++) counted = counted || instr[s][0][2];
+    for (int s = RAS_SHADER_NORMAL; s < RAS_SHADER_COUNT; s++) counted = counted || instr[s][0][2];
     if (counted) {
         fprintf(f, "\n#### Instructions per frame\n\nOne frame on one thread, counted with "
                    "callgrind (`--instructions`: the same whatever else the machine does — exact "
@@ -548,12 +549,12 @@ static void report_llvmpipe(FILE *f, const char *renderer) {
                    "| shader | AA | teaching pipeline | fast path | llvmpipe | teaching ÷ llvmpipe | "
                    "fast ÷ llvmpipe |\n|---|---|---:|---:|---:|---:|---:|\n");
         int fewer = 0;
-        for (int s = 0; s < HW3_SHADER_COUNT; s++)
+        for (int s = RAS_SHADER_NORMAL; s < RAS_SHADER_COUNT; s++)
             for (int a = 0; a < 2; a++) {
                 const uint64_t *c = instr[s][a];
                 if (!c[2]) continue;
                 fprintf(f, "| %s | %s | %.1f | %.1f | %.1f | %.2f | %.2f |\n",
-                        hw3_shader_name((hw3_shader)s), aa_label(aas[a]), c[0] / 1e6, c[1] / 1e6,
+                        ras_scene_shader_name((ras_scene_shader)s), aa_label(aas[a]), c[0] / 1e6, c[1] / 1e6,
                         c[2] / 1e6, (double)c[0] / (double)c[2], (double)c[1] / (double)c[2]);
                 fewer += c[1] < c[2];
             }
@@ -586,7 +587,7 @@ static void report_llvmpipe(FILE *f, const char *renderer) {
             if (one && one->checked && same_check(&one->check, c)) continue;
         }
         fprintf(f, "| %s | %s | %s | %ld | %ld | %.2f %% | %.3f | %.2f %% | %d | %s |\n",
-                hw3_shader_name(r->shader), aa_label(r->aa), same ? "1, 2" : r->threads == 1 ? "1" : "2",
+                ras_scene_shader_name(r->shader), aa_label(r->aa), same ? "1, 2" : r->threads == 1 ? "1" : "2",
                 c->covered_ours,
                 c->covered_llvmpipe, 100 * c->coverage_diff, c->mean_diff, 100 * c->bad_fraction,
                 c->max_diff, c->pass ? "within tolerance" : "**OUTSIDE tolerance**");
@@ -605,7 +606,7 @@ static bool write_csv(const char *path) {
         const char *who = is_llvmpipe(r)         ? "llvmpipe"
                           : r->mode[0] == 'p'    ? "teaching_pipeline"
                                                  : "fast_path";
-        fprintf(f, "%s,%s,%s,%d,%.3f,%.3f,%.3f,", hw3_shader_name(r->shader), aa, who, r->threads,
+        fprintf(f, "%s,%s,%s,%d,%.3f,%.3f,%.3f,", ras_scene_shader_name(r->shader), aa, who, r->threads,
                 r->median, r->min, r->max);
         if (r->instructions) fprintf(f, "%llu", (unsigned long long)r->instructions);
         fprintf(f, ",");
@@ -664,8 +665,8 @@ int main(int argc, char **argv) {
         }
         else if (!strcmp(argv[i], "--shader") && i + 1 < argc) {
             i++;
-            for (int sh = 0; sh < HW3_SHADER_COUNT; sh++)
-                if (!strcmp(argv[i], hw3_shader_name((hw3_shader)sh))) only_shader = sh;
+            for (int sh = RAS_SHADER_NORMAL; sh < RAS_SHADER_COUNT; sh++)
+                if (!strcmp(argv[i], ras_scene_shader_name((ras_scene_shader)sh))) only_shader = sh;
             if (only_shader < 0) {
                 fprintf(stderr, "bench_perf: unknown shader '%s'\n", argv[i]);
                 return 2;
@@ -766,7 +767,7 @@ int main(int argc, char **argv) {
     fprintf(stderr, "bench_perf: %s, %zu triangles, %d frames per row%s%s\n", model_name,
             assets->meshes[0]->triangle_count, frames, llvm_renderer[0] ? "; beside " : "",
             llvm_renderer);
-    for (int s = 0; s < HW3_SHADER_COUNT; s++)
+    for (int s = RAS_SHADER_NORMAL; s < RAS_SHADER_COUNT; s++)
         for (int a = 0; a < 3; a++) {
             if ((only_shader >= 0 && s != only_shader) || (only_aa >= 0 && a != only_aa)) continue;
             /* Filtered runs time the plain path over one frame only: it is
@@ -782,13 +783,13 @@ int main(int argc, char **argv) {
                     cs[n++] = (contender){.threads = th, .llvm = llvm[th - 1], .frames = frames};
             if (row_count + n > MAX_ROWS) return 1;
             for (int i = 0; i < n; i++) cs[i].r = &rows[row_count + i];
-            if (!measure_rounds(scene, assets, (hw3_shader)s, aas[a], cs, n, frames, expected, img))
+            if (!measure_rounds(scene, assets, (ras_scene_shader)s, aas[a], cs, n, frames, expected, img))
                 return 1;
             for (int i = 0; i < n; i++) {
                 row *r = cs[i].r;
                 if (cs[i].llvm) { /* the same pixels? against the plain image */
                     bool msaa = aas[a] == RAS_AA_MSAA;
-                    if (!llvmpipe_image(cs[i].llvm, (hw3_shader)s, msaa, scene->width,
+                    if (!llvmpipe_image(cs[i].llvm, (ras_scene_shader)s, msaa, scene->width,
                                         scene->height, rgba)) {
                         fprintf(stderr, "bench_perf: no image from llvmpipe\n");
                         return 1;
@@ -921,30 +922,30 @@ int main(int argc, char **argv) {
                 "frame held: the plain pipeline's full-screen framebuffer (samples per pixel × "
                 "16 bytes × 700²), the fast path's per-thread tile buffers.\n");
         /* The goals the report checks, from the rows above. */
-        const row *g[HW3_SHADER_COUNT][3][3] = {{{0}}}; /* shader, aa, 0 plain / 1-2 threads */
+        const row *g[RAS_SHADER_COUNT][3][3] = {{{0}}}; /* shader, aa, 0 plain / 1-2 threads */
         for (int i = 0; i < row_count; i++) {
             if (is_llvmpipe(&rows[i])) continue; /* their own section, below */
             int a = rows[i].aa == RAS_AA_MSAA ? 1 : rows[i].aa == RAS_AA_SSAA ? 2 : 0;
             int m = rows[i].mode[0] == 'p' ? 0 : rows[i].threads;
             g[rows[i].shader][a][m] = &rows[i];
         }
-        const row *ph = g[HW3_SHADER_PHONG][0][2], *tx = g[HW3_SHADER_TEXTURE][0][2];
+        const row *ph = g[RAS_SHADER_PHONG][0][2], *tx = g[RAS_SHADER_TEXTURE][0][2];
         fprintf(f, "\n### Goals\n\n| goal | measured | met |\n|---|---|---|\n");
         fprintf(f,
                 "| Blinn-Phong ≤ 2 ms at 1x, 2 threads | %.2f ms (1 thread %.2f ms, CPU %.2f ms; "
                 "plain %.2f ms) | %s |\n",
-                ph->median, g[HW3_SHADER_PHONG][0][1]->median,
-                g[HW3_SHADER_PHONG][0][1]->cpu_median, g[HW3_SHADER_PHONG][0][0]->median,
+                ph->median, g[RAS_SHADER_PHONG][0][1]->median,
+                g[RAS_SHADER_PHONG][0][1]->cpu_median, g[RAS_SHADER_PHONG][0][0]->median,
                 ph->median <= 2.0 ? "yes" : "no");
         fprintf(f,
                 "| texture ≤ 2.5 ms at 1x, 2 threads | %.2f ms (1 thread %.2f ms, CPU %.2f ms; "
                 "plain %.2f ms) | %s |\n",
-                tx->median, g[HW3_SHADER_TEXTURE][0][1]->median,
-                g[HW3_SHADER_TEXTURE][0][1]->cpu_median, g[HW3_SHADER_TEXTURE][0][0]->median,
+                tx->median, g[RAS_SHADER_TEXTURE][0][1]->median,
+                g[RAS_SHADER_TEXTURE][0][1]->cpu_median, g[RAS_SHADER_TEXTURE][0][0]->median,
                 tx->median <= 2.5 ? "yes" : "no");
         /* The AA ratios are judged on the 1-thread rows' CPU time: on a busy
          * machine the wall-clock ratios of noisy medians say little. */
-        for (int s = 0; s < HW3_SHADER_COUNT; s++) {
+        for (int s = RAS_SHADER_NORMAL; s < RAS_SHADER_COUNT; s++) {
             double m = g[s][1][1]->cpu_median / g[s][0][1]->cpu_median;
             double q = g[s][2][1]->cpu_median / g[s][0][1]->cpu_median;
             double mw = g[s][1][2]->median / g[s][0][2]->median;
@@ -952,10 +953,10 @@ int main(int argc, char **argv) {
             fprintf(f,
                     "| %s: MSAA 4x ≤ 1.5× 1x; SSAA 4x ≈ 4× (1-thread CPU time) | MSAA %.2f×, "
                     "SSAA %.2f× (2-thread wall clock: %.2f×, %.2f×) | %s |\n",
-                    hw3_shader_name((hw3_shader)s), m, q, mw, qw, m <= 1.5 ? "yes" : "no");
+                    ras_scene_shader_name((ras_scene_shader)s), m, q, mw, qw, m <= 1.5 ? "yes" : "no");
         }
         if (have_proc) {
-            double frame = g[HW3_SHADER_PHONG][0][2]->median;
+            double frame = g[RAS_SHADER_PHONG][0][2]->median;
             fprintf(f, "| whole process `hw3_shading_ref --model … --shader phong -o out.png` ≤ "
                        "loading (`--version`) + one frame | %.1f ms vs %.1f + %.1f = %.1f ms "
                        "(plain pipeline: %.1f ms) | %s |\n",

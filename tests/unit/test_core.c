@@ -256,7 +256,8 @@ static void test_app_resolve_one_rule_set(void **state) {
     assert_true(ras_app_resolve(&hooks, &cli, NULL, &set, &err));
     assert_int_equal(set.aa, RAS_AA_MSAA);
     assert_int_equal(set.pattern_kind, RAS_PATTERN_STANDARD);
-    assert_int_equal(set.pattern.count, 8);
+    assert_int_equal(set.samples, 8);
+    assert_int_equal(ras_app_settings_pattern(&set).count, 8);
     assert_int_equal(set.shader, RAS_SHADER_BUMP);
     assert_int_equal(set.filter, RAS_FILTER_NEAREST);
     const char *none[] = {"p", "--aa", "none", "--samples", "4"};

@@ -38,7 +38,7 @@
 #include <math.h>   /* fabsf */
 #include <stdio.h>  /* snprintf, fopen */
 #include <stdlib.h> /* malloc, free */
-#include <string.h> /* strcmp */
+#include <string.h> /* strcmp, strstr */
 
 #define W 64
 #define PIXELS (W * W)
@@ -448,6 +448,52 @@ static void test_depth_key_reaches_the_pipeline(void **state) {
     }
 }
 
+/* hw3 draws the core's shaders from normal on: flat (hw2's unlit colour) and a
+ * value past the last are refused with a message naming the five, by the
+ * teaching frame and (declining first) the fast path; a scene file's "flat"
+ * becomes the default, normal, and --shader flat does not parse. */
+static void test_flat_shader_refused(void **state) {
+    (void)state;
+    ras_error err = {{0}};
+    ras_scene *rs =
+        ras_scene_parse("{\"image\": {\"width\": 8, \"height\": 8}, \"shader\": \"flat\","
+                        " \"objects\": [{\"shape\": \"cube\"}]}",
+                        "flat.json", NULL, &err);
+    assert_non_null(rs);
+    ras_scene_assets *assets = ras_scene_load_assets(rs, &err);
+    assert_non_null(assets);
+    hw3_render_options opt = hw3_render_options_from_ras(rs);
+    assert_int_equal(opt.shader, RAS_SHADER_NORMAL);
+    ras_scene_shader parsed = RAS_SHADER_PHONG;
+    assert_false(hw3_shader_parse("flat", &parsed, &err));
+    assert_int_equal(parsed, RAS_SHADER_PHONG);
+    assert_non_null(
+        strstr(err.msg, "--shader expects normal, phong, texture, bump or displacement"));
+    ras_image *img = ras_image_create(8, 8, &err);
+    assert_non_null(img);
+    const ras_scene_shader refused[2] = {RAS_SHADER_FLAT, RAS_SHADER_COUNT};
+    for (int k = 0; k < 2; k++) {
+        opt.shader = refused[k];
+        assert_null(hw3_shader_function(opt.shader));
+        assert_int_equal(hw3_shader_varyings(opt.shader), 0);
+        err = (ras_error){{0}};
+        assert_false(hw3_render(rs, assets, &opt, img, NULL, &err));
+        printf("shader %d: %s\n", (int)opt.shader, err.msg);
+        assert_non_null(
+            strstr(err.msg, k ? "hw3 has no shader \"?\": expected normal, phong, "
+                                "texture, bump or displacement"
+                              : "hw3 has no shader \"flat\" (hw2's unlit colour): "
+                                "expected normal, phong, texture, bump or displacement"));
+#ifdef RAS_HAVE_FAST_RENDERER
+        err = (ras_error){{0}};
+        assert_int_equal(fast_render(rs, assets, &opt, NULL, img, NULL, &err), -1);
+#endif
+    }
+    ras_image_destroy(img);
+    ras_scene_assets_destroy(assets);
+    ras_scene_destroy(rs);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_aa_none_has_no_sample_buffers),
@@ -465,6 +511,7 @@ int main(void) {
         cmocka_unit_test(test_model_scene_takes_the_files),
         cmocka_unit_test(test_builtin_scenes_are_the_files),
         cmocka_unit_test(test_depth_key_reaches_the_pipeline),
+        cmocka_unit_test(test_flat_shader_refused),
     };
     return RAS_RUN_TESTS("scene_stages", tests, NULL, NULL);
 }
