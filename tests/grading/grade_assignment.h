@@ -5,8 +5,8 @@
  * again by the student's whole chain for the integration part, whose
  * failures say whose code causes them (grade_attribute.h).
  */
-#ifndef RAS_GRADE_ASSIGNMENT_H
-#define RAS_GRADE_ASSIGNMENT_H
+#ifndef RAS_GRADING_GRADE_ASSIGNMENT_H
+#define RAS_GRADING_GRADE_ASSIGNMENT_H
 
 #include "grade_priv.h"
 

@@ -3,8 +3,8 @@
  * measures"): the picture rendered again with one earlier assignment's
  * reference swapped in at a time, the answer leading the integration item.
  */
-#ifndef RAS_GRADE_ATTRIBUTE_H
-#define RAS_GRADE_ATTRIBUTE_H
+#ifndef RAS_GRADING_GRADE_ATTRIBUTE_H
+#define RAS_GRADING_GRADE_ATTRIBUTE_H
 
 #include "grade_priv.h"
 

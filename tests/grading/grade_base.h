@@ -2,8 +2,8 @@
  * growing string (sbuf), files read and written the simple way, lists of
  * names, the rubric's lookups and the clock. Knows nothing of a grading.
  */
-#ifndef RAS_GRADE_BASE_H
-#define RAS_GRADE_BASE_H
+#ifndef RAS_GRADING_GRADE_BASE_H
+#define RAS_GRADING_GRADE_BASE_H
 
 #include <cjson/cJSON.h>
 #include <stdbool.h>

@@ -5,8 +5,8 @@
  * assignment whose code makes it and the likely cause. grade_images.c
  * judges with it: what the picture alone shows may only refine it.
  */
-#ifndef RAS_GRADE_EVIDENCE_H
-#define RAS_GRADE_EVIDENCE_H
+#ifndef RAS_GRADING_GRADE_EVIDENCE_H
+#define RAS_GRADING_GRADE_EVIDENCE_H
 
 #include "grade_base.h"
 #include "grade_priv.h"

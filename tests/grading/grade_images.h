@@ -4,8 +4,8 @@
  * (common/app/ras_compare.h, thresholds from the catalogue), the buffers'
  * evidence first (grade_evidence.h), then what the picture itself shows.
  */
-#ifndef RAS_GRADE_IMAGES_H
-#define RAS_GRADE_IMAGES_H
+#ifndef RAS_GRADING_GRADE_IMAGES_H
+#define RAS_GRADING_GRADE_IMAGES_H
 
 #include "grade_base.h"
 #include "grade_priv.h"

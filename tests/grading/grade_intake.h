@@ -6,8 +6,8 @@
  * submission (--notes) and the seed the variants are drawn from (--seed).
  * Here they are read and checked; each check that fails says why on stderr.
  */
-#ifndef RAS_GRADE_INTAKE_H
-#define RAS_GRADE_INTAKE_H
+#ifndef RAS_GRADING_GRADE_INTAKE_H
+#define RAS_GRADING_GRADE_INTAKE_H
 
 #include "grade_priv.h"
 

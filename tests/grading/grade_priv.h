@@ -24,8 +24,8 @@
  * The trusted side (this program) never shares a process with student code:
  * that runs in tests/grading/sandbox, started by grade_run.c.
  */
-#ifndef RAS_GRADE_PRIV_H
-#define RAS_GRADE_PRIV_H
+#ifndef RAS_GRADING_GRADE_PRIV_H
+#define RAS_GRADING_GRADE_PRIV_H
 
 #include <cjson/cJSON.h>
 #include <stdbool.h>

@@ -4,8 +4,8 @@
  * hwN/cmocka.xml (JUnit), report.md (with the pictures), each written
  * atomically, and the table on stdout; both open with where to start.
  */
-#ifndef RAS_GRADE_REPORT_H
-#define RAS_GRADE_REPORT_H
+#ifndef RAS_GRADING_GRADE_REPORT_H
+#define RAS_GRADING_GRADE_REPORT_H
 
 #include "grade_priv.h"
 

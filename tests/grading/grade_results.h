@@ -2,8 +2,8 @@
  * an assignment's list of items, an item's JUnit <testcase>, the totals.
  * The types are grade_priv.h's.
  */
-#ifndef RAS_GRADE_RESULTS_H
-#define RAS_GRADE_RESULTS_H
+#ifndef RAS_GRADING_GRADE_RESULTS_H
+#define RAS_GRADING_GRADE_RESULTS_H
 
 #include "grade_priv.h"
 

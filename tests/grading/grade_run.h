@@ -5,8 +5,8 @@
  * then the trusted replay that decides), a picture's program, the trusted
  * reference program. Nothing here judges.
  */
-#ifndef RAS_GRADE_RUN_H
-#define RAS_GRADE_RUN_H
+#ifndef RAS_GRADING_GRADE_RUN_H
+#define RAS_GRADING_GRADE_RUN_H
 
 #include "grade_base.h"
 #include "grade_priv.h"

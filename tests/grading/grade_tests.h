@@ -4,8 +4,8 @@
  * tests_prepare and run_jobs), grade --sanitize's findings added to them,
  * and the items of an assignment whose code does not compile.
  */
-#ifndef RAS_GRADE_TESTS_H
-#define RAS_GRADE_TESTS_H
+#ifndef RAS_GRADING_GRADE_TESTS_H
+#define RAS_GRADING_GRADE_TESTS_H
 
 #include "grade_priv.h"
 #include "grade_run.h"

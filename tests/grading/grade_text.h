@@ -3,8 +3,8 @@
  * says the most, and anything the student's code printed made safe to show
  * (it can forge no heading, total, table, reading order or JSON).
  */
-#ifndef RAS_GRADE_TEXT_H
-#define RAS_GRADE_TEXT_H
+#ifndef RAS_GRADING_GRADE_TEXT_H
+#define RAS_GRADING_GRADE_TEXT_H
 
 #include "grade_base.h"
 

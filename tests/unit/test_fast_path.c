@@ -353,6 +353,33 @@ static void test_fast_path_extreme_cameras(void **state) {
     assets = kept_assets;
 }
 
+/* The fast renderer declines what hw3 refuses (flat, an out-of-range shader)
+ * rather than drawing it: -1 hands the frame back to hw3_render, which says
+ * why (test_scene_stages' test_flat_shader_refused checks the message). */
+static void test_fast_path_declines_flat(void **state) {
+    (void)state;
+    ras_error err = {{0}};
+    ras_scene *rs =
+        ras_scene_parse("{\"image\": {\"width\": 8, \"height\": 8}, \"shader\": \"flat\","
+                        " \"objects\": [{\"shape\": \"cube\"}]}",
+                        "flat.json", NULL, &err);
+    assert_non_null(rs);
+    ras_scene_assets *assets = ras_scene_load_assets(rs, &err);
+    assert_non_null(assets);
+    hw3_render_options opt = hw3_render_options_from_ras(rs);
+    ras_image *img = ras_image_create(8, 8, &err);
+    assert_non_null(img);
+    const ras_scene_shader refused[2] = {RAS_SHADER_FLAT, RAS_SHADER_COUNT};
+    for (int k = 0; k < 2; k++) {
+        opt.shader = refused[k];
+        err = (ras_error){{0}};
+        assert_int_equal(fast_render(rs, assets, &opt, NULL, img, NULL, &err), -1);
+    }
+    ras_image_destroy(img);
+    ras_scene_assets_destroy(assets);
+    ras_scene_destroy(rs);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_fast_path_default_scene),
@@ -360,6 +387,7 @@ int main(void) {
         cmocka_unit_test(test_fast_path_clipping_affine),
         cmocka_unit_test(test_fast_path_clamp_coloured_light_no_light),
         cmocka_unit_test(test_fast_path_extreme_cameras),
+        cmocka_unit_test(test_fast_path_declines_flat),
     };
     return RAS_RUN_TESTS("fast_path", tests, group_setup, group_teardown);
 }

@@ -484,10 +484,6 @@ static void test_flat_shader_refused(void **state) {
                                 "texture, bump or displacement"
                               : "hw3 has no shader \"flat\" (hw2's unlit colour): "
                                 "expected normal, phong, texture, bump or displacement"));
-#ifdef RAS_HAVE_FAST_RENDERER
-        err = (ras_error){{0}};
-        assert_int_equal(fast_render(rs, assets, &opt, NULL, img, NULL, &err), -1);
-#endif
     }
     ras_image_destroy(img);
     ras_scene_assets_destroy(assets);
