@@ -37,7 +37,7 @@ reference-images: build
 	@scripts/reference-images $(BUILD)
 
 format:
-	@clang-format -i common/*.[ch] common/*.cpp hw*/*.[ch] hw*/solution/*.c \
+	@clang-format -i common/*/*.[ch] common/*/*.cpp fast/*.[ch] hw*/*.[ch] hw*/solution/*.c \
 	  tests/unit/*.[ch] tests/grading/*.[ch] tests/bench/*.[ch]
 
 clean:
@@ -98,7 +98,7 @@ mutants: configure
 # The grader is tested against cheating: every hostile submission of
 # tests/grading/attacks/ must score 0 on what it attacks, leave no process and no file
 # changed, and not change honest students' grades in a mixed grade-all batch
-# (tests/grading/run-attacks, docs/grading.md "The attack catalogue"; instructors' only).
+# (tests/grading/run-attacks, docs/grader.md "The attack catalogue"; instructors' only).
 .PHONY: attacks
 attacks: configure
 	@tests/grading/run-attacks --build $(BUILD)

@@ -67,7 +67,7 @@ static void *worker_main(void *arg) {
 /* What the fast path draws: one of hw3's shaders, no culling, z01 depth, at
  * most FAST_MAX_OBJECTS objects, and no frame the window or --dump keeps
  * buffers of (the teaching pipeline's pipeline and fragment buffers). */
-static bool fast_accepts(const ras_scene *scene, const hw3_render_options *opt) {
+static bool accepts(const ras_scene *scene, const hw3_render_options *opt) {
     return fast_shade_find(opt->shader) && opt->cull == RAS_CULL_NONE &&
            opt->depth == RAS_DEPTH_Z01 && scene->object_count <= FAST_MAX_OBJECTS &&
            !opt->dump_dir && !opt->capture && !opt->step;
@@ -86,10 +86,12 @@ static int thread_count(const fast_settings *s) {
 /* The frame's sample offsets in sub-pixels (the centre's at [n]), the box
  * they span (block rejection's corners), the sample at the centre if there is
  * one, and what shading needs per frame. */
-static void plan_samples(fast_frame *fr, const ras_sample_pattern *pattern) {
+static void plan_samples(fast_frame *fr) {
     const ras_scene *scene = fr->scene;
-    for (int s = 0; s <= fr->n; s++) {
-        vec2s o = s < fr->n ? pattern->offsets[s] : (vec2s){{0.5f, 0.5f}};
+    const ras_sample_pattern *pattern = &fr->pattern;
+    const int n = pattern->count;
+    for (int s = 0; s <= n; s++) {
+        vec2s o = s < n ? pattern->offsets[s] : (vec2s){{0.5f, 0.5f}};
         fr->off_x[s] = llround((double)o.x * SUBPIXEL_ONE);
         fr->off_y[s] = llround((double)o.y * SUBPIXEL_ONE);
     }
@@ -97,16 +99,15 @@ static void plan_samples(fast_frame *fr, const ras_sample_pattern *pattern) {
         fr->spec_zero[o] = fast_spec_zero(scene->objects[o].material.p);
     fr->omin_x = fr->omax_x = fr->off_x[0];
     fr->omin_y = fr->omax_y = fr->off_y[0];
-    for (int k = 1; k <= fr->n; k++) {
+    for (int k = 1; k <= n; k++) {
         fr->omin_x = fr->off_x[k] < fr->omin_x ? fr->off_x[k] : fr->omin_x;
         fr->omax_x = fr->off_x[k] > fr->omax_x ? fr->off_x[k] : fr->omax_x;
         fr->omin_y = fr->off_y[k] < fr->omin_y ? fr->off_y[k] : fr->omin_y;
         fr->omax_y = fr->off_y[k] > fr->omax_y ? fr->off_y[k] : fr->omax_y;
     }
     fr->centre_sample = -1;
-    for (int s = 0; s < fr->n && fr->centre_sample < 0; s++)
-        if (fr->off_x[s] == fr->off_x[fr->n] && fr->off_y[s] == fr->off_y[fr->n])
-            fr->centre_sample = s;
+    for (int s = 0; s < n && fr->centre_sample < 0; s++)
+        if (fr->off_x[s] == fr->off_x[n] && fr->off_y[s] == fr->off_y[n]) fr->centre_sample = s;
     const hw3_fragment_stage *stage = fr->stage;
     fr->varyings_per_fragment = (uint64_t)(!!(stage->varyings & RAS_VARYING_NORMAL) +
                                            !!(stage->varyings & RAS_VARYING_VIEW_POS) +
@@ -123,7 +124,7 @@ static bool worker_init(fast_worker *w, fast_frame *fr, size_t tile_samples) {
     /* DEPTH_PAD more: the first is x1_draw's spare slot for the
      * depth of a fragment that failed the test (written, never read) */
     w->depth = malloc((tile_samples + DEPTH_PAD) * sizeof *w->depth);
-    /* room for a tile's worth of fragments; defer_fragment grows it. One
+    /* room for a tile's worth of fragments; fast_defer_fragment grows it. One
      * more: per_pixel's spare record for fragments that fail the depth test */
     w->frag_cap = (size_t)TILE * TILE;
     w->frags = malloc((w->frag_cap + 1) * sizeof *w->frags);
@@ -181,7 +182,7 @@ static void sum_counters(const fast_frame *fr, const fast_worker *workers, int t
         add_work(k, &workers[i].ks);
         add_work(k, &workers[i].k);
     }
-    if (fr->n > 1) k->stages_run |= RAS_STAGE_RESOLVE;
+    if (fr->pattern.count > 1) k->stages_run |= RAS_STAGE_RESOLVE;
     k->buffer_bytes = (size_t)threads * tile_samples * (sizeof(vec3s) + sizeof(float));
     uint64_t shaded = 0;
     for (int i = 0; i < threads; i++) {
@@ -192,7 +193,7 @@ static void sum_counters(const fast_frame *fr, const fast_worker *workers, int t
     if (settings && settings->shaded) *settings->shaded = shaded;
 }
 
-/* Everything fast_draw allocated (NULL-safe: a frame that failed halfway). */
+/* Everything draw_frame allocated (NULL-safe: a frame that failed halfway). */
 static void free_frame(fast_frame *fr, fast_worker *workers, int threads) {
     for (int i = 0; workers && i < threads; i++) {
         free(workers[i].color);
@@ -218,8 +219,8 @@ static void free_frame(fast_frame *fr, fast_worker *workers, int threads) {
 
 /* One frame: plan, set up and bin (worker_main, shared out), tiles on the
  * workers, then the counters and times as the teaching pipeline reports them. */
-static bool fast_draw(fast_frame *fr, const hw3_render_options *opt, const fast_settings *settings,
-                      ras_counters *k, ras_error *err) {
+static bool draw_frame(fast_frame *fr, const hw3_render_options *opt, const fast_settings *settings,
+                       ras_counters *k, ras_error *err) {
     const ras_scene *scene = fr->scene;
     int width = scene->width, height = scene->height;
     if (width < 1 || height < 1 || width > RAS_IMAGE_MAX_SIDE || height > RAS_IMAGE_MAX_SIDE)
@@ -231,14 +232,14 @@ static bool fast_draw(fast_frame *fr, const hw3_render_options *opt, const fast_
                              "the sample pattern is empty: build it with ras_sample_pattern_make");
     double t0 = ras_now_ms();
     fr->width = width, fr->height = height;
-    fr->n = pattern.count, fr->ssaa = opt->aa == RAS_AA_SSAA, fr->pattern = pattern;
+    fr->ssaa = opt->aa == RAS_AA_SSAA, fr->pattern = pattern;
     fr->varyings = fr->stage->varyings;
     fr->tiles_x = (width + TILE - 1) / TILE, fr->tiles_y = (height + TILE - 1) / TILE;
-    plan_samples(fr, &pattern);
+    plan_samples(fr);
     fr->shader = fast_shade_find(opt->shader);
     fr->batch = fast_shade_batch(fr->shader, opt, fr->stage);
     /* frags holds a tile's pixels from the start (worker_init) */
-    fr->per_pixel = fr->n == 1 && fr->batch != BATCH_NONE;
+    fr->per_pixel = fr->pattern.count == 1 && fr->batch != BATCH_NONE;
     int tiles = fr->tiles_x * fr->tiles_y;
     int threads = thread_count(settings);
     if (threads > tiles) threads = tiles;
@@ -252,7 +253,7 @@ static bool fast_draw(fast_frame *fr, const hw3_render_options *opt, const fast_
     atomic_init(&fr->failed, false);
     atomic_init(&fr->next_tile, 0);
     fr->t_setup = t0;
-    size_t tile_samples = (size_t)TILE * TILE * (size_t)fr->n;
+    size_t tile_samples = (size_t)TILE * TILE * (size_t)fr->pattern.count;
     for (int i = 0; ok && i < threads; i++)
         ok = worker_init(&workers[i], fr, tile_samples);
     if (ok) ok = run_workers(fr, workers, threads);
@@ -272,7 +273,7 @@ static bool fast_draw(fast_frame *fr, const hw3_render_options *opt, const fast_
 int fast_render(const ras_scene *scene, ras_scene_assets *assets, const hw3_render_options *opt,
                 const fast_settings *settings, ras_image *out, ras_counters *stats,
                 ras_error *err) {
-    if (!fast_accepts(scene, opt)) return -1;
+    if (!accepts(scene, opt)) return -1;
     /* every object's model matrix, hw3_render's (the frame's turn included) */
     mat4s *models = malloc((size_t)scene->object_count * sizeof *models);
     if (!models) return -1;
@@ -294,7 +295,7 @@ int fast_render(const ras_scene *scene, ras_scene_assets *assets, const hw3_rend
                      .projection = setup.projection};
     ras_counters k = {.mip_levels_built = setup.mip_levels,
                       .stages_run = setup.mip_levels ? RAS_STAGE_MIPMAP : 0u};
-    bool ok = fast_draw(&fr, opt, settings, &k, err);
+    bool ok = draw_frame(&fr, opt, settings, &k, err);
     if (stats) *stats = k;
     free(models);
     return ok;

@@ -27,30 +27,30 @@ bool __wrap_hw3_render(const ras_scene *scene, ras_scene_assets *assets,
                        const hw3_render_options *opt, ras_image *out, ras_counters *stats,
                        ras_error *err);
 
-static bool (*program_prepare)(ras_app *app, ras_error *err);
-static bool use_fast; /* --renderer fast */
+static bool (*g_program_prepare)(ras_app *app, ras_error *err);
+static bool g_use_fast; /* --renderer fast */
 
 /* --renderer's name, then the program's own prepare. */
-static bool fast_hw3_prepare(ras_app *app, ras_error *err) {
+static bool prepare(ras_app *app, ras_error *err) {
     const char *name = app->cli.renderer;
     if (name && strcmp(name, "teaching") && strcmp(name, "fast"))
         return ras_error_set(err, "unknown renderer '%s'; this program has: teaching, fast", name);
-    use_fast = name && !strcmp(name, "fast");
-    return program_prepare ? program_prepare(app, err) : true;
+    g_use_fast = name && !strcmp(name, "fast");
+    return g_program_prepare ? g_program_prepare(app, err) : true;
 }
 
 int __wrap_ras_app_main(int argc, char **argv, const ras_app_hooks *hooks, void *user) {
     ras_app_hooks with_renderer = *hooks;
     with_renderer.options |= RAS_OPT_RENDERER;
-    program_prepare = hooks->prepare;
-    with_renderer.prepare = fast_hw3_prepare;
+    g_program_prepare = hooks->prepare;
+    with_renderer.prepare = prepare;
     return __real_ras_app_main(argc, argv, &with_renderer, user);
 }
 
 bool __wrap_hw3_render(const ras_scene *scene, ras_scene_assets *assets,
                        const hw3_render_options *opt, ras_image *out, ras_counters *stats,
                        ras_error *err) {
-    if (use_fast) {
+    if (g_use_fast) {
         /* threads: $RAS_THREADS or one per CPU */
         int drawn = fast_render(scene, assets, opt, NULL, out, stats, err);
         if (drawn >= 0) return drawn;

@@ -96,11 +96,11 @@ enum { BATCH_NONE, BATCH_NORMAL, BATCH_PHONG, BATCH_TEXTURE, BATCH_BUMP, BATCH_D
 /* How the one-at-a-time path (fast_shade.c's shade) colours a fragment of
  * a shader: the shader itself (the reference function), or Blinn-Phong with
  * the material's colour or with the colour map's texel as kd
- * (fast_blinn_phong, which skips powf where it is certainly +0). */
+ * (blinn_phong, which skips powf where it is certainly +0). */
 enum { SCALAR_REFERENCE, SCALAR_LIT_COLOUR, SCALAR_LIT_TEXTURE };
 
 /* What the fast path knows of one of hw3's shaders, declared in one table
- * (fast_shade.c's fast_shaders, one row per hw3_shader): it is found by the
+ * (fast_shade.c's shader_table, one row per hw3 shader): it is found by the
  * shader's name in the render options, never by its function's address. */
 typedef struct fast_shader {
     int batch;       /* BATCH_*: its four-lane form */
@@ -115,9 +115,9 @@ typedef struct fast_frame {
     const ras_scene *scene;
     const ras_scene_assets *assets;
     const hw3_fragment_stage *stage;
-    int width, height, n; /* samples per pixel */
+    int width, height;
     bool ssaa;
-    ras_sample_pattern pattern;
+    ras_sample_pattern pattern; /* its count is the samples per pixel, n below */
     int64_t off_x[RAS_MAX_SAMPLES + 1], off_y[RAS_MAX_SAMPLES + 1]; /* [n] = centre */
     /* the box of those offsets (samples and centre): block rejection's corners */
     int64_t omin_x, omax_x, omin_y, omax_y;
@@ -149,7 +149,7 @@ typedef struct fast_frame {
     atomic_bool failed; /* out of memory somewhere */
     double t_setup;     /* when setup ended (ms_vertex) */
     ras_image *out;
-    const fast_shader *shader; /* the frame's shader, as fast_shaders declares it */
+    const fast_shader *shader; /* the frame's shader, as shader_table declares it */
     int batch;                 /* BATCH_*: shade through the queue, four at a time */
     /* One sample per pixel and a batched shader: a fragment that passes the
      * depth test is recorded at its pixel (frags[base]), replacing the one
@@ -237,7 +237,7 @@ static inline void fast_defer_fragment(fast_worker *w, const fast_tri *r, vec3s 
     fast_defer_set_owner(w, base, mask, i);
 }
 
-/* defer_fragment for a pixel's one sample (n = 1; mask 1). In per_pixel mode
+/* fast_defer_fragment for a pixel's one sample (n = 1; mask 1). In per_pixel mode
  * the fragment is written at its pixel, over the one it hides (shade_pixels
  * fills in the rest), and counted as hidden until shade_pixels finds it. */
 static inline void fast_defer_put_pixel(fast_worker *w, const fast_tri *r, vec3s bary, int base) {
@@ -283,10 +283,10 @@ void fast_setup_bin(fast_frame *fr);
  * rasterized, depth-tested and its fragments recorded. */
 void fast_rast_triangle(fast_worker *w, const fast_tri *r, int tx0, int ty0, int tx1, int ty1);
 
-/* fast_shade.c. The frame's shader as fast_shaders declares it (NULL: not
+/* fast_shade.c. The frame's shader as shader_table declares it (NULL: not
  * one of hw3's); the four-lane form the frame can use (BATCH_NONE: one at a
  * time). */
-const fast_shader *fast_shade_find(hw3_shader shader);
+const fast_shader *fast_shade_find(ras_scene_shader shader);
 int fast_shade_batch(const fast_shader *shader, const hw3_render_options *opt,
                      const hw3_fragment_stage *stage);
 /* powf(x, p) is +0 for 0 <= x <= fast_spec_zero(p) (-1: never). */

@@ -682,7 +682,7 @@ void fast_rast_triangle(fast_worker *w, const fast_tri *r, int tx0, int ty0, int
     box.x0 = r->x0 > tx0 ? r->x0 : tx0, box.x1 = r->x1 < tx1 ? r->x1 : tx1;
     box.y0 = r->y0 > ty0 ? r->y0 : ty0, box.y1 = r->y1 < ty1 ? r->y1 : ty1;
     if (box.x0 > box.x1 || box.y0 > box.y1) return;
-    const int n = w->fr->n;
+    const int n = w->fr->pattern.count;
     /* The reference tests every sample of the bounding box. */
     w->k.samples_tested +=
         (uint64_t)(box.x1 - box.x0 + 1) * (uint64_t)(box.y1 - box.y0 + 1) * (uint64_t)n;

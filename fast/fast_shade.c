@@ -10,7 +10,7 @@
  * and the others are counted as if shaded: the counters stay the teaching
  * pipeline's, which shades every fragment that passes a depth test.
  *
- * Which form a shader has is declared in one table, fast_shaders.
+ * Which form a shader has is declared in one table, shader_table.
  */
 #include "fast_priv.h"
 
@@ -18,30 +18,30 @@
 
 /* ---- the shaders the fast path knows ------------------------------------- */
 
-/* One row per hw3 shader (shading.h). The four-lane forms read the varyings
- * of `needs`; the lit ones need a light to light them with (unlit, Blinn-Phong
- * is the ambient term alone: one at a time); the texture shader's trilinear
- * lookups need each fragment's uv derivatives (one at a time). */
-static const fast_shader fast_shaders[HW3_SHADER_COUNT] = {
-    [HW3_SHADER_NORMAL] = {.batch = BATCH_NORMAL,
+/* One row per hw3 shader (scene.h: the core's from normal on; flat has none). The four-lane forms
+ * read the varyings of `needs`; the lit ones need a light to light them with (unlit, Blinn-Phong is
+ * the ambient term alone: one at a time); the texture shader's trilinear lookups need each
+ * fragment's uv derivatives (one at a time). */
+static const fast_shader shader_table[RAS_SHADER_COUNT] = {
+    [RAS_SHADER_NORMAL] = {.batch = BATCH_NORMAL,
                            .needs = RAS_VARYING_NORMAL,
                            .any_filter = true,
                            .scalar = SCALAR_REFERENCE},
-    [HW3_SHADER_PHONG] = {.batch = BATCH_PHONG,
+    [RAS_SHADER_PHONG] = {.batch = BATCH_PHONG,
                           .needs = RAS_VARYING_NORMAL | RAS_VARYING_VIEW_POS,
                           .lit = true,
                           .any_filter = true,
                           .scalar = SCALAR_LIT_COLOUR},
-    [HW3_SHADER_TEXTURE] = {.batch = BATCH_TEXTURE,
+    [RAS_SHADER_TEXTURE] = {.batch = BATCH_TEXTURE,
                             .needs = RAS_VARYING_NORMAL | RAS_VARYING_VIEW_POS | RAS_VARYING_UV,
                             .lit = true,
                             .any_filter = false,
                             .scalar = SCALAR_LIT_TEXTURE},
-    [HW3_SHADER_BUMP] = {.batch = BATCH_BUMP,
+    [RAS_SHADER_BUMP] = {.batch = BATCH_BUMP,
                          .needs = RAS_VARYING_NORMAL | RAS_VARYING_UV,
                          .any_filter = true,
                          .scalar = SCALAR_REFERENCE},
-    [HW3_SHADER_DISPLACEMENT] = {.batch = BATCH_DISPLACEMENT,
+    [RAS_SHADER_DISPLACEMENT] = {.batch = BATCH_DISPLACEMENT,
                                  .needs =
                                      RAS_VARYING_NORMAL | RAS_VARYING_VIEW_POS | RAS_VARYING_UV,
                                  .lit = true,
@@ -49,8 +49,8 @@ static const fast_shader fast_shaders[HW3_SHADER_COUNT] = {
                                  .scalar = SCALAR_REFERENCE},
 };
 
-const fast_shader *fast_shade_find(hw3_shader shader) {
-    return (unsigned)shader < HW3_SHADER_COUNT ? &fast_shaders[shader] : NULL;
+const fast_shader *fast_shade_find(ras_scene_shader shader) {
+    return shader >= RAS_SHADER_NORMAL && shader < RAS_SHADER_COUNT ? &shader_table[shader] : NULL;
 }
 
 int fast_shade_batch(const fast_shader *shader, const hw3_render_options *opt,
@@ -102,8 +102,8 @@ float fast_spec_zero(float p) {
  * +0 (x <= spec_zero: fast_spec_zero), and 0·anything added to the colour adds
  * nothing. The plain shader pays powf's slow underflow path on most of the
  * surface (n·h < 0.56 underflows at p = 150). */
-static vec3s fast_blinn_phong(const fragment_shader_payload *payload, vec3s kd, vec3s point,
-                              vec3s normal, float spec_zero) {
+static vec3s blinn_phong(const fragment_shader_payload *payload, vec3s kd, vec3s point,
+                         vec3s normal, float spec_zero) {
     if (payload->counters && payload->light_count > 0) { /* ambient alone is no lighting work */
         payload->counters->stages_run |= RAS_STAGE_LIGHTING;
         payload->counters->lighting_evaluations += (uint64_t)payload->light_count;
@@ -160,11 +160,10 @@ static vec3s shade(fast_worker *w, const fast_tri *r, vec3s bary) {
     w->k.fragments_shaded++;
     switch (fr->shader->scalar) {
     case SCALAR_LIT_COLOUR: /* phong_fragment_shader */
-        return fast_blinn_phong(pay, pay->color, pay->view_pos, pay->normal,
-                                fr->spec_zero[r->object]);
+        return blinn_phong(pay, pay->color, pay->view_pos, pay->normal, fr->spec_zero[r->object]);
     case SCALAR_LIT_TEXTURE: { /* texture_fragment_shader */
         vec3s kd = pay->texture ? texture_sample(pay, pay->texture, pay->uv) : pay->color;
-        return fast_blinn_phong(pay, kd, pay->view_pos, pay->normal, fr->spec_zero[r->object]);
+        return blinn_phong(pay, kd, pay->view_pos, pay->normal, fr->spec_zero[r->object]);
     }
     }
     return fr->stage->shader(pay);
@@ -293,7 +292,7 @@ void fast_shade_tile(fast_worker *w) {
         shade_pixels(w);
         return;
     }
-    const int n = w->fr->n;
+    const int n = w->fr->pattern.count;
     const bool batch = w->fr->batch != BATCH_NONE;
     /* With one sample a fragment (mask 1) still owns its sample when it is
      * the sample's owner: checked in the loop below. Otherwise the owners

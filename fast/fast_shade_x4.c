@@ -284,7 +284,7 @@ static inline __attribute__((always_inline)) void varyings_x4(const fast_queued 
     if (want_hi) vf4_transpose(&hi[0], &hi[1], &hi[2], &hi[3]);
 }
 
-/* fast_blinn_phong up to kd, in lanes: per light, I/r², max(0, n·l) and the
+/* blinn_phong up to kd, in lanes: per light, I/r², max(0, n·l) and the
  * specular power (powf lane by lane, only where it can be non-zero). */
 static inline __attribute__((always_inline)) void light_terms_x4(const fragment_shader_payload *pay,
                                                                  float spec_zero, int lanes,
@@ -403,7 +403,7 @@ static inline void put4(vec3s *d, vec3s c) {
 #endif
 }
 
-/* kd (the texture lookups), the sums in fast_blinn_phong's order, and the
+/* kd (the texture lookups), the sums in blinn_phong's order, and the
  * colours into the tile. */
 static void shade_finish(fast_worker *w, lanes4 *S) {
     const fast_frame *fr = w->fr;
@@ -454,7 +454,7 @@ static void shade_finish(fast_worker *w, lanes4 *S) {
             *dst = c;
             continue;
         }
-        if (mask == 0xF && fr->n == 4) { /* a whole pixel of 4x */
+        if (mask == 0xF && fr->pattern.count == 4) { /* a whole pixel of 4x */
             put4(dst, c);
             continue;
         }

@@ -99,7 +99,7 @@ static inline void resolve4(vec3s *dst, const vec3s *c) {
 /* fast_priv.h */
 void fast_tile_draw(fast_worker *w, int tile) {
     fast_frame *fr = w->fr;
-    const int n = fr->n;
+    const int n = fr->pattern.count;
     int tx = tile % fr->tiles_x, ty = tile / fr->tiles_x;
     int tx0 = tx * TILE, ty0 = ty * TILE;
     int tx1 = tx0 + TILE - 1 < fr->width - 1 ? tx0 + TILE - 1 : fr->width - 1;

@@ -49,7 +49,7 @@ static bool render(ras_app *app, ras_error *err) {
     mat4s view = ras_scene_view_matrix(s), spin = spin_matrix(&app->set);
     for (int i = 0; i < s->object_count; i++) {
         app->pipeline->config.wire_color = s->objects[i].material.color;
-        mat4s model = ras_scene_model_matrix(&s->objects[i], spin);
+        mat4s model = ras_scene_model_matrix(&s->objects[i], (ras_scene_spin){.matrix = &spin});
         if (!ras_pipeline_draw_mesh(app->pipeline, app->assets->meshes[i], model, view,
                                     projection, err))
             return false;

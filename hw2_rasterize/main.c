@@ -57,7 +57,7 @@ static bool render(ras_app *app, ras_error *err) {
                                .clear_color = s->clear_color,
                                .cull = s->cull,
                                .aa = set->aa,
-                               .pattern = set->pattern,
+                               .pattern = ras_app_settings_pattern(set),
                                .depth = set->depth,
                                .z_near = s->camera.z_near,
                                .varyings = RAS_VARYING_COLOR,
@@ -76,9 +76,10 @@ static bool render(ras_app *app, ras_error *err) {
     mat4s projection = get_projection_matrix(s->camera.fov_deg, (float)set->width / (float)set->height,
                                              s->camera.z_near, s->camera.z_far);
     for (int i = 0; i < s->object_count; i++)
-        if (!ras_pipeline_draw_mesh(p, app->assets->meshes[i],
-                                    ras_scene_model_matrix(&s->objects[i], spin), view, projection,
-                                    err))
+        if (!ras_pipeline_draw_mesh(
+                p, app->assets->meshes[i],
+                ras_scene_model_matrix(&s->objects[i], (ras_scene_spin){.matrix = &spin}), view,
+                projection, err))
             return false;
     ras_pipeline_end_frame(p, app->image);
     return true;

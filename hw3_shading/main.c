@@ -1,7 +1,14 @@
 /* main.c — hw3_shading: the shaded scene, in a window or as a PNG.
  *
+ * Given code, no TODO. Read render() (the settings become hw3_render's
+ * options) and key()/status() (the window's keys) if you want to know what
+ * the program does with your shaders; the rest is the shell's plumbing. Leave
+ * it as it is: your work is shading.c, the one hw3 file the grader takes from
+ * a submission, so a change here is not graded.
+ *
  * Built twice from this file: hw3_shading (your shading.c, with your hw2
- * rasterizer and hw1 projection) and hw3_shading_ref (the reference). The
+ * rasterizer and hw1 projection) and hw3_shading_ref (the reference; the
+ * student edition has none, only its pictures in tests/reference/). The
  * frame (scene.c, hw3_render) is the pipeline: model · view · projection →
  * clip → divide → viewport → rasterize_triangle (hw2) → hw3_shade_fragment
  * (interpolate the varyings the shader reads, perspective-correct) → your

@@ -1,7 +1,10 @@
 /* scene.h — hw3: the fragment stage that feeds your shaders, and one frame.
  *
  * Not a TODO file: it is the glue between the pipeline (common/) and
- * shading.h, shared by the program (main.c), the tests and the figures.
+ * shading.h, shared by the program (main.c) and the tests. Read
+ * hw3_fragment_stage and hw3_render_options to see what reaches your shaders
+ * and how a frame is set; the rest is the program's. Leave it as it is: the
+ * tests and the grader build against it as shipped.
  *
  *   hw3_shade_fragment   the ras_shade_fn the rasterizer calls: interpolates
  *                        exactly the varyings the chosen shader reads
@@ -35,23 +38,21 @@
 #include "ras_scene.h"
 #include "shading.h"
 
-typedef enum hw3_shader {
-    HW3_SHADER_NORMAL,
-    HW3_SHADER_PHONG,
-    HW3_SHADER_TEXTURE,
-    HW3_SHADER_BUMP,
-    HW3_SHADER_DISPLACEMENT,
-} hw3_shader;
-#define HW3_SHADER_COUNT 5
+/* hw3's shaders are the core's (ras_scene.h) from RAS_SHADER_NORMAL to
+ * RAS_SHADER_DISPLACEMENT, spelt by ras_scene_shader_name; RAS_SHADER_FLAT
+ * (hw2's unlit colour) is none of them, and hw3_render refuses it. */
 
-const char *hw3_shader_name(hw3_shader shader); /* "normal", "phong", ... */
-bool hw3_shader_parse(const char *name, hw3_shader *out, ras_error *err);
-fragment_shader_fn hw3_shader_function(hw3_shader shader);
+/* A shader hw3 draws by name: "normal", "phong", ... ("flat" is an error). */
+bool hw3_shader_parse(const char *name, ras_scene_shader *out, ras_error *err);
+/* The shader's function; NULL for a shader hw3 does not draw (flat). */
+fragment_shader_fn hw3_shader_function(ras_scene_shader shader);
 /* The RAS_VARYING_* bits the shader reads: normal → NORMAL; phong → NORMAL |
- * VIEW_POS; texture and displacement → NORMAL | VIEW_POS | UV; bump → NORMAL | UV. */
-unsigned hw3_shader_varyings(hw3_shader shader);
+ * VIEW_POS; texture and displacement → NORMAL | VIEW_POS | UV; bump → NORMAL | UV;
+ * 0 for a shader hw3 does not draw. */
+unsigned hw3_shader_varyings(ras_scene_shader shader);
 
-const char *hw3_filter_name(texture_filter filter); /* "nearest", "bilinear", "trilinear" */
+/* A filter by name ("nearest", "bilinear", "trilinear"; spelt back by
+ * ras_scene_filter_name). */
 bool hw3_filter_parse(const char *name, texture_filter *out, ras_error *err);
 
 /* --dump's buffers of the fragment stage: per pixel, what the last fragment
@@ -87,15 +88,13 @@ vec3s hw3_shade_fragment(const ras_triangle *t, const ras_fragment *f, void *use
 void hw3_object_material(const ras_scene *scene, const ras_scene_assets *assets, int i,
                          fragment_shader_payload *payload);
 
-/* The object's model matrix with the program's turn about y: T · R_y(angle)
- * · R · S (ras_scene_model_matrix's order). A last rotation about +y or -y
- * joins the turn (one R_y of the summed angle), and rotations about x and y
- * use hw3's own matrices, so a scene's matrices come out bit for bit the
- * same on every run. */
+/* The object's model matrix with the program's turn about y, T · R_y(angle)
+ * · R · S: ras_scene_model_matrix's turn about y (a last rotation about ±y
+ * joins the turn; the reference pictures were drawn with that form). */
 mat4s hw3_object_model(const ras_scene_object *object, float angle_deg);
 
 typedef struct hw3_render_options {
-    hw3_shader shader;
+    ras_scene_shader shader; /* RAS_SHADER_NORMAL .. RAS_SHADER_DISPLACEMENT */
     texture_filter filter;
     float angle_deg; /* added to every object's spin about y */
     ras_aa_mode aa;
@@ -139,13 +138,14 @@ bool hw3_capture_buffer(const hw3_capture *capture, const char *name, ras_dump_b
 hw3_render_options hw3_render_defaults(void);
 
 /* A scene file's effects as options: its shader, filter, anti-aliasing,
- * culling, edge functions and depth format; the rest from hw3_render_defaults(). "flat"
+ * culling and depth format; the rest from hw3_render_defaults(). "flat"
  * (hw2's unlit colour) has no hw3 shader: it gives the default, normal. */
 hw3_render_options hw3_render_options_from_ras(const ras_scene *rs);
 
 /* The program's settings (ras_app.h: the scene's, then the options') as
  * render options: shader, filter, anti-aliasing and pattern, depth format,
- * angle, affine interpolation. The shader is one of hw3's five. */
+ * angle, affine interpolation. The shader is taken as it is: hw3_render
+ * refuses flat (main.c turns it into normal first, with a note). */
 void hw3_render_options_apply(hw3_render_options *opt, const ras_app_settings *settings);
 
 /* The varyings a frame interpolates: the shader's (hw3_shader_varyings), less
@@ -153,14 +153,15 @@ void hw3_render_options_apply(hw3_render_options *opt, const ras_app_settings *s
  * shader reads (a colour map for texture, a height map for bump and
  * displacement), no view position when there are no lights to light it with. */
 unsigned hw3_frame_varyings(const ras_scene *scene, const ras_scene_assets *assets,
-                             hw3_shader shader);
+                            ras_scene_shader shader);
 
 /* One frame's set-up, before anything is drawn: the fragment stage (the
  * shader, the varyings it reads, the filter, the lights moved into view
  * space, the ambient light; each object's material is set per object with
  * hw3_object_material), the view and projection matrices, and the mip levels
  * trilinear filtering reads, built the first time (mip_levels: how many this
- * frame built, for the counters). False and err when out of memory. */
+ * frame built, for the counters). False and err when the shader is not one
+ * hw3 draws (flat) or when out of memory. */
 typedef struct hw3_frame {
     hw3_fragment_stage stage;
     mat4s view, projection;

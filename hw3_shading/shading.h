@@ -1,5 +1,9 @@
 /* shading.h — hw3: from a covered pixel to its colour.
  *
+ * Read all of it: it is the contract of the functions you write in shading.c
+ * (what each takes, returns and counts). Leave it as it is: the tests and the
+ * grader compile your shading.c against this header as shipped.
+ *
  * Implemented twice with the same signatures: shading.c (yours, TODOs) and
  * the reference solution (instructors' edition only). The fragment stage (scene.c) calls the
  * interpolation functions to fill a fragment_shader_payload for every pixel
@@ -33,6 +37,7 @@
 #define RAS_HW3_SHADING_H
 
 #include "ras_counters.h"
+#include "ras_scene.h" /* ras_scene_filter */
 #include "ras_texture.h"
 #include "ras_triangle.h"
 
@@ -54,11 +59,12 @@ vec2s interpolate_vec2(const ras_triangle *t, vec3s bary_screen, const vec2s att
 
 /* ---- 2. fragment shaders ------------------------------------------------ */
 
-typedef enum texture_filter {
-    FILTER_NEAREST,   /* given: ras_texture_sample_nearest */
-    FILTER_BILINEAR,  /* yours: texture_sample_bilinear */
-    FILTER_TRILINEAR, /* bonus: texture_sample_trilinear (needs mip levels) */
-} texture_filter;
+/* The texture filter: the core's (ras_scene.h, a scene file's "filter" and
+ * --filter), under this header's names. */
+typedef ras_scene_filter texture_filter;
+#define FILTER_NEAREST RAS_FILTER_NEAREST     /* given: ras_texture_sample_nearest */
+#define FILTER_BILINEAR RAS_FILTER_BILINEAR   /* yours: texture_sample_bilinear */
+#define FILTER_TRILINEAR RAS_FILTER_TRILINEAR /* bonus: texture_sample_trilinear, mip levels */
 
 typedef struct light {
     vec3s position;  /* view space */

@@ -37,7 +37,7 @@ static ras_app_settings scene_settings(const ras_app_hooks *h, const ras_scene *
         s.axis = sc->model_rotation_axis;
     }
     s.aa = sc->aa;
-    s.samples = sc->aa != RAS_AA_NONE ? sc->samples : 4;
+    s.samples = sc->aa != RAS_AA_NONE ? sc->pattern.count : 4;
     s.pattern_kind = sc->pattern_kind;
     s.depth = sc->depth;
     s.cull = sc->cull;
@@ -72,13 +72,22 @@ bool ras_app_resolve(const ras_app_hooks *h, const ras_cli *cli, const ras_scene
     if (!cli->pattern_set && s.aa != RAS_AA_NONE &&
         !ras_sample_pattern_make(RAS_PATTERN_ORDERED, s.samples, &probe, NULL))
         s.pattern_kind = RAS_PATTERN_STANDARD;
-    s.pattern = ras_sample_pattern_center();
     ras_error why = {{0}};
-    if (s.aa != RAS_AA_NONE && !ras_sample_pattern_make(s.pattern_kind, s.samples, &s.pattern, &why))
+    if (s.aa != RAS_AA_NONE && !ras_sample_pattern_make(s.pattern_kind, s.samples, &probe, &why))
         return ras_error_set(err, "%s (--pattern %s --samples %d)", why.msg,
                              ras_pattern_kind_name(s.pattern_kind), s.samples);
     *set = s;
     return true;
+}
+
+ras_sample_pattern ras_app_settings_pattern(const ras_app_settings *set) {
+    ras_sample_pattern p = ras_sample_pattern_center();
+    if (set->aa != RAS_AA_NONE) {
+        bool made = ras_sample_pattern_make(set->pattern_kind, set->samples, &p, NULL);
+        assert(made); /* ras_app_resolve and aa_key keep the pair valid */
+        (void)made;
+    }
+    return p;
 }
 
 /* Whether two settings draw the picture of the same reference image. The
@@ -326,11 +335,9 @@ static bool aa_key(ras_app_settings *s, int key) {
         s->pattern_kind = s->pattern_kind == RAS_PATTERN_ORDERED ? RAS_PATTERN_STANDARD
                                                                  : RAS_PATTERN_ORDERED;
     else return false;
-    if (!ras_sample_pattern_make(s->pattern_kind, s->samples, &s->pattern, NULL)) {
+    ras_sample_pattern probe;
+    if (!ras_sample_pattern_make(s->pattern_kind, s->samples, &probe, NULL))
         s->samples = 4; /* every pattern has 4 */
-        ras_sample_pattern_make(s->pattern_kind, s->samples, &s->pattern, NULL);
-    }
-    if (s->aa == RAS_AA_NONE) s->pattern = ras_sample_pattern_center();
     return true;
 }
 
@@ -635,14 +642,14 @@ static bool set_up(ras_app *app, ras_image **expected, char *ref_path, size_t si
     /* Too big a frame, or a reference that cannot be compared with, are
      * usage errors too: found before anything is drawn or written. */
     if (!ras_framebuffer_check_size(app->set.width, app->set.height,
-                                    app->set.aa != RAS_AA_NONE ? app->set.samples : 1, err))
+                                    ras_app_settings_pattern(&app->set).count, err))
         return false;
     return !app->cli.compare || (*expected = load_reference(app, ref_path, size, err));
 }
 
 /* A student program built before the student's last edit runs older code:
- * say so first (issue 25: after an edit, build/bin/hw1_transform still
- * printed the old TODO notice). Sources that cannot be read say nothing. */
+ * say so first (after an edit without a build, build/bin/hw1_transform would
+ * print the old TODO notice). Sources that cannot be read say nothing. */
 static void warn_if_stale(const ras_app_hooks *hooks) {
     struct stat exe, src;
     if (!hooks->student_sources || stat("/proc/self/exe", &exe) != 0) return;
@@ -662,7 +669,7 @@ static void warn_if_stale(const ras_app_hooks *hooks) {
 }
 
 int ras_app_main(int argc, char **argv, const ras_app_hooks *hooks, void *user) {
-    ras_cli_reuse_freed_memory(); /* fewer page faults: docs/startup.md */
+    ras_cli_reuse_freed_memory(); /* fewer page faults: ras_cli.h */
     ras_app app = {.hooks = hooks, .argv0 = argc > 0 ? argv[0] : hooks->program, .user = user};
     int status = parse(&app, argc, argv);
     if (status >= 0) return status;

@@ -43,9 +43,11 @@ typedef struct ras_app_settings {
     bool axis_set; /* rotate about `axis` (get_rotation) instead of z */
     vec3s axis;
     ras_aa_mode aa;
-    int samples; /* used when aa != NONE */
+    /* The samples per pixel and their positions with AA: the pattern is
+     * ras_app_settings_pattern's, made from these two (kept while aa is NONE:
+     * the window's m turns AA back on with them). */
+    int samples;
     ras_pattern_kind pattern_kind;
-    ras_sample_pattern pattern; /* made from the two above; the centre without AA */
     ras_depth_format depth;
     ras_cull_mode cull;
     ras_scene_shader shader;
@@ -174,6 +176,11 @@ int ras_app_main(int argc, char **argv, const ras_app_hooks *hooks, void *user);
  * `scene` may be NULL (the defaults). */
 bool ras_app_resolve(const ras_app_hooks *hooks, const ras_cli *cli, const ras_scene *scene,
                      ras_app_settings *set, ras_error *err);
+
+/* The sample pattern the settings draw with: pattern_kind's with `samples`
+ * (ras_app_resolve and the window's keys keep that pair valid), the pixel
+ * centre without AA. */
+ras_sample_pattern ras_app_settings_pattern(const ras_app_settings *set);
 
 /* The catalogue's reference image for the current settings: its name
  * ("hw2_msaa4") in buf, or false when none (another scene, size, ...). */

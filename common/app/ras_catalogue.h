@@ -43,7 +43,7 @@ typedef struct ras_catalogue_comparison {
 typedef struct ras_catalogue_entry {
     char reference[RAS_CATALOGUE_NAME]; /* the image: <reference>.png beside the catalogue */
     char program[RAS_CATALOGUE_NAME];   /* "hw2_rasterize" (its *_ref build draws it) */
-    char demo[RAS_CATALOGUE_NAME];      /* make demo's out/<demo>.png; "" when not in the demo */
+    char demo[RAS_CATALOGUE_NAME];      /* scripts/demo's out/<demo>.png; "" when not in the demo */
     int argc;
     char args[RAS_CATALOGUE_MAX_ARGS][RAS_CATALOGUE_NAME];
     char comparison[RAS_CATALOGUE_NAME]; /* a name in the comparisons table */

@@ -71,7 +71,7 @@ static const option_row options[] = {
      "sample positions: ordered (grid) or standard (D3D/Vulkan)"},
     {"depth", 0, RAS_OPT_AA, NAME, F(depth), F(depth_set), &ras_names_depth, 0, NULL, "F",
      "depth format: z01 ((1-z)/2, default) or inverse_w\n(-near/w: reversed-z, precise far "
-     "away; docs/accuracy.md)"},
+     "away; docs/scenes.md)"},
     {"shader", 0, RAS_OPT_SHADING, NAME, F(shader), F(shader_set), &ras_names_shader,
      RAS_SHADER_NORMAL, NULL, "NAME", "%s"},
     {"filter", 0, RAS_OPT_SHADING, NAME, F(filter), F(filter_set), &ras_names_filter, 0, NULL,
@@ -114,24 +114,24 @@ static const option_row options[] = {
 #define OPTION_COUNT ((int)(sizeof options / sizeof options[0]))
 
 /* getopt_long's view of the table: val is the row's index + 256. */
-static struct option long_options[OPTION_COUNT + 1];
-static char short_options[2 * OPTION_COUNT + 2];
+static struct option g_long_options[OPTION_COUNT + 1];
+static char g_short_options[2 * OPTION_COUNT + 2];
 
 static void build_getopt_tables(void) {
     int n = 0;
-    short_options[n++] = ':'; /* report a missing value as ':' */
+    g_short_options[n++] = ':'; /* report a missing value as ':' */
     for (int i = 0; i < OPTION_COUNT; i++) {
         bool has_arg = options[i].kind != FLAG && options[i].kind != HELP &&
                        options[i].kind != VERSION;
-        long_options[i] = (struct option){options[i].name, has_arg ? required_argument : no_argument,
-                                          NULL, 256 + i};
+        g_long_options[i] = (struct option){
+            options[i].name, has_arg ? required_argument : no_argument, NULL, 256 + i};
         if (options[i].letter) {
-            short_options[n++] = options[i].letter;
-            if (has_arg) short_options[n++] = ':';
+            g_short_options[n++] = options[i].letter;
+            if (has_arg) g_short_options[n++] = ':';
         }
     }
-    long_options[OPTION_COUNT] = (struct option){NULL, 0, NULL, 0};
-    short_options[n] = '\0';
+    g_long_options[OPTION_COUNT] = (struct option){NULL, 0, NULL, 0};
+    g_short_options[n] = '\0';
 }
 
 /* The row of getopt's answer (a short letter or 256 + index); NULL if none. */
@@ -236,7 +236,7 @@ static bool store(const option_row *r, const char *arg, ras_cli *out, ras_error 
 static int prefix_matches(const char *word, const struct option **match) {
     size_t len = strcspn(word, "=");
     int n = 0;
-    for (const struct option *o = long_options; o->name; o++)
+    for (const struct option *o = g_long_options; o->name; o++)
         if (!strncmp(o->name, word, len)) {
             if (strlen(o->name) == len) { /* exact: not ambiguous */
                 *match = o;
@@ -336,11 +336,11 @@ ras_cli_status ras_cli_parse(int argc, char **argv, unsigned accepted, ras_cli *
                              ras_error *err) {
     *out = (ras_cli){.axis = {{0, 0, 1}}};
     const char *program = argc > 0 ? argv[0] : "program";
-    if (!long_options[0].name) build_getopt_tables();
+    if (!g_long_options[0].name) build_getopt_tables();
     optind = 0; /* glibc: 0 re-initialises getopt fully, so parsing twice works */
     opterr = 0; /* we write our own messages */
     int opt;
-    while ((opt = getopt_long(argc, argv, short_options, long_options, NULL)) != -1) {
+    while ((opt = getopt_long(argc, argv, g_short_options, g_long_options, NULL)) != -1) {
         /* The word that went wrong, as typed: "--name[=value]" or "-x". */
         const char *word = optind > 0 && optind <= argc ? argv[optind - 1] : "";
         if (opt == '?' || opt == ':') {

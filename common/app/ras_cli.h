@@ -77,8 +77,9 @@ ras_cli_status ras_cli_parse(int argc, char **argv, unsigned accepted, ras_cli *
  * textures, frame buffers) come from malloc's heap instead of fresh mmaps,
  * and memory freed stays there for the next one. Every fresh page costs a
  * page fault (about 1 ms per MiB here), so reusing them cuts ~3500 faults
- * off a spot render (docs/startup.md). Output is unchanged; the memory goes
- * back to the system at exit. A no-op outside glibc. */
+ * off a spot render (measured in the instructors' edition's start-up
+ * report). Output is unchanged; the memory goes back to the system at exit.
+ * A no-op outside glibc. */
 void ras_cli_reuse_freed_memory(void);
 
 /* The file written beside `output` for --compare: out/x.png with suffix

@@ -49,7 +49,7 @@ typedef struct ras_viewer {
     char program[64];           /* basename of argv[0], for the status line */
     ras_compare_kind diff_kind; /* metric of the difference view */
     ras_view view;
-    double frame_ms;    /* duration of the last frame_begin..frame_end */
+    double frame_ms;    /* duration of the last ras_viewer_frame_begin..end */
     double frame_start; /* seconds, monotonic clock */
     const char *reference_dir; /* the reference images' folder, not owned; NULL: none */
     char reference_name[64]; /* "" when there is none for these settings */

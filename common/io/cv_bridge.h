@@ -14,7 +14,8 @@
  * window, a non-PNG image file, a float (.pfm) file, text drawn on a picture.
  * PNG files never need it (ras_png.h), and cv_bridge_display_available() is
  * a plain getenv. So a program that writes a PNG, or only prints --version,
- * loads none of OpenCV's ~150 libraries (docs/startup.md).
+ * loads none of OpenCV's ~150 libraries (common/README.md, "What is loaded
+ * when").
  */
 #ifndef RAS_CV_BRIDGE_H
 #define RAS_CV_BRIDGE_H

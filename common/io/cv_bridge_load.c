@@ -1,7 +1,8 @@
 /* cv_bridge_load.c — cv_bridge.h's functions for the C side: the OpenCV
  * module (libraster101_cv.so, built from cv_bridge.cpp) is opened with dlopen
  * on the first call that needs it, so a program that never opens a window or
- * touches a non-PNG file never loads OpenCV (docs/startup.md).
+ * touches a non-PNG file never loads OpenCV (common/README.md, "What is
+ * loaded when").
  *
  * Where the module is looked for, first found wins:
  *   1. RAS_CV_BRIDGE, when set (a path to the module);
@@ -26,17 +27,18 @@
 #endif
 #define MODULE_NAME "libraster101_cv.so"
 
-static const cv_bridge_table *table;
-static char load_error[1536];
-static pthread_once_t load_once = PTHREAD_ONCE_INIT;
+static const cv_bridge_table *g_table;
+static char g_load_error[1536];
+static pthread_once_t g_load_once = PTHREAD_ONCE_INIT;
 
-/* Opens one candidate; appends why not to load_error. */
+/* Opens one candidate; appends why not to g_load_error. */
 static bool try_open(const char *path) {
     if (!path || !*path) return false;
     /* RTLD_LOCAL: OpenCV's symbols stay the module's. RTLD_LAZY: functions
      * are bound when first called, as at start-up; binding all of the ~150
      * libraries' functions now (RTLD_NOW) cost 40 M instructions more when a
-     * JPEG is written (docs/startup.md). A missing library still fails here. */
+     * JPEG is written (measured in the instructors' edition's start-up
+     * report). A missing library still fails here. */
     void *h = dlopen(path, RTLD_LAZY | RTLD_LOCAL);
     const char *why = NULL;
     if (h) {
@@ -46,7 +48,7 @@ static bool try_open(const char *path) {
         } sym = {dlsym(h, CV_BRIDGE_MODULE_SYMBOL)};
         const cv_bridge_table *t = sym.p ? sym.fn() : NULL;
         if (t && t->abi == CV_BRIDGE_ABI) {
-            table = t;
+            g_table = t;
             return true;
         }
         why = t ? "a module from another build (ABI differs)" : "no " CV_BRIDGE_MODULE_SYMBOL;
@@ -54,8 +56,8 @@ static bool try_open(const char *path) {
     } else {
         why = dlerror();
     }
-    size_t used = strlen(load_error);
-    snprintf(load_error + used, sizeof load_error - used, "%s%s: %s", used ? "; " : "", path,
+    size_t used = strlen(g_load_error);
+    snprintf(g_load_error + used, sizeof g_load_error - used, "%s%s: %s", used ? "; " : "", path,
              why ? why : "?");
     return false;
 }
@@ -84,20 +86,21 @@ static void load(void) {
         }
     }
     if (try_open(RAS_CV_BRIDGE_PATH)) return;
-    if (!*load_error)
-        snprintf(load_error, sizeof load_error, "%s was not found beside the program", MODULE_NAME);
+    if (!*g_load_error)
+        snprintf(g_load_error, sizeof g_load_error, "%s was not found beside the program",
+                 MODULE_NAME);
 }
 
-/* The table, or NULL with the reason in err. */
+/* The module's table (g_table), or NULL with the reason in err. */
 static const cv_bridge_table *bridge(char *err, int err_size) {
-    pthread_once(&load_once, load);
-    if (!table && err && err_size > 0)
+    pthread_once(&g_load_once, load);
+    if (!g_table && err && err_size > 0)
         snprintf(err, (size_t)err_size, "OpenCV is not available (the bridge module %s: %s)",
-                 MODULE_NAME, load_error);
-    return table;
+                 MODULE_NAME, g_load_error);
+    return g_table;
 }
 
-const char *cv_bridge_load_error(void) { return table ? "" : load_error; }
+const char *cv_bridge_load_error(void) { return g_table ? "" : g_load_error; }
 
 uint8_t *cv_bridge_encode_rgb8(const char *ext, int width, int height, const uint8_t *rgb,
                                size_t *len, char *err, int err_size) {
@@ -153,11 +156,11 @@ int cv_bridge_window_wait_key(const char *title, int ms) {
 
 void cv_bridge_window_close(const char *title) {
     /* Never shown means never loaded: nothing to close. */
-    if (table) table->window_close(title);
+    if (g_table) g_table->window_close(title);
 }
 
 bool cv_bridge_window_mouse(const char *title, int *col, int *row) {
-    return table && table->window_mouse(title, col, row);
+    return g_table && g_table->window_mouse(title, col, row);
 }
 
 void cv_bridge_draw_text(uint8_t *rgb, int width, int height, int col, int row, const char *text,

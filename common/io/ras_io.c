@@ -127,8 +127,8 @@ static char g_tmp[PATH_MAX];
 static volatile sig_atomic_t g_tmp_live;
 static pthread_mutex_t g_write_lock = PTHREAD_MUTEX_INITIALIZER;
 
-static const int g_cleanup_signals[] = {SIGINT, SIGTERM, SIGHUP};
-#define N_CLEANUP_SIGNALS (sizeof g_cleanup_signals / sizeof *g_cleanup_signals)
+static const int cleanup_signals[] = {SIGINT, SIGTERM, SIGHUP};
+#define N_CLEANUP_SIGNALS (sizeof cleanup_signals / sizeof *cleanup_signals)
 
 static void on_fatal_signal(int sig) {
     if (g_tmp_live) unlink(g_tmp); /* async-signal-safe */
@@ -147,17 +147,18 @@ static void signals_install(saved_signals *s) {
     sa.sa_handler = on_fatal_signal;
     sigemptyset(&sa.sa_mask);
     for (size_t i = 0; i < N_CLEANUP_SIGNALS; i++) {
-        sigaction(g_cleanup_signals[i], NULL, &s->old[i]);
+        sigaction(cleanup_signals[i], NULL, &s->old[i]);
         /* A signal the caller ignores (nohup, a shell's background job)
          * stays ignored. */
-        if (s->old[i].sa_handler != SIG_IGN) sigaction(g_cleanup_signals[i], &sa, NULL);
+        if (s->old[i].sa_handler != SIG_IGN) sigaction(cleanup_signals[i], &sa, NULL);
     }
     sa.sa_handler = SIG_IGN; /* past RLIMIT_FSIZE: EFBIG from write, not a kill */
     sigaction(SIGXFSZ, &sa, &s->old_xfsz);
 }
 
 static void signals_restore(const saved_signals *s) {
-    for (size_t i = 0; i < N_CLEANUP_SIGNALS; i++) sigaction(g_cleanup_signals[i], &s->old[i], NULL);
+    for (size_t i = 0; i < N_CLEANUP_SIGNALS; i++)
+        sigaction(cleanup_signals[i], &s->old[i], NULL);
     sigaction(SIGXFSZ, &s->old_xfsz, NULL);
 }
 

@@ -62,7 +62,7 @@ bool ras_io_write_atomic(const char *path, const char *what, const void *data, s
  * set (the programs' --force). */
 void ras_io_set_force(bool force);
 /* True when `path` is new, or a file this run may replace; else false and
- * err naming the file, its mode and --force. `what` as in write_atomic. */
+ * err naming the file, its mode and --force. `what` as in ras_io_write_atomic. */
 bool ras_io_check_replace(const char *path, const char *what, ras_error *err);
 
 /* Removes, in `dir`, the temporaries ras_io_write_atomic names

@@ -8,7 +8,7 @@
  *
  * assimp is not linked: it is opened with dlopen when the first model file is
  * read (load_assimp), so programs that draw built-in shapes never load it
- * (docs/startup.md). Every file assimp opens goes through this file's
+ * (common/README.md, "What is loaded when"). Every file assimp opens goes through this file's
  * aiFileIO, which reads regular files only.
  */
 #include "ras_mesh.h"
@@ -19,18 +19,19 @@
 #include <assimp/scene.h>       /* aiScene, aiNode, aiMesh */
 
 #include <assert.h> /* assert */
+#include <errno.h>  /* errno, EINTR */
 #include <dlfcn.h>  /* dlopen, dlsym, dlerror: assimp, loaded on first use */
 #include <limits.h> /* UINT_MAX, PATH_MAX */
 #include <math.h>   /* isfinite */
 #include <stdint.h> /* SIZE_MAX */
 #include <stdio.h>  /* fdopen, fread, fseek, fclose, snprintf */
 #include <stdlib.h> /* calloc, malloc, free */
-#include <string.h> /* memcpy, strcmp, strrchr, strdup */
+#include <string.h> /* memcpy, strcmp, strrchr, strdup, strsignal */
 #include <sys/stat.h> /* fstat */
-#include <unistd.h> /* close */
+#include <unistd.h> /* close, write */
 
 #include "ras_io.h"     /* ras_io_open_input */
-#include "ras_job.h"    /* ras_job_run: the import on its own thread, with a time limit */
+#include "ras_job.h"    /* the import in a child process, or on its own thread, with a time limit */
 #include "ras_memory.h" /* ras_memory_check, ras_memory_limit */
 #include "ras_mesh_parts.h"
 
@@ -288,6 +289,7 @@ static void io_close(struct aiFileIO *io, struct aiFile *f) {
 /* Loading                                                                   */
 
 static ras_mesh *import_mesh(const char *path, const char *suffix, ras_error *err);
+static bool load_assimp(const char *path, ras_error *err);
 
 /* What the import needs and gives back, owned by whoever holds it last
  * (ras_job.h): the caller, or the import's thread when its time ran out. */
@@ -311,6 +313,163 @@ static void import_discard(void *mesh, void *arg) {
     ras_mesh_destroy(mesh);
     free(w->path);
     free(w);
+}
+
+/* assimp's importers, post-processing and node destructors recurse per
+ * level of the file's hierarchy: they run on a thread with a large stack
+ * (address space only: pages are touched as they are used), sized to fit
+ * the memory budget. If no such thread can be made, the import runs here. */
+static size_t import_stack(void) {
+    size_t stack = ras_memory_limit() / 4;
+    if (stack > RAS_MESH_IMPORT_STACK) stack = RAS_MESH_IMPORT_STACK;
+    if (stack < (16u << 20)) stack = 16u << 20;
+    return stack;
+}
+
+/* The import in this process, on a thread waited for at most `limit`
+ * seconds. When the time ran out, the thread owns `work` from then on and
+ * work->path is cleared here so the caller does not free it. */
+static ras_mesh *import_in_process(import_work *work, double limit, ras_error *err) {
+    void *result = NULL;
+    if (!ras_job_run(import_thread, work, import_discard, import_stack(), limit, &result)) {
+        ras_error_set(err,
+                      "the importer did not finish '%s' within %g s (assimp is stuck on this "
+                      "file, or it is far too big); expected a model that imports in time — "
+                      "check the file, or raise RAS_MESH_IMPORT_SECONDS",
+                      work->path, limit);
+        work->path = NULL;
+        return NULL;
+    }
+    if (!result && err) *err = work->err;
+    return result;
+}
+
+/* The mesh as the child writes it to the parent: a header, then the five
+ * arrays as they lie in memory (the same process image, so the same layout). */
+typedef struct import_header {
+    char tag; /* 'M': a mesh follows; 'E': the error's text follows */
+    bool has_uv, has_normals_from_file;
+    uint64_t vertex_count, triangle_count;
+} import_header;
+
+static bool write_all(int fd, const void *data, size_t n) {
+    const unsigned char *p = data;
+    while (n > 0) {
+        ssize_t w = write(fd, p, n);
+        if (w < 0 && errno == EINTR) continue;
+        if (w <= 0) return false;
+        p += w;
+        n -= (size_t)w;
+    }
+    return true;
+}
+
+/* In the child: the import (on its large-stack thread; the parent keeps the
+ * time), then its mesh or its error down the pipe. */
+static int import_child(void *arg, int fd) {
+    import_work *work = arg;
+    void *result = NULL;
+    ras_job_run(import_thread, work, import_discard, import_stack(), 1e9, &result);
+    ras_mesh *m = result;
+    import_header h = {m ? 'M' : 'E', m && m->has_uv, m && m->has_normals_from_file,
+                       m ? m->vertex_count : 0, m ? m->triangle_count : 0};
+    bool ok = write_all(fd, &h, sizeof h);
+    if (m) {
+        size_t v = m->vertex_count;
+        ok = ok && write_all(fd, m->positions, v * sizeof *m->positions) &&
+             write_all(fd, m->normals, v * sizeof *m->normals) &&
+             write_all(fd, m->uvs, v * sizeof *m->uvs) &&
+             write_all(fd, m->colors, v * sizeof *m->colors) &&
+             write_all(fd, m->indices, 3 * m->triangle_count * sizeof *m->indices);
+    } else {
+        ok = ok && write_all(fd, work->err.msg, strlen(work->err.msg));
+    }
+    return ok ? 0 : 1;
+}
+
+/* The child's bytes back into a mesh; NULL with err set when they are not
+ * what import_child writes. */
+static ras_mesh *import_decode(const unsigned char *bytes, size_t len, const char *path,
+                               ras_error *err) {
+    import_header h;
+    if (len < sizeof h) goto broken;
+    memcpy(&h, bytes, sizeof h);
+    const unsigned char *p = bytes + sizeof h;
+    size_t rest = len - sizeof h;
+    if (h.tag == 'E') {
+        ras_error_set(err, "%.*s", (int)(rest < sizeof err->msg - 1 ? rest : sizeof err->msg - 1),
+                      (const char *)p);
+        return NULL;
+    }
+    size_t per_vertex = sizeof(vec3s) * 3 + sizeof(vec2s);
+    if (h.tag != 'M' || h.vertex_count > UINT_MAX || h.triangle_count > SIZE_MAX / 12 ||
+        rest != h.vertex_count * per_vertex + h.triangle_count * 3 * sizeof(unsigned))
+        goto broken;
+    ras_mesh *m = ras_mesh_create(h.vertex_count, h.triangle_count);
+    if (!m) {
+        ras_error_set(err, "out of memory importing model '%s'", path);
+        return NULL;
+    }
+    size_t v = m->vertex_count;
+    memcpy(m->positions, p, v * sizeof *m->positions), p += v * sizeof *m->positions;
+    memcpy(m->normals, p, v * sizeof *m->normals), p += v * sizeof *m->normals;
+    memcpy(m->uvs, p, v * sizeof *m->uvs), p += v * sizeof *m->uvs;
+    memcpy(m->colors, p, v * sizeof *m->colors), p += v * sizeof *m->colors;
+    memcpy(m->indices, p, 3 * m->triangle_count * sizeof *m->indices);
+    m->has_uv = h.has_uv;
+    m->has_normals_from_file = h.has_normals_from_file;
+    return m;
+broken:
+    ras_error_set(err, "could not read model '%s': the importer's process sent back %zu bytes "
+                       "that are not a mesh (an internal error: please report it)",
+                  path, len);
+    return NULL;
+}
+
+/* The import in a child process: assimp is not built with the sanitizers
+ * and some of its importers crash on malformed files (stack-protector
+ * aborts, segfaults) instead of failing; a crash or a stuck importer then
+ * ends only the child. *isolated is false when no child could be made. */
+static ras_mesh *import_isolated(import_work *work, double limit, bool *isolated,
+                                 ras_error *err) {
+    unsigned char *bytes;
+    size_t len;
+    int code, sig;
+    ras_job_child_status st =
+        ras_job_run_child(import_child, work, limit, ras_memory_limit(), &bytes, &len, &code, &sig);
+    *isolated = st != RAS_JOB_CHILD_NO_PROCESS;
+    const char *path = work->path;
+    switch (st) {
+    case RAS_JOB_CHILD_NO_PROCESS: return NULL;
+    case RAS_JOB_CHILD_LATE:
+        return ras_error_set(err,
+                             "the importer did not finish '%s' within %g s (assimp is stuck "
+                             "on this file, or it is far too big); expected a model that "
+                             "imports in time — check the file, or raise "
+                             "RAS_MESH_IMPORT_SECONDS",
+                             path, limit),
+               NULL;
+    case RAS_JOB_CHILD_TOO_BIG:
+        return ras_error_set(err,
+                             "model '%s' is too big for the memory budget (%zu MB) once "
+                             "imported; use a smaller model or raise the budget (RAS_MEMORY_LIMIT_MB)",
+                             path, ras_memory_limit() >> 20),
+               NULL;
+    case RAS_JOB_CHILD_CRASHED:
+        return ras_error_set(err,
+                             "could not read model '%s': the model importer (assimp) crashed "
+                             "on it (signal %d, %s); expected a well-formed mesh file — check "
+                             "the file, or re-export it",
+                             path, sig, strsignal(sig)),
+               NULL;
+    case RAS_JOB_CHILD_DONE: break;
+    }
+    ras_mesh *mesh = code == 0 ? import_decode(bytes, len, path, err) : NULL;
+    if (code != 0)
+        ras_error_set(err, "could not read model '%s': the importer's process failed (exit %d)",
+                      path, code);
+    free(bytes);
+    return mesh;
 }
 
 ras_mesh *ras_mesh_load(const char *path, ras_error *err) {
@@ -339,10 +498,7 @@ ras_mesh *ras_mesh_load(const char *path, ras_error *err) {
     ras_mesh_file_extension(path, ext, sizeof ext);
     if (!ras_mesh_check_declared_counts(path, file_bytes, err) || !ras_mesh_check_ply_lists(path, err))
         return NULL;
-    /* assimp's importers, post-processing and node destructors recurse per
-     * level of the file's hierarchy: run them on a thread with a large stack
-     * (address space only: pages are touched as they are used), sized to fit
-     * the memory budget. If no such thread can be made, the import runs here. */
+    if (!load_assimp(path, err)) return NULL; /* opened here: the child must not dlopen */
     import_work *work = calloc(1, sizeof *work);
     char *path_copy = work ? strdup(path) : NULL;
     if (!work || !path_copy) {
@@ -351,23 +507,15 @@ ras_mesh *ras_mesh_load(const char *path, ras_error *err) {
         return NULL;
     }
     work->path = path_copy;
-    size_t stack = ras_memory_limit() / 4;
-    if (stack > RAS_MESH_IMPORT_STACK) stack = RAS_MESH_IMPORT_STACK;
-    if (stack < (16u << 20)) stack = 16u << 20;
     /* At most the import's time limit: assimp has importers that loop
      * forever on some malformed files. */
     double limit = ras_job_seconds("RAS_MESH_IMPORT_SECONDS", RAS_MESH_IMPORT_SECONDS_DEFAULT);
-    void *result = NULL;
-    if (!ras_job_run(import_thread, work, import_discard, stack, limit, &result))
-        return ras_error_set(err,
-                             "the importer did not finish '%s' within %g s (assimp is stuck "
-                             "on this file, or it is far too big); expected a model that "
-                             "imports in time — check the file, or raise "
-                             "RAS_MESH_IMPORT_SECONDS",
-                             path, limit),
-               NULL;
-    ras_mesh *mesh = result;
-    if (!mesh && err) *err = work->err;
+    bool isolated = false;
+    ras_mesh *mesh = import_isolated(work, limit, &isolated, err);
+    if (!isolated) { /* no child process could be made: the import runs in this one */
+        mesh = import_in_process(work, limit, err);
+        if (!work->path) return mesh; /* still running: its thread owns the work now */
+    }
     free(work->path);
     free(work);
 #ifdef __GLIBC__
@@ -375,7 +523,7 @@ ras_mesh *ras_mesh_load(const char *path, ras_error *err) {
      * the renderer (on this thread) cannot reuse it: give it back, or the
      * peak is the import plus the render (980 instead of 667 MB measured on
      * a 40 MB OBJ). */
-    malloc_trim(0);
+    if (!isolated) malloc_trim(0);
 #endif
     return mesh;
 }
@@ -395,13 +543,13 @@ static struct {
     void (*release_import)(const struct aiScene *);
     const char *(*get_error_string)(void);
     char error[512];
-} assimp;
-static pthread_once_t assimp_once = PTHREAD_ONCE_INIT;
+} g_assimp;
+static pthread_once_t g_assimp_once = PTHREAD_ONCE_INIT;
 
 static void *assimp_symbol(void *lib, const char *name) {
     void *p = dlsym(lib, name);
-    if (!p && !assimp.error[0])
-        snprintf(assimp.error, sizeof assimp.error, "%s has no %s", RAS_ASSIMP_LIBRARY, name);
+    if (!p && !g_assimp.error[0])
+        snprintf(g_assimp.error, sizeof g_assimp.error, "%s has no %s", RAS_ASSIMP_LIBRARY, name);
     return p;
 }
 
@@ -409,7 +557,7 @@ static void open_assimp(void) {
     void *lib = dlopen(RAS_ASSIMP_LIBRARY, RTLD_LAZY | RTLD_LOCAL); /* as at start-up */
     if (!lib) {
         const char *why = dlerror();
-        snprintf(assimp.error, sizeof assimp.error, "%s", why ? why : RAS_ASSIMP_LIBRARY);
+        snprintf(g_assimp.error, sizeof g_assimp.error, "%s", why ? why : RAS_ASSIMP_LIBRARY);
         return;
     }
     union {
@@ -421,19 +569,19 @@ static void open_assimp(void) {
               {assimp_symbol(lib, "aiReleaseImport")},
               {assimp_symbol(lib, "aiGetErrorString")}};
     if (!f[0].p || !f[1].p || !f[2].p) return; /* the library stays open: harmless */
-    assimp.import_file_ex = f[0].import_file_ex;
-    assimp.release_import = f[1].release_import;
-    assimp.get_error_string = f[2].get_error_string;
+    g_assimp.import_file_ex = f[0].import_file_ex;
+    g_assimp.release_import = f[1].release_import;
+    g_assimp.get_error_string = f[2].get_error_string;
 }
 
 /* True when assimp is there; else false and err says why. */
 static bool load_assimp(const char *path, ras_error *err) {
-    pthread_once(&assimp_once, open_assimp);
-    if (assimp.import_file_ex) return true;
+    pthread_once(&g_assimp_once, open_assimp);
+    if (g_assimp.import_file_ex) return true;
     return ras_error_set(err,
                          "cannot read model '%s': the model importer (assimp) could not be "
                          "loaded (%s); install it (scripts/install-deps)",
-                         path, assimp.error);
+                         path, g_assimp.error);
 }
 
 static ras_mesh *import_mesh(const char *path, const char *suffix, ras_error *err) {
@@ -455,12 +603,12 @@ static ras_mesh *import_mesh(const char *path, const char *suffix, ras_error *er
         named.alias = alias;
     }
     struct aiFileIO io = {io_open, io_close, (aiUserData)&named};
-    const struct aiScene *scene = assimp.import_file_ex(named.alias, flags, &io);
+    const struct aiScene *scene = g_assimp.import_file_ex(named.alias, flags, &io);
     if (!scene) {
         /* assimp's own text names its internals ("OBJ: Invalid face indice",
          * "Unable to open file"): the project's sentence comes first, with
          * the file and what was expected, and assimp's words last, as detail. */
-        const char *why = assimp.get_error_string();
+        const char *why = g_assimp.get_error_string();
         ras_error_set(err,
                       "could not read model '%s': it is not a complete mesh file in a format the "
                       "importer knows (expected OBJ, PLY, STL, glTF, OFF, COLLADA, ...) — check "
@@ -469,7 +617,7 @@ static ras_mesh *import_mesh(const char *path, const char *suffix, ras_error *er
         return NULL;
     }
     if ((scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) || !scene->mRootNode) {
-        assimp.release_import(scene);
+        g_assimp.release_import(scene);
         ras_error_set(err,
                       "model '%s' is incomplete (an animation or skeleton without geometry); "
                       "expected triangles — export the mesh itself",
@@ -480,7 +628,7 @@ static ras_mesh *import_mesh(const char *path, const char *suffix, ras_error *er
     ras_mesh_instance *inst = NULL;
     size_t inst_count = 0;
     if (!collect_instances(scene, &inst, &inst_count)) {
-        assimp.release_import(scene);
+        g_assimp.release_import(scene);
         ras_error_set(err, "out of memory while reading the node tree of '%s'", path);
         return NULL;
     }
@@ -530,7 +678,7 @@ static ras_mesh *import_mesh(const char *path, const char *suffix, ras_error *er
         free(repair);
     }
     free(inst);
-    assimp.release_import(scene);
+    g_assimp.release_import(scene);
     return mesh;
 }
 

@@ -33,7 +33,7 @@ void ras_mesh_smooth_normals(ras_mesh *mesh, const bool *repair);
 /* The file's extension, lower-cased, in `ext` ("" when none). */
 void ras_mesh_file_extension(const char *path, char *ext, size_t size);
 /* The checks of ras_mesh_check.c: true when the file may go to assimp, else
- * false with err saying why. check_content also tells glTF by content:
+ * false with err saying why. ras_mesh_check_content also tells glTF by content:
  * *suffix is ".glb" or ".gltf" then, else "". */
 bool ras_mesh_check_content(const char *path, const char **suffix, ras_error *err);
 bool ras_mesh_check_declared_counts(const char *path, double file_bytes, ras_error *err);

@@ -3,7 +3,8 @@
  * PNG is the format every program reads and writes (textures, -o, the
  * reference images), so it is done here with libpng (0.3 M instructions to
  * load) instead of through OpenCV's imgcodecs, whose Debian build pulls in
- * GDAL and some 140 libraries before main (docs/startup.md). Every other
+ * GDAL and some 140 libraries before main (common/README.md, "What is loaded
+ * when"). Every other
  * format goes through the OpenCV bridge (cv_bridge.h), loaded on first use.
  *
  * The encoder makes the same bytes OpenCV 4.6's imencode(".png") made for an

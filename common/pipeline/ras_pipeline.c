@@ -23,7 +23,7 @@ static vec3s shade_counting(const ras_triangle *t, const ras_fragment *f, void *
     return shade(t, f, p->config.shade_user);
 }
 
-/* Everything of begin_frame but the clear. */
+/* Everything of ras_pipeline_begin_frame but the clear. */
 static void reset_frame_state(ras_pipeline *p) {
     p->counters = (ras_counters){.buffer_bytes = p->fb->bytes};
     p->step_reached = 0;

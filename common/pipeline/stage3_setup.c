@@ -34,8 +34,7 @@ vec4s ras_viewport(vec4s p_clip, int width, int height) {
 }
 
 /* x or y as the rasterizer snaps it: to the nearest 1/RAS_SUBPIXEL_ONE px,
- * half away from zero (hw2_rasterize/solution/rasterizer.c, snap; the fast
- * renderer's setup_fixed). */
+ * half away from zero (the reference rasterizer's snap, stage4_raster.h). */
 static double snapped(float v) { return round((double)v * RAS_SUBPIXEL_ONE) / RAS_SUBPIXEL_ONE; }
 
 /* RAS_DEPTH_INV_W: the snap carried into depth. The rasterizer computes
@@ -43,8 +42,8 @@ static double snapped(float v) { return round((double)v * RAS_SUBPIXEL_ONE) / RA
  * corners; with each corner's depth taken at its unsnapped position, the
  * depth plane it interpolates is tilted by up to 1/512 px of slope per
  * corner, differently for two triangles of one surface or of two parallel
- * ones, and that costs -near/w its order at relative gaps of 1e-6 (issue
- * #27). So each corner gets the depth of the triangle's own plane — -near/w
+ * ones, and that costs -near/w its order at relative gaps of 1e-6. So each
+ * corner gets the depth of the triangle's own plane — -near/w
  * is affine in screen space — at its snapped position: the plane through the
  * corners in double (from the clip-space values, before any float rounding
  * of the viewport), evaluated at the snapped x and y, rounded once. A

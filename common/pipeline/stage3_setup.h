@@ -31,10 +31,10 @@
  *         snap tilts each triangle's depth plane its own way by up to 1/512
  *         px of slope, and two parallel surfaces swapped order at gaps of
  *         1e-6 to 4e-6 of their distance.
- *     Measured (docs/accuracy.md §5b: parallel planes at distances 1–1000,
- *     tilts 0–85°, turned so that their corners snap differently): two
- *     surfaces keep their order as far as their float clip-space corners
- *     carry it — everywhere from a gap of 4e-6 of their distance, and at
+ *     Measured (the accuracy report's §5b, instructors' edition: parallel
+ *     planes at distances 1–1000, tilts 0–85°, turned so that their corners
+ *     snap differently): two surfaces keep their order as far as their
+ *     float clip-space corners carry it — everywhere from a gap of 4e-6 of their distance, and at
  *     1e-6 within 0.2% of the samples of what the exact depths of those
  *     corners, rounded once, keep (at 3e-7 about as well as those exact
  *     depths on average); below that the gap is one or two float steps and

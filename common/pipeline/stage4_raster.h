@@ -2,7 +2,7 @@
  * hand-off to the fragment stage. This header is the CONTRACT that hw2 fills:
  * the pipeline calls a ras_rasterize_fn for every screen-space triangle and a
  * ras_resolve_fn for every pixel at the end of the frame. The student
- * (hw2_rasterize/rasterizer.c) and the reference (hw2_rasterize/solution/)
+ * (hw2_rasterize/rasterizer.c) and the reference (instructors' edition)
  * implement the same functions; common/ holds no implementation of them.
  *
  * What a rasterizer must do for one triangle (see docs/hw2.md):
@@ -27,15 +27,15 @@
 /* THE RANGE of a rasterizer's input (part of this contract): every corner's
  * screen x and y within ±RAS_RASTER_MAX_COORD = 2^17 px, inclusive. There the
  * reference's 1/256-px snap and its double edge functions are exact (whole
- * numbers of 2^-16 px² below 2^53 of them: hw2_rasterize/solution/
- * rasterizer.c), so coverage is exact and watertight. Beyond it a triangle is
+ * numbers of 2^-16 px² below 2^53 of them: the reference rasterizer), so
+ * coverage is exact and watertight. Beyond it a triangle is
  * REFUSED, not drawn approximately: the pipeline checks every triangle with
  * ras_raster_check_range before it calls the rasterize hook (student's or
  * reference's), draws nothing of a triangle out of range, counts it in
  * triangles_rejected_range and keeps the first refusal's message, which names
- * the corner and its position (ras_pipeline.refused). The fast renderer
- * (fast/) refuses and counts at the same point with the same
- * test. From a scene it cannot happen: the clipper's guard band keeps every
+ * the corner and its position (ras_pipeline.refused). The instructors'
+ * edition's fast renderer refuses and counts at the same point with the
+ * same test. From a scene it cannot happen: the clipper's guard band keeps every
  * corner within 4.5 frames of RAS_IMAGE_MAX_SIDE = 16384 px (73 728 px); a
  * screen-space caller meets it through ras_pipeline_draw_screen_triangle.
  * A rasterizer called straight, outside the pipeline, with coordinates

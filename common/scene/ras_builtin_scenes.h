@@ -3,7 +3,7 @@
  * Each program's default scene is a file in scenes/ (hw1_classic.json,
  * hw2_classic.json, hw3_default.json). CMake copies their text into the
  * binary at build time (common/scene/ras_builtin_scenes.c.in), so a program finds
- * its default without --scene and without the source tree: `make demo` and an
+ * its default without --scene and without the source tree: scripts/demo and an
  * installed binary need nothing else. Editing a scene file re-runs CMake's
  * configure step and rebuilds the embedded copy.
  */

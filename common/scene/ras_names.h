@@ -22,7 +22,7 @@ extern const ras_names ras_names_aa;      /* ras_aa_mode: none, msaa, ssaa */
 extern const ras_names ras_names_pattern; /* ras_pattern_kind: ordered, standard */
 extern const ras_names ras_names_depth;   /* ras_depth_format: z01, inverse_w */
 extern const ras_names ras_names_shader;  /* ras_scene_shader: flat, normal, phong, ... */
-extern const ras_names ras_names_filter;  /* ras_scene_filter, texture_filter: nearest, ... */
+extern const ras_names ras_names_filter;  /* ras_scene_filter: nearest, ... */
 extern const ras_names ras_names_wrap;    /* ras_wrap: repeat, clamp */
 extern const ras_names ras_names_cull;    /* ras_cull_mode: none, back, front */
 

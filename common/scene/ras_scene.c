@@ -1,5 +1,6 @@
 /* ras_scene.c — scene files: reading one (ras_scene_load, ras_scene_parse)
- * and what every user of a scene needs (ras_scene_destroy, the view matrix).
+ * and what every user of a scene needs (ras_scene_destroy, the model and
+ * view matrices).
  *
  * Reading a scene is split by job, one module each:
  *   ras_scene.c          the file: size and kind checks, the text, cJSON
@@ -22,6 +23,7 @@
 #include <cjson/cJSON.h> /* cJSON_ParseWithOpts, cJSON_GetErrorPtr, CJSON_NESTING_LIMIT */
 #include <ctype.h>       /* isspace */
 #include <errno.h>       /* errno */
+#include <math.h>        /* cosf, sinf */
 #include <stdio.h>       /* fdopen, fread, snprintf */
 #include <stdlib.h>      /* calloc, malloc, free */
 #include <string.h>      /* strlen, strerror, strrchr, strcpy, memcpy, memchr */
@@ -181,4 +183,75 @@ mat4s ras_scene_view_matrix(const ras_scene *scene) {
     const ras_scene_camera *cam = &scene->camera;
     if (cam->view == RAS_SCENE_VIEW_LOOK_AT) return glms_lookat(cam->eye, cam->look_at, cam->up);
     return ras_view_matrix_eye(cam->eye);
+}
+
+/* ---- the model matrix ------------------------------------------------------ */
+
+/* hw3's form turns with its own matrices about +x and +y (its reference
+ * images were drawn with them, so they stay), and glms_rotate_make about any
+ * other axis (no z matrix written out here: that is hw1's exercise). */
+static mat4s rotate_y(float deg) {
+    float a = ras_deg_to_rad(deg), c = cosf(a), s = sinf(a);
+    return ras_mat4_rows(c, 0, s, 0,
+                         0, 1, 0, 0,
+                         -s, 0, c, 0,
+                         0, 0, 0, 1);
+}
+
+static mat4s rotate_x(float deg) {
+    float a = ras_deg_to_rad(deg), c = cosf(a), s = sinf(a);
+    return ras_mat4_rows(1, 0, 0, 0,
+                         0, c, -s, 0,
+                         0, s, c, 0,
+                         0, 0, 0, 1);
+}
+
+static mat4s rotation_about_axis(const ras_scene_rotation *r) {
+    return glms_rotate_make(ras_deg_to_rad(r->deg), r->axis);
+}
+
+static mat4s rotation_axis_matrices(const ras_scene_rotation *r) {
+    vec3s a = r->axis;
+    if (a.y == 0 && a.z == 0 && a.x > 0) return rotate_x(r->deg);
+    if (a.x == 0 && a.z == 0 && a.y > 0) return rotate_y(r->deg);
+    return rotation_about_axis(r);
+}
+
+/* A matrix spin: ((T · spin) · (R_{n-1} ⋯ R_0 · I)) · S, every factor. */
+static mat4s model_with_matrix(const ras_scene_object *o, mat4s spin) {
+    mat4s r = glms_mat4_identity();
+    for (int i = 0; i < o->rotation_count; i++)
+        r = ras_mat4_mul(rotation_about_axis(&o->rotations[i]), r);
+    mat4s m = ras_mat4_mul(glms_translate_make(o->translate), spin);
+    return ras_mat4_mul(ras_mat4_mul(m, r), glms_scale_make(o->scale));
+}
+
+/* hw3's turn: (T · R_y(yaw + turn)) · orient, a last rotation about ±y taken
+ * into the turn as yaw (the turn about y and that rotation commute, so
+ * T · spin · R · S is kept). */
+static mat4s model_with_turn_y(const ras_scene_object *o, float turn_deg) {
+    mat4s place = ras_mat4_rows(1, 0, 0, o->translate.x, 0, 1, 0, o->translate.y, 0, 0, 1,
+                                o->translate.z, 0, 0, 0, 1);
+    float yaw_deg = 0;
+    int n = o->rotation_count;
+    const ras_scene_rotation *last = n > 0 ? &o->rotations[n - 1] : NULL;
+    if (last && last->axis.x == 0 && last->axis.z == 0 && last->axis.y != 0) {
+        yaw_deg = last->axis.y > 0 ? last->deg : -last->deg;
+        n--;
+    }
+    /* orient = R(rotations[n-1]) ⋯ R(rotations[0]) · S, skipping identity
+     * factors: the reference images were drawn with exactly these products
+     * (a product with the identity can still turn a -0 into +0). */
+    mat4s orient = glms_mat4_identity();
+    for (int i = 0; i < n; i++)
+        orient = i == 0 ? rotation_axis_matrices(&o->rotations[0])
+                        : ras_mat4_mul(rotation_axis_matrices(&o->rotations[i]), orient);
+    vec3s k = o->scale;
+    if (k.x != 1 || k.y != 1 || k.z != 1) orient = ras_mat4_mul(orient, glms_scale_make(k));
+    return ras_mat4_mul(ras_mat4_mul(place, rotate_y(yaw_deg + turn_deg)), orient);
+}
+
+mat4s ras_scene_model_matrix(const ras_scene_object *object, ras_scene_spin spin) {
+    return spin.matrix ? model_with_matrix(object, *spin.matrix)
+                       : model_with_turn_y(object, spin.turn_y_deg);
 }

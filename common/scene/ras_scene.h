@@ -153,7 +153,7 @@ typedef struct ras_scene_object {
     ras_scene_rotation rotations[RAS_SCENE_MAX_ROTATIONS];
     int rotation_count;
     vec3s scale;
-    mat4s model; /* the product above, built with glms_* */
+    mat4s model; /* the product above: ras_scene_model_matrix with the identity */
     ras_scene_material material;
 } ras_scene_object;
 
@@ -196,9 +196,11 @@ typedef struct ras_scene {
     int light_count; /* 0..RAS_SCENE_MAX_LIGHTS */
     vec3s ambient;
     ras_aa_mode aa;
-    int samples; /* as written (1 for RAS_AA_NONE) */
-    ras_pattern_kind pattern_kind;
-    ras_sample_pattern pattern; /* validated with ras_sample_pattern_make */
+    ras_pattern_kind pattern_kind; /* as written, also for RAS_AA_NONE */
+    /* The samples: pattern_kind's with aa.samples, validated with
+     * ras_sample_pattern_make; the centre (count 1) for RAS_AA_NONE. Its
+     * count is the scene's sample count: no other field holds it. */
+    ras_sample_pattern pattern;
     ras_scene_shader shader;
     ras_scene_filter filter;
     ras_cull_mode cull;
@@ -220,11 +222,28 @@ ras_scene *ras_scene_parse(const char *text, const char *name, const char *base_
 
 void ras_scene_destroy(ras_scene *scene);
 
-/* The object's model matrix with `spin` inserted after its rotations and
- * before its translation: T · spin · R · S (spin = identity gives
- * object->model). The programs pass their rotation (hw1's get_model_matrix,
- * hw3's turn about y) as spin, so each object turns about its own origin. */
-mat4s ras_scene_model_matrix(const ras_scene_object *object, mat4s spin);
+/* The program's own rotation of every object (ras_scene_model_matrix): a
+ * matrix (hw1's get_model_matrix or get_rotation, hw2's), or, with `matrix`
+ * NULL, hw3's turn of turn_y_deg degrees about +y. */
+typedef struct ras_scene_spin {
+    const mat4s *matrix;
+    float turn_y_deg;
+} ras_scene_spin;
+
+/* Every model matrix of the tree: the object's, T · spin · R(rotations[n-1])
+ * ⋯ R(rotations[0]) · S, with the program's spin after the object's
+ * rotations and before its translation, so each object turns about its own
+ * origin. Multiplied out in one of two ways, each bit for bit what reference
+ * pictures were drawn with:
+ *   - a matrix: ((T · spin) · (R_{n-1} ⋯ R_0 · I)) · S, every factor
+ *     multiplied, each R glms_rotate_make's; the identity gives
+ *     object->model (hw1, hw2, the scene itself);
+ *   - a turn about y (hw3): a last rotation about +y or -y joins the turn
+ *     (one R_y of the summed angle: the two commute), rotations about +x and
+ *     +y are their cos/sin matrices (any other axis glms_rotate_make's), and
+ *     no factor is multiplied for no rotations or a scale of 1:
+ *     (T · R_y(turn + yaw)) · (R_{n-1} ⋯ R_0 · S). */
+mat4s ras_scene_model_matrix(const ras_scene_object *object, ras_scene_spin spin);
 
 /* The camera's view matrix: ras_view_matrix_eye(eye) for the fixed view,
  * glms_lookat(eye, look_at, up) otherwise. */

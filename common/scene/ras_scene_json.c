@@ -244,7 +244,7 @@ static bool read_number(ras_json_ctx *c, const cJSON *v, const char *path, ras_j
 
 bool ras_json_read_float(ras_json_ctx *c, const cJSON *v, const char *path, ras_json_range r,
                          float *out) {
-    double d;
+    double d = 0; /* set by read_number when it returns true (gcc cannot see that) */
     if (!read_number(c, v, path, r, &d)) return false;
     *out = (float)d;
     return true;
@@ -252,7 +252,7 @@ bool ras_json_read_float(ras_json_ctx *c, const cJSON *v, const char *path, ras_
 
 bool ras_json_read_int(ras_json_ctx *c, const cJSON *v, const char *path, int lo, int hi,
                        int *out) {
-    double d;
+    double d = 0; /* set by read_number when it returns true (gcc cannot see that) */
     if (!read_number(c, v, path, (ras_json_range){lo, hi, false, false, true}, &d)) return false;
     *out = (int)d;
     return true;

@@ -25,7 +25,7 @@
 static const char *const shape_names[RAS_SHAPE_COUNT] = {"triangle", "plane",  "cube",     "sphere",
                                                          "torus",    "teapot", "thin_fan", "model"};
 /* Option values are spelled by ras_names.h's tables; NAMES(t) passes one
- * to read_enum. */
+ * to ras_json_read_enum. */
 #define NAMES(t) (t).names, (t).count
 static const char *const space_names[] = {"view", "world"};
 static const char *const builtin_map_names[] = {"checker", "brick", "bumps"};
@@ -337,7 +337,7 @@ static bool parse_map(ras_json_ctx *c, const cJSON *v, const char *path, ras_sce
         if (!ras_json_read_path(c, file, p, "a file path (a non-empty string)", &m->path))
             return false;
     } else {
-        int kind = 0; /* gcc -O2 cannot see read_enum sets it on success */
+        int kind = 0; /* gcc -O2 cannot see ras_json_read_enum sets it on success */
         ras_json_join(p, path, "builtin");
         if (!ras_json_read_enum(c, builtin, p, builtin_map_names, COUNT(builtin_map_names), &kind))
             return false;
@@ -452,19 +452,6 @@ static void material_defaults(ras_scene_material *m) {
                               .uv_scale = {{1, 1}}};
 }
 
-static mat4s object_matrix(const ras_scene_object *o, mat4s spin) {
-    mat4s r = glms_mat4_identity();
-    for (int i = 0; i < o->rotation_count; i++)
-        r = ras_mat4_mul(
-            glms_rotate_make(ras_deg_to_rad(o->rotations[i].deg), o->rotations[i].axis), r);
-    mat4s m = ras_mat4_mul(glms_translate_make(o->translate), spin);
-    return ras_mat4_mul(ras_mat4_mul(m, r), glms_scale_make(o->scale));
-}
-
-mat4s ras_scene_model_matrix(const ras_scene_object *object, mat4s spin) {
-    return object_matrix(object, spin);
-}
-
 static bool parse_object(ras_json_ctx *c, const cJSON *v, const char *path, ras_scene_object *o) {
     if (!ras_json_read_object(c, v, path)) return false;
     o->scale = (vec3s){{1, 1, 1}};
@@ -511,7 +498,8 @@ static bool parse_object(ras_json_ctx *c, const cJSON *v, const char *path, ras_
     if (tr && !parse_transform(c, tr, p, o)) return false;
     ras_json_join(p, path, "material");
     if (mat && !parse_material(c, mat, p, &o->material)) return false;
-    o->model = object_matrix(o, glms_mat4_identity());
+    mat4s identity = glms_mat4_identity();
+    o->model = ras_scene_model_matrix(o, (ras_scene_spin){.matrix = &identity});
     return true;
 }
 
@@ -595,11 +583,9 @@ static bool parse_aa(ras_json_ctx *c, const cJSON *v, ras_scene *s) {
                                  "expected 1 (or no \"samples\") with mode \"none\", got %d; set "
                                  "\"mode\": \"msaa\" or \"ssaa\" to use %d samples",
                                  samples, samples);
-        s->samples = 1;
         s->pattern = ras_sample_pattern_center();
         return true;
     }
-    s->samples = samples;
     ras_error inner;
     if (!ras_sample_pattern_make(s->pattern_kind, samples, &s->pattern, &inner))
         return ras_json_fail(c, "aa.samples", "%s (pattern \"%s\")", inner.msg,
@@ -658,7 +644,6 @@ void ras_scene_schema_defaults(ras_scene *s) {
     s->model_rotation_axis = (vec3s){{0, 0, 1}};
     s->ambient = (vec3s){{10, 10, 10}};
     s->aa = RAS_AA_NONE;
-    s->samples = 1;
     s->pattern_kind = RAS_PATTERN_ORDERED;
     s->pattern = ras_sample_pattern_center();
     s->shader = RAS_SHADER_FLAT;

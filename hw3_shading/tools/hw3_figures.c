@@ -111,16 +111,16 @@ int main(int argc, char **argv) {
 
     /* the five shaders, half size */
     scene->width = scene->height = 350;
-    for (int s = 0; s < HW3_SHADER_COUNT; s++) {
-        opt.shader = (hw3_shader)s;
+    for (int s = RAS_SHADER_NORMAL; s < RAS_SHADER_COUNT; s++) {
+        opt.shader = (ras_scene_shader)s;
         char name[64];
-        snprintf(name, sizeof name, "hw3_%s.png", hw3_shader_name((hw3_shader)s));
+        snprintf(name, sizeof name, "hw3_%s.png", ras_scene_shader_name(opt.shader));
         save(render(scene, assets, opt), dir, name);
     }
     scene->width = scene->height = 700;
 
     /* the w = 1 pitfall: the bottom half (the floor), correct | affine */
-    opt.shader = HW3_SHADER_TEXTURE;
+    opt.shader = RAS_SHADER_TEXTURE;
     ras_image *correct = render(scene, assets, opt);
     opt.affine = true;
     ras_image *affine = render(scene, assets, opt);

@@ -185,7 +185,7 @@ void texturing_filtering(void) {
                 .view = *acc_identity(),
                 .projection = proj,
                 .img = img};
-            t[fi].r = acc_new_row("filter", scene, hw3_filter_name(filters[fi]));
+            t[fi].r = acc_new_row("filter", scene, ras_scene_filter_name(filters[fi]));
         }
         acc_progress("filter / %s: timing nearest, bilinear, trilinear", scene);
         acc_time_group(t, 3);

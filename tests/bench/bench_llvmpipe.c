@@ -81,7 +81,7 @@ static const char *vertex_src = /* after "#version 330 core" */
     "}\n";
 
 /* shading.c's formulas. SHADER: 0 normal, 1 phong, 2 texture, 3 bump,
- * 4 displacement (hw3_shader's order). */
+ * 4 displacement (ras_scene_shader's order, from RAS_SHADER_NORMAL). */
 static const char *fragment_src =
     "centroid in vec3 v_view, v_normal;\n"
     "centroid in vec2 v_uv;\n"
@@ -169,8 +169,11 @@ static const char *fragment_src =
     "    frag = vec4(c, 1.0);\n"
     "}\n";
 
+/* One GL program per hw3 shader: program k draws RAS_SHADER_NORMAL + k. */
+#define GL_SHADERS (RAS_SHADER_COUNT - RAS_SHADER_NORMAL)
+
 /* The plausible mistake of --wrong, per shader. */
-static const char *const wrong_define[HW3_SHADER_COUNT] = {
+static const char *const wrong_define[GL_SHADERS] = {
     "#define WRONG_NORMAL\n", "#define WRONG_VIEW\n", "#define WRONG_UV\n", "#define WRONG_BUMP\n",
     "#define WRONG_DISPLACE\n"};
 
@@ -179,7 +182,7 @@ static const char *const wrong_define[HW3_SHADER_COUNT] = {
 typedef struct gl_scene {
     int width, height;
     vec3s clear;
-    GLuint program[HW3_SHADER_COUNT];
+    GLuint program[GL_SHADERS];
     GLuint vao;
     GLsizei index_count;
     GLuint fbo[2], color_rb[2], depth_rb[2]; /* 0: one sample (the resolved image); 1: MSAA 4x */
@@ -212,7 +215,7 @@ static GLuint make_program(int shader, bool wrong, int lights, bool tex, bool hm
              shader, lights, tex, hmap);
     const char *fs_parts[3] = {define, wrong ? wrong_define[shader] : "", fragment_src};
     const char *vs_parts[3] = {"#version 330 core\n",
-                               wrong && shader == HW3_SHADER_NORMAL ? wrong_define[shader] : "",
+                               wrong && shader == 0 ? wrong_define[shader] : "",
                                vertex_src};
     GLuint vs = glCreateShader(GL_VERTEX_SHADER), fs = glCreateShader(GL_FRAGMENT_SHADER);
     if (!compile(vs, vs_parts, 3) || !compile(fs, fs_parts, 3)) return 0;
@@ -339,7 +342,7 @@ static bool gl_scene_init(gl_scene *g, const ras_scene *s, const ras_scene_asset
 
     if (o->texture && !upload_texture(o->texture, GL_TEXTURE0)) return false;
     if (o->height_map && !upload_texture(o->height_map, GL_TEXTURE1)) return false;
-    for (int sh = 0; sh < HW3_SHADER_COUNT; sh++) {
+    for (int sh = 0; sh < GL_SHADERS; sh++) {
         g->program[sh] =
             make_program(sh, wrong, o->light_count, o->texture != NULL, o->height_map != NULL);
         if (!g->program[sh]) return false;
@@ -421,7 +424,7 @@ static int serve(const gl_scene *g) {
     fflush(stdout);
     while (fgets(line, sizeof line, stdin)) {
         if (!strncmp(line, "quit", 4)) break;
-        hw3_shader sh;
+        ras_scene_shader sh;
         ras_error err = {{0}};
         if (sscanf(line, "%31s %31s %31s", verb, shader_name, aa) != 3 ||
             !hw3_shader_parse(shader_name, &sh, &err)) {
@@ -430,7 +433,7 @@ static int serve(const gl_scene *g) {
         }
         bool msaa = !strcmp(aa, "msaa");
         double c0 = cpu_ms(), t0 = ras_now_ms();
-        gl_frame(g, (int)sh, msaa);
+        gl_frame(g, (int)sh - RAS_SHADER_NORMAL, msaa);
         double ms = ras_now_ms() - t0, cpu = cpu_ms() - c0;
         if (!strcmp(verb, "frame")) {
             printf("%.6f %.6f\n", ms, cpu);
@@ -467,11 +470,11 @@ static int check(const gl_scene *g, const ras_scene *scene, ras_scene_assets *as
     int as_expected = 0; /* shaders: correct ports passed, or wrong ports caught */
     printf("%-12s %-7s %9s %9s %7s %6s %7s %4s  %s\n", "shader", "AA", "covered", "llvmpipe",
            "cover", "mean", ">8", "max", wrong ? "wrong port (must fail)" : "result");
-    for (int sh = 0; sh < HW3_SHADER_COUNT; sh++) {
+    for (int sh = 0; sh < GL_SHADERS; sh++) {
         bool port_ok = true; /* both checks of this shader pass */
         for (int msaa = 0; msaa < 2; msaa++) {
             hw3_render_options opt = hw3_render_defaults();
-            opt.shader = (hw3_shader)sh;
+            opt.shader = (ras_scene_shader)(RAS_SHADER_NORMAL + sh);
             if (msaa) {
                 opt.aa = RAS_AA_MSAA;
                 if (!ras_sample_pattern_make(RAS_PATTERN_STANDARD, 4, &opt.pattern, &err)) return 1;
@@ -486,37 +489,37 @@ static int check(const gl_scene *g, const ras_scene *scene, ras_scene_assets *as
             llvmpipe_compare(ours, g->clear, rgba, msaa, &c);
             port_ok = port_ok && c.pass;
             printf("%-12s %-7s %9ld %9ld %6.2f%% %6.3f %6.2f%% %4d  %s\n",
-                   hw3_shader_name((hw3_shader)sh), msaa ? "MSAA 4x" : "1x", c.covered_ours,
+                   ras_scene_shader_name(opt.shader), msaa ? "MSAA 4x" : "1x", c.covered_ours,
                    c.covered_llvmpipe, 100 * c.coverage_diff, c.mean_diff, 100 * c.bad_fraction,
                    c.max_diff, c.pass ? "within tolerance" : "OUTSIDE tolerance");
             if (save_dir) {
                 char path[1024];
                 snprintf(path, sizeof path, "%s/%s_%s_ours.png", save_dir,
-                         hw3_shader_name((hw3_shader)sh), msaa ? "msaa" : "1x");
+                         ras_scene_shader_name(opt.shader), msaa ? "msaa" : "1x");
                 if (!ras_image_save(ours, path, &err)) fprintf(stderr, "%s\n", err.msg);
                 snprintf(path, sizeof path, "%s/%s_%s_llvmpipe.png", save_dir,
-                         hw3_shader_name((hw3_shader)sh), msaa ? "msaa" : "1x");
+                         ras_scene_shader_name(opt.shader), msaa ? "msaa" : "1x");
                 save_rgba(rgba, g->width, g->height, path);
             }
         }
         as_expected += port_ok != wrong;
     }
     printf("%s: %d of %d shaders %s\n", wrong ? "wrong ports caught" : "ports within tolerance",
-           as_expected, HW3_SHADER_COUNT, as_expected == HW3_SHADER_COUNT ? "(all)" : "(NOT all)");
+           as_expected, GL_SHADERS, as_expected == GL_SHADERS ? "(all)" : "(NOT all)");
     free(rgba);
     ras_image_destroy(ours);
-    return as_expected == HW3_SHADER_COUNT ? 0 : 1;
+    return as_expected == GL_SHADERS ? 0 : 1;
 }
 
 /* One frame's instructions per shader and AA under callgrind (outside
  * valgrind the requests do nothing and this only renders 30 frames). */
 static int count(const gl_scene *g) {
-    for (int sh = 0; sh < HW3_SHADER_COUNT; sh++)
+    for (int sh = 0; sh < GL_SHADERS; sh++)
         for (int msaa = 0; msaa < 2; msaa++) {
             for (int i = 0; i < 2; i++)
                 gl_frame(g, sh, msaa); /* llvmpipe compiles its variants */
             char name[64];
-            snprintf(name, sizeof name, "%s_%s", hw3_shader_name((hw3_shader)sh),
+            snprintf(name, sizeof name, "%s_%s", ras_scene_shader_name(RAS_SHADER_NORMAL + sh),
                      msaa ? "msaa" : "none");
             CALLGRIND_ZERO_STATS;
             gl_frame(g, sh, msaa);

@@ -27,7 +27,7 @@
 #define RAS_BENCH_LLVMPIPE_H
 
 #include "ras_image.h"
-#include "scene.h" /* hw3_shader */
+#include "scene.h" /* ras_scene_shader */
 
 #include <stdbool.h>
 #include <stddef.h>
@@ -40,9 +40,9 @@ typedef struct llvmpipe_child llvmpipe_child;
  * GL_RENDERER string. NULL (and a message on stderr) when it does not start. */
 llvmpipe_child *llvmpipe_start(const char *program, int threads, const char *model,
                                const char *texture, char *renderer, size_t renderer_size);
-bool llvmpipe_frame(llvmpipe_child *c, hw3_shader shader, bool msaa, double *ms, double *cpu_ms);
+bool llvmpipe_frame(llvmpipe_child *c, ras_scene_shader shader, bool msaa, double *ms, double *cpu_ms);
 /* rgba: width·height·4 bytes, top row first. */
-bool llvmpipe_image(llvmpipe_child *c, hw3_shader shader, bool msaa, int width, int height,
+bool llvmpipe_image(llvmpipe_child *c, ras_scene_shader shader, bool msaa, int width, int height,
                     uint8_t *rgba);
 void llvmpipe_stop(llvmpipe_child *c); /* NULL-safe */
 

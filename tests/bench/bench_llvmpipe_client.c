@@ -76,19 +76,19 @@ llvmpipe_child *llvmpipe_start(const char *program, int threads, const char *mod
     return c;
 }
 
-static bool request(llvmpipe_child *c, const char *verb, hw3_shader shader, bool msaa) {
-    return fprintf(c->to, "%s %s %s\n", verb, hw3_shader_name(shader), msaa ? "msaa" : "none") >
+static bool request(llvmpipe_child *c, const char *verb, ras_scene_shader shader, bool msaa) {
+    return fprintf(c->to, "%s %s %s\n", verb, ras_scene_shader_name(shader), msaa ? "msaa" : "none") >
                0 &&
            fflush(c->to) == 0;
 }
 
-bool llvmpipe_frame(llvmpipe_child *c, hw3_shader shader, bool msaa, double *ms, double *cpu_ms) {
+bool llvmpipe_frame(llvmpipe_child *c, ras_scene_shader shader, bool msaa, double *ms, double *cpu_ms) {
     char line[256];
     return request(c, "frame", shader, msaa) && fgets(line, sizeof line, c->from) &&
            sscanf(line, "%lf %lf", ms, cpu_ms) == 2;
 }
 
-bool llvmpipe_image(llvmpipe_child *c, hw3_shader shader, bool msaa, int width, int height,
+bool llvmpipe_image(llvmpipe_child *c, ras_scene_shader shader, bool msaa, int width, int height,
                     uint8_t *rgba) {
     char line[256];
     int w, h;

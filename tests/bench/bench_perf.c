@@ -89,8 +89,8 @@ static int parse_choice(char **argv, int *i, perf_args *a) {
         }
         perf_filter_set = true;
     } else if (!strcmp(opt, "--shader")) {
-        for (int sh = 0; sh < HW3_SHADER_COUNT; sh++)
-            if (!strcmp(v, hw3_shader_name((hw3_shader)sh))) a->only_shader = sh;
+        for (int sh = RAS_SHADER_NORMAL; sh < RAS_SHADER_COUNT; sh++)
+            if (!strcmp(v, ras_scene_shader_name((ras_scene_shader)sh))) a->only_shader = sh;
         if (a->only_shader < 0) {
             fprintf(stderr, "bench_perf: unknown shader '%s'\n", v);
             return 2;
@@ -216,7 +216,7 @@ typedef struct verdicts {
 } verdicts;
 
 /* The llvmpipe row's pixel check against the plain image. */
-static bool check_llvmpipe(perf_contender *c, const bench_scene *b, hw3_shader s, ras_aa_mode aa,
+static bool check_llvmpipe(perf_contender *c, const bench_scene *b, ras_scene_shader s, ras_aa_mode aa,
                            const ras_image *expected, uint8_t *rgba, verdicts *v) {
     perf_row *r = c->r;
     bool msaa = aa == RAS_AA_MSAA;
@@ -238,7 +238,7 @@ static bool measure_all(const perf_args *a, const bench_scene *b, llvmpipe_child
                         bool filtered, ras_image *expected, ras_image *img, uint8_t *rgba,
                         verdicts *v) {
     const ras_aa_mode aas[3] = {RAS_AA_NONE, RAS_AA_MSAA, RAS_AA_SSAA};
-    for (int s = 0; s < HW3_SHADER_COUNT; s++)
+    for (int s = RAS_SHADER_NORMAL; s < RAS_SHADER_COUNT; s++)
         for (int aa = 0; aa < 3; aa++) {
             if ((a->only_shader >= 0 && s != a->only_shader) ||
                 (a->only_aa >= 0 && aa != a->only_aa))
@@ -259,12 +259,12 @@ static bool measure_all(const perf_args *a, const bench_scene *b, llvmpipe_child
             if (perf_row_count + n > PERF_MAX_ROWS) return false;
             for (int i = 0; i < n; i++)
                 cs[i].r = &perf_rows[perf_row_count + i];
-            if (!measure_rounds(b->scene, b->assets, (hw3_shader)s, aas[aa], cs, n, a->frames,
+            if (!measure_rounds(b->scene, b->assets, (ras_scene_shader)s, aas[aa], cs, n, a->frames,
                                 expected, img))
                 return false;
             for (int i = 0; i < n; i++) {
                 if (cs[i].llvm) { /* the same pixels? against the plain image */
-                    if (!check_llvmpipe(&cs[i], b, (hw3_shader)s, aas[aa], expected, rgba, v))
+                    if (!check_llvmpipe(&cs[i], b, (ras_scene_shader)s, aas[aa], expected, rgba, v))
                         return false;
                 } else if (!cs[i].plain) {
                     v->all_identical = v->all_identical && cs[i].r->identical;

@@ -35,7 +35,7 @@
 typedef struct perf_row {
     const char *mode; /* "plain", "fast" or "llvmpipe" */
     int threads;
-    hw3_shader shader;
+    ras_scene_shader shader;
     ras_aa_mode aa;
     double median, min, max;
     double cpu_median;  /* process CPU time per frame, all threads: robust to a busy machine */
@@ -63,7 +63,7 @@ extern bool perf_on_spot;
 
 /* perf_instr[shader][aa][renderer]: 0 teaching pipeline, 1 fast path, 2 llvmpipe,
  * 3 teaching pipeline with nearest lookups (the course framework's). */
-extern uint64_t perf_instr[HW3_SHADER_COUNT][2][4];
+extern uint64_t perf_instr[RAS_SHADER_COUNT][2][4];
 
 /* ---- measuring (bench_perf_measure.c) -------------------------------------------- */
 
@@ -85,7 +85,7 @@ typedef struct perf_contender {
  * reference image), then `frames` rounds of one frame each, the order turned
  * by one every round. Every fast frame is compared with `expected` (outside
  * the timing). Fills each contender's row. */
-bool measure_rounds(const ras_scene *scene, ras_scene_assets *assets, hw3_shader shader,
+bool measure_rounds(const ras_scene *scene, ras_scene_assets *assets, ras_scene_shader shader,
                     ras_aa_mode aa, perf_contender *cs, int n, int frames, ras_image *expected,
                     ras_image *img);
 

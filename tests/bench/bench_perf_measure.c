@@ -28,7 +28,7 @@ perf_row perf_rows[PERF_MAX_ROWS];
 int perf_row_count;
 bool perf_filter_set;
 texture_filter perf_filter;
-uint64_t perf_instr[HW3_SHADER_COUNT][2][4];
+uint64_t perf_instr[RAS_SHADER_COUNT][2][4];
 
 static int cmp_double(const void *a, const void *b) {
     double x = *(const double *)a, y = *(const double *)b;
@@ -45,7 +45,7 @@ static double cpu_ms(void) {
 /* One frame through the plain pipeline (plain) or the fast path with
  * `threads`, into out: its wall-clock and process CPU ms. Static, so that the
  * frames callgrind counts are compiled as they were in one file. */
-static bool render(const ras_scene *scene, ras_scene_assets *assets, hw3_shader shader,
+static bool render(const ras_scene *scene, ras_scene_assets *assets, ras_scene_shader shader,
                    ras_aa_mode aa, bool plain, int threads, ras_image *out, ras_counters *k,
                    uint64_t *shaded, double *ms, double *cpu) {
     hw3_render_options opt = hw3_render_defaults();
@@ -71,7 +71,7 @@ static bool render(const ras_scene *scene, ras_scene_assets *assets, hw3_shader 
     return ok;
 }
 
-bool measure_rounds(const ras_scene *scene, ras_scene_assets *assets, hw3_shader shader,
+bool measure_rounds(const ras_scene *scene, ras_scene_assets *assets, ras_scene_shader shader,
                     ras_aa_mode aa, perf_contender *cs, int n, int frames, ras_image *expected,
                     ras_image *img) {
     bool ok = true;
@@ -161,20 +161,20 @@ bool measure_process(char *const argv[], int runs, perf_proc_time *out) {
 int measure_count_frames(const ras_scene *scene, ras_scene_assets *assets, bool plain, bool only_1x,
                          ras_image *img) {
     const ras_aa_mode aas[2] = {RAS_AA_NONE, RAS_AA_MSAA};
-    for (int s = 0; s < HW3_SHADER_COUNT; s++)
+    for (int s = RAS_SHADER_NORMAL; s < RAS_SHADER_COUNT; s++)
         for (int a = 0; a < (only_1x ? 1 : 2); a++) {
             ras_counters k;
             uint64_t shaded;
             double ms, cpu;
             char name[64];
-            snprintf(name, sizeof name, "%s_%s", hw3_shader_name((hw3_shader)s),
+            snprintf(name, sizeof name, "%s_%s", ras_scene_shader_name((ras_scene_shader)s),
                      a ? "msaa" : "none");
-            if (!render(scene, assets, (hw3_shader)s, aas[a], plain, 1, img, &k, &shaded, &ms,
+            if (!render(scene, assets, (ras_scene_shader)s, aas[a], plain, 1, img, &k, &shaded, &ms,
                         &cpu))
                 return 1;
             CALLGRIND_ZERO_STATS;
             bool ok =
-                render(scene, assets, (hw3_shader)s, aas[a], plain, 1, img, &k, &shaded, &ms, &cpu);
+                render(scene, assets, (ras_scene_shader)s, aas[a], plain, 1, img, &k, &shaded, &ms, &cpu);
             CALLGRIND_DUMP_STATS_AT(name);
             if (!ok) return 1;
         }
@@ -206,7 +206,7 @@ bool measure_callgrind(char *const argv[], int who) {
         return false;
     }
     int found = 0;
-    for (int part = 1; part <= 2 * HW3_SHADER_COUNT; part++) {
+    for (int part = 1; part <= 2 * (RAS_SHADER_COUNT - RAS_SHADER_NORMAL); part++) {
         char path[300], line[512], name[128] = "";
         snprintf(path, sizeof path, "%s.%d", out, part);
         FILE *f = fopen(path, "r");
@@ -220,10 +220,10 @@ bool measure_callgrind(char *const argv[], int who) {
         }
         fclose(f);
         remove(path);
-        for (int s = 0; s < HW3_SHADER_COUNT; s++)
+        for (int s = RAS_SHADER_NORMAL; s < RAS_SHADER_COUNT; s++)
             for (int a = 0; a < 2; a++) {
                 char want[64];
-                snprintf(want, sizeof want, "%s_%s", hw3_shader_name((hw3_shader)s),
+                snprintf(want, sizeof want, "%s_%s", ras_scene_shader_name((ras_scene_shader)s),
                          a ? "msaa" : "none");
                 if (!strcmp(name, want) && total) {
                     perf_instr[s][a][who] = total;
@@ -232,8 +232,8 @@ bool measure_callgrind(char *const argv[], int who) {
             }
     }
     remove(out);
-    if (found != 2 * HW3_SHADER_COUNT)
+    if (found != 2 * (RAS_SHADER_COUNT - RAS_SHADER_NORMAL))
         fprintf(stderr, "bench_perf: callgrind of %s: %d of %d frames counted\n", argv[0], found,
-                2 * HW3_SHADER_COUNT);
-    return found == 2 * HW3_SHADER_COUNT;
+                2 * (RAS_SHADER_COUNT - RAS_SHADER_NORMAL));
+    return found == 2 * (RAS_SHADER_COUNT - RAS_SHADER_NORMAL);
 }

@@ -30,11 +30,11 @@ void report_print_row(FILE *f, const perf_row *r, bool md) {
         if (md)
             fprintf(
                 f, "| %s | %s | llvmpipe | %d | %.2f | %.2f | %.2f | %.2f | — | — | — | — | %s |\n",
-                hw3_shader_name(r->shader), report_aa_label(r->aa), r->threads, r->median, r->min,
+                ras_scene_shader_name(r->shader), report_aa_label(r->aa), r->threads, r->median, r->min,
                 r->max, r->cpu_median, check);
         else
             fprintf(f, "%-12s %-8s %-8s %2d %9.2f %9.2f %9.2f %9.2f  %s\n",
-                    hw3_shader_name(r->shader), report_aa_label(r->aa), "llvmpipe", r->threads,
+                    ras_scene_shader_name(r->shader), report_aa_label(r->aa), "llvmpipe", r->threads,
                     r->median, r->min, r->max, r->cpu_median,
                     r->checked
                         ? (r->check.pass ? "pixels within tolerance" : "pixels OUTSIDE tolerance")
@@ -45,13 +45,13 @@ void report_print_row(FILE *f, const perf_row *r, bool md) {
         fprintf(
             f,
             "| %s | %s | %s | %d | %.2f | %.2f | %.2f | %.2f | %llu | %llu | %.1f | %.1f | %s |\n",
-            hw3_shader_name(r->shader), report_aa_label(r->aa), r->mode, r->threads, r->median,
+            ras_scene_shader_name(r->shader), report_aa_label(r->aa), r->mode, r->threads, r->median,
             r->min, r->max, r->cpu_median, (unsigned long long)r->fragments,
             (unsigned long long)r->shaded, ns, (double)r->buffer_bytes / 1048576.0,
             r->identical ? "yes" : "**NO**");
     else
         fprintf(f, "%-12s %-8s %-8s %2d %9.2f %9.2f %9.2f %9.2f %9llu %9llu %8.1f %8.1f %s\n",
-                hw3_shader_name(r->shader), report_aa_label(r->aa), r->mode, r->threads, r->median,
+                ras_scene_shader_name(r->shader), report_aa_label(r->aa), r->mode, r->threads, r->median,
                 r->min, r->max, r->cpu_median, (unsigned long long)r->fragments,
                 (unsigned long long)r->shaded, ns, (double)r->buffer_bytes / 1048576.0,
                 r->identical ? "same" : "DIFFERENT");
@@ -77,7 +77,7 @@ static void machine_name(char *buf, size_t size) {
 
 /* ---- llvmpipe beside the project's renderers ------------------------------ */
 
-static const perf_row *find_row(hw3_shader shader, ras_aa_mode aa, const char *mode, int threads) {
+static const perf_row *find_row(ras_scene_shader shader, ras_aa_mode aa, const char *mode, int threads) {
     for (int i = 0; i < perf_row_count; i++)
         if (perf_rows[i].shader == shader && perf_rows[i].aa == aa &&
             !strcmp(perf_rows[i].mode, mode) && perf_rows[i].threads == threads)
@@ -115,15 +115,15 @@ static bool same_check(const llvmpipe_check *a, const llvmpipe_check *b) {
  * instructions counted with callgrind, million. The framework cannot be
  * built here (it is not ours to ship: Eigen, OpenCV 4 C++ and the course's
  * code), so its figures are these constants; they hold for the spot cow only. */
-static const double course_framework_minstr[HW3_SHADER_COUNT] = {
-    [HW3_SHADER_NORMAL] = 76.6, [HW3_SHADER_PHONG] = 143.0,        [HW3_SHADER_TEXTURE] = 168.3,
-    [HW3_SHADER_BUMP] = 125.1,  [HW3_SHADER_DISPLACEMENT] = 178.6,
+static const double course_framework_minstr[RAS_SHADER_COUNT] = {
+    [RAS_SHADER_NORMAL] = 76.6, [RAS_SHADER_PHONG] = 143.0,        [RAS_SHADER_TEXTURE] = 168.3,
+    [RAS_SHADER_BUMP] = 125.1,  [RAS_SHADER_DISPLACEMENT] = 178.6,
 };
 
 /* The teaching pipeline's instructions beside the framework's (1x). */
 static void report_framework(FILE *f) {
     bool counted = true;
-    for (int s = 0; s < HW3_SHADER_COUNT; s++)
+    for (int s = RAS_SHADER_NORMAL; s < RAS_SHADER_COUNT; s++)
         counted = counted && perf_instr[s][0][0] && perf_instr[s][0][3];
     if (!counted) return;
     fprintf(f, "\n### The teaching pipeline against the course's framework\n\n");
@@ -131,9 +131,9 @@ static void report_framework(FILE *f) {
         fprintf(f, "The course framework's figures are for the spot cow: run `make bench-perf "
                    "INSTRUCTIONS=1 SPOT=…/spot` to compare. The teaching pipeline on this model, "
                    "1x, million instructions: ");
-        for (int s = 0; s < HW3_SHADER_COUNT; s++)
+        for (int s = RAS_SHADER_NORMAL; s < RAS_SHADER_COUNT; s++)
             fprintf(f, "%s%s %.1f (nearest lookups %.1f)", s ? ", " : "",
-                    hw3_shader_name((hw3_shader)s), perf_instr[s][0][0] / 1e6,
+                    ras_scene_shader_name((ras_scene_shader)s), perf_instr[s][0][0] / 1e6,
                     perf_instr[s][0][3] / 1e6);
         fprintf(f, ".\n");
         return;
@@ -152,10 +152,10 @@ static void report_framework(FILE *f) {
     fprintf(f, "| shader | framework | teaching, bilinear (default) | ÷ framework | teaching, "
                "nearest | ÷ framework |\n|---|---:|---:|---:|---:|---:|\n");
     int at_or_below = 0, at_or_below_nearest = 0;
-    for (int s = 0; s < HW3_SHADER_COUNT; s++) {
+    for (int s = RAS_SHADER_NORMAL; s < RAS_SHADER_COUNT; s++) {
         double fw = course_framework_minstr[s], b = perf_instr[s][0][0] / 1e6,
                n = perf_instr[s][0][3] / 1e6;
-        fprintf(f, "| %s | %.1f | %.1f | %.2f | %.1f | %.2f |\n", hw3_shader_name((hw3_shader)s),
+        fprintf(f, "| %s | %.1f | %.1f | %.2f | %.1f | %.2f |\n", ras_scene_shader_name((ras_scene_shader)s),
                 fw, b, b / fw, n, n / fw);
         at_or_below += b <= fw;
         at_or_below_nearest += n <= fw;
@@ -163,7 +163,7 @@ static void report_framework(FILE *f) {
     fprintf(f,
             "\nAt or below the framework's count: %d of %d shaders with bilinear lookups, %d of "
             "%d with nearest.\n",
-            at_or_below, HW3_SHADER_COUNT, at_or_below_nearest, HW3_SHADER_COUNT);
+            at_or_below, RAS_SHADER_COUNT - RAS_SHADER_NORMAL, at_or_below_nearest, RAS_SHADER_COUNT - RAS_SHADER_NORMAL);
 }
 
 /* llvmpipe's times beside the project's renderers, who is faster. */
@@ -182,15 +182,15 @@ static void report_llvmpipe_times(FILE *f, const char *renderer) {
                "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|---:|\n");
     int fast_wins = 0, fast_total = 0, plain_wins = 0, plain_total = 0, cpu_wins = 0, cpu_total = 0;
     char fast_losses[1024] = "", plain_list[1024] = "";
-    for (int s = 0; s < HW3_SHADER_COUNT; s++)
+    for (int s = RAS_SHADER_NORMAL; s < RAS_SHADER_COUNT; s++)
         for (int a = 0; a < 2; a++) {
-            const perf_row *p = find_row((hw3_shader)s, aas[a], "plain", 1),
-                           *f1 = find_row((hw3_shader)s, aas[a], "fast", 1),
-                           *f2 = find_row((hw3_shader)s, aas[a], "fast", 2),
-                           *l1 = find_row((hw3_shader)s, aas[a], "llvmpipe", 1),
-                           *l2 = find_row((hw3_shader)s, aas[a], "llvmpipe", 2);
+            const perf_row *p = find_row((ras_scene_shader)s, aas[a], "plain", 1),
+                           *f1 = find_row((ras_scene_shader)s, aas[a], "fast", 1),
+                           *f2 = find_row((ras_scene_shader)s, aas[a], "fast", 2),
+                           *l1 = find_row((ras_scene_shader)s, aas[a], "llvmpipe", 1),
+                           *l2 = find_row((ras_scene_shader)s, aas[a], "llvmpipe", 2);
             if (!l1 && !l2) continue;
-            fprintf(f, "| %s | %s |", hw3_shader_name((hw3_shader)s), report_aa_label(aas[a]));
+            fprintf(f, "| %s | %s |", ras_scene_shader_name((ras_scene_shader)s), report_aa_label(aas[a]));
             print_ms(f, p), print_ms(f, f1), print_ms(f, f2), print_ms(f, l1), print_ms(f, l2);
             print_ratio(f, p, l1), print_ratio(f, f1, l1), print_ratio(f, f2, l2);
             const char *w[2] = {"—", "—"};
@@ -204,7 +204,7 @@ static void report_llvmpipe_times(FILE *f, const char *renderer) {
                 if (!win) {
                     size_t len = strlen(fast_losses);
                     snprintf(fast_losses + len, sizeof fast_losses - len, "%s%s %s on %d thread%s",
-                             len ? ", " : "", hw3_shader_name((hw3_shader)s),
+                             len ? ", " : "", ras_scene_shader_name((ras_scene_shader)s),
                              report_aa_label(aas[a]), th + 1, th ? "s" : "");
                 }
             }
@@ -214,7 +214,7 @@ static void report_llvmpipe_times(FILE *f, const char *renderer) {
                     plain_wins++;
                     size_t len = strlen(plain_list);
                     snprintf(plain_list + len, sizeof plain_list - len, "%s%s %s", len ? ", " : "",
-                             hw3_shader_name((hw3_shader)s), report_aa_label(aas[a]));
+                             ras_scene_shader_name((ras_scene_shader)s), report_aa_label(aas[a]));
                 }
             }
             fprintf(f, " %s / %s |", w[0], w[1]);
@@ -244,7 +244,7 @@ static void report_llvmpipe_times(FILE *f, const char *renderer) {
 static void report_llvmpipe_instructions(FILE *f) {
     const ras_aa_mode aas[2] = {RAS_AA_NONE, RAS_AA_MSAA};
     bool counted = false;
-    for (int s = 0; s < HW3_SHADER_COUNT; s++)
+    for (int s = RAS_SHADER_NORMAL; s < RAS_SHADER_COUNT; s++)
         counted = counted || perf_instr[s][0][2];
     if (counted) {
         fprintf(f,
@@ -256,12 +256,12 @@ static void report_llvmpipe_instructions(FILE *f) {
                 "| shader | AA | teaching pipeline | fast path | llvmpipe | teaching ÷ llvmpipe | "
                 "fast ÷ llvmpipe |\n|---|---|---:|---:|---:|---:|---:|\n");
         int fewer = 0;
-        for (int s = 0; s < HW3_SHADER_COUNT; s++)
+        for (int s = RAS_SHADER_NORMAL; s < RAS_SHADER_COUNT; s++)
             for (int a = 0; a < 2; a++) {
                 const uint64_t *c = perf_instr[s][a];
                 if (!c[2]) continue;
                 fprintf(f, "| %s | %s | %.1f | %.1f | %.1f | %.2f | %.2f |\n",
-                        hw3_shader_name((hw3_shader)s), report_aa_label(aas[a]), c[0] / 1e6,
+                        ras_scene_shader_name((ras_scene_shader)s), report_aa_label(aas[a]), c[0] / 1e6,
                         c[1] / 1e6, c[2] / 1e6, (double)c[0] / (double)c[2],
                         (double)c[1] / (double)c[2]);
                 fewer += c[1] < c[2];
@@ -303,7 +303,7 @@ static void report_llvmpipe_pixels(FILE *f) {
             if (one && one->checked && same_check(&one->check, c)) continue;
         }
         fprintf(f, "| %s | %s | %s | %ld | %ld | %.2f %% | %.3f | %.2f %% | %d | %s |\n",
-                hw3_shader_name(r->shader), report_aa_label(r->aa),
+                ras_scene_shader_name(r->shader), report_aa_label(r->aa),
                 same              ? "1, 2"
                 : r->threads == 1 ? "1"
                                   : "2",
@@ -333,7 +333,7 @@ bool report_write_csv(const char *path) {
         const char *who = perf_is_llvmpipe(r) ? "llvmpipe"
                           : r->mode[0] == 'p' ? "teaching_pipeline"
                                               : "fast_path";
-        fprintf(f, "%s,%s,%s,%d,%.3f,%.3f,%.3f,", hw3_shader_name(r->shader), aa, who, r->threads,
+        fprintf(f, "%s,%s,%s,%d,%.3f,%.3f,%.3f,", ras_scene_shader_name(r->shader), aa, who, r->threads,
                 r->median, r->min, r->max);
         if (r->instructions) fprintf(f, "%llu", (unsigned long long)r->instructions);
         fprintf(f, ",");
@@ -403,29 +403,29 @@ static void report_rows(FILE *f, const perf_report *rep) {
 
 /* The goals the report checks, from the rows above. */
 static void report_goals(FILE *f, const perf_report *rep) {
-    const perf_row *g[HW3_SHADER_COUNT][3][3] = {{{0}}}; /* shader, aa, 0 plain / 1-2 threads */
+    const perf_row *g[RAS_SHADER_COUNT][3][3] = {{{0}}}; /* shader, aa, 0 plain / 1-2 threads */
     for (int i = 0; i < perf_row_count; i++) {
         if (perf_is_llvmpipe(&perf_rows[i])) continue; /* their own section, below */
         int a = perf_rows[i].aa == RAS_AA_MSAA ? 1 : perf_rows[i].aa == RAS_AA_SSAA ? 2 : 0;
         int m = perf_rows[i].mode[0] == 'p' ? 0 : perf_rows[i].threads;
         g[perf_rows[i].shader][a][m] = &perf_rows[i];
     }
-    const perf_row *ph = g[HW3_SHADER_PHONG][0][2], *tx = g[HW3_SHADER_TEXTURE][0][2];
+    const perf_row *ph = g[RAS_SHADER_PHONG][0][2], *tx = g[RAS_SHADER_TEXTURE][0][2];
     fprintf(f, "\n### Goals\n\n| goal | measured | met |\n|---|---|---|\n");
     fprintf(f,
             "| Blinn-Phong ≤ 2 ms at 1x, 2 threads | %.2f ms (1 thread %.2f ms, CPU %.2f ms; "
             "plain %.2f ms) | %s |\n",
-            ph->median, g[HW3_SHADER_PHONG][0][1]->median, g[HW3_SHADER_PHONG][0][1]->cpu_median,
-            g[HW3_SHADER_PHONG][0][0]->median, ph->median <= 2.0 ? "yes" : "no");
+            ph->median, g[RAS_SHADER_PHONG][0][1]->median, g[RAS_SHADER_PHONG][0][1]->cpu_median,
+            g[RAS_SHADER_PHONG][0][0]->median, ph->median <= 2.0 ? "yes" : "no");
     fprintf(f,
             "| texture ≤ 2.5 ms at 1x, 2 threads | %.2f ms (1 thread %.2f ms, CPU %.2f ms; "
             "plain %.2f ms) | %s |\n",
-            tx->median, g[HW3_SHADER_TEXTURE][0][1]->median,
-            g[HW3_SHADER_TEXTURE][0][1]->cpu_median, g[HW3_SHADER_TEXTURE][0][0]->median,
+            tx->median, g[RAS_SHADER_TEXTURE][0][1]->median,
+            g[RAS_SHADER_TEXTURE][0][1]->cpu_median, g[RAS_SHADER_TEXTURE][0][0]->median,
             tx->median <= 2.5 ? "yes" : "no");
     /* The AA ratios are judged on the 1-thread rows' CPU time: on a busy
      * machine the wall-clock ratios of noisy medians say little. */
-    for (int s = 0; s < HW3_SHADER_COUNT; s++) {
+    for (int s = RAS_SHADER_NORMAL; s < RAS_SHADER_COUNT; s++) {
         double m = g[s][1][1]->cpu_median / g[s][0][1]->cpu_median;
         double q = g[s][2][1]->cpu_median / g[s][0][1]->cpu_median;
         double mw = g[s][1][2]->median / g[s][0][2]->median;
@@ -433,10 +433,10 @@ static void report_goals(FILE *f, const perf_report *rep) {
         fprintf(f,
                 "| %s: MSAA 4x ≤ 1.5× 1x; SSAA 4x ≈ 4× (1-thread CPU time) | MSAA %.2f×, "
                 "SSAA %.2f× (2-thread wall clock: %.2f×, %.2f×) | %s |\n",
-                hw3_shader_name((hw3_shader)s), m, q, mw, qw, m <= 1.5 ? "yes" : "no");
+                ras_scene_shader_name((ras_scene_shader)s), m, q, mw, qw, m <= 1.5 ? "yes" : "no");
     }
     if (rep->have_proc) {
-        double frame = g[HW3_SHADER_PHONG][0][2]->median;
+        double frame = g[RAS_SHADER_PHONG][0][2]->median;
         fprintf(f,
                 "| whole process `hw3_shading_ref --model … --shader phong -o out.png` ≤ "
                 "loading (`--version`) + one frame | %.1f ms vs %.1f + %.1f = %.1f ms "

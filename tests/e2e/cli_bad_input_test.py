@@ -13,7 +13,7 @@ raster101-compare or raster101-grade and checks
   - that the output file named on the command line does not exist afterwards,
   - that stderr carries no AddressSanitizer / UBSan report.
 A few good runs are checked as well, so the checks cannot pass by accident.
-The robustness cases (issue 16: disk full, special files, memory bombs, deep
+The robustness cases (disk full, special files, memory bombs, deep
 models) run as a user would meet them: under a 1 GiB address-space cap
 (prlimit --as; not under ASan, whose shadow memory needs terabytes of address
 space: the cap is left off when the programs link libasan, and
@@ -296,7 +296,7 @@ case(G, ["--source", SRC, "--build", BUILD, "--out", GOUT, "--hw", "hw9"], 2,
 case(G, ["--source", SRC, "--build", BUILD, "--out", EMPTY, "--hw", "hw1"], 2,
      "it is a file", absent=())
 
-# ---- issue 16: writes are atomic and verified (common/io/ras_io.c) ----
+# ---- writes are atomic and verified (common/io/ras_io.c) ----
 # A file-size limit one byte short of the picture (the disk-full repro: the
 # error lands in the last bytes), PNG, BMP and PPM, every writer: the good
 # file already there stays byte-identical, no temporary file is left.
@@ -314,7 +314,7 @@ case(H1, ["--size", "16x16", "-o", LONG_NAME], 0, "wrote", absent=(), present=(L
 case(H2, ["--size", "16x16", "--aa", "msaa", "-o", OUT], 0, "wrote", absent=(), present=(OUT,),
      hard=True)
 
-# ---- issue 16: only regular files are read (ras_io_open_input) ----
+# ---- only regular files are read (ras_io_open_input) ----
 # A FIFO with no writer would block forever; a device never ends; both are
 # refused at once, by type, wherever a file is read.
 FIFO = path("fifo.obj")
@@ -372,7 +372,7 @@ elif shutil.which("setpriv") and subprocess.run(
     case(C, ["--metric", "exact", REF, UNREADABLE_OBJ], "nonzero", "Permission denied",
          absent=(), hard=True, env=NOBODY)
 
-# ---- issue 16: the memory budget (common/base/ras_memory.c) ----
+# ---- the memory budget (common/base/ras_memory.c) ----
 # Each of these asked for gigabytes before: refused from the header or the
 # scene's parameters, before the allocation, under the 1 GiB cap.
 import struct
@@ -420,7 +420,7 @@ case(H3, ["--model", OK_OBJ, "--texture", BMP_BOMB, "-o", OUT], "nonzero", OVER,
 case(H3, ["--model", OK_OBJ, "--texture", JPEG_BOMB, "-o", OUT], "nonzero",
      "bomb.jpg': it starts like a JPEG but its header does not say its size", hard=True,
      keep=REF)  # a frame header and no scan: libjpeg finds no complete header
-# ---- issue 27: every decoder bounded before it decodes, by content ----
+# ---- every decoder bounded before it decodes, by content ----
 # Formats whose size cannot be read first are refused by content, whatever
 # their name (a Radiance HDR with 70 KB of header comments peaked at 2.1 GB).
 LONG_HDR = write("long_hdr.png", b"#?RADIANCE\n" + (b"# " + b"x" * 1000 + b"\n") * 70 +
@@ -511,7 +511,7 @@ case(H3, ["-o", OUT], 2, "RAS_MEMORY_LIMIT_MB expects a whole number", hard=True
 case(C, ["--metric", "exact", "--memory-limit", "0", REF, REF], 2, "--memory-limit expects",
      absent=(), hard=True)
 
-# ---- issue 16: deep models and deep JSON (common/io/ras_mesh_check.c, ras_scene.c) ----
+# ---- deep models and deep JSON (common/io/ras_mesh_check.c, ras_scene.c) ----
 def deep_gltf(name, levels):
     nodes = ",".join('{"children":[%d]}' % (k + 1) for k in range(levels - 1)) + ',{"mesh":0}'
     tri = "AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA"  # 3 vec3 floats, base64
@@ -562,7 +562,7 @@ GRID_OBJ = write("grid.obj", "".join("v %d %d 0\n" % (i % 100, i // 100) for i i
 case(H3, ["--model", GRID_OBJ, "-o", OUT], 2, "the importer did not finish", hard=True, keep=REF,
      env={"RAS_MESH_IMPORT_SECONDS": "0.000001"})
 
-# ---- issue 27: model guards by content, counts from the data's structure ----
+# ---- model guards by content, counts from the data's structure ----
 import base64
 import json
 DEEP_TEXT = open(DEEP_GLTF).read()
@@ -632,7 +632,7 @@ for name, text in (("bad_index.obj", "v 0 0 0\nf 1 2 9\n"),
          f"could not read model '{path(name)}': it is not a complete mesh file in a format the "
          "importer knows", hard=True, keep=REF)
 
-# ---- issue 27: every output all or nothing, every failure said ----
+# ---- every output all or nothing, every failure said ----
 RO_OUT = write("readonly.png", open(REF, "rb").read())
 os.chmod(RO_OUT, 0o444)
 case(H2, ["--size", "16x16", "-o", RO_OUT], 2,
@@ -654,7 +654,7 @@ for prog in (H2, H3):
          "File too large", hard=True, keep=REF, fsize=20000,
          absent=(path("fsize-dump-" + prog),))
 
-# ---- issue 16: nothing overwrites an input ----
+# ---- nothing overwrites an input ----
 DIFF_REF = write("cmp_diff.png", open(REF, "rb").read())  # what -o cmp.png's diff would be
 for prog in (H2, H3):
     case(prog, ["--compare", "--reference", DIFF_REF, "--size", "16x16", "-o", path("cmp.png")],
@@ -667,7 +667,7 @@ case(C, ["--metric", "exact", "--diff", IN_COPY, REF, IN_COPY], 2,
 case(C, ["--metric", "exact", "--crop", os.path.join(WORK, ".", "ref.png"), REF, IN_COPY], 2,
      "would overwrite one of the images", absent=(), hard=True)
 
-# ---- issue 27: only what a program draws is loaded ----
+# ---- only what a program draws is loaded ----
 # hw1 and hw2 draw flat colours: a scene's texture and height map (here a
 # 16384² PNG bomb and a missing file) are never read; hw3 refuses the bomb.
 MAP_SCENE = write("bomb_maps.json", '{"shader": "texture", "objects": [{"shape": "cube", '
@@ -679,7 +679,7 @@ for prog in (H1, H2):
 case(H3, ["--scene", MAP_SCENE, "-o", OUT], "nonzero", OVER, hard=True, keep=REF)
 case(H3, ["--scene", CORRUPT_TEXTURE_SCENE, "-o", OUT], 2, "corrupt.png")
 
-# ---- issue 27: raster101-compare --buffers: bad folders and files are errors ----
+# ---- raster101-compare --buffers: bad folders and files are errors ----
 # A PFM whose header claims 100000² was handed to OpenCV, which left a
 # /tmp/__opencv_temp.* file each run and said its raw error; a mistyped
 # folder was called a mismatch (exit 1).

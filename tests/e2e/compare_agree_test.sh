@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# compare_agree_test.sh — ctest compare_agree (issue 25, item 1): one pair of
+# compare_agree_test.sh — ctest compare_agree: one pair of
 # pictures gets one verdict and the same numbers from every tool. For each
 # catalogue entry, the reference program's picture is judged against its own
 # reference and against another entry's reference of the same program (a

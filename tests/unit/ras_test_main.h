@@ -18,7 +18,7 @@
  *                         when no test matches, so a typo is not a silent pass.
  * Group setup and teardown still run, once, around the selected test.
  *
- * For the grader (tests/grading/grade_tool.c), one process runs many tests, each in a
+ * For the grader (tests/grading/grade_run.c), one process runs many tests, each in a
  * child forked for it, so the libraries load once and each test still starts
  * from a fresh process image:
  *   RAS_EACH_NAMES=FILE   the tests to run, one name per line;

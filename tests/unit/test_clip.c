@@ -2,7 +2,7 @@
  * but legal cameras, and the rasterizer's exact range (stage4_raster.h).
  *
  * Groups:
- *   scenes    the scenes issue #27 found (near 0.01 or 0.1 with far 1e6, a tip
+ *   scenes    the scenes that broke the clipper (near 0.01 or 0.1 with far 1e6, a tip
  *             just in front of the eye, a far edge at 900 000): drawn through
  *             the whole pipeline (hw1's projection, stage 2 clipping, setup,
  *             hw2's reference rasterizer) and compared pixel by pixel with an

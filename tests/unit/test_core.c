@@ -7,6 +7,7 @@
 #include "ras_names.h"
 #include "ras_draw.h"
 #include "ras_image.h"
+#include "ras_job.h"
 #include "ras_pipeline.h"
 #include "stage2_clip.h"
 #include "stage3_setup.h"
@@ -18,7 +19,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <signal.h>   /* SIGABRT, SIGSEGV */
 #include <sys/stat.h> /* chmod, stat */
+#include <time.h> /* clock_gettime */
 #include <unistd.h>
 
 #include <cmocka.h>
@@ -253,7 +256,8 @@ static void test_app_resolve_one_rule_set(void **state) {
     assert_true(ras_app_resolve(&hooks, &cli, NULL, &set, &err));
     assert_int_equal(set.aa, RAS_AA_MSAA);
     assert_int_equal(set.pattern_kind, RAS_PATTERN_STANDARD);
-    assert_int_equal(set.pattern.count, 8);
+    assert_int_equal(set.samples, 8);
+    assert_int_equal(ras_app_settings_pattern(&set).count, 8);
     assert_int_equal(set.shader, RAS_SHADER_BUMP);
     assert_int_equal(set.filter, RAS_FILTER_NEAREST);
     const char *none[] = {"p", "--aa", "none", "--samples", "4"};
@@ -384,6 +388,97 @@ static void test_pipeline_config_checked(void **state) {
     assert_non_null(strstr(err.msg, "rasterize"));
 }
 
+/* ------------------------------------------------------------------------ */
+/* Jobs in a child process (ras_job_run_child: the model importer's shield)  */
+
+typedef struct child_plan {
+    size_t bytes;   /* written, a counting pattern */
+    int exit_code;  /* returned */
+    int raise_sig;  /* raised after writing, when non-zero */
+    double sleep_s; /* slept before writing */
+} child_plan;
+
+static int child_by_plan(void *arg, int fd) {
+    const child_plan *p = arg;
+    if (p->sleep_s > 0) usleep((useconds_t)(p->sleep_s * 1e6));
+    unsigned char chunk[4096];
+    for (size_t done = 0; done < p->bytes;) {
+        size_t n = p->bytes - done < sizeof chunk ? p->bytes - done : sizeof chunk;
+        for (size_t i = 0; i < n; i++) chunk[i] = (unsigned char)((done + i) * 7);
+        if (write(fd, chunk, n) != (ssize_t)n) return 99;
+        done += n;
+    }
+    if (p->raise_sig) raise(p->raise_sig);
+    return p->exit_code;
+}
+
+static ras_job_child_status run_plan(child_plan plan, double seconds, size_t max_bytes,
+                                     size_t *len, int *code, int *sig) {
+    unsigned char *out;
+    ras_job_child_status st =
+        ras_job_run_child(child_by_plan, &plan, seconds, max_bytes, &out, len, code, sig);
+    if (st == RAS_JOB_CHILD_DONE) {
+        for (size_t i = 0; i < *len; i++)
+            if (out[i] != (unsigned char)(i * 7)) fail_msg("byte %zu came back changed", i);
+    } else if (out || *len) {
+        fail_msg("a child that did not finish left %zu bytes for the caller", *len);
+    }
+    free(out);
+    return st;
+}
+
+/* All it writes comes back, past the pipe's 64 KiB, with its exit code. */
+static void test_job_child_returns_all_it_wrote(void **state) {
+    (void)state;
+    size_t len;
+    int code, sig;
+    assert_int_equal(run_plan((child_plan){3u << 20, 5, 0, 0}, 30, 4u << 20, &len, &code, &sig),
+                     RAS_JOB_CHILD_DONE);
+    assert_int_equal(len, 3u << 20);
+    assert_int_equal(code, 5);
+    assert_int_equal(sig, 0);
+    assert_int_equal(run_plan((child_plan){0, 0, 0, 0}, 30, 16, &len, &code, &sig),
+                     RAS_JOB_CHILD_DONE);
+    assert_int_equal(len, 0);
+}
+
+/* A crash (an abort, a segfault) ends the child, not the caller, and is named. */
+static void test_job_child_crash_is_reported(void **state) {
+    (void)state;
+    size_t len;
+    int code, sig;
+    assert_int_equal(run_plan((child_plan){100, 0, SIGABRT, 0}, 30, 1024, &len, &code, &sig),
+                     RAS_JOB_CHILD_CRASHED);
+    assert_int_equal(sig, SIGABRT);
+    assert_int_equal(run_plan((child_plan){0, 0, SIGSEGV, 0}, 30, 1024, &len, &code, &sig),
+                     RAS_JOB_CHILD_CRASHED);
+    assert_int_equal(sig, SIGSEGV);
+}
+
+/* A child past its time is killed, and the caller does not wait for it. */
+static void test_job_child_late_is_killed(void **state) {
+    (void)state;
+    size_t len;
+    int code, sig;
+    struct timespec t0, t1;
+    clock_gettime(CLOCK_MONOTONIC, &t0);
+    assert_int_equal(run_plan((child_plan){10, 0, 0, 20.0}, 0.2, 1024, &len, &code, &sig),
+                     RAS_JOB_CHILD_LATE);
+    clock_gettime(CLOCK_MONOTONIC, &t1);
+    double waited = (double)(t1.tv_sec - t0.tv_sec) + (double)(t1.tv_nsec - t0.tv_nsec) * 1e-9;
+    if (waited > 10) fail_msg("waited %.1f s for a child given 0.2 s (it sleeps 20 s)", waited);
+    assert_int_equal(sig, SIGKILL);
+}
+
+/* More than max_bytes: killed, nothing kept. */
+static void test_job_child_too_big_is_refused(void **state) {
+    (void)state;
+    size_t len;
+    int code, sig;
+    assert_int_equal(run_plan((child_plan){1u << 20, 0, 0, 0}, 30, 1000, &len, &code, &sig),
+                     RAS_JOB_CHILD_TOO_BIG);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_math_rows_constructor_is_row_major),
@@ -405,6 +500,10 @@ int main(void) {
         cmocka_unit_test(test_pipeline_wireframe_runs_only_its_stages),
         cmocka_unit_test(test_pipeline_rejects_nan),
         cmocka_unit_test(test_pipeline_config_checked),
+        cmocka_unit_test(test_job_child_returns_all_it_wrote),
+        cmocka_unit_test(test_job_child_crash_is_reported),
+        cmocka_unit_test(test_job_child_late_is_killed),
+        cmocka_unit_test(test_job_child_too_big_is_refused),
     };
     return cmocka_run_group_tests_name("core", tests, NULL, NULL);
 }

@@ -31,21 +31,21 @@
 /* For each shader, the fast renderer's copies of the reference functions it
  * draws with: the one to update when the pictures drift apart (all of them:
  * fast/README.md). */
-static const char *const fast_copies[HW3_SHADER_COUNT] = {
-    [HW3_SHADER_NORMAL] = "the normal lanes of shade_prepare (" X4_C
-                          "), its copy of normal_fragment_shader",
-    [HW3_SHADER_PHONG] = "fast_blinn_phong (" SHADE_C ") and its four-lane form in "
+static const char *const fast_copies[RAS_SHADER_COUNT] = {
+    [RAS_SHADER_NORMAL] =
+        "the normal lanes of shade_prepare (" X4_C "), its copy of normal_fragment_shader",
+    [RAS_SHADER_PHONG] = "blinn_phong (" SHADE_C ") and its four-lane form in "
                          "light_terms_x4/shade_finish (" X4_C "), copies of blinn_phong_lighting "
                          "and phong_fragment_shader",
-    [HW3_SHADER_TEXTURE] = "fast_blinn_phong (" SHADE_C ") and shade_finish (" X4_C "), copies of "
+    [RAS_SHADER_TEXTURE] = "blinn_phong (" SHADE_C ") and shade_finish (" X4_C "), copies of "
                            "blinn_phong_lighting and texture_fragment_shader, or "
                            "bilinear_x4_footprint/bilinear_x4_blend (" X4_C "), the copy of "
                            "texture_sample_bilinear",
-    [HW3_SHADER_BUMP] = "bump_normal_x4 and the bump lanes of shade_prepare (" X4_C "), copies "
+    [RAS_SHADER_BUMP] = "bump_normal_x4 and the bump lanes of shade_prepare (" X4_C "), copies "
                         "of bump_normal, tangent_frame, height_sample and "
                         "bump_fragment_shader, or axis_x4/footprint_of/bilinear_x4_blend, the "
                         "copy of texture_sample_bilinear",
-    [HW3_SHADER_DISPLACEMENT] = "bump_normal_x4, the displacement lanes of shade_prepare and "
+    [RAS_SHADER_DISPLACEMENT] = "bump_normal_x4, the displacement lanes of shade_prepare and "
                                 "the four-lane Blinn-Phong in light_terms_x4 (" X4_C
                                 "), copies of displacement_fragment_shader, bump_normal, "
                                 "height_sample and blinn_phong_lighting",
@@ -126,10 +126,10 @@ static void render(hw3_render_options opt, bool teaching, int threads, ras_image
 /* Teaching vs fast with 1, 2 and 3 threads for every shader and AA mode. */
 static void check_all(const char *label, hw3_render_options base) {
     const ras_aa_mode aas[3] = {RAS_AA_NONE, RAS_AA_MSAA, RAS_AA_SSAA};
-    for (int s = 0; s < HW3_SHADER_COUNT; s++)
+    for (int s = RAS_SHADER_NORMAL; s < RAS_SHADER_COUNT; s++)
         for (int a = 0; a < 3; a++) {
             hw3_render_options opt = base;
-            opt.shader = (hw3_shader)s;
+            opt.shader = (ras_scene_shader)s;
             opt.aa = aas[a];
             if (opt.aa == RAS_AA_NONE) opt.pattern = ras_sample_pattern_center();
             ras_counters kp, kf;
@@ -140,7 +140,7 @@ static void check_all(const char *label, hw3_render_options base) {
                 render(opt, false, threads, fast_img, &kf, &shaded);
                 char what[160];
                 snprintf(what, sizeof what, "%s, %s shader, %s, %d thread(s)", label,
-                         hw3_shader_name(opt.shader), ras_aa_mode_name(opt.aa), threads);
+                         ras_scene_shader_name(opt.shader), ras_aa_mode_name(opt.aa), threads);
                 size_t bytes =
                     sizeof *teaching_img->pixels * (size_t)scene->width * (size_t)scene->height;
                 if (memcmp(teaching_img->pixels, fast_img->pixels, bytes) != 0) {
@@ -153,8 +153,8 @@ static void check_all(const char *label, hw3_render_options base) {
                         }
                     fail_msg("fast path differs from the teaching pipeline for shader %s: update "
                              "%s%s (%s: %d of %d pixels differ, the first at col %d, row %d)",
-                             hw3_shader_name(opt.shader), fast_copies[opt.shader],
-                             opt.shader == HW3_SHADER_NORMAL ? FAST_SHARED : "", what, count,
+                             ras_scene_shader_name(opt.shader), fast_copies[opt.shader],
+                             opt.shader == RAS_SHADER_NORMAL ? FAST_SHARED : "", what, count,
                              pixels, first % scene->width, first / scene->width);
                 }
                 check_same_counters(&kp, &kf, what);
@@ -215,7 +215,7 @@ static void test_fast_path_odd_size_trilinear(void **state) {
      * them here so every compared frame starts from the same scene. */
     ras_counters k;
     hw3_render_options first = opt;
-    first.shader = HW3_SHADER_TEXTURE;
+    first.shader = RAS_SHADER_TEXTURE;
     render(first, true, 1, teaching_img, &k, NULL);
     check_all("301x157 trilinear", opt);
     scene->width = scene->height = 700;
@@ -241,7 +241,7 @@ static void test_fast_path_clipping_affine(void **state) {
     scene->width = scene->height = 700;
 }
 
-/* Materials the default scene lacks: clamped textures (bilinear_x4's other
+/* Materials the default scene lacks: clamped textures (bilinear_x4_footprint's other
  * wrap), a 1×1 colour map, a coloured light (three divisions for its
  * irradiance, not one), then no light at all (the unbatched shaders' path for
  * Blinn-Phong and texture). */
@@ -280,7 +280,7 @@ static void test_fast_path_clamp_coloured_light_no_light(void **state) {
     scene->width = scene->height = 700;
 }
 
-/* Extreme but legal cameras (issue #27): near 0.1 and 0.01 with far 1e6,
+/* Extreme but legal cameras: near 0.1 and 0.01 with far 1e6,
  * triangles whose tip lies within 0.05 of the eye and whose far edge lies at
  * 900 000, and a floor 1e6 wide seen from 1e-3 above it with near 1e-4 (far
  * 1e6 is the largest a scene file takes). The
@@ -353,6 +353,33 @@ static void test_fast_path_extreme_cameras(void **state) {
     assets = kept_assets;
 }
 
+/* The fast renderer declines what hw3 refuses (flat, an out-of-range shader)
+ * rather than drawing it: -1 hands the frame back to hw3_render, which says
+ * why (test_scene_stages' test_flat_shader_refused checks the message). */
+static void test_fast_path_declines_flat(void **state) {
+    (void)state;
+    ras_error err = {{0}};
+    ras_scene *rs =
+        ras_scene_parse("{\"image\": {\"width\": 8, \"height\": 8}, \"shader\": \"flat\","
+                        " \"objects\": [{\"shape\": \"cube\"}]}",
+                        "flat.json", NULL, &err);
+    assert_non_null(rs);
+    ras_scene_assets *assets = ras_scene_load_assets(rs, &err);
+    assert_non_null(assets);
+    hw3_render_options opt = hw3_render_options_from_ras(rs);
+    ras_image *img = ras_image_create(8, 8, &err);
+    assert_non_null(img);
+    const ras_scene_shader refused[2] = {RAS_SHADER_FLAT, RAS_SHADER_COUNT};
+    for (int k = 0; k < 2; k++) {
+        opt.shader = refused[k];
+        err = (ras_error){{0}};
+        assert_int_equal(fast_render(rs, assets, &opt, NULL, img, NULL, &err), -1);
+    }
+    ras_image_destroy(img);
+    ras_scene_assets_destroy(assets);
+    ras_scene_destroy(rs);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_fast_path_default_scene),
@@ -360,6 +387,7 @@ int main(void) {
         cmocka_unit_test(test_fast_path_clipping_affine),
         cmocka_unit_test(test_fast_path_clamp_coloured_light_no_light),
         cmocka_unit_test(test_fast_path_extreme_cameras),
+        cmocka_unit_test(test_fast_path_declines_flat),
     };
     return RAS_RUN_TESTS("fast_path", tests, group_setup, group_teardown);
 }

@@ -836,7 +836,7 @@ static int group_teardown(void **state) {
     return 0;
 }
 
-static ras_image *render(hw3_shader shader, texture_filter filter, ras_counters *stats) {
+static ras_image *render(ras_scene_shader shader, texture_filter filter, ras_counters *stats) {
     hw3_render_options opt = hw3_render_defaults();
     opt.shader = shader;
     opt.filter = filter;
@@ -845,7 +845,7 @@ static ras_image *render(hw3_shader shader, texture_filter filter, ras_counters 
     ras_image *img = ras_image_create(g_scene->width, g_scene->height, &err);
     assert_non_null(img);
     CHECK(hw3_render(g_scene, g_assets, &opt, img, stats, &err), "hw3_render(%s): %s",
-          hw3_shader_name(shader), err.msg);
+          ras_scene_shader_name(shader), err.msg);
     return img;
 }
 
@@ -853,7 +853,7 @@ static ras_image *render(hw3_shader shader, texture_filter filter, ras_counters 
  * adds one per varying it interpolates), not hw2's fragments_shaded: in the
  * student edition hw2 is the student's, and a test of hw3 must not depend on
  * what another assignment counts. */
-static uint64_t hw3_fragments(const ras_counters *k, hw3_shader shader) {
+static uint64_t hw3_fragments(const ras_counters *k, ras_scene_shader shader) {
     unsigned n = (unsigned)__builtin_popcount((unsigned)hw3_shader_varyings(shader));
     return n ? k->varyings_interpolated / n : 0;
 }
@@ -862,12 +862,13 @@ static uint64_t hw3_fragments(const ras_counters *k, hw3_shader shader) {
  * phong lights but fetches nothing; texture fetches. */
 static void test_stages_only_what_the_shader_needs(void **state) {
     (void)state;
-    CHECK(hw3_shader_varyings(HW3_SHADER_NORMAL) == RAS_VARYING_NORMAL &&
-              hw3_shader_varyings(HW3_SHADER_PHONG) == (RAS_VARYING_NORMAL | RAS_VARYING_VIEW_POS) &&
-              hw3_shader_varyings(HW3_SHADER_BUMP) == (RAS_VARYING_NORMAL | RAS_VARYING_UV),
+    CHECK(hw3_shader_varyings(RAS_SHADER_NORMAL) == RAS_VARYING_NORMAL &&
+              hw3_shader_varyings(RAS_SHADER_PHONG) ==
+                  (RAS_VARYING_NORMAL | RAS_VARYING_VIEW_POS) &&
+              hw3_shader_varyings(RAS_SHADER_BUMP) == (RAS_VARYING_NORMAL | RAS_VARYING_UV),
           "varyings masks: normal reads NORMAL; phong NORMAL|VIEW_POS; bump NORMAL|UV");
     ras_counters k;
-    ras_image_destroy(render(HW3_SHADER_NORMAL, FILTER_TRILINEAR, &k));
+    ras_image_destroy(render(RAS_SHADER_NORMAL, FILTER_TRILINEAR, &k));
     CHECK(k.texels_fetched == 0 && k.lighting_evaluations == 0 && k.mip_levels_built == 0 &&
               !(k.stages_run & (RAS_STAGE_TEXTURE | RAS_STAGE_LIGHTING | RAS_STAGE_MIPMAP)),
           "normal shader: expected no texels, lighting or mips, got %llu texels, %llu lighting, "
@@ -875,8 +876,8 @@ static void test_stages_only_what_the_shader_needs(void **state) {
           (unsigned long long)k.texels_fetched, (unsigned long long)k.lighting_evaluations,
           (unsigned long long)k.mip_levels_built);
     CHECK(k.varyings_interpolated > 0, "normal shader: no fragment reached the shader");
-    ras_image_destroy(render(HW3_SHADER_PHONG, FILTER_BILINEAR, &k));
-    uint64_t frags = hw3_fragments(&k, HW3_SHADER_PHONG);
+    ras_image_destroy(render(RAS_SHADER_PHONG, FILTER_BILINEAR, &k));
+    uint64_t frags = hw3_fragments(&k, RAS_SHADER_PHONG);
     CHECK(k.texels_fetched == 0 && k.lighting_evaluations == 2 * frags,
           "phong: expected 0 texels and 2 lighting evaluations per fragment, got %llu texels, "
           "%llu evaluations for %llu fragments. Likely mistake: blinn_phong_lighting does not "
@@ -884,8 +885,8 @@ static void test_stages_only_what_the_shader_needs(void **state) {
           "light_count)",
           (unsigned long long)k.texels_fetched, (unsigned long long)k.lighting_evaluations,
           (unsigned long long)frags);
-    ras_image_destroy(render(HW3_SHADER_TEXTURE, FILTER_NEAREST, &k));
-    frags = hw3_fragments(&k, HW3_SHADER_TEXTURE);
+    ras_image_destroy(render(RAS_SHADER_TEXTURE, FILTER_NEAREST, &k));
+    frags = hw3_fragments(&k, RAS_SHADER_TEXTURE);
     CHECK(k.texels_fetched == frags,
           "texture, nearest: one texel per fragment expected, got %llu for %llu",
           (unsigned long long)k.texels_fetched, (unsigned long long)frags);
@@ -939,14 +940,14 @@ static void test_scene_model_errors_and_quads(void **state) {
           a->meshes[0]->triangle_count);
     s->width = s->height = 64;
     hw3_render_options opt = hw3_render_defaults();
-    opt.shader = HW3_SHADER_TEXTURE;
+    opt.shader = RAS_SHADER_TEXTURE;
     opt.projection = hand_projection;
     ras_image *img = ras_image_create(64, 64, NULL);
     ras_counters k;
     CHECK(hw3_render(s, a, &opt, img, &k, &err), "render the quad: %s", err.msg);
-    CHECK(hw3_fragments(&k, HW3_SHADER_TEXTURE) > 500,
+    CHECK(hw3_fragments(&k, RAS_SHADER_TEXTURE) > 500,
           "the fitted quad should cover much of a 64x64 frame; %llu fragments shaded",
-          (unsigned long long)hw3_fragments(&k, HW3_SHADER_TEXTURE));
+          (unsigned long long)hw3_fragments(&k, RAS_SHADER_TEXTURE));
     ras_image_destroy(img);
     ras_scene_assets_destroy(a);
     ras_scene_destroy(s);
@@ -957,10 +958,10 @@ static void test_scene_model_errors_and_quads(void **state) {
 
 /* ---- scene: whole images and their references ---------------------------------- */
 
-static ras_image *load_reference(hw3_shader shader) {
+static ras_image *load_reference(ras_scene_shader shader) {
     char path[1024];
     snprintf(path, sizeof path, "%s/tests/reference/hw3_%s.png", RAS_SOURCE_DIR,
-             hw3_shader_name(shader));
+             ras_scene_shader_name(shader));
     ras_error err = {{0}};
     ras_image *img = ras_image_load(path, &err);
     CHECK(img, "reference image missing: %s (make reference-images writes it)", err.msg);
@@ -1085,30 +1086,35 @@ static void sanity_displacement(const ras_image *ref) {
 }
 
 typedef struct image_case {
-    hw3_shader shader;
+    ras_scene_shader shader;
     void (*sanity)(const ras_image *ref);
     ras_compare_kind kind;
     double threshold; /* dB for PSNR, SSIM otherwise (as tests/grading/rubric.json) */
     const char *hint;
 } image_case;
 
-static const image_case image_cases[HW3_SHADER_COUNT] = {
-    {HW3_SHADER_NORMAL, sanity_normal, RAS_COMPARE_PSNR, 35,
-     "the normal shader is given: check the interpolated normals (perspective-correct, "
-     "section 1)"},
-    {HW3_SHADER_PHONG, sanity_phong, RAS_COMPARE_PSNR, 35,
-     "Blinn-Phong (section 2): ambient once, 1/r², the half vector, normalised vectors"},
-    {HW3_SHADER_TEXTURE, sanity_texture, RAS_COMPARE_PSNR, 33,
-     "texture (section 3) with bilinear filtering (section 4); a bent floor checkerboard "
-     "means affine UVs (section 1)"},
-    {HW3_SHADER_BUMP, sanity_bump, RAS_COMPARE_SSIM, 0.97,
-     "bump mapping (section 5): the tangent frame, dU/dV, and the sign of TBN·(−dU, −dV, 1)"},
-    {HW3_SHADER_DISPLACEMENT, sanity_displacement, RAS_COMPARE_SSIM, 0.97,
-     "displacement (section 6): move the point along the original normal, light with the "
-     "bumped one"},
+static const image_case image_cases[RAS_SHADER_COUNT] = {
+    [RAS_SHADER_NORMAL] =
+        {RAS_SHADER_NORMAL, sanity_normal, RAS_COMPARE_PSNR, 35,
+         "the normal shader is given: check the interpolated normals (perspective-correct, "
+         "section 1)"},
+    [RAS_SHADER_PHONG] =
+        {RAS_SHADER_PHONG, sanity_phong, RAS_COMPARE_PSNR, 35,
+         "Blinn-Phong (section 2): ambient once, 1/r², the half vector, normalised vectors"},
+    [RAS_SHADER_TEXTURE] =
+        {RAS_SHADER_TEXTURE, sanity_texture, RAS_COMPARE_PSNR, 33,
+         "texture (section 3) with bilinear filtering (section 4); a bent floor checkerboard "
+         "means affine UVs (section 1)"},
+    [RAS_SHADER_BUMP] =
+        {RAS_SHADER_BUMP, sanity_bump, RAS_COMPARE_SSIM, 0.97,
+         "bump mapping (section 5): the tangent frame, dU/dV, and the sign of TBN·(−dU, −dV, 1)"},
+    [RAS_SHADER_DISPLACEMENT] =
+        {RAS_SHADER_DISPLACEMENT, sanity_displacement, RAS_COMPARE_SSIM, 0.97,
+         "displacement (section 6): move the point along the original normal, light with the "
+         "bumped one"},
 };
 
-static void check_image(hw3_shader shader) {
+static void check_image(ras_scene_shader shader) {
     const image_case *ic = &image_cases[shader];
     /* Rendered first: in grading the student's frame is recorded in a sandbox
      * that has no reference images (tests/grading/ras_call.h). */
@@ -1123,20 +1129,32 @@ static void check_image(hw3_shader shader) {
     bool ok = ras_compare_images(ref, got, &opt, &res, &err);
     ras_image_destroy(ref);
     ras_image_destroy(got);
-    CHECK(ok, "hw3_%s: cannot compare: %s", hw3_shader_name(shader), err.msg);
+    CHECK(ok, "hw3_%s: cannot compare: %s", ras_scene_shader_name(shader), err.msg);
     CHECK(res.pass,
           "hw3_%s: the default scene against tests/reference/hw3_%s.png (expected) — %s. "
           "Likely mistake: %s",
-          hw3_shader_name(shader), hw3_shader_name(shader), res.summary, ic->hint);
+          ras_scene_shader_name(shader), ras_scene_shader_name(shader), res.summary, ic->hint);
 }
 
-static void test_image_normal(void **state) { (void)state; check_image(HW3_SHADER_NORMAL); }
-static void test_image_phong(void **state) { (void)state; check_image(HW3_SHADER_PHONG); }
-static void test_image_texture(void **state) { (void)state; check_image(HW3_SHADER_TEXTURE); }
-static void test_image_bump(void **state) { (void)state; check_image(HW3_SHADER_BUMP); }
+static void test_image_normal(void **state) {
+    (void)state;
+    check_image(RAS_SHADER_NORMAL);
+}
+static void test_image_phong(void **state) {
+    (void)state;
+    check_image(RAS_SHADER_PHONG);
+}
+static void test_image_texture(void **state) {
+    (void)state;
+    check_image(RAS_SHADER_TEXTURE);
+}
+static void test_image_bump(void **state) {
+    (void)state;
+    check_image(RAS_SHADER_BUMP);
+}
 static void test_image_displacement(void **state) {
     (void)state;
-    check_image(HW3_SHADER_DISPLACEMENT);
+    check_image(RAS_SHADER_DISPLACEMENT);
 }
 
 int main(void) {

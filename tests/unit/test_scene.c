@@ -252,7 +252,6 @@ static void test_scene_defaults(void **state) {
     assert_null(s->lights);
     assert_vec3_near(s->ambient, 10, 10, 10, 0);
     assert_int_equal(s->aa, RAS_AA_NONE);
-    assert_int_equal(s->samples, 1);
     assert_int_equal(s->pattern.count, 1);
     assert_int_equal(s->shader, RAS_SHADER_FLAT);
     assert_int_equal(s->filter, RAS_FILTER_BILINEAR);
@@ -295,7 +294,8 @@ static void test_scene_shape_params(void **state) {
     ras_scene_destroy(s);
 }
 
-/* The transform is T · R_last ⋯ R_first · S, and spin goes between T and R. */
+/* The transform is T · R_last ⋯ R_first · S, and spin (a matrix, or hw3's turn about
+ * y) goes between T and R. */
 static void test_scene_transform_order(void **state) {
     (void)state;
     ras_scene *s = parse_ok(
@@ -313,8 +313,20 @@ static void test_scene_transform_order(void **state) {
     mat4s spin = glms_rotate_make(ras_deg_to_rad(90), (vec3s){{0, 0, 1}});
     mat4s want_spin =
         glms_mat4_mul(glms_mat4_mul(glms_mat4_mul(t, spin), glms_mat4_mul(ry, rx)), sc);
-    assert_true(ras_mat4_near(ras_scene_model_matrix(o, spin), want_spin, 1e-6f));
-    assert_true(ras_mat4_near(ras_scene_model_matrix(o, glms_mat4_identity()), o->model, 0));
+    assert_true(ras_mat4_near(ras_scene_model_matrix(o, (ras_scene_spin){.matrix = &spin}),
+                              want_spin, 1e-6f));
+    mat4s identity = glms_mat4_identity();
+    assert_true(ras_mat4_near(ras_scene_model_matrix(o, (ras_scene_spin){.matrix = &identity}),
+                              o->model, 0));
+    /* hw3's form: the same product, with the turn about y (its last rotation,
+     * about +y, joins the turn) */
+    mat4s turn = glms_rotate_make(ras_deg_to_rad(-50), (vec3s){{0, 1, 0}});
+    mat4s want_turn =
+        glms_mat4_mul(glms_mat4_mul(glms_mat4_mul(t, turn), glms_mat4_mul(ry, rx)), sc);
+    assert_true(ras_mat4_near(ras_scene_model_matrix(o, (ras_scene_spin){.turn_y_deg = -50}),
+                              want_turn, 1e-6f));
+    assert_true(ras_mat4_near(ras_scene_model_matrix(o, (ras_scene_spin){.turn_y_deg = 0}),
+                              o->model, 1e-6f));
     ras_scene_destroy(s);
 }
 
@@ -371,7 +383,6 @@ static void test_scene_values_read(void **state) {
     assert_true(s->lights[1].in_world);
     assert_vec3_near(s->ambient, 1, 2, 3, 0);
     assert_int_equal(s->aa, RAS_AA_SSAA);
-    assert_int_equal(s->samples, 8);
     assert_int_equal(s->pattern.count, 8);
     assert_int_equal(s->pattern.kind, RAS_PATTERN_STANDARD);
     assert_int_equal(s->shader, RAS_SHADER_PHONG);
@@ -414,7 +425,6 @@ static void test_scene_depth_format(void **state) {
 static void test_scene_aa_defaults(void **state) {
     (void)state;
     ras_scene *s = parse_ok("{\"aa\": {\"mode\": \"msaa\"}," ONE_CUBE "}");
-    assert_int_equal(s->samples, 4);
     assert_int_equal(s->pattern.kind, RAS_PATTERN_ORDERED);
     assert_int_equal(s->pattern.count, 4);
     ras_scene_destroy(s);

@@ -22,9 +22,6 @@
  *     3 times per fragment. A 64×64 texture has mip levels 32, 16, 8, 4, 2, 1:
  *     6 built.
  *   - ambient only: ka·I_a = 0.005 · 10 = 0.05 (the scene-file defaults).
- * Each scene is drawn by the teaching pipeline (plain) and, where the build
- * has it (RAS_HAVE_FAST_RENDERER: fast/), again by the fast
- * renderer, and both must report the same work.
  */
 #include <setjmp.h> /* required by cmocka.h */
 #include <stdarg.h> /* required by cmocka.h */
@@ -37,14 +34,11 @@
 
 #include "ras_builtin_scenes.h"
 #include "scene.h"
-#ifdef RAS_HAVE_FAST_RENDERER
-#include "fast_render.h"
-#endif
 
 #include <math.h>   /* fabsf */
 #include <stdio.h>  /* snprintf, fopen */
 #include <stdlib.h> /* malloc, free */
-#include <string.h> /* strcmp */
+#include <string.h> /* strcmp, strstr */
 
 #define W 64
 #define PIXELS (W * W)
@@ -79,7 +73,8 @@ static void scene_text(const spec *s, char *buf, size_t size) {
     assert_true(n > 0 && (size_t)n < size);
 }
 
-static frame render_spec(const spec *s, bool plain) {
+/* The spec's frame, drawn by hw3_render from a freshly parsed scene. */
+static frame render(const spec *s) {
     char text[2048];
     scene_text(s, text, sizeof text);
     ras_error err = {{0}};
@@ -91,48 +86,10 @@ static frame render_spec(const spec *s, bool plain) {
     frame f = {.varyings = hw3_frame_varyings(rs, assets, opt.shader)};
     f.image = ras_image_create(W, W, &err);
     assert_non_null(f.image);
-    int drawn = -1; /* -1: the teaching pipeline draws (the fast path declined) */
-#ifdef RAS_HAVE_FAST_RENDERER
-    fast_settings settings = {.threads = 2};
-    if (!plain) drawn = fast_render(rs, assets, &opt, &settings, f.image, &f.k, &err);
-#else
-    (void)plain;
-#endif
-    if (drawn < 0) drawn = hw3_render(rs, assets, &opt, f.image, &f.k, &err);
-    if (!drawn) fail_msg("hw3_render: %s", err.msg);
+    if (!hw3_render(rs, assets, &opt, f.image, &f.k, &err)) fail_msg("hw3_render: %s", err.msg);
     ras_scene_assets_destroy(assets);
     ras_scene_destroy(rs);
     return f;
-}
-
-#ifdef RAS_HAVE_FAST_RENDERER
-/* The work counters of the plain and the fast path agree (timings and
- * buffer_bytes differ by design: the fast path draws into tiles). */
-static void assert_same_work(const ras_counters *a, const ras_counters *b) {
-    assert_int_equal(a->stages_run, b->stages_run);
-    assert_int_equal(a->vertices_transformed, b->vertices_transformed);
-    assert_int_equal(a->triangles_in, b->triangles_in);
-    assert_int_equal(a->triangles_rasterized, b->triangles_rasterized);
-    assert_int_equal(a->samples_tested, b->samples_tested);
-    assert_int_equal(a->samples_covered, b->samples_covered);
-    assert_int_equal(a->depth_tests_passed, b->depth_tests_passed);
-    assert_int_equal(a->fragments_shaded, b->fragments_shaded);
-    assert_int_equal(a->varyings_interpolated, b->varyings_interpolated);
-    assert_int_equal(a->texels_fetched, b->texels_fetched);
-    assert_int_equal(a->mip_levels_built, b->mip_levels_built);
-    assert_int_equal(a->lighting_evaluations, b->lighting_evaluations);
-}
-#endif
-
-/* The plain pipeline's frame, after checking the fast path did the same work. */
-static frame render(const spec *s) {
-    frame plain = render_spec(s, true);
-#ifdef RAS_HAVE_FAST_RENDERER
-    frame fast = render_spec(s, false);
-    assert_same_work(&plain.k, &fast.k);
-    ras_image_destroy(fast.image);
-#endif
-    return plain;
 }
 
 static bool ran(const frame *f, unsigned stage) { return (f->k.stages_run & stage) != 0; }
@@ -491,6 +448,48 @@ static void test_depth_key_reaches_the_pipeline(void **state) {
     }
 }
 
+/* hw3 draws the core's shaders from normal on: flat (hw2's unlit colour) and a
+ * value past the last are refused with a message naming the five, by the
+ * teaching frame and (declining first) the fast path; a scene file's "flat"
+ * becomes the default, normal, and --shader flat does not parse. */
+static void test_flat_shader_refused(void **state) {
+    (void)state;
+    ras_error err = {{0}};
+    ras_scene *rs =
+        ras_scene_parse("{\"image\": {\"width\": 8, \"height\": 8}, \"shader\": \"flat\","
+                        " \"objects\": [{\"shape\": \"cube\"}]}",
+                        "flat.json", NULL, &err);
+    assert_non_null(rs);
+    ras_scene_assets *assets = ras_scene_load_assets(rs, &err);
+    assert_non_null(assets);
+    hw3_render_options opt = hw3_render_options_from_ras(rs);
+    assert_int_equal(opt.shader, RAS_SHADER_NORMAL);
+    ras_scene_shader parsed = RAS_SHADER_PHONG;
+    assert_false(hw3_shader_parse("flat", &parsed, &err));
+    assert_int_equal(parsed, RAS_SHADER_PHONG);
+    assert_non_null(
+        strstr(err.msg, "--shader expects normal, phong, texture, bump or displacement"));
+    ras_image *img = ras_image_create(8, 8, &err);
+    assert_non_null(img);
+    const ras_scene_shader refused[2] = {RAS_SHADER_FLAT, RAS_SHADER_COUNT};
+    for (int k = 0; k < 2; k++) {
+        opt.shader = refused[k];
+        assert_null(hw3_shader_function(opt.shader));
+        assert_int_equal(hw3_shader_varyings(opt.shader), 0);
+        err = (ras_error){{0}};
+        assert_false(hw3_render(rs, assets, &opt, img, NULL, &err));
+        printf("shader %d: %s\n", (int)opt.shader, err.msg);
+        assert_non_null(
+            strstr(err.msg, k ? "hw3 has no shader \"?\": expected normal, phong, "
+                                "texture, bump or displacement"
+                              : "hw3 has no shader \"flat\" (hw2's unlit colour): "
+                                "expected normal, phong, texture, bump or displacement"));
+    }
+    ras_image_destroy(img);
+    ras_scene_assets_destroy(assets);
+    ras_scene_destroy(rs);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_aa_none_has_no_sample_buffers),
@@ -508,6 +507,7 @@ int main(void) {
         cmocka_unit_test(test_model_scene_takes_the_files),
         cmocka_unit_test(test_builtin_scenes_are_the_files),
         cmocka_unit_test(test_depth_key_reaches_the_pipeline),
+        cmocka_unit_test(test_flat_shader_refused),
     };
     return RAS_RUN_TESTS("scene_stages", tests, NULL, NULL);
 }

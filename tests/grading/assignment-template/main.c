@@ -41,7 +41,7 @@ static bool render(ras_app *app, ras_error *err) {
     ras_pipeline_begin_frame(p);
     for (int i = 0; i < s->object_count; i++) {
         p->config.wire_color = s->objects[i].material.color;
-        mat4s model = ras_scene_model_matrix(&s->objects[i], scale);
+        mat4s model = ras_scene_model_matrix(&s->objects[i], (ras_scene_spin){.matrix = &scale});
         if (!ras_pipeline_draw_mesh(p, app->assets->meshes[i], model, view, projection, err))
             return false;
     }

@@ -1,0 +1,69 @@
+/* grade_base.h — raster101-grade's plumbing (tests/grading/grade_*.c): a
+ * growing string (sbuf), files read and written the simple way, lists of
+ * names, the rubric's lookups and the clock. Knows nothing of a grading.
+ */
+#ifndef RAS_GRADING_GRADE_BASE_H
+#define RAS_GRADING_GRADE_BASE_H
+
+#include <cjson/cJSON.h>
+#include <stdbool.h>
+#include <stddef.h>
+
+/* snprintf that cuts silently (paths here are far below the buffer sizes). */
+__attribute__((format(printf, 3, 4))) void fmt(char *buf, size_t size, const char *f, ...);
+
+/* ---------------------------------------------------------------- strings */
+
+/* A growing string; {0} is the empty one, and its s is owned (free(b.s)). */
+typedef struct sbuf {
+    char *s;
+    size_t len, cap;
+} sbuf;
+
+void sb_addn(sbuf *b, const char *s, size_t n);
+void sb_add(sbuf *b, const char *s);
+__attribute__((format(printf, 2, 3))) void sb_printf(sbuf *b, const char *fmt, ...);
+/* b's text, "" while it has none */
+const char *sb_str(const sbuf *b);
+/* strdup that aborts when out of memory; NULL is taken as "" */
+char *xstrdup(const char *s);
+
+/* ---------------------------------------------------------------- files */
+
+/* The whole file (at most `limit` bytes, then a cut mark; 0: no limit), or NULL. */
+char *read_file(const char *path, size_t limit);
+bool copy_file(const char *from, const char *to);
+/* mkdir -p */
+void mkdirs(const char *path);
+bool file_exists(const char *path);
+bool is_dir(const char *path);
+/* A file the sandbox wrote: a regular file only, at most `limit` bytes; NULL when none. */
+char *read_small_file(const char *path, size_t limit);
+/* One line of printable text of a small file (a fate) into buf, "" when none. */
+void read_small(const char *path, char *buf, size_t n);
+
+/* ---------------------------------------------------------------- lists */
+
+typedef struct name_list {
+    char **v;
+    int n;
+} name_list;
+
+void names_add(name_list *l, const char *s);
+void names_free(name_list *l);
+bool names_has(const name_list *l, const char *s);
+
+/* ---------------------------------------------------------------- the rubric */
+
+/* obj's number or string `key`, else the fallback */
+double num_or(const cJSON *obj, const char *key, double fallback);
+const char *str_or(const cJSON *obj, const char *key, const char *fallback);
+
+/* ---------------------------------------------------------------- the clock */
+
+/* seconds on the monotonic clock */
+double now_s(void);
+/* RAS_GRADE_PROFILE=1: one line on stderr for a phase that began at `since` */
+void profile(const char *what, const char *id, double since);
+
+#endif

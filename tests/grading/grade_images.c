@@ -1,0 +1,715 @@
+/* grade_images.c — raster101-grade's verdict on a picture (grade_images.h).
+ * The verdict follows the evidence (DESIGN.md): the buffers say first where
+ * the frame goes wrong; what the picture alone shows may only refine that.
+ */
+#include "grade_images.h"
+
+#include "grade_evidence.h"
+#include "grade_results.h"
+#include "grade_run.h"
+#include "grade_text.h"
+#include "ras_catalogue.h"
+
+#include <errno.h>
+#include <fcntl.h>
+#include <math.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+/* ---------------------------------------------------------------- what a picture shows */
+
+/* Vertical mirror, to recognise a missing y-flip. */
+static ras_image *flip_rows(const ras_image *img) {
+    ras_image *f = ras_image_clone(img);
+    if (!f) return NULL;
+    for (int r = 0; r < img->height; r++)
+        for (int c = 0; c < img->width; c++)
+            ras_image_set(f, c, img->height - 1 - r, ras_image_get(img, c, r));
+    return f;
+}
+
+static double mean_luma(const ras_image *img) {
+    double s = 0;
+    long n = (long)img->width * img->height;
+    for (long i = 0; i < n; i++)
+        s += 0.299 * img->pixels[i].x + 0.587 * img->pixels[i].y + 0.114 * img->pixels[i].z;
+    return n ? s / (double)n : 0;
+}
+
+static bool is_flat(const ras_image *img) {
+    long n = (long)img->width * img->height;
+    for (long i = 1; i < n; i++)
+        if (ras_unit_to_byte(img->pixels[i].x) != ras_unit_to_byte(img->pixels[0].x) ||
+            ras_unit_to_byte(img->pixels[i].y) != ras_unit_to_byte(img->pixels[0].y) ||
+            ras_unit_to_byte(img->pixels[i].z) != ras_unit_to_byte(img->pixels[0].z))
+            return false;
+    return true;
+}
+
+/* Bounding box of the pixels that differ from the top-left (background)
+ * pixel; false when there are none. */
+static bool content_box(const ras_image *img, int *x0, int *y0, int *x1, int *y1) {
+    vec3s bg = ras_image_get(img, 0, 0);
+    *x0 = img->width, *y0 = img->height, *x1 = -1, *y1 = -1;
+    for (int r = 0; r < img->height; r++)
+        for (int c = 0; c < img->width; c++) {
+            vec3s p = ras_image_get(img, c, r);
+            if (ras_unit_to_byte(p.x) == ras_unit_to_byte(bg.x) &&
+                ras_unit_to_byte(p.y) == ras_unit_to_byte(bg.y) &&
+                ras_unit_to_byte(p.z) == ras_unit_to_byte(bg.z))
+                continue;
+            if (c < *x0) *x0 = c;
+            if (c > *x1) *x1 = c;
+            if (r < *y0) *y0 = r;
+            if (r > *y1) *y1 = r;
+        }
+    return *x1 >= 0;
+}
+
+/* Does the image's command line contain `word` (e.g. "msaa")? */
+static bool args_have(const cJSON *args, const char *word) {
+    for (const cJSON *v = args ? args->child : NULL; v; v = v->next)
+        if (cJSON_IsString(v) && strstr(v->valuestring, word)) return true;
+    return false;
+}
+
+/* Signatures of classic mistakes; a cause is named only where the picture
+ * can have it (seams need anti-aliasing, doubled ambient needs lighting). */
+/* `ev`: what the buffers said (geometry signatures only where the geometry
+ * differs or nothing is known); `raster_causes`: the rasterizer and resolve
+ * are the student's and the buffers do not acquit them. */
+static void image_signatures(sbuf *o, const ras_image *expected, const ras_image *got,
+                             const ras_compare_options *opt, const cJSON *args, const evidence *ev,
+                             bool raster_causes) {
+    if (is_flat(got) && !is_flat(expected)) return; /* "nothing was drawn" says it */
+    bool geometry = !ev->ran || !strcmp(ev->stage, "vertices") || !strcmp(ev->stage, "coverage") ||
+                    !strcmp(ev->stage, "depth");
+    ras_image *flipped = geometry ? flip_rows(got) : NULL;
+    ras_compare_result fr;
+    ras_error err;
+    if (flipped && ras_compare_images(expected, flipped, opt, &fr, &err) && fr.pass)
+        sb_add(o, "likely mistake: your image is the reference upside down: the y-flip is "
+                  "missing (image row = height - 1 - y) or the projection flips y\n");
+    ras_image_destroy(flipped);
+    int ex0, ey0, ex1, ey1, gx0, gy0, gx1, gy1;
+    if (geometry && content_box(expected, &ex0, &ey0, &ex1, &ey1) &&
+        content_box(got, &gx0, &gy0, &gx1, &gy1)) {
+        double cx = (gx0 + gx1 - ex0 - ex1) / 2.0, cy = (gy0 + gy1 - ey0 - ey1) / 2.0;
+        double sx = (gx1 - gx0 + 1.0) / (ex1 - ex0 + 1.0),
+               sy = (gy1 - gy0 + 1.0) / (ey1 - ey0 + 1.0);
+        double cxe = (ex0 + ex1) / 2.0, cye = (ey0 + ey1) / 2.0;
+        double ccx = expected->width / 2.0, ccy = expected->height / 2.0;
+        /* same centre of projection, different size: the field of view */
+        double scale = (sx + sy) / 2;
+        if (fabs(sx - sy) < 0.05 && fabs(scale - 1) > 0.05 &&
+            fabs((cxe - ccx) * scale - (cxe + cx - ccx)) < 4 &&
+            fabs((cye - ccy) * scale - (cye + cy - ccy)) < 4)
+            sb_printf(o,
+                      "likely mistake: your picture is the reference scaled by %.2f about the "
+                      "image centre: the field of view is off (the whole fov used instead of "
+                      "half of it, or degrees given to tanf)\n",
+                      scale);
+        else if (fabs(sx - 1) > 0.05 && fabs(sy - 1) < 0.05)
+            sb_printf(o,
+                      "likely mistake: your picture is stretched horizontally by %.2f: the "
+                      "aspect ratio is applied to the wrong axis\n",
+                      sx);
+    }
+    double le = mean_luma(expected), lg = mean_luma(got);
+    bool aa = args_have(args, "msaa") || args_have(args, "ssaa");
+    bool lit =
+        args_have(args, "phong") || args_have(args, "texture") || args_have(args, "displacement");
+    if (le > 0.02 && lg < 0.97 * le)
+        sb_printf(o,
+                  "note: your image is darker than the reference on average (mean luma %.4f "
+                  "vs %.4f)%s\n",
+                  lg, le,
+                  aa && raster_causes
+                      ? ": dark edges or seams? (resolve in floating point, colour per sample)"
+                      : "");
+    else if (le > 0.02 && lg > 1.03 * le)
+        sb_printf(o,
+                  "note: your image is brighter than the reference on average (mean luma "
+                  "%.4f vs %.4f)%s\n",
+                  lg, le,
+                  lit && (!ev->ran || !ev->owner || !strcmp(ev->owner, "hw3"))
+                      ? ": light added twice (ambient once per light?)"
+                      : "");
+}
+
+/* Defects a person sees at once but a global pixel budget can hide: a dark
+ * seam, a line of wrong pixels, speckle. Each is a pattern of "bad" pixels
+ * (some channel off by more than BAD_BYTES) that a correct image never has,
+ * whatever its float style: a seam pixel is darker than everything around it
+ * in the reference, speckle sits inside a smooth area of the reference, a
+ * line is a row or column whose neighbours match. Appends one "likely
+ * mistake" line per defect found; returns whether any was. */
+enum { BAD_BYTES = 48, SEAM_MIN = 20, SPECKLE_MIN = 12, LINE_MIN = 24 };
+
+static int byte_diff(vec3s a, vec3s b) {
+    int d = 0;
+    for (int k = 0; k < 3; k++) {
+        int e = abs(ras_unit_to_byte(a.raw[k]) - ras_unit_to_byte(b.raw[k]));
+        if (e > d) d = e;
+    }
+    return d;
+}
+
+static double luma(vec3s p) { return 0.299 * p.x + 0.587 * p.y + 0.114 * p.z; }
+
+/* `causes`: name the rasterizer or resolve mistakes that make each defect;
+ * false where the buffers acquit those stages (the pattern only). */
+bool image_defects(sbuf *o, const ras_image *expected, const ras_image *got, bool causes) {
+    int w = expected->width, h = expected->height;
+    if (got->width != w || got->height != h || w < 3 || h < 3) return false;
+    unsigned char *bad = calloc((size_t)w * h, 1);
+    int *row_bad = calloc((size_t)h, sizeof *row_bad),
+        *col_bad = calloc((size_t)w, sizeof *col_bad);
+    if (!bad || !row_bad || !col_bad) abort();
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++)
+            if (byte_diff(ras_image_get(expected, x, y), ras_image_get(got, x, y)) > BAD_BYTES) {
+                bad[(size_t)y * w + x] = 1;
+                row_bad[y]++;
+                col_bad[x]++;
+            }
+    int seams = 0, speckles = 0, sx = -1, sy = -1, px = -1, py = -1;
+    for (int y = 1; y < h - 1; y++)
+        for (int x = 1; x < w - 1; x++) {
+            if (!bad[(size_t)y * w + x]) continue;
+            double lo = 1e9, hi = -1e9;
+            int bad_around = 0;
+            vec3s e0 = ras_image_get(expected, x, y);
+            int spread = 0;
+            for (int dy = -1; dy <= 1; dy++)
+                for (int dx = -1; dx <= 1; dx++) {
+                    vec3s e = ras_image_get(expected, x + dx, y + dy);
+                    double l = luma(e);
+                    lo = l < lo ? l : lo;
+                    hi = l > hi ? l : hi;
+                    int d = byte_diff(e, e0);
+                    spread = d > spread ? d : spread;
+                    bad_around += (dx || dy) && bad[(size_t)(y + dy) * w + x + dx];
+                }
+            double lg = luma(ras_image_get(got, x, y));
+            /* where two drawn surfaces meet (not against the background),
+             * darker than both */
+            if (lo > 0.05 && hi - lo > 0.02 && lg < lo - 0.15) {
+                if (seams++ == 0) sx = x, sy = y;
+            } else if (spread <= 24 && bad_around <= 2) {
+                if (speckles++ == 0) px = x, py = y;
+            }
+        }
+    bool found = false;
+    if (seams >= SEAM_MIN) {
+        sb_printf(o,
+                  "%sa dark seam: %d pixels where two surfaces meet are darker than both in "
+                  "the reference (first at (%d,%d))%s\n",
+                  causes ? "likely mistake: " : "the picture shows ", seams, sx, sy,
+                  causes ? ": the background shows through a shared edge (a coverage rule that "
+                           "drops edge samples, or a resolve that mixes in uncovered or "
+                           "integer-rounded samples)"
+                         : "");
+        found = true;
+    }
+    if (speckles >= SPECKLE_MIN) {
+        sb_printf(o,
+                  "%sspeckle: %d isolated pixels inside smooth areas are wrong (first at "
+                  "(%d,%d))%s\n",
+                  causes ? "likely mistake: " : "the picture shows ", speckles, px, py,
+                  causes ? ": back faces winning the depth test (depth or barycentric precision: "
+                           "subtract a vertex before the edge functions; perspective-correct "
+                           "depth) or a NaN in some pixels"
+                         : "");
+        found = true;
+    }
+    for (int pass = 0; pass < 2; pass++) {
+        const int *line = pass ? col_bad : row_bad;
+        int n = pass ? w : h;
+        for (int i = 0; i < n; i++) {
+            int beside = 0;
+            if (i > 0 && line[i - 1] > beside) beside = line[i - 1];
+            if (i < n - 1 && line[i + 1] > beside) beside = line[i + 1];
+            if (line[i] >= LINE_MIN && line[i] >= 4 * (beside + 1)) {
+                sb_printf(o,
+                          "%s%s %d of the image is wrong along %d pixels while the %ss "
+                          "beside it match%s%s%s\n",
+                          causes ? "likely mistake: " : "the picture shows: ",
+                          pass ? "column" : "row", i, line[i], pass ? "column" : "row",
+                          causes ? ": a " : "", causes ? (pass ? "column" : "row") : "",
+                          causes ? " skipped or written twice (a loop bound, < against <=, or an "
+                                   "index off by one)"
+                                 : "");
+                found = true;
+                break;
+            }
+        }
+    }
+    free(bad);
+    free(row_bad);
+    free(col_bad);
+    return found;
+}
+
+/* ---------------------------------------------------------------- the picture and its reference */
+
+/* Reads the image a student's program wrote, refusing before any decoding
+ * what is not a regular PNG file of the reference's size: a symlink, a FIFO,
+ * a huge file or a decompression bomb costs nothing. */
+ras_image *load_student_image(const char *path, const char *ref_path, ras_error *err) {
+    unsigned char head[24], rhead[24];
+    int fd = open(path, O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
+    struct stat st;
+    if (fd < 0) return ras_error_set(err, "no file at -o (%s)", strerror(errno)), NULL;
+    bool regular = fstat(fd, &st) == 0 && S_ISREG(st.st_mode);
+    ssize_t got = regular ? read(fd, head, sizeof head) : -1;
+    close(fd);
+    if (!regular) return ras_error_set(err, "the output is not a regular file"), NULL;
+    if (st.st_size > (64 << 20))
+        return ras_error_set(err,
+                             "the output is %lld bytes, over the 64 MiB a PNG of this size "
+                             "needs",
+                             (long long)st.st_size),
+               NULL;
+    FILE *rf = fopen(ref_path, "rb");
+    size_t rgot = rf ? fread(rhead, 1, sizeof rhead, rf) : 0;
+    if (rf) fclose(rf);
+    static const unsigned char sig[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+    if (got != (ssize_t)sizeof head || memcmp(head, sig, 8) != 0 || memcmp(head + 12, "IHDR", 4))
+        return ras_error_set(err, "the output is not a PNG file"), NULL;
+    if (rgot == sizeof rhead && memcmp(head + 16, rhead + 16, 8) != 0) {
+        unsigned w = (unsigned)head[16] << 24 | head[17] << 16 | head[18] << 8 | head[19];
+        unsigned h = (unsigned)head[20] << 24 | head[21] << 16 | head[22] << 8 | head[23];
+        unsigned rw = (unsigned)rhead[16] << 24 | rhead[17] << 16 | rhead[18] << 8 | rhead[19];
+        unsigned rh = (unsigned)rhead[20] << 24 | rhead[21] << 16 | rhead[22] << 8 | rhead[23];
+        return ras_error_set(err,
+                             "expected a %ux%u image like the reference, got %ux%u (not "
+                             "decoded)",
+                             rw, rh, w, h),
+               NULL;
+    }
+    return ras_image_load(path, err);
+}
+
+/* The comparison the rubric asks of an image; false for an unknown metric.
+ * The rubric names a comparison; its thresholds live only in the
+ * catalogue's table (tests/reference/catalogue.json, common/app/ras_catalogue.h),
+ * which the students' --compare and raster101-compare read too. */
+bool image_options(const grader *g, const cJSON *img, ras_compare_kind *kind,
+                   ras_compare_options *opt, ras_error *err) {
+    static ras_catalogue cat;
+    static int state; /* 0 not read, 1 read, -1 failed */
+    static ras_error failure;
+    if (!state) {
+        char path[4200];
+        fmt(path, sizeof path, "%s/tests/reference/catalogue.json", g->source);
+        state = ras_catalogue_load(path, &cat, &failure) ? 1 : -1;
+    }
+    if (state < 0) return *err = failure, false;
+    if (!ras_catalogue_comparison_options(&cat, str_or(img, "comparison", ""), opt, err))
+        return false;
+    *kind = opt->kind;
+    return true;
+}
+
+/* Where a variant's reference, rendered at grading time, is kept: in the
+ * work folder (never handed out), named by the assignment that owns the
+ * image (`id`, not the integration part grading it again) so the whole-chain
+ * run and the attribution compare with the picture the own-code run just
+ * rendered with the same arguments — and never with one a previous grading
+ * left in a reused work folder (--reuse-build). */
+void variant_reference_path(const grader *g, const char *dir, const char *id, const char *name,
+                            char *buf, size_t size) {
+    fmt(buf, size, "%s/%s-%s.expected.png", g->work ? g->work : dir, id, name);
+}
+
+/* ---------------------------------------------------------------- grading a picture */
+
+/* One picture being graded: what grade_image's steps share. */
+typedef struct picture {
+    const grader *g;
+    assignment_result *a;
+    const cJSON *img;
+    const char *dir, *reldir, *name, *program;
+    const char *ref_program; /* a variant's (rubric "reference_program"), else NULL */
+    const job *j;            /* the graded run (image_job) */
+    bool sealed, whole;      /* as grade_image's */
+    item *it;
+    sbuf o;              /* the item's message */
+    char ref_path[4096]; /* the reference picture */
+    ras_error err;       /* the last error of any step, as one function had it */
+    ras_compare_kind kind;
+    ras_compare_options opt;
+    run_result rr; /* how the graded run ended, a signal through bwrap decoded */
+    bool todo;     /* the program printed a TODO notice */
+} picture;
+
+/* The item as not counted: `reason` for the table, `output` (owned) its
+ * message. Returns false, grade_image's answer. */
+static bool picture_skip(picture *p, const char *reason, char *output) {
+    p->it->counted = false;
+    p->it->status = xstrdup("SKIP");
+    p->it->reason = xstrdup(reason);
+    p->it->output = output;
+    junit_case(p->it, p->a->id, NULL);
+    return false;
+}
+
+/* A variant's reference, rendered now by the trusted reference program with
+ * the arguments chosen for this grading, so no reference image of it exists
+ * for a submission to copy or carry; false when it could not be. */
+static bool variant_reference(picture *p) {
+    char ref_prog_path[4096], ref_log[4300];
+    fmt(ref_prog_path, sizeof ref_prog_path, "%s/bin/%s", p->g->build, p->ref_program);
+    /* in the work folder: a variant's reference is never handed out,
+     * only the difference from it */
+    variant_reference_path(p->g, p->dir, p->reldir, p->name, p->ref_path, sizeof p->ref_path);
+    fmt(ref_log, sizeof ref_log, "%s/%s.reference.log", p->dir, p->name);
+    if (p->whole && file_exists(p->ref_path)) return true;
+    unlink(p->ref_path);
+    run_result ref_rr =
+        file_exists(ref_prog_path)
+            ? reference_render(p->g, ref_prog_path, p->j->args, p->ref_path, NULL, ref_log)
+            : (run_result){RUN_NOT_STARTED, 0, 0};
+    return ref_rr.kind == RUN_EXITED && ref_rr.code == 0 && file_exists(p->ref_path);
+}
+
+/* p->ref_path, p->kind and p->opt: the reference and the comparison; false
+ * (the item skipped, not counted) when either is missing. */
+static bool picture_reference(picture *p) {
+    const char *reference = str_or(p->img, "reference", "");
+    fmt(p->ref_path, sizeof p->ref_path, "%s/tests/reference/%s", p->g->source, reference);
+    if (p->ref_program && !variant_reference(p)) {
+        sb_printf(&p->o,
+                  "this image is graded against %s, rendered at grading time; this build "
+                  "has no working %s (the student edition has none): not counted",
+                  p->ref_program, p->ref_program);
+        return picture_skip(p, "no reference program here (not counted)", p->o.s);
+    }
+    if (!p->ref_program && !file_exists(p->ref_path)) {
+        sb_printf(&p->o, "tests/reference/%s does not exist (make reference-images); not counted",
+                  reference);
+        return picture_skip(p, "no reference image yet (not counted)", p->o.s);
+    }
+    if (!image_options(p->g, p->img, &p->kind, &p->opt, &p->err))
+        return picture_skip(p, "bad metric in the rubric (not counted)", xstrdup(p->err.msg));
+    return true;
+}
+
+/* The copy of the reference that the report shows (none of a variant's),
+ * and the command line the message opens with. */
+static void picture_intro(picture *p) {
+    char exp_copy[4096], rel[4200];
+    fmt(exp_copy, sizeof exp_copy, "%s/%s.expected.png", p->dir, p->name);
+    if (!p->ref_program) {
+        copy_file(p->ref_path, exp_copy);
+        fmt(rel, sizeof rel, "%s/%s.expected.png", p->reldir, p->name);
+        p->it->img_expected = xstrdup(rel);
+    }
+    const cJSON *args = p->j->args;
+    sb_printf(&p->o, "command: %s", p->program);
+    for (const cJSON *v = args ? args->child : NULL; v; v = v->next)
+        if (cJSON_IsString(v)) sb_printf(&p->o, " %s", v->valuestring);
+    sb_printf(&p->o, " -o %s.png   (comparison %s: metric %s)\n", p->name,
+              str_or(p->img, "comparison", "?"), ras_compare_kind_name(p->kind));
+}
+
+/* How the graded run ended (p->rr, p->todo, the status when it wrote no
+ * usable picture) and what it printed; the student's picture, or NULL. */
+static ras_image *picture_run(picture *p, const char *crash_hint) {
+    const grader *g = p->g;
+    item *it = p->it;
+    char prog_path[4096], got_path[4096], log_path[4096];
+    /* The student's program ran in the sandbox (image_job), writing into a
+     * folder of its own, never next to the reference. */
+    const char *written = p->j->store[15];
+    fmt(prog_path, sizeof prog_path, "%s", p->j->store[14]);
+    fmt(got_path, sizeof got_path, "%s/%s.got.png", p->dir, p->name);
+    fmt(log_path, sizeof log_path, "%s", p->j->out_path);
+    unlink(got_path);
+    run_result rr = file_exists(prog_path) ? p->j->rr : (run_result){RUN_NOT_STARTED, 0, 0};
+    if (rr.kind == RUN_EXITED && rr.code > 128 && rr.code < 160) /* bwrap: 128 + signal */
+        rr = (run_result){RUN_SIGNALED, rr.code - 128, rr.seconds};
+    if (rr.kind == RUN_SIGNALED && rr.code == SIGXCPU) /* its processor time ran out */
+        rr = (run_result){RUN_TIMEOUT, 0, rr.seconds};
+    p->rr = rr;
+    char *log = read_file(log_path, 16 * 1024);
+    char *clean_raw = without_work_path(g->work, clean_output(log ? log : ""));
+    char *clean = student_text(clean_raw, 3000);
+    free(clean_raw);
+    free(log);
+    /* The notice is what the program printed: the student controls it, so it
+     * can only cost points, never earn them. */
+    p->todo = has_todo_notice(clean);
+    ras_image *got = NULL;
+    if (rr.kind == RUN_NOT_STARTED) {
+        it->status = xstrdup("ERROR");
+        sb_printf(&p->o, "the program %s was not built\n", p->program);
+    } else if (rr.kind == RUN_TIMEOUT) {
+        it->status = xstrdup("TIMEOUT");
+        sb_printf(&p->o,
+                  "the program used more than %.0f s of processor time (or ran %.0f s on the "
+                  "clock) and was stopped: an endless loop?\n",
+                  g->render_limit, wall_backstop(g->render_limit));
+    } else if (rr.kind == RUN_SIGNALED) {
+        it->status = xstrdup("CRASH");
+        sb_printf(&p->o, "the program crashed with %s\nlikely mistake: %s\n", signal_text(rr.code),
+                  crash_hint);
+    } else if (!(got = load_student_image(written, p->ref_path, &p->err))) {
+        it->status = xstrdup("FAIL");
+        sb_printf(&p->o, "the program exited with status %d and wrote no usable image: %s\n",
+                  rr.code, p->err.msg);
+    } else if (!p->sealed) {
+        ras_image_save(got, got_path, &p->err); /* the report's copy, re-encoded by us */
+    }
+    if (p->sealed)
+        sb_printf(&p->o,
+                  "(rendered with your %s code and the reference of the earlier assignments; "
+                  "this run holds reference code, so its picture and output are not shown%s)\n",
+                  p->a->id, *clean ? ", although it printed some" : "");
+    else if (*clean)
+        sb_printf(&p->o, "program output:\n%s\n", clean);
+    free(clean);
+    return got;
+}
+
+/* What a comparison found beyond its metric. */
+typedef struct findings {
+    bool flat;    /* the student's picture is one flat colour, the reference's not */
+    sbuf defects; /* what the picture shows (image_defects, causes named) */
+    sbuf bufs;    /* what the buffers say (buffer_evidence) */
+    evidence ev;
+} findings;
+
+/* The buffers' evidence (not for a stub's placeholder picture, which says
+ * enough; at most EVIDENCE_MAX per grading: each costs two more renders),
+ * and a defect within the metric's budget failed only where the buffers
+ * place it in the graded assignment's code. */
+static void picture_findings(picture *p, ras_compare_result *r, const ras_image *got,
+                             const ras_image *expected, bool ref_raster, findings *f) {
+    const grader *g = p->g;
+    f->flat = is_flat(got) && !is_flat(expected);
+    bool defect = !f->flat && image_defects(&f->defects, expected, got, true);
+    memset(&f->ev, 0, sizeof f->ev);
+    if ((!r->pass || defect) && p->rr.kind == RUN_EXITED && !p->todo &&
+        g->evidence_runs < EVIDENCE_MAX && !getenv("RAS_GRADE_NO_BUFFERS")) {
+        ((grader *)g)->evidence_runs++;
+        buffer_evidence(g, p->it, &f->bufs, p->img, p->dir, p->reldir, p->j,
+                        p->sealed ? p->j->extra_ro : NULL, ref_raster, &f->ev);
+    }
+    const evidence *ev = &f->ev;
+    bool placed = ev->ran && *ev->stage && strcmp(ev->stage, "colour") &&
+                  (p->whole || (ev->owner && !strcmp(ev->owner, p->a->id))) &&
+                  /* the shader's own colours are judged by the metric alone */
+                  !(!strcmp(ev->stage, "sample_colour") && !strcmp(ev->owner, "hw3"));
+    if (!(r->pass && defect)) return;
+    if (placed) {
+        r->pass = false;
+        sb_printf(&p->o,
+                  "(within the metric's budget, but the %s buffer differs from "
+                  "the reference's and the picture shows the defect below: "
+                  "your %s code, not a match)\n",
+                  ev->stage, ev->owner);
+    } else {
+        sb_printf(&p->o,
+                  "(the picture shows a defect, but %s: within the metric's "
+                  "budget, not charged)\n",
+                  !ev->ran                       ? "no buffer evidence places it"
+                  : !strcmp(ev->stage, "colour") ? "every buffer matches the reference's"
+                                                 : "the buffers place it outside this "
+                                                   "assignment's code");
+        free(f->defects.s);
+        f->defects = (sbuf){0};
+    }
+}
+
+/* A failed picture's first likely mistake: nothing drawn, or the first
+ * buffer that differs. */
+static void picture_first_cause(picture *p, const findings *f) {
+    const evidence *ev = &f->ev;
+    if (f->flat)
+        sb_printf(&p->o, "likely mistake: nothing was drawn: your image is one flat colour%s%s\n",
+                  *ev->why_blank ? ": "
+                  : ev->blank    ? ": no sample was covered (your depth buffer is empty)"
+                                 : " (are the TODOs written? do the matrices put the "
+                                   "scene in front of the camera?)",
+                  ev->why_blank);
+    else if (ev->ran && *ev->stage && strcmp(ev->stage, "colour")) {
+        const char *line = strstr(sb_str(&f->bufs), "buffers: the first that differs is ");
+        if (line) {
+            line += strlen("buffers: the first that differs is ");
+            size_t n = strcspn(line, "\n");
+            sb_add(&p->o, "likely mistake: ");
+            const char *lk = strstr(line, "; likely: ");
+            if (lk && (size_t)(lk - line) < n) {
+                sb_addn(&p->o, lk + 10, n - (size_t)(lk + 10 - line));
+                sb_printf(&p->o, " (the first buffer that differs: %s, %s's stage)\n", ev->stage,
+                          ev->owner);
+            } else {
+                sb_addn(&p->o, line, n);
+                sb_add(&p->o, "\n");
+            }
+        }
+    }
+}
+
+/* A failed picture's message: 1. nothing drawn; 2. the first buffer that
+ * differs; 3. what the picture shows, where the buffers allow that cause;
+ * then the coverage around the worst pixel and what the image checks. */
+static void picture_failure(picture *p, const ras_compare_result *r, const ras_image *got,
+                            const ras_image *expected, bool ref_raster, const findings *f) {
+    picture_first_cause(p, f);
+    sb_add(&p->o, sb_str(&f->bufs));
+    /* rasterizer and resolve causes only where those stages are
+     * the student's and the buffers do not acquit them */
+    bool raster_causes = !ref_raster && (!f->ev.ran || f->ev.rasterizer);
+    if (!f->flat && raster_causes)
+        sb_add(&p->o, sb_str(&f->defects));
+    else if (!f->flat && f->defects.len) {
+        /* the pattern only: the buffers acquit the rasterizer */
+        sbuf plain = {0};
+        image_defects(&plain, expected, got, false);
+        sb_add(&p->o, sb_str(&plain));
+        free(plain.s);
+    }
+    if (!f->flat)
+        image_signatures(&p->o, expected, got, &p->opt, p->j->args, &f->ev, raster_causes);
+    if (p->kind == RAS_COMPARE_EXACT || p->kind == RAS_COMPARE_EDGE_TOLERANT) {
+        char mask[2048];
+        if (ras_compare_ascii_mask(expected, got, (vec3s){{0, 0, 0}}, r->worst_col, r->worst_row, 8,
+                                   mask, sizeof mask, &p->err))
+            sb_printf(&p->o, "coverage around the worst pixel (%d,%d), %s:\n%s", r->worst_col,
+                      r->worst_row, RAS_COMPARE_ASCII_LEGEND, mask);
+    }
+    const char *hint = str_or(p->img, "hint", NULL);
+    if (hint) sb_printf(&p->o, "what this image checks: %s\n", hint);
+}
+
+/* The report's heatmap and, for a failure, the crop of the worst region
+ * (a crop shows the reference: none of a variant's); none for a sealed run. */
+static void picture_maps(picture *p, ras_comparison *cmp, const ras_compare_result *r) {
+    char path[4096], rel[4200];
+    ras_image *heat = p->sealed ? NULL : ras_comparison_heatmap(cmp, &p->err);
+    fmt(path, sizeof path, "%s/%s.diff.png", p->dir, p->name);
+    if (heat && ras_image_save(heat, path, &p->err)) {
+        fmt(rel, sizeof rel, "%s/%s.diff.png", p->reldir, p->name);
+        p->it->img_diff = xstrdup(rel);
+    }
+    ras_image_destroy(heat);
+    if (!r->pass && !p->sealed && !p->ref_program) {
+        ras_image *crop = ras_comparison_crop(cmp, r->worst_col, r->worst_row, &p->err);
+        fmt(path, sizeof path, "%s/%s.crop.png", p->dir, p->name);
+        if (crop && ras_image_save(crop, path, &p->err)) {
+            fmt(rel, sizeof rel, "%s/%s.crop.png", p->reldir, p->name);
+            p->it->img_crop = xstrdup(rel);
+        }
+        ras_image_destroy(crop);
+    }
+}
+
+/* The picture against its reference: one comparison for the verdict, the
+ * heatmap and the crop. */
+static void picture_compare(picture *p, const ras_image *got, const ras_image *expected,
+                            bool ref_raster) {
+    item *it = p->it;
+    ras_compare_result r;
+    char rel[4200];
+    fmt(rel, sizeof rel, "%s/%s.got.png", p->reldir, p->name);
+    if (!p->sealed) it->img_got = xstrdup(rel);
+    ras_comparison *cmp = ras_comparison_create(expected, got, p->kind, &p->err);
+    if (!cmp || !ras_comparison_result(cmp, &p->opt, &r, &p->err)) {
+        it->status = xstrdup("FAIL");
+        sb_printf(&p->o, "%s\n", p->err.msg);
+    } else {
+        sb_printf(&p->o, "%s\n", r.summary);
+        findings f = {0};
+        picture_findings(p, &r, got, expected, ref_raster, &f);
+        it->passed = r.pass;
+        it->status = xstrdup(r.pass ? (p->todo ? "TODO" : "PASS") : (p->todo ? "TODO" : "FAIL"));
+        if (!r.pass) picture_failure(p, &r, got, expected, ref_raster, &f);
+        free(f.defects.s);
+        free(f.bufs.s);
+        picture_maps(p, cmp, &r);
+    }
+    ras_comparison_destroy(cmp);
+}
+
+/* The item's score and the one line for the table. */
+static void picture_score(picture *p) {
+    item *it = p->it;
+    it->score = it->passed && !p->todo ? it->max_score : 0;
+    if (it->passed && !p->todo)
+        it->reason = xstrdup("");
+    else if (it->passed)
+        it->reason =
+            xstrdup("matches, but a TODO notice was printed (a stub, or notice lines left in)");
+    else {
+        const char *lm = strstr(it->output, "likely mistake");
+        const char *summary = strstr(it->output, " FAIL: ");
+        if (lm)
+            it->reason = reason_line(lm);
+        else if (summary) {
+            while (summary > it->output && summary[-1] != '\n')
+                summary--;
+            it->reason = reason_line(summary);
+        } else if (p->rr.kind != RUN_EXITED)
+            it->reason = reason_line(strstr(it->output, "\n") + 1);
+        else
+            it->reason = reason_line(it->output + strcspn(it->output, "\n") + 1);
+    }
+}
+
+/* Grades one image run (image_job). `sealed`: the program held reference
+ * code (an own-code link), so neither its output nor its picture goes into
+ * the report, only the verdict. `whole`: the run of the student's whole
+ * chain, for the integration part (its reference was rendered by the own-code
+ * run just before, with the same arguments). Returns whether it matched. */
+bool grade_image(const grader *g, assignment_result *a, const cJSON *img, const char *dir,
+                 const char *reldir, const char *crash_hint, const job *j, bool sealed,
+                 bool whole) {
+    picture p = {.g = g,
+                 .a = a,
+                 .img = img,
+                 .dir = dir,
+                 .reldir = reldir,
+                 .j = j,
+                 .sealed = sealed,
+                 .whole = whole};
+    p.name = str_or(img, "name", "image");
+    p.program = str_or(img, "program", "");
+    p.ref_program = str_or(img, "reference_program", NULL);
+    item *it = p.it = add_item(a);
+    it->is_image = true;
+    char label[300];
+    fmt(label, sizeof label, whole ? "%s image %s, your whole chain" : "image %s",
+        whole ? reldir : p.name, p.name);
+    it->name = xstrdup(label);
+    it->max_score = num_or(img, "points", g->default_points);
+    if (!picture_reference(&p)) return false;
+    picture_intro(&p);
+    ras_image *got = picture_run(&p, crash_hint), *expected = NULL;
+    /* the rasterizer and resolve of a sealed hw3 run are the reference's */
+    bool ref_raster = sealed && !strcmp(a->id, "hw3");
+    if (got && (expected = ras_image_load(p.ref_path, &p.err)) != NULL) {
+        picture_compare(&p, got, expected, ref_raster);
+    } else if (got) {
+        it->status = xstrdup("ERROR");
+        sb_printf(&p.o, "could not read the reference: %s\n", p.err.msg);
+    }
+    if (it->passed && p.todo)
+        sb_add(&p.o,
+               "(matches, but the program printed a TODO notice, so no points: a stub it "
+               "calls, or a function you wrote with its notice lines left in: delete them)\n");
+    ras_image_destroy(got);
+    ras_image_destroy(expected);
+    while (p.o.len && p.o.s[p.o.len - 1] == '\n')
+        p.o.s[--p.o.len] = '\0';
+    it->output = p.o.s;
+    picture_score(&p);
+    junit_case(it, a->id, NULL);
+    return it->passed;
+}

@@ -1,0 +1,32 @@
+/* grade_images.h — raster101-grade's verdict on a picture
+ * (tests/grading/grade_*.c): the program's sandboxed run (grade_run.h's
+ * image_job) compared with the reference as the rubric says
+ * (common/app/ras_compare.h, thresholds from the catalogue), the buffers'
+ * evidence first (grade_evidence.h), then what the picture itself shows.
+ */
+#ifndef RAS_GRADING_GRADE_IMAGES_H
+#define RAS_GRADING_GRADE_IMAGES_H
+
+#include "grade_base.h"
+#include "grade_priv.h"
+#include "ras_compare.h"
+#include "ras_error.h"
+#include "ras_image.h"
+
+#include <stddef.h>
+
+/* one image run graded as an item of a; whether it matched */
+bool grade_image(const grader *g, assignment_result *a, const cJSON *img, const char *dir,
+                 const char *reldir, const char *crash_hint, const job *j, bool sealed, bool whole);
+/* the comparison the rubric asks of img (the catalogue's thresholds) */
+bool image_options(const grader *g, const cJSON *img, ras_compare_kind *kind,
+                   ras_compare_options *opt, ras_error *err);
+/* the picture a student's program wrote: a regular PNG of the reference's size, or NULL */
+ras_image *load_student_image(const char *path, const char *ref_path, ras_error *err);
+/* a dark seam, a wrong line, speckle: one line each into o; whether any */
+bool image_defects(sbuf *o, const ras_image *expected, const ras_image *got, bool causes);
+/* where a variant's reference, rendered at grading time, is kept */
+void variant_reference_path(const grader *g, const char *dir, const char *id, const char *name,
+                            char *buf, size_t size);
+
+#endif

@@ -1,0 +1,79 @@
+/* grade_run.h — how raster101-grade runs things (tests/grading/grade_*.c):
+ * a process with its output captured and its limits, a batch of them a few
+ * at a time, the sandbox's command line for a run of student code, and the
+ * jobs made of them: a chunk of an assignment's tests (its sandboxed worker,
+ * then the trusted replay that decides), a picture's program, the trusted
+ * reference program. Nothing here judges.
+ */
+#ifndef RAS_GRADING_GRADE_RUN_H
+#define RAS_GRADING_GRADE_RUN_H
+
+#include "grade_base.h"
+#include "grade_priv.h"
+
+#include <stddef.h>
+
+/* ---------------------------------------------------------------- processes */
+
+/* argv with output captured to out_path, env added, wall-clock and
+ * address-space (MB, 0 = none) limits; its whole process group killed at the end */
+run_result run_limited(char *const argv[], const char *const env[], const char *out_path,
+                       double limit_s, long mem_mb);
+/* the jobs, `parallel` at a time (each job's `then` right after it) */
+void run_jobs(job *jobs, int n, int parallel);
+/* a signal in words, with what it most likely means */
+const char *signal_text(int sig);
+/* how a sandboxed run ended, in the words of a test's fate */
+void fate_text(run_result rr, double limit, char *buf, size_t size);
+/* a fate's words back into a run_result */
+run_result fate_parse(const char *fate);
+
+/* ---------------------------------------------------------------- limits */
+
+/* the clock's backstop for `cpu_s` seconds of processor time */
+double wall_backstop(double cpu_s);
+/* a test's limit on the clock */
+double test_wall(const grader *g);
+
+/* ---------------------------------------------------------------- the sandbox */
+
+/* j->argv as "tests/grading/sandbox ... --" in a fresh run folder j->rw;
+ * returns the next argv index */
+int sandbox_job(const grader *g, job *j, double limit_s, const char *const env[]);
+/* the folder of hwN's own-code link with the reference of `refs` (NULL: every
+ * earlier assignment) into dir; false when there is none */
+bool own_dir(const grader *g, const char *id, const char *refs, char *dir, size_t size);
+/* a sandboxed chunk of a test worker: every chunks-th test from `chunk` */
+void worker_job(const grader *g, job *w, const char *bin, const char *own, const name_list *names,
+                int chunk, int chunks, double per_test, double wall, const char *const extra[]);
+/* a picture's program in the sandbox, -o into its run folder (j->args set) */
+void image_job(const grader *g, const cJSON *img, const char *dir, job *j, const char *own,
+               const char *tag);
+/* the trusted reference program, outside the sandbox */
+run_result reference_render(const grader *g, const char *program, const cJSON *args,
+                            const char *out_png, const char *dump_dir, const char *log);
+
+/* ---------------------------------------------------------------- the tests' chunks */
+
+struct chunk_fates;
+
+/* An assignment's tests in flight: tests_prepare makes the jobs (a worker per
+ * chunk, its replay chained after it), the caller runs them together with
+ * the assignment's pictures (so a core a short chunk frees draws a picture),
+ * tests_finish reads the verdicts. */
+typedef struct test_batch {
+    name_list names;
+    char *listing;
+    int n, chunks;
+    job *workers, *replays;
+    int *chunk_of;
+    struct chunk_fates *fates;
+    /* what the jobs' argv point to, so it lives as long as they do */
+    char xml_dir[4096], own[4096], replay_bin[4096], worker_bin[4300];
+} test_batch;
+
+/* b's jobs for assignment a (its test list from the trusted replay program);
+ * false, with a->note said, when there is no list */
+bool tests_prepare(const grader *g, assignment_result *a, const char *dir, test_batch *b);
+
+#endif

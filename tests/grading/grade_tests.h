@@ -1,0 +1,20 @@
+/* grade_tests.h — raster101-grade's verdicts on an assignment's tests
+ * (tests/grading/grade_*.c): each test's item from what its sandboxed worker
+ * and its trusted replay left (tests_finish, after grade_run.h's
+ * tests_prepare and run_jobs), grade --sanitize's findings added to them,
+ * and the items of an assignment whose code does not compile.
+ */
+#ifndef RAS_GRADING_GRADE_TESTS_H
+#define RAS_GRADING_GRADE_TESTS_H
+
+#include "grade_priv.h"
+#include "grade_run.h"
+
+/* the verdicts of a batch whose jobs have run, as items of a; frees the batch */
+void tests_finish(const grader *g, assignment_result *a, const cJSON *asg, test_batch *b);
+/* every test and image of asg as an item lost to the build, with the
+ * compiler's error lines from log_path */
+void mark_build_failed(const grader *g, assignment_result *a, const cJSON *asg,
+                       const char *log_path);
+
+#endif
