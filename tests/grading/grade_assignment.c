@@ -56,7 +56,7 @@ static void batch_make(grader *g, const char *id, const cJSON *images, const cha
     int *whole_at = b->whole_at = calloc((size_t)n_img + 1, sizeof *whole_at);
     bool *sealed = b->sealed = calloc((size_t)n_img + 1, sizeof *sealed);
     if (!runs || !whole_at || !sealed) abort();
-    char own[4096];
+    char own[4096] = "";
     bool has_own = own_dir(g, id, NULL, own, sizeof own);
     int i = 0, n_runs = n_img;
     for (const cJSON *img = images ? images->child : NULL; img; img = img->next, i++) {

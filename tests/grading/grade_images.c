@@ -656,10 +656,12 @@ static void picture_score(picture *p) {
             while (summary > it->output && summary[-1] != '\n')
                 summary--;
             it->reason = reason_line(summary);
-        } else if (p->rr.kind != RUN_EXITED)
-            it->reason = reason_line(strstr(it->output, "\n") + 1);
-        else
-            it->reason = reason_line(it->output + strcspn(it->output, "\n") + 1);
+        } else {
+            /* the line after the first (the run's own heading), or nothing
+             * when the output is one line: never past its end */
+            const char *nl = strchr(it->output, '\n');
+            it->reason = reason_line(nl ? nl + 1 : "");
+        }
     }
 }
 

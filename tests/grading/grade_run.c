@@ -309,6 +309,7 @@ int sandbox_job(const grader *g, job *j, double limit_s, const char *const env[]
  * False when there is none: then the student's whole chain is graded. */
 bool own_dir(const grader *g, const char *id, const char *refs, char *dir, size_t size) {
     int number = 0;
+    if (size) dir[0] = '\0'; /* "" when there is none: callers print it */
     if (!g->own || sscanf(id, "hw%d", &number) != 1 || number < 2 || number > 9) return false;
     char all[10] = "";
     for (int k = 1; k < number; k++)

@@ -161,11 +161,12 @@ static bool sanitizer_finding(const char *out, const cJSON *assignments, char *b
  * AddressSanitizer and UBSan, only to say where memory or arithmetic goes
  * wrong: the verdicts stay the replay's. The finding is added to its test's
  * output (the first frame in a student file: function, file and line). */
-static void sanitizer_pass(const grader *g, assignment_result *a, const cJSON *asg,
-                           const name_list *names, int first_item) {
+static void sanitizer_pass(const grader *g, assignment_result *a, const name_list *names,
+                           int first_item) {
+    if (!g->sanitized) return;
     char worker[4096];
     fmt(worker, sizeof worker, "%s/tests/test_%s_worker", g->sanitized, a->id);
-    if (!g->sanitized || !file_exists(worker)) return;
+    if (!file_exists(worker)) return;
     int n = names->n, chunks = g->jobs < n ? g->jobs : n;
     if (chunks < 1) return;
     job *jobs = calloc((size_t)chunks, sizeof *jobs);
@@ -182,7 +183,6 @@ static void sanitizer_pass(const grader *g, assignment_result *a, const cJSON *a
         fmt(w->out_path, sizeof w->out_path, "%s/runs/sanitized-%s-%d.out", g->work, a->id, c);
     }
     run_jobs(jobs, chunks, g->jobs);
-    (void)asg;
     const cJSON *files = cJSON_GetObjectItemCaseSensitive(g->rubric, "assignments");
     for (int i = 0; i < n; i++) {
         char path[4400], finding[800];
@@ -376,7 +376,7 @@ void tests_finish(const grader *g, assignment_result *a, const cJSON *asg, test_
     free(b->chunk_of);
     free(b->fates);
     profile("tests: verdicts", a->id, t_judge);
-    if (g->sanitized) sanitizer_pass(g, a, asg, &b->names, a->n_items - n);
+    if (g->sanitized) sanitizer_pass(g, a, &b->names, a->n_items - n);
     rubric_only_tests(g, a, tests, &b->names);
     names_free(&b->names);
     free(b->listing);
