@@ -18,6 +18,7 @@
 
 #include "ras_test_main.h"
 #include "fast_render.h"
+#include "test_fast_path_work.h"
 #include "ras_builtin_scenes.h"
 #include "scene.h"
 
@@ -83,33 +84,6 @@ static int group_teardown(void **state) {
     return 0;
 }
 
-/* The counters that describe the work, not the time or the memory it took. */
-static void check_same_counters(const ras_counters *a, const ras_counters *b, const char *what) {
-#define SAME(f)                                                                                   \
-    if (a->f != b->f)                                                                             \
-        fail_msg("%s: counter " #f " differs: teaching %llu, fast %llu", what,                     \
-                 (unsigned long long)a->f, (unsigned long long)b->f)
-    SAME(stages_run);
-    SAME(vertices_transformed);
-    SAME(triangles_in);
-    SAME(triangles_clipped_away);
-    SAME(triangles_clip_split);
-    SAME(triangles_culled);
-    SAME(triangles_rejected_nonfinite);
-    SAME(triangles_rejected_range);
-    SAME(triangles_degenerate);
-    SAME(triangles_rasterized);
-    SAME(samples_tested);
-    SAME(samples_covered);
-    SAME(depth_tests_passed);
-    SAME(fragments_shaded);
-    SAME(varyings_interpolated);
-    SAME(texels_fetched);
-    SAME(mip_levels_built);
-    SAME(lighting_evaluations);
-#undef SAME
-}
-
 /* One frame: the teaching pipeline, or the fast renderer on `threads`. */
 static void render(hw3_render_options opt, bool teaching, int threads, ras_image *img,
                    ras_counters *k, uint64_t *shaded) {
@@ -157,7 +131,7 @@ static void check_all(const char *label, hw3_render_options base) {
                              opt.shader == RAS_SHADER_NORMAL ? FAST_SHARED : "", what, count,
                              pixels, first % scene->width, first / scene->width);
                 }
-                check_same_counters(&kp, &kf, what);
+                fast_path_same_work(&kp, &kf, what);
                 if (shaded == UINT64_MAX)
                     fail_msg("%s: the fast renderer did not draw (fast_render declined)", what);
                 /* Deferred shading shades each fragment still owning a sample
@@ -358,26 +332,15 @@ static void test_fast_path_extreme_cameras(void **state) {
  * why (test_scene_stages' test_flat_shader_refused checks the message). */
 static void test_fast_path_declines_flat(void **state) {
     (void)state;
-    ras_error err = {{0}};
-    ras_scene *rs =
-        ras_scene_parse("{\"image\": {\"width\": 8, \"height\": 8}, \"shader\": \"flat\","
-                        " \"objects\": [{\"shape\": \"cube\"}]}",
-                        "flat.json", NULL, &err);
-    assert_non_null(rs);
-    ras_scene_assets *assets = ras_scene_load_assets(rs, &err);
-    assert_non_null(assets);
-    hw3_render_options opt = hw3_render_options_from_ras(rs);
-    ras_image *img = ras_image_create(8, 8, &err);
-    assert_non_null(img);
+    hw3_render_options opt = hw3_render_defaults();
+    fast_img->width = scene->width;
+    fast_img->height = scene->height;
     const ras_scene_shader refused[2] = {RAS_SHADER_FLAT, RAS_SHADER_COUNT};
     for (int k = 0; k < 2; k++) {
         opt.shader = refused[k];
-        err = (ras_error){{0}};
-        assert_int_equal(fast_render(rs, assets, &opt, NULL, img, NULL, &err), -1);
+        ras_error err = {{0}};
+        assert_int_equal(fast_render(scene, assets, &opt, NULL, fast_img, NULL, &err), -1);
     }
-    ras_image_destroy(img);
-    ras_scene_assets_destroy(assets);
-    ras_scene_destroy(rs);
 }
 
 int main(void) {
