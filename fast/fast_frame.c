@@ -70,7 +70,7 @@ static void *worker_main(void *arg) {
 static bool accepts(const ras_scene *scene, const hw3_render_options *opt) {
     return fast_shade_find(opt->shader) && opt->cull == RAS_CULL_NONE &&
            opt->depth == RAS_DEPTH_Z01 && scene->object_count <= FAST_MAX_OBJECTS &&
-           !opt->dump_dir && !opt->capture && !opt->step;
+           !opt->dump_dir && !opt->keep_buffers && !opt->step;
 }
 
 static int thread_count(const fast_settings *s) {

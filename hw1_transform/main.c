@@ -16,7 +16,9 @@
  * without it, from the built-in copy of scenes/hw1_classic.json; -r, --axis
  * and --size override it. hw1 has no rasterizer yet: every scene is drawn as
  * a wireframe, each object in its material colour. Everything else (options,
- * the window, --stats) is the shell's: common/app/ras_app.h.
+ * the window, --stats, and the frame around configure() and draw(): the
+ * pipeline made, cleared, resolved into the PNG) is the shell's:
+ * common/app/ras_app.h.
  */
 #include "ras_app.h"
 #include "ras_dump.h"
@@ -31,27 +33,29 @@ static mat4s spin_matrix(const ras_app_settings *s) {
     return s->axis_set ? get_rotation(s->axis, s->angle) : get_model_matrix(s->angle);
 }
 
-/* The frame: each object's model · view · projection, drawn as lines. */
-static bool render(ras_app *app, ras_error *err) {
+/* What the frame is drawn with: lines only (hw1 has no rasterizer yet). */
+static bool configure(ras_app *app, ras_pipeline_config *cfg, ras_error *err) {
+    (void)err;
+    *cfg = (ras_pipeline_config){.width = app->set.width,
+                                 .height = app->set.height,
+                                 .clear_color = app->scene->clear_color,
+                                 .wireframe = true,
+                                 .wire_color = {{1, 1, 1}}};
+    return true;
+}
+
+/* What it draws: each object's model · view · projection, as lines in the
+ * object's colour. */
+static bool draw(ras_app *app, ras_pipeline *p, ras_error *err) {
     const ras_scene *s = app->scene;
-    if (!app->pipeline) {
-        ras_pipeline_config cfg = {.width = app->set.width,
-                                   .height = app->set.height,
-                                   .clear_color = s->clear_color,
-                                   .wireframe = true,
-                                   .wire_color = {{1, 1, 1}}};
-        if (!(app->pipeline = ras_pipeline_create(&cfg, err))) return false;
-    }
-    ras_pipeline_begin_frame(app->pipeline);
     mat4s projection = get_projection_matrix(
         s->camera.fov_deg, (float)app->set.width / (float)app->set.height, s->camera.z_near,
         s->camera.z_far);
     mat4s view = ras_scene_view_matrix(s), spin = spin_matrix(&app->set);
     for (int i = 0; i < s->object_count; i++) {
-        app->pipeline->config.wire_color = s->objects[i].material.color;
+        p->config.wire_color = s->objects[i].material.color;
         mat4s model = ras_scene_model_matrix(&s->objects[i], (ras_scene_spin){.matrix = &spin});
-        if (!ras_pipeline_draw_mesh(app->pipeline, app->assets->meshes[i], model, view,
-                                    projection, err))
+        if (!ras_pipeline_draw_mesh(p, app->assets->meshes[i], model, view, projection, err))
             return false;
         /* --dump: hw1's buffer is its vertices, at every step of the transform */
         char stem[32];
@@ -61,8 +65,6 @@ static bool render(ras_app *app, ras_error *err) {
                                                 app->set.height, err))
             return false;
     }
-    ras_pipeline_end_frame(app->pipeline, app->image);
-    app->counters = &app->pipeline->counters;
     return true;
 }
 
@@ -80,7 +82,7 @@ int main(int argc, char **argv) {
                  "10\ndegrees, v: yours/reference/difference, Esc quits).\n"
                  "Classic form: hw1_transform -r ANGLE FILE.png\n",
         .example = "-r 20 -o out.png", .compare = RAS_COMPARE_EDGE_TOLERANT,
-        .load_assets = true, .without_maps = true, .spin_from_scene = true, .render = render,
-        .status = status};
+        .load_assets = true, .without_maps = true, .spin_from_scene = true, .configure = configure,
+        .draw = draw, .status = status};
     return ras_app_main(argc, argv, &hooks, NULL);
 }

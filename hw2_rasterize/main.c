@@ -22,8 +22,9 @@
  * scenes/hw2_classic.json; --aa, --samples, --pattern and --size
  * override its values. hw2 draws flat colours (material × vertex colour):
  * a scene's hw3 shader, textures and lights are not used here. Everything
- * else (options, the window and its pixel inspector, --compare, --stats) is
- * the shell's: common/app/ras_app.h.
+ * else (options, the window and its pixel inspector, --compare, --stats, and
+ * the frame around configure() and draw(): the pipeline made, cleared,
+ * resolved into the PNG) is the shell's: common/app/ras_app.h.
  */
 #include "ras_app.h"
 #include "rasterizer.h"
@@ -47,31 +48,34 @@ static mat4s spin_matrix(const ras_app_settings *s) {
     return s->axis_set ? get_rotation(s->axis, s->angle) : get_model_matrix(s->angle);
 }
 
-/* The frame: a pipeline for the current AA settings, then each object's
- * model · view · projection through rasterize_triangle and resolve_pixel. */
-static bool render(ras_app *app, ras_error *err) {
+/* What the frame is drawn with: your rasterizer and resolve, the AA
+ * settings, and the buffers the window's step and buffer views keep. */
+static bool configure(ras_app *app, ras_pipeline_config *cfg, ras_error *err) {
+    (void)err;
     const ras_scene *s = app->scene;
     const ras_app_settings *set = &app->set;
-    ras_pipeline_config cfg = {.width = set->width,
-                               .height = set->height,
-                               .clear_color = s->clear_color,
-                               .cull = s->cull,
-                               .aa = set->aa,
-                               .pattern = ras_app_settings_pattern(set),
-                               .depth = set->depth,
-                               .z_near = s->camera.z_near,
-                               .varyings = RAS_VARYING_COLOR,
-                               .rasterize = rasterize_triangle,
-                               .resolve = resolve_pixel,
-                               .dump = app->cli.dump != NULL || ras_app_capturing(app),
-                               .step = app->step.on,
-                               .step_triangles = app->step.limit};
-    ras_pipeline *p = ras_pipeline_create(&cfg, err);
-    if (!p) return false;
-    ras_pipeline_destroy(app->pipeline); /* the settings may have changed: a new one */
-    app->pipeline = p;
-    app->counters = &p->counters;
-    ras_pipeline_begin_frame(p);
+    *cfg = (ras_pipeline_config){.width = set->width,
+                                 .height = set->height,
+                                 .clear_color = s->clear_color,
+                                 .cull = s->cull,
+                                 .aa = set->aa,
+                                 .pattern = ras_app_settings_pattern(set),
+                                 .depth = set->depth,
+                                 .z_near = s->camera.z_near,
+                                 .varyings = RAS_VARYING_COLOR,
+                                 .rasterize = rasterize_triangle,
+                                 .resolve = resolve_pixel,
+                                 .dump = app->cli.dump != NULL || ras_app_capturing(app),
+                                 .step = app->step.on,
+                                 .step_triangles = app->step.limit};
+    return true;
+}
+
+/* What it draws: each object's model · view · projection through
+ * rasterize_triangle (the shell resolves the samples with resolve_pixel). */
+static bool draw(ras_app *app, ras_pipeline *p, ras_error *err) {
+    const ras_scene *s = app->scene;
+    const ras_app_settings *set = &app->set;
     mat4s view = ras_scene_view_matrix(s), spin = spin_matrix(set);
     mat4s projection = get_projection_matrix(s->camera.fov_deg, (float)set->width / (float)set->height,
                                              s->camera.z_near, s->camera.z_far);
@@ -81,7 +85,6 @@ static bool render(ras_app *app, ras_error *err) {
                 ras_scene_model_matrix(&s->objects[i], (ras_scene_spin){.matrix = &spin}), view,
                 projection, err))
             return false;
-    ras_pipeline_end_frame(p, app->image);
     return true;
 }
 
@@ -115,7 +118,7 @@ int main(int argc, char **argv) {
         .compare = RAS_COMPARE_EDGE_TOLERANT,
         .scene = "hw2_classic", .load_assets = true, .without_maps = true, .spin_from_scene = true,
         .example = "--aa msaa -o out.png", .reference_dir = RAS_REFERENCE_DIR,
-        .prepare = prepare, .render = render, .status = status,
+        .prepare = prepare, .configure = configure, .draw = draw, .status = status,
     };
     return ras_app_main(argc, argv, &hooks, NULL);
 }

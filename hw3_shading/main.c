@@ -1,24 +1,25 @@
 /* main.c — hw3_shading: the shaded scene, in a window or as a PNG.
  *
- * Given code, no TODO. Read render() (the settings become hw3_render's
- * options) and key()/status() (the window's keys) if you want to know what
- * the program does with your shaders; the rest is the shell's plumbing. Leave
- * it as it is: your work is shading.c, the one hw3 file the grader takes from
- * a submission, so a change here is not graded.
+ * Given code, no TODO. Read configure() and draw() (one frame: what it is
+ * drawn with, what it draws) and key()/status() (the window's keys) if you
+ * want to know what the program does with your shaders; the rest is the
+ * shell's plumbing. Leave it as it is: your work is shading.c, the one hw3
+ * file the grader takes from a submission, so a change here is not graded.
  *
  * Built twice from this file: hw3_shading (your shading.c, with your hw2
  * rasterizer and hw1 projection) and hw3_shading_ref (the reference; the
  * student edition has none, only its pictures in tests/reference/). The
- * frame (scene.c, hw3_render) is the pipeline: model · view · projection →
- * clip → divide → viewport → rasterize_triangle (hw2) → hw3_shade_fragment
- * (interpolate the varyings the shader reads, perspective-correct) → your
+ * frame is the pipeline: model · view · projection → clip → divide →
+ * viewport → rasterize_triangle (hw2) → hw3_shade_fragment (scene.c:
+ * interpolate the varyings the shader reads, perspective-correct) → your
  * fragment shader → resolve_pixel (hw2, with AA) → image.
  *
  * The scene comes from --scene FILE, the built-in scenes/hw3_default.json, or
  * --model FILE (put into the built-in scenes/hw3_model.json, the classic
  * GAMES101 scene); the options override it. The shell (common/app/ras_app.h)
  * loads it and its meshes and textures, and does the rest (options, the
- * window, --compare, --stats).
+ * window, --compare, --stats, and the frame around configure() and draw():
+ * the pipeline made, cleared, resolved into the PNG).
  * Examples: docs/hw3.md, or hw3_shading --help.
  */
 #include "ras_app.h"
@@ -27,18 +28,16 @@
 #include <stdio.h>  /* fprintf, snprintf */
 
 typedef struct hw3 {
-    hw3_render_options opt;
-    ras_counters stats;
-    int last_col; /* the mouse's column, -1 before it moved */
-    hw3_capture capture; /* the window's step and buffer views: the fragment buffers */
+    hw3_render_options opt; /* the settings, as the frame's options */
+    hw3_frame frame;        /* its fragment stage: the pipeline's shade hook calls it */
+    hw3_gbuffer gbuffer;    /* what the stage handed each pixel (--dump, the buffer view) */
+    int last_col;           /* the mouse's column, -1 before it moved */
 } hw3;
 
-/* The options the settings do not carry; notes once the scene has loaded. */
+/* Notes once the scene has loaded. */
 static bool prepare(ras_app *app, ras_error *err) {
     (void)err; /* only notes: nothing here fails */
-    hw3 *h = app->user;
     const ras_cli *cli = &app->cli;
-    h->opt = hw3_render_options_from_ras(app->scene);
     if (app->set.shader == RAS_SHADER_FLAT) {
         app->set.shader = RAS_SHADER_NORMAL;
         fprintf(stderr, "hw3_shading: note: the scene's shader \"flat\" is hw2's unlit colour; "
@@ -48,37 +47,46 @@ static bool prepare(ras_app *app, ras_error *err) {
     if (cli->model && maps && !app->assets->meshes[0]->has_uv)
         fprintf(stderr, "hw3_shading: note: %s has no texture coordinates; the %s shader reads "
                         "one texel everywhere\n", cli->model, ras_scene_shader_name(app->set.shader));
-    /* hw3_render draws at the scene's size: --size (the settings) replaces
-     * the file's. The settings were resolved already, so this changes no rule. */
+    /* hw3's frame is the scene's size (hw3_frame_setup's aspect,
+     * hw3_frame_config's pipeline): --size (the settings) replaces the file's. The settings were resolved already, so this changes no rule. */
     app->scene->width = app->set.width;
     app->scene->height = app->set.height;
     return true;
 }
 
-/* The frame: the settings as hw3's render options, then hw3_render. */
-static bool render(ras_app *app, ras_error *err) {
+/* What the frame is drawn with: the settings as render options, the
+ * fragment stage (your shader, the varyings it reads, the lights in view
+ * space), the pipeline that calls it, and the stage's buffers when the frame
+ * keeps them (--dump, the window's step and buffer views). */
+static bool configure(ras_app *app, ras_pipeline_config *cfg, ras_error *err) {
     hw3 *h = app->user;
-    hw3_render_options_apply(&h->opt, &app->set);
-    h->opt.dump_dir = app->cli.dump;
-    h->opt.step = app->step.on;
-    h->opt.step_triangles = app->step.limit;
-    /* the window's step and buffer views keep the frame's pipeline (the
-     * shell's app->pipeline: the inspector and the depth, coverage and
-     * overdraw views) and its fragment buffers (normal, uv) */
-    ras_pipeline_destroy(app->pipeline);
-    app->pipeline = NULL;
-    hw3_capture_release(&h->capture); /* no stale buffers when nothing is kept */
-    h->opt.capture = ras_app_capturing(app) ? &h->capture : NULL;
-    app->counters = &h->stats;
-    bool ok = hw3_render(app->scene, app->assets, &h->opt, app->image, &h->stats, err);
-    app->pipeline = h->capture.pipeline;
-    h->capture.pipeline = NULL;
-    return ok;
+    h->opt = hw3_app_render_options(app);
+    if (!hw3_frame_setup(app->scene, app->assets, &h->opt, &h->frame, err)) return false;
+    *cfg = hw3_frame_config(app->scene, &h->opt, &h->frame.stage);
+    hw3_gbuffer_release(&h->gbuffer); /* no stale buffers when nothing is kept */
+    if (cfg->dump) {
+        if (!hw3_gbuffer_create(&h->gbuffer, cfg->width, cfg->height, h->frame.stage.varyings))
+            return ras_error_set(err, "out of memory for the buffers of --dump");
+        h->frame.stage.gbuffer = &h->gbuffer;
+    }
+    return true;
+}
+
+/* What it draws: every object, with its material, through your rasterizer
+ * into your shader. */
+static bool draw(ras_app *app, ras_pipeline *p, ras_error *err) {
+    hw3 *h = app->user;
+    return hw3_frame_draw(app->scene, app->assets, h->opt.angle_deg, &h->frame, p, err);
+}
+
+/* --dump: the fragment stage's buffers, after the pipeline's. */
+static bool dump(const ras_app *app, const char *dir, ras_error *err) {
+    return hw3_gbuffer_dump(&((const hw3 *)app->user)->gbuffer, dir, err);
 }
 
 /* The buffer view's normal and uv: the last frame's fragment buffers. */
 static bool buffer(const ras_app *app, const char *name, ras_dump_buffer *out) {
-    return hw3_capture_buffer(&((const hw3 *)app->user)->capture, name, out);
+    return hw3_gbuffer_view(&((const hw3 *)app->user)->gbuffer, name, out);
 }
 
 /* p: the w = 1 pitfall (affine interpolation) on and off. */
@@ -112,7 +120,7 @@ static void status(const ras_app *app, char *buf, size_t size) {
 
 static void release(ras_app *app) {
     hw3 *h = app->user;
-    hw3_capture_release(&h->capture);
+    hw3_gbuffer_release(&h->gbuffer);
 }
 
 int main(int argc, char **argv) {
@@ -144,8 +152,8 @@ int main(int argc, char **argv) {
         .example = "--shader phong -o out.png", .reference_dir = RAS_REFERENCE_DIR,
         .keys = RAS_APP_KEYS_ANGLE | RAS_APP_KEYS_SHADING,
         .step = true,
-        .prepare = prepare, .render = render, .key = key, .mouse = mouse, .status = status,
-        .release = release, .buffer = buffer};
+        .prepare = prepare, .configure = configure, .draw = draw, .dump = dump, .key = key,
+        .mouse = mouse, .status = status, .release = release, .buffer = buffer};
     hw3 h = {.last_col = -1};
     return ras_app_main(argc, argv, &hooks, &h);
 }

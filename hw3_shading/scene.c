@@ -191,9 +191,7 @@ unsigned hw3_frame_varyings(const ras_scene *scene, const ras_scene_assets *asse
     return v;
 }
 
-/* --dump's fragment-stage buffers, for the varyings this frame interpolates;
- * false on out of memory. */
-static bool gbuffer_create(hw3_gbuffer *g, int width, int height, unsigned varyings) {
+bool hw3_gbuffer_create(hw3_gbuffer *g, int width, int height, unsigned varyings) {
     size_t n = (size_t)width * (size_t)height;
     *g = (hw3_gbuffer){.width = width, .height = height};
     float **arrays[3] = {&g->normal, &g->uv, &g->view_depth};
@@ -202,7 +200,10 @@ static bool gbuffer_create(hw3_gbuffer *g, int width, int height, unsigned varyi
     for (int k = 0; k < 3; k++) {
         if (!(varyings & need[k])) continue;
         float *a = malloc(n * channels[k] * sizeof *a);
-        if (!a) return false;
+        if (!a) {
+            hw3_gbuffer_release(g);
+            return false;
+        }
         for (size_t i = 0; i < n * channels[k]; i++)
             a[i] = INFINITY;
         *arrays[k] = a;
@@ -210,24 +211,31 @@ static bool gbuffer_create(hw3_gbuffer *g, int width, int height, unsigned varyi
     return true;
 }
 
-static void gbuffer_destroy(hw3_gbuffer *g) {
+void hw3_gbuffer_release(hw3_gbuffer *g) {
     free(g->normal);
     free(g->uv);
     free(g->view_depth);
+    *g = (hw3_gbuffer){0};
 }
 
-void hw3_render_options_apply(hw3_render_options *opt, const ras_app_settings *s) {
-    opt->shader = s->shader;
-    opt->filter = s->filter;
-    opt->aa = s->aa;
-    opt->pattern = ras_app_settings_pattern(s);
-    opt->depth = s->depth;
-    opt->angle_deg = s->angle;
-    opt->affine = s->affine;
+hw3_render_options hw3_app_render_options(const ras_app *app) {
+    const ras_app_settings *s = &app->set;
+    hw3_render_options opt = hw3_render_options_from_ras(app->scene);
+    opt.shader = s->shader;
+    opt.filter = s->filter;
+    opt.aa = s->aa;
+    opt.pattern = ras_app_settings_pattern(s);
+    opt.depth = s->depth;
+    opt.angle_deg = s->angle;
+    opt.affine = s->affine;
+    opt.dump_dir = app->cli.dump;
+    opt.step = app->step.on;
+    opt.step_triangles = app->step.limit;
+    opt.keep_buffers = ras_app_capturing(app);
+    return opt;
 }
 
-bool hw3_capture_buffer(const hw3_capture *capture, const char *name, ras_dump_buffer *out) {
-    const hw3_gbuffer *g = &capture->gbuffer;
+bool hw3_gbuffer_view(const hw3_gbuffer *g, const char *name, ras_dump_buffer *out) {
     bool normal = !strcmp(name, "normal");
     const float *data = normal ? g->normal : !strcmp(name, "uv") ? g->uv : NULL;
     if (!data) return false;
@@ -238,14 +246,7 @@ bool hw3_capture_buffer(const hw3_capture *capture, const char *name, ras_dump_b
     return true;
 }
 
-void hw3_capture_release(hw3_capture *capture) {
-    if (!capture) return;
-    ras_pipeline_destroy(capture->pipeline);
-    gbuffer_destroy(&capture->gbuffer);
-    *capture = (hw3_capture){0};
-}
-
-static bool gbuffer_dump(const hw3_gbuffer *g, const char *dir, ras_error *err) {
+bool hw3_gbuffer_dump(const hw3_gbuffer *g, const char *dir, ras_error *err) {
     const ras_dump_buffer buffers[3] = {
         {.name = "normal",
          .what = "the unit normal each pixel's shader got (interpolated, normalised), view space",
@@ -327,67 +328,61 @@ bool hw3_frame_setup(const ras_scene *scene, ras_scene_assets *assets,
     return true;
 }
 
+ras_pipeline_config hw3_frame_config(const ras_scene *scene, const hw3_render_options *opt,
+                                     hw3_fragment_stage *stage) {
+    return (ras_pipeline_config){.width = scene->width,
+                                 .height = scene->height,
+                                 .clear_color = scene->clear_color,
+                                 .aa = opt->aa,
+                                 .pattern = opt->pattern,
+                                 .cull = opt->cull,
+                                 .depth = opt->depth,
+                                 .z_near = scene->camera.z_near,
+                                 .varyings = stage->varyings,
+                                 .rasterize = rasterize_triangle,
+                                 .resolve = resolve_pixel,
+                                 .shade = hw3_shade_fragment,
+                                 .shade_user = stage,
+                                 .dump = opt->dump_dir != NULL || opt->keep_buffers,
+                                 .step = opt->step,
+                                 .step_triangles = opt->step_triangles};
+}
+
+bool hw3_frame_draw(const ras_scene *scene, const ras_scene_assets *assets, float angle_deg,
+                    hw3_frame *frame, ras_pipeline *p, ras_error *err) {
+    fragment_shader_payload *b = &frame->stage.base;
+    b->counters = &p->counters; /* the shaders count texels and lighting there */
+    p->counters.mip_levels_built = frame->mip_levels;
+    if (frame->mip_levels) p->counters.stages_run |= RAS_STAGE_MIPMAP;
+    for (int i = 0; i < scene->object_count; i++) {
+        hw3_object_material(scene, assets, i, b);
+        if (!ras_pipeline_draw_mesh(p, assets->meshes[i],
+                                    hw3_object_model(&scene->objects[i], angle_deg), frame->view,
+                                    frame->projection, err))
+            return false;
+    }
+    return true;
+}
+
 bool hw3_render(const ras_scene *scene, ras_scene_assets *assets, const hw3_render_options *opt,
                 ras_image *out, ras_counters *stats, ras_error *err) {
     hw3_frame frame;
     if (!hw3_frame_setup(scene, assets, opt, &frame, err)) return false;
-    hw3_fragment_stage stage = frame.stage;
-    fragment_shader_payload *b = &stage.base;
-    mat4s view = frame.view, projection = frame.projection;
-    uint64_t mip_levels = frame.mip_levels;
-    const ras_scene_camera *cam = &scene->camera;
-    ras_pipeline_config cfg = {.width = scene->width,
-                               .height = scene->height,
-                               .clear_color = scene->clear_color,
-                               .aa = opt->aa,
-                               .pattern = opt->pattern,
-                               .cull = opt->cull,
-                               .depth = opt->depth,
-                               .z_near = cam->z_near,
-                               .varyings = stage.varyings,
-                               .rasterize = rasterize_triangle,
-                               .resolve = resolve_pixel,
-                               .shade = hw3_shade_fragment,
-                               .shade_user = &stage,
-                               .dump = opt->dump_dir != NULL || opt->capture != NULL,
-                               .step = opt->step,
-                               .step_triangles = opt->step_triangles};
+    ras_pipeline_config cfg = hw3_frame_config(scene, opt, &frame.stage);
     hw3_gbuffer gbuffer = {0};
-    hw3_capture_release(opt->capture);
-    if (opt->dump_dir || opt->capture) {
-        if (!gbuffer_create(&gbuffer, scene->width, scene->height, stage.varyings)) {
-            gbuffer_destroy(&gbuffer);
+    if (cfg.dump) {
+        if (!hw3_gbuffer_create(&gbuffer, scene->width, scene->height, frame.stage.varyings))
             return ras_error_set(err, "out of memory for the buffers of --dump");
-        }
-        stage.gbuffer = &gbuffer;
+        frame.stage.gbuffer = &gbuffer;
     }
     ras_pipeline *p = ras_pipeline_create(&cfg, err);
-    if (!p) {
-        gbuffer_destroy(&gbuffer);
-        return false;
-    }
-    b->counters = &p->counters;
-    p->counters.mip_levels_built = mip_levels;
-    if (mip_levels) p->counters.stages_run |= RAS_STAGE_MIPMAP;
-
-    bool ok = true;
-    for (int i = 0; i < scene->object_count && ok; i++) {
-        hw3_object_material(scene, assets, i, b);
-        ok = ras_pipeline_draw_mesh(p, assets->meshes[i],
-                                    hw3_object_model(&scene->objects[i], opt->angle_deg), view,
-                                    projection, err);
-    }
+    bool ok = p && hw3_frame_draw(scene, assets, opt->angle_deg, &frame, p, err);
     if (ok) ras_pipeline_end_frame(p, out);
     if (ok && opt->dump_dir)
         ok = ras_pipeline_dump(p, opt->dump_dir, NULL, err) &&
-             gbuffer_dump(&gbuffer, opt->dump_dir, err);
-    if (stats) *stats = p->counters;
-    if (ok && opt->capture) {
-        opt->capture->pipeline = p; /* the window's views read them */
-        opt->capture->gbuffer = gbuffer;
-        return true;
-    }
+             hw3_gbuffer_dump(&gbuffer, opt->dump_dir, err);
+    if (p && stats) *stats = p->counters;
     ras_pipeline_destroy(p);
-    gbuffer_destroy(&gbuffer);
+    hw3_gbuffer_release(&gbuffer);
     return ok;
 }

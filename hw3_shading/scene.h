@@ -10,9 +10,14 @@
  *                        exactly the varyings the chosen shader reads
  *                        (perspective-correct, with your interpolate_*),
  *                        fills a fragment_shader_payload, runs the shader
- *   hw3_render           one frame of a scene with a shader and a filter:
- *                        hw3_frame_setup, then every object through the
- *                        pipeline
+ *   one frame, in three steps (the program's configure and draw hooks
+ *   call them; hw3_render, for the tests, runs all three):
+ *     hw3_frame_setup    the fragment stage (your shader, the varyings it
+ *                        reads, the lights in view space), the view and
+ *                        projection matrices, the mip levels
+ *     hw3_frame_config   the pipeline that calls it (your hw2 rasterizer)
+ *     hw3_frame_draw     every object, with its material, through the pipeline
+ *   hw3_render           the three, with a pipeline of its own, into an image
  *
  * The scene is the core's (ras_scene.h): a scene file, or a built-in one from
  * scenes/ (ras_builtin_scenes.h: hw3_default.json, and hw3_model.json for
@@ -114,25 +119,22 @@ typedef struct hw3_render_options {
      * (ras_pipeline_config.step); the teaching pipeline draws such a frame. */
     bool step;
     long step_triangles;
-    /* The window's step and buffer views: the frame's pipeline and fragment
-     * buffers are handed over here (the previous ones released first); the
-     * teaching pipeline draws such a frame. NULL: nothing is kept. */
-    struct hw3_capture *capture;
+    /* The window's step and buffer views: the frame keeps its buffers
+     * (ras_pipeline_config.dump: overdraw) for the shell to show; the
+     * teaching pipeline draws such a frame. */
+    bool keep_buffers;
 } hw3_render_options;
 
-/* What hw3_render keeps for the window: its pipeline (depth, coverage,
- * overdraw, the last triangle drawn) and the fragment stage's buffers (normal
- * and uv where the shader reads them). The caller may take `pipeline` (set
- * it to NULL); hw3_capture_release frees what is left (NULL-safe). */
-typedef struct hw3_capture {
-    ras_pipeline *pipeline;
-    hw3_gbuffer gbuffer;
-} hw3_capture;
-void hw3_capture_release(hw3_capture *capture);
-/* The window's buffer view of a capture's fragment buffers: "normal" and
- * "uv" — what the frame's fragment stage handed each pixel's shader. False
- * for any other name, or a buffer the frame did not make. */
-bool hw3_capture_buffer(const hw3_capture *capture, const char *name, ras_dump_buffer *out);
+/* The fragment stage's buffers for the varyings `varyings` holds, every
+ * entry +INF; false on out of memory (what was made is freed). */
+bool hw3_gbuffer_create(hw3_gbuffer *g, int width, int height, unsigned varyings);
+void hw3_gbuffer_release(hw3_gbuffer *g); /* frees and zeroes; a zeroed one is fine */
+/* --dump: the buffers there are, as normal, uv and view_depth in dir (ras_dump.h). */
+bool hw3_gbuffer_dump(const hw3_gbuffer *g, const char *dir, ras_error *err);
+/* The window's buffer view of the fragment buffers: "normal" and "uv" — what
+ * the frame's fragment stage handed each pixel's shader. False for any other
+ * name, or a buffer the frame did not make. */
+bool hw3_gbuffer_view(const hw3_gbuffer *g, const char *name, ras_dump_buffer *out);
 
 /* Defaults: normal shader, bilinear, angle 0, no AA, perspective-correct. */
 hw3_render_options hw3_render_defaults(void);
@@ -142,11 +144,13 @@ hw3_render_options hw3_render_defaults(void);
  * (hw2's unlit colour) has no hw3 shader: it gives the default, normal. */
 hw3_render_options hw3_render_options_from_ras(const ras_scene *rs);
 
-/* The program's settings (ras_app.h: the scene's, then the options') as
- * render options: shader, filter, anti-aliasing and pattern, depth format,
- * angle, affine interpolation. The shader is taken as it is: hw3_render
- * refuses flat (main.c turns it into normal first, with a note). */
-void hw3_render_options_apply(hw3_render_options *opt, const ras_app_settings *settings);
+/* The program's frame as render options: the scene's
+ * (hw3_render_options_from_ras), the settings over them (ras_app.h: shader,
+ * filter, anti-aliasing and pattern, depth format, angle, affine), and the
+ * shell's --dump, step view and buffer views. The shader is taken as it is:
+ * hw3_frame_setup refuses flat (main.c turns it into normal first, with a
+ * note). */
+hw3_render_options hw3_app_render_options(const ras_app *app);
 
 /* The varyings a frame interpolates: the shader's (hw3_shader_varyings), less
  * those no object of the scene uses — no UVs when no object has a map the
@@ -170,8 +174,26 @@ typedef struct hw3_frame {
 bool hw3_frame_setup(const ras_scene *scene, ras_scene_assets *assets,
                      const hw3_render_options *opt, hw3_frame *frame, ras_error *err);
 
+/* The pipeline of the frame: the scene's size and clear colour, the options'
+ * anti-aliasing, culling and depth format, your hw2 rasterize_triangle and
+ * resolve_pixel, and `stage` (hw3_frame_setup's, which must outlive the
+ * pipeline's frames) as the shade hook's. Its buffers are kept (dump) with
+ * opt->dump_dir or opt->keep_buffers. */
+ras_pipeline_config hw3_frame_config(const ras_scene *scene, const hw3_render_options *opt,
+                                     hw3_fragment_stage *stage);
+
+/* Draws every object of the scene into `p` (made from hw3_frame_config with
+ * frame->stage, and cleared): its material into the stage's payload, its
+ * model matrix with the turn angle_deg about y, the frame's view and
+ * projection; the frame's mip levels into p's counters. False on out of
+ * memory. */
+bool hw3_frame_draw(const ras_scene *scene, const ras_scene_assets *assets, float angle_deg,
+                    hw3_frame *frame, ras_pipeline *p, ras_error *err);
+
 /* Renders one frame of `scene` into `out` (the scene's size), its meshes and
- * textures from `assets` (ras_scene_load_assets of that scene). Lights with
+ * textures from `assets` (ras_scene_load_assets of that scene): setup,
+ * config and draw above, with a pipeline of its own, and with opt->dump_dir
+ * the pipeline's and the fragment stage's buffers written there. Lights with
  * "space": "world" are moved into view space here. Trilinear builds the mip
  * levels of the scene's colour maps the first time (ras_texture_build_mips,
  * hence the non-const assets). `stats` (may be NULL) receives the counters.

@@ -206,6 +206,33 @@ static ras_image *load_reference(const ras_app *app, char *path, size_t size, ra
     return expected;
 }
 
+/* ---- the frame ------------------------------------------------------------- */
+
+bool ras_app_draw_frame(ras_app *app, ras_error *err) {
+    const ras_app_hooks *h = app->hooks;
+    ras_pipeline_config cfg;
+    memset(&cfg, 0, sizeof cfg); /* the fields a program leaves out are 0 */
+    if (!h->configure(app, &cfg, err)) return false;
+    if (app->pipeline && ras_pipeline_config_equal(&app->pipeline_config, &cfg)) {
+        ras_pipeline_begin_frame(app->pipeline);
+    } else { /* a new one, made cleared (ras_pipeline_create) */
+        ras_pipeline *p = ras_pipeline_create(&cfg, err);
+        if (!p) return false;
+        ras_pipeline_destroy(app->pipeline);
+        app->pipeline = p;
+        app->pipeline_config = cfg;
+    }
+    app->counters = &app->pipeline->counters;
+    if (!h->draw(app, app->pipeline, err)) return false;
+    ras_pipeline_end_frame(app->pipeline, app->image);
+    return true;
+}
+
+/* The program's frame: the shell's, or one drawn another way (hooks.render). */
+static bool frame(ras_app *app, ras_error *err) {
+    return app->hooks->render ? app->hooks->render(app, err) : ras_app_draw_frame(app, err);
+}
+
 /* ---- headless ------------------------------------------------------------- */
 
 /* Saves an image made from the comparison beside -o (FILE_diff.png), or in
@@ -267,17 +294,18 @@ static void dump_words(ras_error *err) {
 static int run_headless(ras_app *app, const ras_image *expected, const char *reference_path) {
     ras_error err = {{0}};
     const char *output = app->cli.output;
-    if (!app->hooks->render(app, &err)) {
+    if (!frame(app, &err)) {
         dump_words(&err);
         fprintf(stderr, "%s: %s\n", app->hooks->program, err.msg);
         return 1;
     }
     if (app->cli.dump) {
-        /* What the program did not write itself (the pipeline's buffers),
-         * then the whole folder into place, before -o: a dump that fails
-         * leaves -o as it was. */
+        /* The pipeline's buffers and the program's own (hooks.dump), then
+         * the whole folder into place, before -o: a dump that fails leaves
+         * -o as it was. */
         int written = 0;
         if ((app->pipeline && !ras_pipeline_dump(app->pipeline, app->cli.dump, &written, &err)) ||
+            (app->hooks->dump && !app->hooks->dump(app, app->cli.dump, &err)) ||
             !ras_dump_stage_commit(&g_dump_stage, &err)) {
             dump_words(&err);
             fprintf(stderr, "%s: --dump: %s; '%s' and the output were left as they were\n",
@@ -508,7 +536,7 @@ static int run_window(ras_app *app) {
     while (ok) {
         if (dirty) {
             ras_viewer_frame_begin(&viewer);
-            if (!(ok = app->hooks->render(app, &err))) break;
+            if (!(ok = frame(app, &err))) break;
             ras_viewer_frame_end(&viewer);
             if (app->hooks->step) step_after_frame(app);
             char name[RAS_CATALOGUE_NAME];
@@ -669,6 +697,7 @@ static void warn_if_stale(const ras_app_hooks *hooks) {
 }
 
 int ras_app_main(int argc, char **argv, const ras_app_hooks *hooks, void *user) {
+    assert(hooks->configure && hooks->draw); /* the frame's two hooks */
     ras_cli_reuse_freed_memory(); /* fewer page faults: ras_cli.h */
     ras_app app = {.hooks = hooks, .argv0 = argc > 0 ? argv[0] : hooks->program, .user = user};
     int status = parse(&app, argc, argv);

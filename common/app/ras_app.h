@@ -2,7 +2,20 @@
  *
  * Each main.c fills a ras_app_hooks (its name, options, built-in scene and
  * the frame it draws) and calls ras_app_main, which does the rest the same
- * way for every program:
+ * way for every program. A frame is the shell's (ras_app_draw_frame), with
+ * the program's two hooks inside it:
+ *
+ *   hooks.configure   what the frame is drawn with: the pipeline's
+ *                     configuration for the current settings
+ *   (the shell)       makes the pipeline from it (keeps the last one while
+ *                     the configuration is equal) and clears it
+ *   hooks.draw        what the frame draws: the scene's objects into it
+ *   (the shell)       resolves it into app->image, and writes: -o, --dump
+ *                     (the pipeline's buffers, then hooks.dump's), --stats
+ *
+ * The shell owns the pipeline from the first frame to the end of the
+ * program; a program reads it (app->pipeline) and never frees or replaces
+ * it. The steps of ras_app_main:
  *
  *   1. parse the command line (ras_cli.h; --help, --version; exit 2 on a
  *      bad option), the classic positional form (OUTPUT [SHADER]);
@@ -13,9 +26,9 @@
  *      with one set of rules (ras_app_resolve below);
  *   4. hooks.prepare (the program's own state), the frame-size budget, and
  *      with --compare the reference image (exit 2 when there is none);
- *   5. headless (-o or --compare): hooks.render once, write -o, --stats
- *      as JSON on stdout, --compare; or the window (ras_viewer.h): hooks.render
- *      on every change, keys, the reference and difference views.
+ *   5. headless (-o or --compare): one frame, write -o, --stats as JSON on
+ *      stdout, --compare; or the window (ras_viewer.h): a frame on every
+ *      change, keys, the reference and difference views.
  *
  * The reference image for the current settings is the catalogue entry
  * (ras_catalogue.h) of this program whose arguments give the same settings
@@ -64,9 +77,9 @@ typedef struct ras_app ras_app;
  * step mode 1-9 forward 1, 10, 100, ... (10^(k-1)) triangles and 0 back to
  * none; b the buffer shown: colour -> depth -> coverage (AA
  * only) -> overdraw -> normal -> uv (hw3, when the shader reads them),
- * skipping what the frame does not produce. The program's render reads
+ * skipping what the frame does not produce. The program's configure reads
  * `on` and `limit` (ras_pipeline_config.step, step_triangles) and keeps its
- * buffers while ras_app_capturing. */
+ * buffers (ras_pipeline_config.dump) while ras_app_capturing. */
 typedef enum ras_app_buffer {
     RAS_APP_BUFFER_COLOUR,
     RAS_APP_BUFFER_DEPTH,
@@ -127,8 +140,23 @@ typedef struct ras_app_hooks {
     /* The program's own state, once the settings are known. false: bad
      * input, err says why (exit 2). */
     bool (*prepare)(ras_app *app, ras_error *err);
-    /* One frame with app->set into app->image; sets app->counters (and
-     * app->pipeline when it draws through one). false: the render failed. */
+    /* What the frame is drawn with: the pipeline's configuration for
+     * app->set (zeroed before the call). Called before every frame. false:
+     * the frame cannot be drawn, err says why. */
+    bool (*configure)(ras_app *app, ras_pipeline_config *config, ras_error *err);
+    /* What the frame draws: the scene's objects into the shell's pipeline,
+     * cleared (ras_pipeline_begin_frame); the shell resolves it after. false:
+     * the frame failed (out of memory). */
+    bool (*draw)(ras_app *app, ras_pipeline *pipeline, ras_error *err);
+    /* --dump: the program's own buffers (hw3's fragment stage), written into
+     * dir after the pipeline's. NULL: the pipeline's are all. */
+    bool (*dump)(const ras_app *app, const char *dir, ras_error *err);
+    /* A frame drawn another way than the core's pipeline (hw3_shading_ref's
+     * --renderer fast): into app->image, with app->counters set; it calls
+     * ras_app_draw_frame for a frame it does not draw, and for every frame
+     * while ras_app_capturing (the window then reads app->pipeline, which
+     * otherwise keeps the last frame the shell drew). NULL (every
+     * assignment): the shell's frame. */
     bool (*render)(ras_app *app, ras_error *err);
     /* A window key the shell does not handle: true when it changed the frame. */
     bool (*key)(ras_app *app, int key);
@@ -136,7 +164,7 @@ typedef struct ras_app_hooks {
     bool (*mouse)(ras_app *app, int col, int row);
     /* The status line under the viewer's: what is drawn and the keys. */
     void (*status)(const ras_app *app, char *buf, size_t size);
-    void (*release)(ras_app *app); /* frees what prepare and render made */
+    void (*release)(ras_app *app); /* frees what prepare and configure made */
     /* The buffer view's buffers the pipeline does not hold ("normal", "uv":
      * hw3's fragment stage): false when the last frame has none. */
     bool (*buffer)(const ras_app *app, const char *name, struct ras_dump_buffer *out);
@@ -151,8 +179,12 @@ struct ras_app {
     ras_app_settings set;
     ras_image *image;
     const ras_counters *counters;   /* the last frame's, for --stats */
-    ras_pipeline *pipeline;         /* the program's, if it draws through one: the
-                                     * inspector reads its samples, the shell frees it */
+    /* The shell's: made by ras_app_draw_frame from hooks.configure, kept
+     * while the configuration stays equal, freed at the end. The last frame's
+     * samples, depths and counters: the inspector, the buffer view and --dump
+     * read them. NULL before the first frame. */
+    ras_pipeline *pipeline;
+    ras_pipeline_config pipeline_config; /* what hooks.configure gave for it */
     void *user;                     /* the program's */
     ras_app_step step;              /* the window's step and buffer views */
 };
@@ -161,6 +193,12 @@ struct ras_app {
  * buffer other than colour shown): the render draws with config.step and
  * config.dump then. Never during a headless frame. */
 bool ras_app_capturing(const ras_app *app);
+
+/* One frame through the shell's pipeline: hooks.configure, the pipeline made
+ * (again when the configuration changed) or cleared, hooks.draw, resolved into
+ * app->image; app->counters are the pipeline's. false and err when a hook
+ * failed or the pipeline could not be made. */
+bool ras_app_draw_frame(ras_app *app, ras_error *err);
 
 /* The whole program: returns main's exit status. */
 int ras_app_main(int argc, char **argv, const ras_app_hooks *hooks, void *user);

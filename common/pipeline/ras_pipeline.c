@@ -100,6 +100,25 @@ ras_pipeline *ras_pipeline_create(const ras_pipeline_config *config, ras_error *
     return p;
 }
 
+static bool same_bits(const void *a, const void *b, size_t n) { return !memcmp(a, b, n); }
+
+bool ras_pipeline_config_equal(const ras_pipeline_config *a, const ras_pipeline_config *b) {
+    /* Field by field, not memcmp of the structs: their padding is unset. */
+    const ras_sample_pattern *pa = &a->pattern, *pb = &b->pattern;
+    bool pattern = pa->kind == pb->kind && pa->count == pb->count &&
+                   (pa->count < 1 || pa->count > RAS_MAX_SAMPLES ||
+                    same_bits(pa->offsets, pb->offsets, (size_t)pa->count * sizeof pa->offsets[0]));
+    return a->width == b->width && a->height == b->height &&
+           same_bits(&a->clear_color, &b->clear_color, sizeof a->clear_color) &&
+           a->wireframe == b->wireframe &&
+           same_bits(&a->wire_color, &b->wire_color, sizeof a->wire_color) && a->aa == b->aa &&
+           pattern && a->cull == b->cull && a->depth == b->depth &&
+           same_bits(&a->z_near, &b->z_near, sizeof a->z_near) && a->varyings == b->varyings &&
+           a->rasterize == b->rasterize && a->resolve == b->resolve && a->shade == b->shade &&
+           a->shade_user == b->shade_user && a->dump == b->dump && a->step == b->step &&
+           a->step_triangles == b->step_triangles;
+}
+
 void ras_pipeline_destroy(ras_pipeline *p) {
     if (!p) return;
     ras_framebuffer_destroy(p->fb);

@@ -50,6 +50,7 @@ typedef struct ras_pipeline_config {
      * is drawn whole and nothing is kept: one compare per triangle. */
     bool step;
     long step_triangles;
+    /* A new field goes into ras_pipeline_config_equal too. */
 } ras_pipeline_config;
 
 typedef struct ras_pipeline {
@@ -77,6 +78,12 @@ typedef struct ras_pipeline {
  * allocates exactly the buffers it needs. */
 ras_pipeline *ras_pipeline_create(const ras_pipeline_config *config, ras_error *err);
 void ras_pipeline_destroy(ras_pipeline *p);
+
+/* Whether a pipeline made from `a` draws as one made from `b`: the same
+ * values field by field (bits for the floats, so -0 is not 0; the sample
+ * offsets only as far as the count). The shell (ras_app.h) keeps its
+ * pipeline from frame to frame while the program's configuration is equal. */
+bool ras_pipeline_config_equal(const ras_pipeline_config *a, const ras_pipeline_config *b);
 
 /* Clears the buffers to the clear colour and zeroes the counters. */
 void ras_pipeline_begin_frame(ras_pipeline *p);

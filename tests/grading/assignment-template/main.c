@@ -8,8 +8,9 @@
  *   hwX_template -o out.png            render once, headless
  *   hwX_template --compare -o out.png  and compare with the reference image
  *
- * Everything else (options, the window, --stats) is the shell's:
- * common/app/ras_app.h. This is the template of docs/instructors.md, "Add an
+ * Everything else (options, the window, --stats, and the frame around
+ * configure() and draw(): the pipeline made, cleared, resolved into the PNG)
+ * is the shell's: common/app/ras_app.h. This is the template of docs/instructors.md, "Add an
  * assignment": replace the scale by the lesson's own step.
  */
 #include "ras_app.h"
@@ -18,35 +19,30 @@
 
 #include <stdio.h> /* snprintf */
 
-/* The pipeline, made on the first frame: lines only (no rasterizer here). */
-static bool ensure_pipeline(ras_app *app, ras_error *err) {
-    if (app->pipeline) return true;
-    ras_pipeline_config cfg = {.width = app->set.width,
-                               .height = app->set.height,
-                               .clear_color = app->scene->clear_color,
-                               .wireframe = true};
-    return (app->pipeline = ras_pipeline_create(&cfg, err)) != NULL;
+/* What the frame is drawn with: lines only (no rasterizer here). */
+static bool configure(ras_app *app, ras_pipeline_config *cfg, ras_error *err) {
+    (void)err;
+    *cfg = (ras_pipeline_config){.width = app->set.width,
+                                 .height = app->set.height,
+                                 .clear_color = app->scene->clear_color,
+                                 .wireframe = true};
+    return true;
 }
 
-/* The frame: each object scaled about its own origin, then view and
- * projection (hw1), drawn as lines in the object's colour. */
-static bool render(ras_app *app, ras_error *err) {
-    if (!ensure_pipeline(app, err)) return false;
+/* What it draws: each object scaled about its own origin, then view and
+ * projection (hw1), as lines in the object's colour. */
+static bool draw(ras_app *app, ras_pipeline *p, ras_error *err) {
     const ras_scene *s = app->scene;
     float aspect = (float)app->set.width / (float)app->set.height;
     mat4s scale = get_scale_matrix(0.5f), view = ras_scene_view_matrix(s);
     mat4s projection =
         get_projection_matrix(s->camera.fov_deg, aspect, s->camera.z_near, s->camera.z_far);
-    ras_pipeline *p = app->pipeline;
-    ras_pipeline_begin_frame(p);
     for (int i = 0; i < s->object_count; i++) {
         p->config.wire_color = s->objects[i].material.color;
         mat4s model = ras_scene_model_matrix(&s->objects[i], (ras_scene_spin){.matrix = &scale});
         if (!ras_pipeline_draw_mesh(p, app->assets->meshes[i], model, view, projection, err))
             return false;
     }
-    ras_pipeline_end_frame(p, app->image);
-    app->counters = &p->counters;
     return true;
 }
 
@@ -67,7 +63,8 @@ int main(int argc, char **argv) {
         .example = "-o out.png",
         .compare = RAS_COMPARE_EDGE_TOLERANT,
         .load_assets = true,
-        .render = render,
+        .configure = configure,
+        .draw = draw,
         .status = status};
     return ras_app_main(argc, argv, &hooks, NULL);
 }
