@@ -388,6 +388,71 @@ static void test_pipeline_config_checked(void **state) {
     assert_non_null(strstr(err.msg, "rasterize"));
 }
 
+/* The shell keeps its pipeline while two configurations are equal
+ * (ras_app_draw_frame): equal by value, whatever the padding holds; any one
+ * field changed, or a float's sign bit, makes them differ; the sample
+ * offsets count only as far as the pattern's count. */
+static void dummy_hook(void) {}
+static void test_pipeline_config_equal_by_fields(void **state) {
+    (void)state;
+    ras_pipeline_config a, b;
+    memset(&a, 0x00, sizeof a);
+    memset(&b, 0xa5, sizeof b); /* other padding */
+    ras_pipeline_config base = {.width = 8, .height = 6, .clear_color = {{0.1f, 0.2f, 0.3f}},
+                                .aa = RAS_AA_MSAA, .cull = RAS_CULL_BACK,
+                                .depth = RAS_DEPTH_INV_W, .z_near = 0.1f, .varyings = 3,
+                                .shade_user = &base, .dump = true,
+                                .step = true, .step_triangles = 5};
+    assert_true(ras_sample_pattern_make(RAS_PATTERN_STANDARD, 4, &base.pattern, NULL));
+#define SET_FIELDS(c)                                                                             \
+    do {                                                                                          \
+        c.width = base.width, c.height = base.height, c.clear_color = base.clear_color;            \
+        c.wireframe = base.wireframe, c.wire_color = base.wire_color, c.aa = base.aa;             \
+        c.pattern.kind = base.pattern.kind, c.pattern.count = base.pattern.count;                 \
+        for (int k = 0; k < base.pattern.count; k++) c.pattern.offsets[k] = base.pattern.offsets[k]; \
+        c.cull = base.cull, c.depth = base.depth, c.z_near = base.z_near;                         \
+        c.varyings = base.varyings, c.rasterize = base.rasterize, c.resolve = base.resolve;       \
+        c.shade = base.shade, c.shade_user = base.shade_user, c.dump = base.dump;                 \
+        c.step = base.step, c.step_triangles = base.step_triangles;                               \
+    } while (0)
+    SET_FIELDS(a);
+    SET_FIELDS(b);
+#undef SET_FIELDS
+    assert_true(ras_pipeline_config_equal(&a, &b)); /* offsets past 4 differ: not read */
+    assert_true(ras_pipeline_config_equal(&a, &a));
+    ras_pipeline_config c;
+#define DIFFERS(change)                                                                           \
+    do {                                                                                          \
+        c = a;                                                                                    \
+        change;                                                                                   \
+        if (ras_pipeline_config_equal(&a, &c) || ras_pipeline_config_equal(&c, &a))               \
+            fail_msg("equal after %s", #change);                                                  \
+    } while (0)
+    DIFFERS(c.width = 9);
+    DIFFERS(c.height = 7);
+    DIFFERS(c.clear_color.z = 0.31f);
+    DIFFERS(c.wireframe = true);
+    DIFFERS(c.wire_color.x = 1);
+    DIFFERS(c.aa = RAS_AA_SSAA);
+    DIFFERS(c.pattern.kind = RAS_PATTERN_ORDERED);
+    DIFFERS(c.pattern.count = 2);
+    DIFFERS(c.pattern.offsets[3].y += 0.125f);
+    DIFFERS(c.cull = RAS_CULL_FRONT);
+    DIFFERS(c.depth = RAS_DEPTH_Z01);
+    DIFFERS(c.z_near = 0.2f);
+    DIFFERS(c.varyings = 1);
+    DIFFERS(c.rasterize = (ras_rasterize_fn)dummy_hook);
+    DIFFERS(c.resolve = (ras_resolve_fn)dummy_hook);
+    DIFFERS(c.shade = (ras_shade_fn)dummy_hook);
+    DIFFERS(c.shade_user = &c);
+    DIFFERS(c.dump = false);
+    DIFFERS(c.step = false);
+    DIFFERS(c.step_triangles = 6);
+    a.clear_color.x = 0.0f;
+    DIFFERS(c.clear_color.x = -0.0f); /* bits: another clear (ras_pipeline_create) */
+#undef DIFFERS
+}
+
 /* ------------------------------------------------------------------------ */
 /* Jobs in a child process (ras_job_run_child: the model importer's shield)  */
 
@@ -495,6 +560,7 @@ int main(void) {
         cmocka_unit_test(test_cli_parses_values),
         cmocka_unit_test(test_cli_rejects_bad_input),
         cmocka_unit_test(test_app_resolve_one_rule_set),
+        cmocka_unit_test(test_pipeline_config_equal_by_fields),
         cmocka_unit_test(test_image_roundtrip_and_failed_write),
         cmocka_unit_test(test_image_header_size_matches_decode),
         cmocka_unit_test(test_pipeline_wireframe_runs_only_its_stages),

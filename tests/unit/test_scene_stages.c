@@ -490,6 +490,96 @@ static void test_flat_shader_refused(void **state) {
     ras_scene_destroy(rs);
 }
 
+/* ---- the shell's frame: a kept pipeline draws as a new one ---------------- */
+
+/* The shell (ras_app_draw_frame) keeps its pipeline while the program's
+ * configuration is equal and only clears it (ras_pipeline_begin_frame); the
+ * window's keys that change no configuration (a/d, the mouse, p) draw that
+ * way. hw3's hooks, as main.c has them, over options the test sets. */
+typedef struct shell_frame {
+    hw3_render_options opt;
+    hw3_frame frame;
+} shell_frame;
+
+static bool shell_configure(ras_app *app, ras_pipeline_config *cfg, ras_error *err) {
+    shell_frame *sf = app->user;
+    if (!hw3_frame_setup(app->scene, app->assets, &sf->opt, &sf->frame, err)) return false;
+    *cfg = hw3_frame_config(app->scene, &sf->opt, &sf->frame.stage);
+    return true;
+}
+
+static bool shell_draw(ras_app *app, ras_pipeline *p, ras_error *err) {
+    shell_frame *sf = app->user;
+    return hw3_frame_draw(app->scene, app->assets, sf->opt.angle_deg, &sf->frame, p, err);
+}
+
+/* The counters as --stats prints them, without the times. */
+static void counters_text(const ras_counters *k, char *buf, size_t size) {
+    ras_counters_format_json(k, buf, size);
+    char *ms = strstr(buf, ", \"ms\"");
+    assert_non_null(ms);
+    *ms = '\0';
+}
+
+static void test_shell_kept_pipeline_draws_as_new(void **state) {
+    (void)state;
+    static const ras_app_hooks hooks = {.program = "test", .configure = shell_configure,
+                                        .draw = shell_draw};
+    ras_error err = {{0}};
+    ras_scene *rs = ras_scene_load_or_builtin(NULL, "hw3_default", &err);
+    if (!rs) fail_msg("the built-in scene: %s", err.msg);
+    rs->width = rs->height = W;
+    ras_scene_assets *assets = ras_scene_load_assets(rs, &err);
+    if (!assets) fail_msg("ras_scene_load_assets: %s", err.msg);
+    shell_frame kept = {.opt = hw3_render_options_from_ras(rs)}, fresh;
+    kept.opt.shader = RAS_SHADER_PHONG;
+    kept.opt.aa = RAS_AA_MSAA;
+    assert_true(ras_sample_pattern_make(RAS_PATTERN_STANDARD, 4, &kept.opt.pattern, NULL));
+    kept.opt.keep_buffers = true; /* the overdraw buffer too */
+    ras_app a = {.hooks = &hooks, .scene = rs, .assets = assets, .user = &kept};
+    ras_app b = a;
+    a.image = ras_image_create(W, W, &err);
+    b.image = ras_image_create(W, W, &err);
+    assert_true(a.image && b.image);
+    if (!ras_app_draw_frame(&a, &err)) fail_msg("frame 1: %s", err.msg);
+    const ras_pipeline *first = a.pipeline;
+    /* frame 2: turned and affine — the same configuration, so the same pipeline */
+    kept.opt.angle_deg = 40;
+    kept.opt.affine = true;
+    if (!ras_app_draw_frame(&a, &err)) fail_msg("frame 2: %s", err.msg);
+    assert_ptr_equal(a.pipeline, first);
+    /* the same frame from a new pipeline */
+    fresh = kept;
+    b.user = &fresh;
+    if (!ras_app_draw_frame(&b, &err)) fail_msg("the new pipeline's frame: %s", err.msg);
+    assert_ptr_not_equal(b.pipeline, a.pipeline);
+    const ras_framebuffer *fa = a.pipeline->fb, *fb = b.pipeline->fb;
+    size_t n = (size_t)W * W * (size_t)fa->samples;
+    assert_int_equal(fa->samples, 4);
+    assert_memory_equal(a.image->pixels, b.image->pixels, (size_t)W * W * sizeof(vec3s));
+    assert_memory_equal(fa->color, fb->color, n * sizeof(vec3s));
+    assert_memory_equal(fa->depth, fb->depth, n * sizeof(float));
+    assert_non_null(a.pipeline->overdraw);
+    assert_memory_equal(a.pipeline->overdraw, b.pipeline->overdraw, (size_t)W * W * sizeof(float));
+    char ka[2048], kb[2048];
+    counters_text(a.counters, ka, sizeof ka);
+    counters_text(b.counters, kb, sizeof kb);
+    assert_string_equal(ka, kb);
+    assert_true(a.counters->fragments_shaded > 0);
+    /* another configuration (16 samples): a new pipeline, made before the
+     * kept one is freed, so its address differs */
+    assert_true(ras_sample_pattern_make(RAS_PATTERN_STANDARD, 16, &kept.opt.pattern, NULL));
+    if (!ras_app_draw_frame(&a, &err)) fail_msg("frame 3: %s", err.msg);
+    assert_ptr_not_equal(a.pipeline, first);
+    assert_int_equal(a.pipeline->fb->samples, 16);
+    ras_pipeline_destroy(a.pipeline);
+    ras_pipeline_destroy(b.pipeline);
+    ras_image_destroy(a.image);
+    ras_image_destroy(b.image);
+    ras_scene_assets_destroy(assets);
+    ras_scene_destroy(rs);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_aa_none_has_no_sample_buffers),
@@ -508,6 +598,7 @@ int main(void) {
         cmocka_unit_test(test_builtin_scenes_are_the_files),
         cmocka_unit_test(test_depth_key_reaches_the_pipeline),
         cmocka_unit_test(test_flat_shader_refused),
+        cmocka_unit_test(test_shell_kept_pipeline_draws_as_new),
     };
     return RAS_RUN_TESTS("scene_stages", tests, NULL, NULL);
 }
