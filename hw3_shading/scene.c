@@ -235,47 +235,48 @@ hw3_render_options hw3_app_render_options(const ras_app *app) {
     return opt;
 }
 
-bool hw3_gbuffer_view(const hw3_gbuffer *g, const char *name, ras_dump_buffer *out) {
-    bool normal = !strcmp(name, "normal");
-    const float *data = normal ? g->normal : !strcmp(name, "uv") ? g->uv : NULL;
-    if (!data) return false;
-    *out = (ras_dump_buffer){.name = name, .width = g->width, .height = g->height, .samples = 1,
-                             .channels = 3, .data = data,
-                             .style = normal ? RAS_DUMP_VECTOR : RAS_DUMP_UNIT,
-                             .empty = INFINITY, .has_empty = true};
+/* The fragment stage's buffers, in the words of their --dump sidecars. */
+static const ras_dump_buffer gbuffer_kinds[3] = {
+    {.name = "normal",
+     .what = "the unit normal each pixel's shader got (interpolated, normalised), view space",
+     .units = "unit vector: x right, y up, z towards the eye",
+     .channels = 3,
+     .style = RAS_DUMP_VECTOR},
+    {.name = "uv",
+     .what = "the texture coordinates each pixel's shader got (perspective-correct unless "
+             "--affine); the third channel is 0",
+     .units = "u, v in texture space (1 = the texture's width, height)",
+     .channels = 3,
+     .style = RAS_DUMP_UNIT},
+    {.name = "view_depth",
+     .what = "how far in front of the eye each pixel's shaded point is: -z of its "
+             "interpolated view-space position",
+     .units = "scene units",
+     .channels = 1,
+     .style = RAS_DUMP_SCALAR},
+};
+
+/* Buffer k of the table with g's data; false when the frame made none. */
+static bool gbuffer_entry(const hw3_gbuffer *g, int k, ras_dump_buffer *out) {
+    const float *data[3] = {g->normal, g->uv, g->view_depth};
+    if (!data[k]) return false;
+    *out = gbuffer_kinds[k];
+    out->width = g->width, out->height = g->height, out->samples = 1;
+    out->data = data[k];
+    out->empty = INFINITY, out->has_empty = true; /* nothing shaded there */
     return true;
 }
 
+bool hw3_gbuffer_view(const hw3_gbuffer *g, const char *name, ras_dump_buffer *out) {
+    for (int k = 0; k < 3; k++)
+        if (!strcmp(name, gbuffer_kinds[k].name)) return gbuffer_entry(g, k, out);
+    return false;
+}
+
 bool hw3_gbuffer_dump(const hw3_gbuffer *g, const char *dir, ras_error *err) {
-    const ras_dump_buffer buffers[3] = {
-        {.name = "normal",
-         .what = "the unit normal each pixel's shader got (interpolated, normalised), view space",
-         .units = "unit vector: x right, y up, z towards the eye",
-         .channels = 3,
-         .data = g->normal,
-         .style = RAS_DUMP_VECTOR},
-        {.name = "uv",
-         .what = "the texture coordinates each pixel's shader got (perspective-correct unless "
-                 "--affine); the third channel is 0",
-         .units = "u, v in texture space (1 = the texture's width, height)",
-         .channels = 3,
-         .data = g->uv,
-         .style = RAS_DUMP_UNIT},
-        {.name = "view_depth",
-         .what = "how far in front of the eye each pixel's shaded point is: -z of its "
-                 "interpolated view-space position",
-         .units = "scene units",
-         .channels = 1,
-         .data = g->view_depth,
-         .style = RAS_DUMP_SCALAR},
-    };
-    for (int k = 0; k < 3; k++) {
-        if (!buffers[k].data) continue;
-        ras_dump_buffer b = buffers[k];
-        b.width = g->width, b.height = g->height, b.samples = 1;
-        b.empty = INFINITY, b.has_empty = true;
-        if (!ras_dump_write(dir, &b, err)) return false;
-    }
+    ras_dump_buffer b;
+    for (int k = 0; k < 3; k++)
+        if (gbuffer_entry(g, k, &b) && !ras_dump_write(dir, &b, err)) return false;
     return true;
 }
 

@@ -131,9 +131,10 @@ bool hw3_gbuffer_create(hw3_gbuffer *g, int width, int height, unsigned varyings
 void hw3_gbuffer_release(hw3_gbuffer *g); /* frees and zeroes; a zeroed one is fine */
 /* --dump: the buffers there are, as normal, uv and view_depth in dir (ras_dump.h). */
 bool hw3_gbuffer_dump(const hw3_gbuffer *g, const char *dir, ras_error *err);
-/* The window's buffer view of the fragment buffers: "normal" and "uv" — what
- * the frame's fragment stage handed each pixel's shader. False for any other
- * name, or a buffer the frame did not make. */
+/* One of the fragment buffers by name, "normal", "uv" or "view_depth" (the
+ * window's buffer view shows the first two): what the frame's fragment stage
+ * handed each pixel's shader. False for any other name, or a buffer the frame
+ * did not make. */
 bool hw3_gbuffer_view(const hw3_gbuffer *g, const char *name, ras_dump_buffer *out);
 
 /* Defaults: normal shader, bilinear, angle 0, no AA, perspective-correct. */

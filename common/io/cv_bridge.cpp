@@ -43,25 +43,32 @@ void on_mouse(int event, int x, int y, int, void *user) {
 
 }  // namespace
 
+// The file bytes of `m` encoded as `ext`, in memory the C side frees (malloc);
+// `kind` ("" or "float ") names the encoder in the messages.
+static uint8_t *encoded_copy(const char *ext, const cv::Mat &m, const char *kind, size_t *len,
+                             char *err, int err_size) {
+    std::vector<uchar> buf;
+    if (!cv::imencode(ext, m, buf) || buf.empty()) {
+        set_err(err, err_size, std::string("OpenCV has no ") + kind + "encoder for '" + ext + "'");
+        return nullptr;
+    }
+    auto *out = static_cast<uint8_t *>(std::malloc(buf.size()));
+    if (!out) {
+        set_err(err, err_size, std::string("out of memory for the encoded ") + kind + "image");
+        return nullptr;
+    }
+    std::memcpy(out, buf.data(), buf.size());
+    *len = buf.size();
+    return out;
+}
+
 static uint8_t *encode_rgb8(const char *ext, int width, int height, const uint8_t *rgb, size_t *len,
                             char *err, int err_size) {
     try {
         cv::Mat in(height, width, CV_8UC3, const_cast<uint8_t *>(rgb));
         cv::Mat bgr;
         cv::cvtColor(in, bgr, cv::COLOR_RGB2BGR);
-        std::vector<uchar> buf;
-        if (!cv::imencode(ext, bgr, buf) || buf.empty()) {
-            set_err(err, err_size, std::string("OpenCV has no encoder for '") + ext + "'");
-            return nullptr;
-        }
-        auto *out = static_cast<uint8_t *>(std::malloc(buf.size()));
-        if (!out) {
-            set_err(err, err_size, "out of memory for the encoded image");
-            return nullptr;
-        }
-        std::memcpy(out, buf.data(), buf.size());
-        *len = buf.size();
-        return out;
+        return encoded_copy(ext, bgr, "", len, err, err_size);
     } catch (const std::exception &e) {
         set_err(err, err_size, std::string("the encoder failed: ") + e.what());
         return nullptr;
@@ -83,19 +90,7 @@ static uint8_t *encode_f32(const char *ext, int width, int height, int channels,
             cv::cvtColor(in, file, cv::COLOR_RGB2BGR);
         else
             file = in;
-        std::vector<uchar> buf;
-        if (!cv::imencode(ext, file, buf) || buf.empty()) {
-            set_err(err, err_size, std::string("OpenCV has no float encoder for '") + ext + "'");
-            return nullptr;
-        }
-        auto *out = static_cast<uint8_t *>(std::malloc(buf.size()));
-        if (!out) {
-            set_err(err, err_size, "out of memory for the encoded float image");
-            return nullptr;
-        }
-        std::memcpy(out, buf.data(), buf.size());
-        *len = buf.size();
-        return out;
+        return encoded_copy(ext, file, "float ", len, err, err_size);
     } catch (const std::exception &e) {
         set_err(err, err_size, std::string("the float encoder failed: ") + e.what());
         return nullptr;

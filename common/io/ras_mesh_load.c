@@ -75,6 +75,16 @@ static struct aiMatrix4x4 ai_identity(void) {
     return m;
 }
 
+/* `array` of *cap elements of `size` bytes, reallocated to twice as many
+ * (*cap doubled); NULL, and the array and *cap as they were, on overflow or
+ * out of memory. */
+static void *grown_twice(void *array, size_t *cap, size_t size) {
+    if (*cap > SIZE_MAX / 2 / size) return NULL;
+    void *grown = realloc(array, 2 * *cap * size);
+    if (grown) *cap *= 2;
+    return grown;
+}
+
 /* Lists every (mesh, transform) pair of the node tree. Iterative, so a file
  * with a very deep hierarchy cannot overflow the C stack. Returns false on
  * OOM; *out is then NULL. */
@@ -96,21 +106,17 @@ static bool collect_instances(const struct aiScene *scene, ras_mesh_instance **o
             unsigned mi = node->mMeshes[i];
             if (mi >= scene->mNumMeshes || !scene->mMeshes[mi]) continue;
             if (inst_n == inst_cap) {
-                if (inst_cap > SIZE_MAX / 2 / sizeof *inst) goto oom;
-                ras_mesh_instance *grown = realloc(inst, 2 * inst_cap * sizeof *inst);
+                ras_mesh_instance *grown = grown_twice(inst, &inst_cap, sizeof *inst);
                 if (!grown) goto oom;
                 inst = grown;
-                inst_cap *= 2;
             }
             inst[inst_n++] = (ras_mesh_instance){scene->mMeshes[mi], m};
         }
         for (unsigned c = 0; c < node->mNumChildren; c++) {
             if (stack_n == stack_cap) {
-                if (stack_cap > SIZE_MAX / 2 / sizeof *stack) goto oom;
-                ras_mesh_node_item *grown = realloc(stack, 2 * stack_cap * sizeof *stack);
+                ras_mesh_node_item *grown = grown_twice(stack, &stack_cap, sizeof *stack);
                 if (!grown) goto oom;
                 stack = grown;
-                stack_cap *= 2;
             }
             stack[stack_n++] = (ras_mesh_node_item){node->mChildren[c], m};
         }

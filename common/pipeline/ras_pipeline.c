@@ -251,38 +251,72 @@ void ras_pipeline_end_frame(ras_pipeline *p, ras_image *out) {
     p->counters.ms_total += dt;
 }
 
+/* The frame's buffers, in the words of their --dump sidecars; the frame
+ * gives the sizes and the data (ras_pipeline_buffer), and depth its words
+ * for the sample count and the depth format. */
+enum { BUFFER_DEPTH, BUFFER_COVERAGE, BUFFER_SAMPLE_COLOUR, BUFFER_OVERDRAW, BUFFER_COUNT };
+static const ras_dump_buffer pipeline_buffers[BUFFER_COUNT] = {
+    [BUFFER_DEPTH] = {.name = "depth",
+                      .channels = 1,
+                      .style = RAS_DUMP_SCALAR,
+                      .empty = INFINITY,
+                      .has_empty = true},
+    [BUFFER_COVERAGE] = {.name = "coverage",
+                         .what = "which samples some triangle covered (1) or none did (0); the "
+                                 "picture shows the covered fraction of each pixel",
+                         .units = "1 covered, 0 not",
+                         .channels = 1,
+                         .style = RAS_DUMP_SCALAR},
+    /* what the resolve averages: without it an MSAA colour mistake (one
+     * colour per pixel scaled by coverage) shows in no buffer */
+    [BUFFER_SAMPLE_COLOUR] = {.name = "sample_colour",
+                              .what = "the colour each sample holds before the resolve averages "
+                                      "them (the picture shows each pixel's mean)",
+                              .units = "linear RGB in [0, 1]",
+                              .channels = 3,
+                              .style = RAS_DUMP_UNIT},
+    [BUFFER_OVERDRAW] = {.name = "overdraw",
+                         .what = "how many fragments were shaded at each pixel (every triangle "
+                                 "that passed the depth test there, in drawing order, counts "
+                                 "once; per sample with SSAA)",
+                         .units = "fragments",
+                         .channels = 1,
+                         .style = RAS_DUMP_SCALAR,
+                         .empty = 0.0f,
+                         .has_empty = true},
+};
+
+static const char *const depth_units[] = {
+    [RAS_DEPTH_Z01] = "depth format z01: 0 at the near plane, 1 at the far plane; smaller is "
+                      "closer",
+    [RAS_DEPTH_INV_W] = "depth format inverse_w: -near/w, -1 at the near plane towards 0 far "
+                        "away; smaller is closer",
+};
+
 bool ras_pipeline_buffer(const ras_pipeline *p, const char *name, ras_dump_buffer *out,
                          float **owned) {
     *owned = NULL;
     if (p->config.wireframe) return false; /* lines only: no depth, no coverage */
+    int k = 0;
+    while (k < BUFFER_COUNT && strcmp(name, pipeline_buffers[k].name)) k++;
     const ras_framebuffer *fb = p->fb;
-    static const char *const depth_units[] = {
-        [RAS_DEPTH_Z01] = "depth format z01: 0 at the near plane, 1 at the far plane; smaller is "
-                          "closer",
-        [RAS_DEPTH_INV_W] = "depth format inverse_w: -near/w, -1 at the near plane towards 0 far "
-                            "away; smaller is closer",
-    };
-    if (!strcmp(name, "depth")) {
-        *out = (ras_dump_buffer){
-            .name = "depth",
-            .what = fb->samples > 1 ? "the depth buffer, one value per sample: what the depth "
-                                      "test compared against at the end of the frame"
-                                    : "the depth buffer: what the depth test compared against "
-                                      "at the end of the frame",
-            .units = (unsigned)p->config.depth < RAS_DEPTH_FORMAT_COUNT
-                         ? depth_units[p->config.depth]
-                         : "depth",
-            .width = fb->width,
-            .height = fb->height,
-            .samples = fb->samples,
-            .channels = 1,
-            .data = fb->depth,
-            .style = RAS_DUMP_SCALAR,
-            .empty = INFINITY,
-            .has_empty = true};
-        return true;
-    }
-    if (!strcmp(name, "coverage") && fb->samples > 1) {
+    bool samples = fb->samples > 1;
+    ras_dump_buffer b = k < BUFFER_COUNT ? pipeline_buffers[k] : (ras_dump_buffer){0};
+    b.width = fb->width;
+    b.height = fb->height;
+    b.samples = fb->samples;
+    switch (k) {
+    case BUFFER_DEPTH:
+        b.what = samples ? "the depth buffer, one value per sample: what the depth test "
+                           "compared against at the end of the frame"
+                         : "the depth buffer: what the depth test compared against at the end "
+                           "of the frame";
+        b.units = (unsigned)p->config.depth < RAS_DEPTH_FORMAT_COUNT ? depth_units[p->config.depth]
+                                                                    : "depth";
+        b.data = fb->depth;
+        break;
+    case BUFFER_COVERAGE: {
+        if (!samples) return false;
         /* covered = a fragment was stored there: its depth is no longer the
          * cleared +INF */
         size_t n = (size_t)fb->width * fb->height * fb->samples;
@@ -291,53 +325,22 @@ bool ras_pipeline_buffer(const ras_pipeline *p, const char *name, ras_dump_buffe
         for (size_t i = 0; i < n; i++)
             cov[i] = fb->depth[i] != INFINITY ? 1.0f : 0.0f;
         *owned = cov;
-        *out = (ras_dump_buffer){
-            .name = "coverage",
-            .what = "which samples some triangle covered (1) or none did (0); the picture "
-                    "shows the covered fraction of each pixel",
-            .units = "1 covered, 0 not",
-            .width = fb->width,
-            .height = fb->height,
-            .samples = fb->samples,
-            .channels = 1,
-            .data = cov,
-            .style = RAS_DUMP_SCALAR};
-        return true;
+        b.data = cov;
+        break;
     }
-    if (!strcmp(name, "sample_colour") && fb->samples > 1) {
-        /* what the resolve averages: without it an MSAA colour mistake (one
-         * colour per pixel scaled by coverage) shows in no buffer */
-        *out = (ras_dump_buffer){
-            .name = "sample_colour",
-            .what = "the colour each sample holds before the resolve averages them (the "
-                    "picture shows each pixel's mean)",
-            .units = "linear RGB in [0, 1]",
-            .width = fb->width,
-            .height = fb->height,
-            .samples = fb->samples,
-            .channels = 3,
-            .data = (const float *)fb->color,
-            .style = RAS_DUMP_UNIT};
-        return true;
+    case BUFFER_SAMPLE_COLOUR:
+        if (!samples) return false;
+        b.data = (const float *)fb->color;
+        break;
+    case BUFFER_OVERDRAW:
+        if (!p->overdraw) return false;
+        b.samples = 1;
+        b.data = p->overdraw;
+        break;
+    default: return false; /* no such buffer */
     }
-    if (!strcmp(name, "overdraw") && p->overdraw) {
-        *out = (ras_dump_buffer){
-            .name = "overdraw",
-            .what = "how many fragments were shaded at each pixel (every triangle that passed "
-                    "the depth test there, in drawing order, counts once; per sample with "
-                    "SSAA)",
-            .units = "fragments",
-            .width = fb->width,
-            .height = fb->height,
-            .samples = 1,
-            .channels = 1,
-            .data = p->overdraw,
-            .style = RAS_DUMP_SCALAR,
-            .empty = 0.0f,
-            .has_empty = true};
-        return true;
-    }
-    return false;
+    *out = b;
+    return true;
 }
 
 bool ras_pipeline_dump(const ras_pipeline *p, const char *dir, int *written, ras_error *err) {
