@@ -77,8 +77,9 @@ static bool draw(ras_app *app, ras_pipeline *p, ras_error *err) {
     const ras_scene *s = app->scene;
     const ras_app_settings *set = &app->set;
     mat4s view = ras_scene_view_matrix(s), spin = spin_matrix(set);
-    mat4s projection = get_projection_matrix(s->camera.fov_deg, (float)set->width / (float)set->height,
-                                             s->camera.z_near, s->camera.z_far);
+    float aspect = (float)set->width / (float)set->height;
+    mat4s projection =
+        get_projection_matrix(s->camera.fov_deg, aspect, s->camera.z_near, s->camera.z_far);
     for (int i = 0; i < s->object_count; i++)
         if (!ras_pipeline_draw_mesh(
                 p, app->assets->meshes[i],

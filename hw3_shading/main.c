@@ -48,7 +48,8 @@ static bool prepare(ras_app *app, ras_error *err) {
         fprintf(stderr, "hw3_shading: note: %s has no texture coordinates; the %s shader reads "
                         "one texel everywhere\n", cli->model, ras_scene_shader_name(app->set.shader));
     /* hw3's frame is the scene's size (hw3_frame_setup's aspect,
-     * hw3_frame_config's pipeline): --size (the settings) replaces the file's. The settings were resolved already, so this changes no rule. */
+     * hw3_frame_config's pipeline): --size (the settings) replaces the
+     * file's. The settings were resolved already, so this changes no rule. */
     app->scene->width = app->set.width;
     app->scene->height = app->set.height;
     return true;

@@ -409,7 +409,8 @@ static void test_pipeline_config_equal_by_fields(void **state) {
         c.width = base.width, c.height = base.height, c.clear_color = base.clear_color;            \
         c.wireframe = base.wireframe, c.wire_color = base.wire_color, c.aa = base.aa;             \
         c.pattern.kind = base.pattern.kind, c.pattern.count = base.pattern.count;                 \
-        for (int k = 0; k < base.pattern.count; k++) c.pattern.offsets[k] = base.pattern.offsets[k]; \
+        for (int k = 0; k < base.pattern.count; k++)                                              \
+            c.pattern.offsets[k] = base.pattern.offsets[k];                                       \
         c.cull = base.cull, c.depth = base.depth, c.z_near = base.z_near;                         \
         c.varyings = base.varyings, c.rasterize = base.rasterize, c.resolve = base.resolve;       \
         c.shade = base.shade, c.shade_user = base.shade_user, c.dump = base.dump;                 \
