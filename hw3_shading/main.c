@@ -64,13 +64,7 @@ static bool configure(ras_app *app, ras_pipeline_config *cfg, ras_error *err) {
     h->opt = hw3_app_render_options(app);
     if (!hw3_frame_setup(app->scene, app->assets, &h->opt, &h->frame, err)) return false;
     *cfg = hw3_frame_config(app->scene, &h->opt, &h->frame.stage);
-    hw3_gbuffer_release(&h->gbuffer); /* no stale buffers when nothing is kept */
-    if (cfg->dump) {
-        if (!hw3_gbuffer_create(&h->gbuffer, cfg->width, cfg->height, h->frame.stage.varyings))
-            return ras_error_set(err, "out of memory for the buffers of --dump");
-        h->frame.stage.gbuffer = &h->gbuffer;
-    }
-    return true;
+    return hw3_frame_buffers(&h->frame, cfg, &h->gbuffer, err);
 }
 
 /* What it draws: every object, with its material, through your rasterizer

@@ -191,7 +191,9 @@ unsigned hw3_frame_varyings(const ras_scene *scene, const ras_scene_assets *asse
     return v;
 }
 
-bool hw3_gbuffer_create(hw3_gbuffer *g, int width, int height, unsigned varyings) {
+/* The buffers for `varyings`, every entry +INF; false on out of memory
+ * (what was made is freed). */
+static bool gbuffer_create(hw3_gbuffer *g, int width, int height, unsigned varyings) {
     size_t n = (size_t)width * (size_t)height;
     *g = (hw3_gbuffer){.width = width, .height = height};
     float **arrays[3] = {&g->normal, &g->uv, &g->view_depth};
@@ -349,6 +351,16 @@ ras_pipeline_config hw3_frame_config(const ras_scene *scene, const hw3_render_op
                                  .step_triangles = opt->step_triangles};
 }
 
+bool hw3_frame_buffers(hw3_frame *frame, const ras_pipeline_config *cfg, hw3_gbuffer *g,
+                       ras_error *err) {
+    hw3_gbuffer_release(g); /* no stale buffers when nothing is kept */
+    if (!cfg->dump) return true;
+    if (!gbuffer_create(g, cfg->width, cfg->height, frame->stage.varyings))
+        return ras_error_set(err, "out of memory for the buffers of --dump");
+    frame->stage.gbuffer = g;
+    return true;
+}
+
 bool hw3_frame_draw(const ras_scene *scene, const ras_scene_assets *assets, float angle_deg,
                     hw3_frame *frame, ras_pipeline *p, ras_error *err) {
     fragment_shader_payload *b = &frame->stage.base;
@@ -371,11 +383,7 @@ bool hw3_render(const ras_scene *scene, ras_scene_assets *assets, const hw3_rend
     if (!hw3_frame_setup(scene, assets, opt, &frame, err)) return false;
     ras_pipeline_config cfg = hw3_frame_config(scene, opt, &frame.stage);
     hw3_gbuffer gbuffer = {0};
-    if (cfg.dump) {
-        if (!hw3_gbuffer_create(&gbuffer, scene->width, scene->height, frame.stage.varyings))
-            return ras_error_set(err, "out of memory for the buffers of --dump");
-        frame.stage.gbuffer = &gbuffer;
-    }
+    if (!hw3_frame_buffers(&frame, &cfg, &gbuffer, err)) return false;
     ras_pipeline *p = ras_pipeline_create(&cfg, err);
     bool ok = p && hw3_frame_draw(scene, assets, opt->angle_deg, &frame, p, err);
     if (ok) ras_pipeline_end_frame(p, out);

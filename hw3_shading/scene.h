@@ -15,7 +15,8 @@
  *     hw3_frame_setup    the fragment stage (your shader, the varyings it
  *                        reads, the lights in view space), the view and
  *                        projection matrices, the mip levels
- *     hw3_frame_config   the pipeline that calls it (your hw2 rasterizer)
+ *     hw3_frame_config   the pipeline that calls it (your hw2 rasterizer),
+ *                        and hw3_frame_buffers when the frame keeps its buffers
  *     hw3_frame_draw     every object, with its material, through the pipeline
  *   hw3_render           the three, with a pipeline of its own, into an image
  *
@@ -125,9 +126,6 @@ typedef struct hw3_render_options {
     bool keep_buffers;
 } hw3_render_options;
 
-/* The fragment stage's buffers for the varyings `varyings` holds, every
- * entry +INF; false on out of memory (what was made is freed). */
-bool hw3_gbuffer_create(hw3_gbuffer *g, int width, int height, unsigned varyings);
 void hw3_gbuffer_release(hw3_gbuffer *g); /* frees and zeroes; a zeroed one is fine */
 /* --dump: the buffers there are, as normal, uv and view_depth in dir (ras_dump.h). */
 bool hw3_gbuffer_dump(const hw3_gbuffer *g, const char *dir, ras_error *err);
@@ -182,6 +180,13 @@ bool hw3_frame_setup(const ras_scene *scene, ras_scene_assets *assets,
  * opt->dump_dir or opt->keep_buffers. */
 ras_pipeline_config hw3_frame_config(const ras_scene *scene, const hw3_render_options *opt,
                                      hw3_fragment_stage *stage);
+
+/* The fragment stage's buffers of a frame that keeps its buffers (cfg->dump,
+ * from hw3_frame_config): g is released, then made again at cfg's size for
+ * the stage's varyings (every entry +INF) and handed to frame->stage;
+ * without cfg->dump it stays empty. False and err on out of memory. */
+bool hw3_frame_buffers(hw3_frame *frame, const ras_pipeline_config *cfg, hw3_gbuffer *g,
+                       ras_error *err);
 
 /* Draws every object of the scene into `p` (made from hw3_frame_config with
  * frame->stage, and cleared): its material into the stage's payload, its

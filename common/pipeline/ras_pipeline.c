@@ -251,10 +251,11 @@ void ras_pipeline_end_frame(ras_pipeline *p, ras_image *out) {
     p->counters.ms_total += dt;
 }
 
-/* The frame's buffers, in the words of their --dump sidecars; the frame
- * gives the sizes and the data (ras_pipeline_buffer), and depth its words
- * for the sample count and the depth format. */
-enum { BUFFER_DEPTH, BUFFER_COVERAGE, BUFFER_SAMPLE_COLOUR, BUFFER_OVERDRAW, BUFFER_COUNT };
+/* The frame's buffers, in the words of their --dump sidecars and in the
+ * order --dump writes them; the frame gives the sizes and the data
+ * (ras_pipeline_buffer), and depth its words for the sample count and the
+ * depth format. */
+enum { BUFFER_DEPTH, BUFFER_COVERAGE, BUFFER_OVERDRAW, BUFFER_SAMPLE_COLOUR, BUFFER_COUNT };
 static const ras_dump_buffer pipeline_buffers[BUFFER_COUNT] = {
     [BUFFER_DEPTH] = {.name = "depth",
                       .channels = 1,
@@ -267,14 +268,6 @@ static const ras_dump_buffer pipeline_buffers[BUFFER_COUNT] = {
                          .units = "1 covered, 0 not",
                          .channels = 1,
                          .style = RAS_DUMP_SCALAR},
-    /* what the resolve averages: without it an MSAA colour mistake (one
-     * colour per pixel scaled by coverage) shows in no buffer */
-    [BUFFER_SAMPLE_COLOUR] = {.name = "sample_colour",
-                              .what = "the colour each sample holds before the resolve averages "
-                                      "them (the picture shows each pixel's mean)",
-                              .units = "linear RGB in [0, 1]",
-                              .channels = 3,
-                              .style = RAS_DUMP_UNIT},
     [BUFFER_OVERDRAW] = {.name = "overdraw",
                          .what = "how many fragments were shaded at each pixel (every triangle "
                                  "that passed the depth test there, in drawing order, counts "
@@ -284,6 +277,14 @@ static const ras_dump_buffer pipeline_buffers[BUFFER_COUNT] = {
                          .style = RAS_DUMP_SCALAR,
                          .empty = 0.0f,
                          .has_empty = true},
+    /* what the resolve averages: without it an MSAA colour mistake (one
+     * colour per pixel scaled by coverage) shows in no buffer */
+    [BUFFER_SAMPLE_COLOUR] = {.name = "sample_colour",
+                              .what = "the colour each sample holds before the resolve averages "
+                                      "them (the picture shows each pixel's mean)",
+                              .units = "linear RGB in [0, 1]",
+                              .channels = 3,
+                              .style = RAS_DUMP_UNIT},
 };
 
 static const char *const depth_units[] = {
@@ -345,12 +346,11 @@ bool ras_pipeline_buffer(const ras_pipeline *p, const char *name, ras_dump_buffe
 
 bool ras_pipeline_dump(const ras_pipeline *p, const char *dir, int *written, ras_error *err) {
     if (written) *written = 0;
-    static const char *const names[] = {"depth", "coverage", "overdraw", "sample_colour"};
-    for (int k = 0; k < 4; k++) {
+    for (int k = 0; k < BUFFER_COUNT; k++) {
         ras_dump_buffer b;
         float *owned = NULL;
-        if (!ras_pipeline_buffer(p, names[k], &b, &owned)) {
-            if (k == 1 && !p->config.wireframe && p->fb->samples > 1)
+        if (!ras_pipeline_buffer(p, pipeline_buffers[k].name, &b, &owned)) {
+            if (k == BUFFER_COVERAGE && !p->config.wireframe && p->fb->samples > 1)
                 return ras_error_set(err, "out of memory for the coverage buffer of --dump");
             continue;
         }

@@ -38,6 +38,24 @@ static acc_quad receding_rect(double k) {
     return q;
 }
 
+/* The textured plane's pipeline: one sample, hw2's rasterizer, `stage`
+ * shading the interpolated UVs, on black. */
+static ras_pipeline *plane_pipeline(int size, hw3_fragment_stage *stage) {
+    return acc_make_pipeline(size, size, RAS_AA_NONE, RAS_PATTERN_ORDERED, 1, rasterize_triangle,
+                             RAS_VARYING_UV, hw3_shade_fragment, stage, (vec3s){{0, 0, 0}});
+}
+
+/* A frame of the one plane mesh *m, in view space already, through `proj`. */
+static acc_mesh_frame plane_frame(int size, hw3_fragment_stage *stage, ras_mesh *const *m,
+                                  mat4s proj, ras_image *img) {
+    return (acc_mesh_frame){.p = plane_pipeline(size, stage),
+                            .meshes = m,
+                            .mesh_count = 1,
+                            .view = *acc_identity(),
+                            .projection = proj,
+                            .img = img};
+}
+
 void texturing_interpolation(void) {
     static const double ks[4] = {1.1, 2, 4, 8};
     const int size = acc_opt.quick ? 128 : 512, texels = 256;
@@ -60,15 +78,7 @@ void texturing_interpolation(void) {
                                              .varyings = RAS_VARYING_UV,
                                              .perspective = persp,
                                              .base = {.texture = tex, .filter = FILTER_BILINEAR}};
-            t[persp].f = (acc_mesh_frame){
-                .p = acc_make_pipeline(size, size, RAS_AA_NONE, RAS_PATTERN_ORDERED, 1,
-                                       rasterize_triangle, RAS_VARYING_UV, hw3_shade_fragment,
-                                       &ts[persp], (vec3s){{0, 0, 0}}),
-                .meshes = &m,
-                .mesh_count = 1,
-                .view = *acc_identity(),
-                .projection = proj,
-                .img = img};
+            t[persp].f = plane_frame(size, &ts[persp], &m, proj, img);
             t[persp].r = acc_new_row("interp", scene,
                                      persp ? "perspective-correct" : "affine (screen-space)");
         }
@@ -81,9 +91,7 @@ void texturing_interpolation(void) {
             /* Error: the interpolated UV itself, against the ray-plane hit. */
             hw3_fragment_stage us = {
                 .shader = shader_uv, .varyings = RAS_VARYING_UV, .perspective = persp};
-            f.p = acc_make_pipeline(size, size, RAS_AA_NONE, RAS_PATTERN_ORDERED, 1,
-                                    rasterize_triangle, RAS_VARYING_UV, hw3_shade_fragment, &us,
-                                    (vec3s){{0, 0, 0}});
+            f.p = plane_pipeline(size, &us);
             acc_draw_mesh_frame(&f);
             double v_max = 0, uv_max = 0, sum2 = 0;
             long n = 0;
@@ -176,15 +184,7 @@ void texturing_filtering(void) {
                                           .varyings = RAS_VARYING_UV,
                                           .perspective = true,
                                           .base = {.texture = tex, .filter = filters[fi]}};
-            t[fi].f = (acc_mesh_frame){
-                .p = acc_make_pipeline(size, size, RAS_AA_NONE, RAS_PATTERN_ORDERED, 1,
-                                       rasterize_triangle, RAS_VARYING_UV, hw3_shade_fragment,
-                                       &st[fi], (vec3s){{0, 0, 0}}),
-                .meshes = &m,
-                .mesh_count = 1,
-                .view = *acc_identity(),
-                .projection = proj,
-                .img = img};
+            t[fi].f = plane_frame(size, &st[fi], &m, proj, img);
             t[fi].r = acc_new_row("filter", scene, ras_scene_filter_name(filters[fi]));
         }
         acc_progress("filter / %s: timing nearest, bilinear, trilinear", scene);
