@@ -24,8 +24,9 @@ void xml_escape(sbuf *b, const char *s);
 bool is_bidi_control(const unsigned char *p, size_t n);
 /* student output, at most `cap` bytes, each line marked "│ " (owned) */
 char *student_text(const char *raw, size_t cap);
-/* a sealed run's failure: the verdict and the test's hint, no value (owned) */
-char *sealed_text(const char *status, const char *replay_out);
+/* a sealed run's verdict: one fixed sentence for a pass, one for any other
+ * end, nothing of how the run went (owned) */
+char *sealed_text(bool passed);
 /* text (owned, consumed) with the work folder written as "WORK" */
 char *without_work_path(const char *work, char *text);
 
