@@ -162,7 +162,10 @@ static void run_and_judge(grader *g, grading *gr, assignment_result *a, const cJ
     if (has_tests) {
         for (int c = 0; c < n_tests; c++)
             tests.workers[c].rr = b.all[c].rr; /* (the replays' are set in place) */
+        int from = a->n_items;
+        bool sealed = tests.own[0] != '\0';
         tests_finish(g, a, asg, &tests);
+        if (sealed) tests_explain_sealed(g, a, asg, dir, from);
     }
     double t_judge = now_s();
     judge_pictures(g, gr, a, asg, dir, &b);

@@ -399,6 +399,77 @@ void tests_finish(const grader *g, assignment_result *a, const cJSON *asg, test_
     free(b->listing);
 }
 
+/* The whole-chain run of a sealed failure, said after the sealed verdict
+ * (this line opens it: run-attacks' sealed_uniform compares the texts
+ * before it). */
+#define WHOLE_CHAIN_HEADING "--- the same test on your whole chain ---"
+
+/* A sealed test that failed says only that (seal_verdict): what it did
+ * would be a value computed beside reference code. So each one runs once
+ * more on the student's whole chain (their own build, their code of every
+ * assignment and nothing else), where what happened can be shown, and its
+ * message is added to the sealed item: the student learns what is wrong
+ * without the sealed run saying anything but "not passed". Only the
+ * failures run again: what passes costs nothing. */
+void tests_explain_sealed(const grader *g, assignment_result *a, const cJSON *asg,
+                          const char *dir, int from) {
+    name_list failed = {0};
+    for (int i = from; i < a->n_items; i++) {
+        const item *it = &a->items[i];
+        if (!it->is_image && it->counted && !it->passed) names_add(&failed, it->name);
+    }
+    test_batch b;
+    if (!tests_prepare_whole_chain(g, a, dir, &failed, &b)) {
+        names_free(&failed);
+        return;
+    }
+    double t0 = now_s();
+    run_jobs(b.workers, b.chunks, g->jobs);
+    assignment_result twin = {.id = a->id};
+    for (int i = 0; i < b.n; i++)
+        test_verdict(g, &twin, asg, &b, i);
+    for (int i = 0; i < twin.n_items; i++) {
+        item *t = &twin.items[i];
+        for (int k = from; k < a->n_items; k++) {
+            item *s = &a->items[k];
+            if (s->is_image || strcmp(s->name, t->name)) continue;
+            sbuf o = {0};
+            sb_printf(&o, "%s\n" WHOLE_CHAIN_HEADING "\n", s->output ? s->output : "");
+            if (t->passed)
+                sb_printf(&o,
+                          "it passes on your whole chain (your own code of every assignment, no "
+                          "reference code): it fails only with the earlier assignments' "
+                          "reference, so your %s code depends on something your earlier code "
+                          "does differently from the reference (a helper, a convention, a "
+                          "global)",
+                          a->id);
+            else {
+                sb_printf(&o,
+                          "on your whole chain (your own code of every assignment, no reference "
+                          "code) it fails too, and there it can be shown:\n%s",
+                          t->output ? t->output : "");
+                free(s->reason);
+                s->reason = xstrdup(t->reason);
+            }
+            free(s->output);
+            s->output = o.s;
+        }
+        free(t->name);
+        free(t->status);
+        free(t->reason);
+        free(t->output);
+        free(t->xml);
+    }
+    free(twin.items);
+    free(b.workers);
+    free(b.replays);
+    free(b.chunk_of);
+    free(b.fates);
+    names_free(&b.names);
+    names_free(&failed);
+    profile("tests: sealed failures on the whole chain", a->id, t0);
+}
+
 /* A build that failed: every test and image of the assignment lost to it,
  * each quoting the compiler's error lines (at most 30). */
 void mark_build_failed(const grader *g, assignment_result *a, const cJSON *asg,
