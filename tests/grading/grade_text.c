@@ -217,8 +217,9 @@ static int hidden_at(const char *p) {
     return -1;
 }
 
-/* raw with each of the grader's folders written as its token (owned). A
- * token holds no '/', so no replacement can make another folder's name. */
+/* raw with each of the grader's folders written as its token (owned), in
+ * one pass: a token is never read again, so no replacement can join the
+ * text around it into another folder's name. */
 static char *hide_paths(const char *raw) {
     sbuf b = {0};
     for (const char *p = raw; *p;) {
@@ -258,8 +259,7 @@ static void safe_char(const unsigned char *start, const unsigned char *p, long c
     } else if (style != TEXT_XML && cp == '<' &&
                (isalpha(p[1]) || p[1] == '/' || p[1] == '!' || p[1] == '?')) {
         strcpy(out, "\xe2\x80\xb9"); /* U+2039: no HTML tag can open */
-    } else if (style != TEXT_XML && cp == '>' && p - start >= 2 && p[-1] == ']' &&
-               p[-2] == ']') {
+    } else if (style != TEXT_XML && cp == '>' && p - start >= 2 && p[-1] == ']' && p[-2] == ']') {
         strcpy(out, "\xe2\x80\xba"); /* U+203A: no "]]>" ends an XML CDATA section */
     } else {
         memcpy(out, p, len);
@@ -296,9 +296,7 @@ static char *text_made_safe(const char *raw, size_t cap, enum text_style style) 
 
 char *safe_text(const char *raw, size_t cap) { return text_made_safe(raw, cap, TEXT_PLAIN); }
 
-char *student_text(const char *raw, size_t cap) {
-    return text_made_safe(raw, cap, TEXT_STUDENT);
-}
+char *student_text(const char *raw, size_t cap) { return text_made_safe(raw, cap, TEXT_STUDENT); }
 
 char *safe_xml(const char *raw, size_t cap) { return text_made_safe(raw, cap, TEXT_XML); }
 

@@ -27,16 +27,20 @@ static void expect_safe(const char *raw, const char *want) {
 
 static void test_invalid_utf8_becomes_replacement_characters(void **state) {
     (void)state;
-    expect_safe("a\xff\xfe" "b", "a" FFFD FFFD "b");              /* FF FE: no UTF-8 byte */
-    expect_safe("\xc0\xaf", FFFD FFFD);                         /* overlong '/' */
-    expect_safe("\xe0\x80\xaf", FFFD FFFD FFFD);                /* overlong, 3 bytes */
-    expect_safe("\xf0\x80\x80\xaf", FFFD FFFD FFFD FFFD);       /* overlong, 4 bytes */
-    expect_safe("\xed\xa0\x80", FFFD FFFD FFFD);                /* surrogate U+D800 */
-    expect_safe("\xf4\x90\x80\x80", FFFD FFFD FFFD FFFD);       /* U+110000 */
-    expect_safe("\xf5\x80\x80\x80", FFFD FFFD FFFD FFFD);       /* F5: above U+10FFFF */
-    expect_safe("x\x80y", "x" FFFD "y");                        /* stray continuation */
-    expect_safe("end\xe2\x82", "end" FFFD FFFD);                /* cut by the end */
-    expect_safe("\xe2\x82" "A", FFFD FFFD "A");                 /* cut by ASCII */
+    expect_safe("a\xff\xfe"
+                "b",
+                "a" FFFD FFFD "b");                       /* FF FE: no UTF-8 byte */
+    expect_safe("\xc0\xaf", FFFD FFFD);                   /* overlong '/' */
+    expect_safe("\xe0\x80\xaf", FFFD FFFD FFFD);          /* overlong, 3 bytes */
+    expect_safe("\xf0\x80\x80\xaf", FFFD FFFD FFFD FFFD); /* overlong, 4 bytes */
+    expect_safe("\xed\xa0\x80", FFFD FFFD FFFD);          /* surrogate U+D800 */
+    expect_safe("\xf4\x90\x80\x80", FFFD FFFD FFFD FFFD); /* U+110000 */
+    expect_safe("\xf5\x80\x80\x80", FFFD FFFD FFFD FFFD); /* F5: above U+10FFFF */
+    expect_safe("x\x80y", "x" FFFD "y");                  /* stray continuation */
+    expect_safe("end\xe2\x82", "end" FFFD FFFD);          /* cut by the end */
+    expect_safe("\xe2\x82"
+                "A",
+                FFFD FFFD "A"); /* cut by ASCII */
     /* what is valid stays as it is: 2, 3 and 4 bytes, U+FFFD itself */
     expect_safe("caf\xc3\xa9 \xe2\x82\xac \xf0\x9f\x98\x80 " FFFD,
                 "caf\xc3\xa9 \xe2\x82\xac \xf0\x9f\x98\x80 " FFFD);
@@ -48,7 +52,9 @@ static void test_controls_are_shown_not_acted_on(void **state) {
     expect_safe("a\x1b[31mred\x1b[0m", "a[U+001B][31mred[U+001B][0m"); /* ANSI colours */
     expect_safe("bell\x07", "bell[U+0007]");
     expect_safe("del\x7f", "del[U+007F]");
-    expect_safe("nel\xc2\x85" "csi\xc2\x9b", "nel[U+0085]csi[U+009B]"); /* C1 */
+    expect_safe("nel\xc2\x85"
+                "csi\xc2\x9b",
+                "nel[U+0085]csi[U+009B]"); /* C1 */
     expect_safe("a\tb", "a    b");
     expect_safe("one\r\ntwo\r\n", "one\ntwo\n"); /* CRLF endings */
     expect_safe("50%\rdone", "50%[U+000D]done"); /* a lone CR would overwrite the line */
@@ -57,24 +63,26 @@ static void test_controls_are_shown_not_acted_on(void **state) {
 
 static void test_bidi_and_invisible_characters_are_shown(void **state) {
     (void)state;
-    expect_safe("score \xe2\x80\xae 0 / 24", "score [U+202E] 0 / 24"); /* RLO */
+    expect_safe("score \xe2\x80\xae 0 / 24", "score [U+202E] 0 / 24");   /* RLO */
     expect_safe("\xe2\x81\xa6PASS\xe2\x81\xa9", "[U+2066]PASS[U+2069]"); /* isolates */
     expect_safe("\xe2\x80\xaa\xe2\x80\xab\xe2\x80\xac\xe2\x80\xad",
                 "[U+202A][U+202B][U+202C][U+202D]"); /* embeddings, PDF */
     expect_safe("\xe2\x80\x8e\xe2\x80\x8f\xd8\x9c", "[U+200E][U+200F][U+061C]"); /* marks */
-    expect_safe("zero\xe2\x80\x8bwidth\xe2\x80\x8c\xe2\x80\x8d", "zero[U+200B]width[U+200C][U+200D]");
-    expect_safe("\xef\xbb\xbf" "bom \xe2\x81\xa0", "[U+FEFF]bom [U+2060]");
+    expect_safe("zero\xe2\x80\x8bwidth\xe2\x80\x8c\xe2\x80\x8d",
+                "zero[U+200B]width[U+200C][U+200D]");
+    expect_safe("\xef\xbb\xbf"
+                "bom \xe2\x81\xa0",
+                "[U+FEFF]bom [U+2060]");
     expect_safe("ls\xe2\x80\xa8ps\xe2\x80\xa9", "ls[U+2028]ps[U+2029]"); /* JS line breaks */
     expect_safe("soft\xc2\xad", "soft[U+00AD]");
-    expect_safe("tag\xf3\xa0\x81\x81", "tag[U+E0041]"); /* a Unicode tag character */
-    expect_safe("\xef\xbf\xbe", "[U+FFFE]");            /* a noncharacter */
+    expect_safe("tag\xf3\xa0\x81\x81", "tag[U+E0041]");  /* a Unicode tag character */
+    expect_safe("\xef\xbf\xbe", "[U+FFFE]");             /* a noncharacter */
     expect_safe("filler\xe3\x85\xa4", "filler[U+3164]"); /* draws as a blank */
 }
 
 static void test_markup_is_inert(void **state) {
     (void)state;
-    expect_safe("<script>alert(1)</script>",
-                "\xe2\x80\xb9script>alert(1)\xe2\x80\xb9/script>");
+    expect_safe("<script>alert(1)</script>", "\xe2\x80\xb9script>alert(1)\xe2\x80\xb9/script>");
     expect_safe("<img src=x onerror=alert(1)>", "\xe2\x80\xb9img src=x onerror=alert(1)>");
     expect_safe("<!-- c --><?php", "\xe2\x80\xb9!-- c -->\xe2\x80\xb9?php");
     expect_safe("<IMG SRC=x>", "\xe2\x80\xb9IMG SRC=x>");
@@ -91,15 +99,17 @@ static void test_grader_folders_are_hidden(void **state) {
     text_hide_path("/tmp/raster101-grade.AbC123", "WORK");
     text_hide_path("/srv/course/build/", "BUILD"); /* a trailing slash is not part of it */
     text_hide_path("/srv/course", "SOURCE");
-    text_hide_path("build", "NO");  /* relative: never hidden */
-    text_hide_path("/", "NO");      /* the root: never hidden */
+    text_hide_path("build", "NO"); /* relative: never hidden */
+    text_hide_path("/", "NO");     /* the root: never hidden */
     expect_safe("/tmp/raster101-grade.AbC123/tree/hw1_transform/transform.c:5:2: error: x",
                 "WORK/tree/hw1_transform/transform.c:5:2: error: x");
     expect_safe("cd /srv/course/build/tests && /srv/course/tests/grading/grade",
                 "cd BUILD/tests && SOURCE/tests/grading/grade");
     expect_safe("the build failed", "the build failed");
     /* the folder's name cut by a control is still shown, never joined */
-    expect_safe("/tmp/raster101-grade.AbC\x01" "123", "/tmp/raster101-grade.AbC[U+0001]123");
+    expect_safe("/tmp/raster101-grade.AbC\x01"
+                "123",
+                "/tmp/raster101-grade.AbC[U+0001]123");
     char *got = student_text("cwd=/tmp/raster101-grade.AbC123\n", 100);
     assert_string_equal(got, BAR "cwd=WORK\n");
     free(got);
