@@ -266,22 +266,30 @@ static run_result charged_run(run_result wr, run_result rr, char **clean) {
     return verdict;
 }
 
-/* A failure in a sealed run (own code linked with the earlier references):
- * the verdict and the hint only (sealed_text). */
-static void seal_failure(item *it, const char *clean, const char *own_crash) {
-    /* a crash's hint is the rubric's (crash_hints), said before the
-     * replay's generic "did not return" */
-    char crash_line[1200];
-    const char *said = clean;
-    if (it->status && !strcmp(it->status, "CRASH")) {
-        fmt(crash_line, sizeof crash_line, "Likely mistake: %s", own_crash);
-        said = crash_line;
-    }
-    char *sealed = sealed_text(it->status, said);
+/* A sealed verdict (a run that held reference code: own code linked with
+ * the earlier references): pass or not, and nothing else. `earned`: the
+ * item passed and earned its points (no TODO notice). Every other end -
+ * a failed check, a crash, a time-out, an exit status, a TODO notice, a
+ * replay that did not finish - becomes the same status and the same text
+ * (sealed_text), since each distinction would be a bit the student's code
+ * chose after reading the reference. An image keeps its first line, the
+ * grader's own "command: ..." (the arguments drawn for this grading). */
+void seal_verdict(item *it, bool earned) {
+    sbuf o = {0};
+    const char *out = it->output ? it->output : "";
+    if (it->is_image && !strncmp(out, "command: ", 9))
+        sb_printf(&o, "%.*s\n", (int)strcspn(out, "\n"), out);
+    char *said = sealed_text(earned);
+    sb_add(&o, said);
     free(it->output);
-    it->output = sealed;
+    it->output = o.s;
+    free(it->status);
+    it->status = xstrdup(earned ? "PASS" : "FAIL");
     free(it->reason);
-    it->reason = reason_line(sealed);
+    it->reason = earned ? xstrdup("") : reason_line(said);
+    free(said);
+    it->passed = earned;
+    it->score = earned ? it->max_score : 0;
 }
 
 /* What the student's code printed (the worker's NAME.out in its run folder
@@ -334,16 +342,18 @@ static void test_verdict(const grader *g, assignment_result *a, const cJSON *asg
     const char *own_crash =
         str_or(cJSON_GetObjectItemCaseSensitive(asg, "crash_hints"), name, crash_hint);
     judge_test(it, verdict, xml_failure, clean, g->test_limit, test_wall(g), own_crash);
-    if (own[0] && !it->passed) seal_failure(it, clean, own_crash);
+    if (own[0]) seal_verdict(it, it->passed && !has_todo_notice(clean));
     add_worker_output(g, it, rw, name, own[0]);
-    if (own[0] && !it->passed) {
+    if (own[0]) {
         /* sealed: the replay's own XML and console text quote the values
-         * returned; the student's folder keeps neither */
+         * returned (and its times), its fate says how it ended; the
+         * student's folder keeps none of them */
         junit_case(it, a->id, NULL);
-        fmt(path, sizeof path, "%s/%s.out", xml_dir, name);
-        unlink(path);
-        fmt(path, sizeof path, "%s/%s.xml", xml_dir, name);
-        unlink(path);
+        static const char *const kept[] = {"out", "xml", "fate"};
+        for (int k = 0; k < 3; k++) {
+            fmt(path, sizeof path, "%s/%s.%s", xml_dir, name, kept[k]);
+            unlink(path);
+        }
     } else {
         junit_case(it, a->id, cases);
     }
@@ -377,6 +387,13 @@ void tests_finish(const grader *g, assignment_result *a, const cJSON *asg, test_
     double t_judge = now_s();
     for (int i = 0; i < n; i++)
         test_verdict(g, a, asg, b, i);
+    /* a sealed batch's consoles go with its tests' files: the workers'
+     * (what the student's code printed beside reference code) and the
+     * replays' */
+    for (int c = 0; b->own[0] && c < b->chunks && b->replays; c++) {
+        unlink(b->workers[c].out_path);
+        unlink(b->replays[c].out_path);
+    }
     free(b->workers);
     free(b->replays);
     free(b->chunk_of);

@@ -17,4 +17,9 @@ void tests_finish(const grader *g, assignment_result *a, const cJSON *asg, test_
 void mark_build_failed(const grader *g, assignment_result *a, const cJSON *asg,
                        const char *log_path);
 
+/* a sealed run's item (it held reference code) reduced to pass or not:
+ * `earned` its points (passed, no TODO notice), else the one fixed failure
+ * for every way it could have failed */
+void seal_verdict(item *it, bool earned);
+
 #endif

@@ -53,8 +53,9 @@ const char *text_unsafe(const char *s, bool markup);
  * grading. */
 void text_hide_path(const char *path, const char *token);
 void text_hide_paths_clear(void);
-/* a sealed run's failure: the verdict and the test's hint, no value (owned) */
-char *sealed_text(const char *status, const char *replay_out);
+/* a sealed run's verdict: one fixed sentence for a pass, one for any other
+ * end, nothing of how the run went (owned) */
+char *sealed_text(bool passed);
 /* text (owned, consumed) with the work folder written as "WORK" */
 char *without_work_path(const char *work, char *text);
 
