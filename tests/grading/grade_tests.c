@@ -88,7 +88,9 @@ static char *cmocka_testcases(const char *xml_path, bool *has_failure) {
     *has_failure = strstr(a, "<failure") != NULL || strstr(a, "<error") != NULL;
     sbuf s = {0};
     sb_add(&s, "    ");
-    sb_add(&s, a);
+    char *safe = safe_xml(a, 256 * 1024); /* its CDATA quotes the values returned */
+    sb_add(&s, safe);
+    free(safe);
     free(x);
     while (s.len && (s.s[s.len - 1] == ' ' || s.s[s.len - 1] == '\n'))
         s.s[--s.len] = '\0';
@@ -238,7 +240,11 @@ static char *replay_said(const grader *g, const char *xml_dir, const char *name,
         }
         free(msg);
     }
-    return clean;
+    /* the trusted replay's words, but they quote what the student's code
+     * returned (and its assertion texts): made safe, not marked as theirs */
+    char *safe = safe_text(clean, 96 * 1024);
+    free(clean);
+    return safe;
 }
 
 /* The run a test's verdict is charged to: the replay's (rr), but a failure
@@ -470,20 +476,31 @@ void tests_explain_sealed(const grader *g, assignment_result *a, const cJSON *as
     profile("tests: sealed failures on the whole chain", a->id, t0);
 }
 
-/* A build that failed: every test and image of the assignment lost to it,
- * each quoting the compiler's error lines (at most 30). */
-void mark_build_failed(const grader *g, assignment_result *a, const cJSON *asg,
-                       const char *log_path) {
-    char *log = read_file(log_path, 0);
-    sbuf tail = {0};
-    /* the compiler's error lines, at most 30 */
-    int lines = 0;
-    for (char *line = log ? strtok(log, "\n") : NULL; line && lines < 30; line = strtok(NULL, "\n"))
+/* The compiler's error lines in a failed build's log (at most 30), as
+ * the student's text: the compiler echoes their #error and #include lines
+ * byte for byte, and names the sandbox's folders (owned). */
+static char *compiler_error_lines(const char *log_path) {
+    /* the log is written by tests/grading/grade, its text by the build in
+     * the sandbox: read as a regular file, the first 8 MiB */
+    char *log = read_small_file(log_path, 8u << 20);
+    sbuf lines = {0};
+    int n = 0;
+    for (char *line = log ? strtok(log, "\n") : NULL; line && n < 30; line = strtok(NULL, "\n"))
         if (strstr(line, "error") || strstr(line, "Error")) {
-            sb_printf(&tail, "%s\n", line);
-            lines++;
+            sb_printf(&lines, "%s\n", line);
+            n++;
         }
     free(log);
+    char *shown = student_text(sb_str(&lines), 6000);
+    free(lines.s);
+    return shown;
+}
+
+/* A build that failed: every test and image of the assignment lost to it,
+ * each quoting the compiler's error lines (compiler_error_lines). */
+void mark_build_failed(const grader *g, assignment_result *a, const cJSON *asg,
+                       const char *log_path) {
+    char *said = compiler_error_lines(log_path);
     const cJSON *tests = cJSON_GetObjectItemCaseSensitive(asg, "tests");
     const cJSON *images = cJSON_GetObjectItemCaseSensitive(asg, "images");
     for (int pass = 0; pass < 2; pass++)
@@ -500,10 +517,11 @@ void mark_build_failed(const grader *g, assignment_result *a, const cJSON *asg,
             it->status = xstrdup("BUILD");
             it->reason = xstrdup("your code does not compile");
             sbuf o = {0};
-            sb_printf(&o, "your code for %s does not compile, so nothing could be tested.\n%s",
-                      a->id, sb_str(&tail));
+            sb_printf(&o, "your code for %s does not compile, so nothing could be tested.\n",
+                      a->id);
+            if (*said) sb_printf(&o, "--- the compiler's error lines (at most 30) ---\n%s\n", said);
             it->output = o.s;
             junit_case(it, a->id, NULL);
         }
-    free(tail.s);
+    free(said);
 }
