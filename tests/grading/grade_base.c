@@ -175,18 +175,19 @@ int sandbox_open(int dir_fd, const char *name, long long *size, char *why, size_
     int fd = openat(dir_fd, name, O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
     if (fd < 0) {
         fmt(why, n, "%s",
-            errno == ENOENT   ? "it does not exist"
-            : errno == ELOOP  ? "it is a symbolic link (a file is expected; links are not followed)"
-                              : strerror(errno));
+            errno == ENOENT  ? "it does not exist"
+            : errno == ELOOP ? "it is a symbolic link (a file is expected; links are not followed)"
+                             : strerror(errno));
         return -1;
     }
     struct stat st;
-    const char *bad = fstat(fd, &st) != 0 ? "it cannot be examined"
-                      : !S_ISREG(st.st_mode)
-                          ? (S_ISDIR(st.st_mode) ? "it is a folder, not a file"
-                                                 : "it is not a regular file (a FIFO, socket or device)")
-                      : st.st_nlink != 1 ? "it has more than one name (a hard link)"
-                                         : NULL;
+    const char *bad =
+        fstat(fd, &st) != 0 ? "it cannot be examined"
+        : !S_ISREG(st.st_mode)
+            ? (S_ISDIR(st.st_mode) ? "it is a folder, not a file"
+                                   : "it is not a regular file (a FIFO, socket or device)")
+        : st.st_nlink != 1 ? "it has more than one name (a hard link)"
+                           : NULL;
     if (bad) {
         fmt(why, n, "%s", bad);
         close(fd);

@@ -187,8 +187,9 @@ static bool student_dump(const grader *g, const cJSON *img, const char *dir, con
         withheld(ev, "your program did not end normally when run again with --dump to give its "
                      "buffers");
     else
-        withheld(ev, "your program %s when run again with --dump (the same arguments, in the "
-                     "sandbox) to give its buffers",
+        withheld(ev,
+                 "your program %s when run again with --dump (the same arguments, in the "
+                 "sandbox) to give its buffers",
                  how);
     return false;
 }
@@ -232,15 +233,18 @@ static bool take_student_dump(const char *from, const evidence_dirs *d, evidence
         bool in_got = fstatat(dfd, names[i], &gst, AT_SYMLINK_NOFOLLOW) == 0;
         if (!in_ref && !in_got) continue;
         if (!in_got)
-            withheld(ev, "your program's --dump run wrote no %s, which the reference's frame "
-                         "makes (the evidence is partial)",
+            withheld(ev,
+                     "your program's --dump run wrote no %s, which the reference's frame "
+                     "makes (the evidence is partial)",
                      names[i]);
         else if (!in_ref)
-            withheld(ev, "your program's --dump run wrote %s, which the reference's frame does "
-                         "not make",
+            withheld(ev,
+                     "your program's --dump run wrote %s, which the reference's frame does "
+                     "not make",
                      names[i]);
         /* the exact floats of the reference's size; a sidecar of about its size */
-        size_t cap = (size_t)rst.st_size + (strstr(names[i], ".pfm") ? 4096 : (size_t)rst.st_size + 65536);
+        size_t cap =
+            (size_t)rst.st_size + (strstr(names[i], ".pfm") ? 4096 : (size_t)rst.st_size + 65536);
         if (in_ref && in_got && !sandbox_take(dfd, names[i], dest, cap, why, sizeof why))
             withheld(ev, "your program's --dump file %s was refused: %s (malformed evidence)",
                      names[i], why);
@@ -351,9 +355,8 @@ static void buffer_pictures(item *it, const evidence_dirs *d, const char *buf, c
  * (with its kind's tolerance) named in ev and o, with the stage's likely
  * cause and owner, its pictures unless sealed; "colour" when every buffer
  * matches; ev withheld when the student's files cannot be compared. */
-static void compare_dumps(item *it, sbuf *o, const cJSON *img, const char *dir,
-                          const char *reldir, const char *own, bool ref_raster,
-                          const evidence_dirs *d, evidence *ev) {
+static void compare_dumps(item *it, sbuf *o, const cJSON *img, const char *dir, const char *reldir,
+                          const char *own, bool ref_raster, const evidence_dirs *d, evidence *ev) {
     const char *name = str_or(img, "name", "image");
     const char *program = str_or(img, "program", "");
     if (vertices_differ(d->ref, d->got, o, ev)) return;
@@ -412,8 +415,7 @@ void buffer_evidence(const grader *g, item *it, sbuf *o, const cJSON *img, const
         compare_dumps(it, o, img, dir, reldir, own, ref_raster, &d, ev);
     }
     if (ev->kind == EVIDENCE_WITHHELD)
-        sb_printf(o, "buffers: %s; a picture the buffers cannot clear is charged\n",
-                  ev->withheld);
+        sb_printf(o, "buffers: %s; a picture the buffers cannot clear is charged\n", ev->withheld);
     remove_tree(d.root);
     if (dj.rw[0]) remove_tree(dj.rw); /* the student's dump, out of the runs' quota */
 }

@@ -294,8 +294,8 @@ ras_image *load_student_image(const char *path, const char *taken, const char *r
     const char *slash = strrchr(path, '/');
     fmt(dir, sizeof dir, "%.*s", slash ? (int)(slash - path) : 1, slash ? path : ".");
     int dfd = sandbox_dir(dir, why, sizeof why);
-    bool took = dfd >= 0 && sandbox_take(dfd, slash ? slash + 1 : path, taken, 64 << 20, why,
-                                         sizeof why);
+    bool took =
+        dfd >= 0 && sandbox_take(dfd, slash ? slash + 1 : path, taken, 64 << 20, why, sizeof why);
     if (dfd >= 0) close(dfd);
     if (!took) {
         if (!strcmp(why, "it does not exist"))
