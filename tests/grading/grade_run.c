@@ -551,9 +551,14 @@ bool tests_prepare(const grader *g, assignment_result *a, const char *dir, test_
         fmt(r->store[1], sizeof r->store[1], "RAS_EACH_NAMES=%s", r->store[0]);
         fmt(r->store[2], sizeof r->store[2], "RAS_EACH_OUT=%s", xml_dir);
         fates[c] = (chunk_fates){names, c, chunks, xml_dir, ""};
-        fmt(fates[c].calls_dir, sizeof fates[c].calls_dir, "%s/records/%d", g->work, g->runs - 1);
-        remove_tree(fates[c].calls_dir); /* a previous grading's (--reuse-build) */
-        trusted_dir(fates[c].calls_dir);
+        /* beside the run folders (their filesystem: the records are linked,
+         * not copied), a folder of the trusted side's own */
+        fmt(fates[c].calls_dir, sizeof fates[c].calls_dir, "%s/runs/records-%d", g->work,
+            g->runs - 1);
+        if (!fresh_trusted_dir(fates[c].calls_dir))
+            fprintf(stderr,
+                    "raster101-grade: cannot make %s: the replay of chunk %d finds no record\n",
+                    fates[c].calls_dir, c);
         fmt(r->store[3], sizeof r->store[3], "RAS_EACH_CALLS=%s", fates[c].calls_dir);
         fmt(r->store[4], sizeof r->store[4], "RAS_EACH_LIMIT=%.0f", g->test_limit + 20);
         fmt(r->store[5], sizeof r->store[5], "RAS_EACH_WALL=%.0f", test_wall(g) + 20);
