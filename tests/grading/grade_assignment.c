@@ -40,7 +40,33 @@ typedef struct batch {
     int n_tests, n_runs;
     int *whole_at;
     bool *sealed;
+    bool has_own; /* an own-code link was made for the assignment: each image with points needs it */
 } batch;
+
+/* The integration item of an image with points whose whole-chain check
+ * could not be made (`why`, e.g. "your hw2 code does not compile"): it
+ * scores 0 and stays in the total, which never shrinks silently. */
+static void integration_not_run(const grader *g, grading *gr, const cJSON *img, const char *id,
+                                const char *status, const char *why) {
+    if (num_or(img, "points", g->default_points) <= 0) return;
+    item *it = add_item(&gr->integration);
+    char label[300];
+    fmt(label, sizeof label, "%s image %s, your whole chain", id, str_or(img, "name", "image"));
+    it->name = xstrdup(label);
+    it->is_image = true;
+    it->max_score = gr->integration_points;
+    it->status = xstrdup(status);
+    sbuf r = {0}, o = {0};
+    sb_printf(&r, "not run: %s", why);
+    sb_printf(&o,
+              "0 of %g: this point is for this image rendered by your whole chain, given when "
+              "your %s code also renders it with the reference of the earlier assignments; %s, "
+              "so that check could not be run",
+              gr->integration_points, id, why);
+    it->reason = r.s;
+    it->output = o.s;
+    junit_case(it, gr->integration.id, NULL);
+}
 
 /* The batch's jobs: the tests' chunks (tests, n_tests of them), then each
  * image's runs, its variant's arguments drawn for this grading. */
@@ -57,7 +83,7 @@ static void batch_make(grader *g, const char *id, const cJSON *images, const cha
     bool *sealed = b->sealed = calloc((size_t)n_img + 1, sizeof *sealed);
     if (!runs || !whole_at || !sealed) abort();
     char own[4096] = "";
-    bool has_own = own_dir(g, id, NULL, own, sizeof own);
+    bool has_own = b->has_own = own_dir(g, id, NULL, own, sizeof own);
     int i = 0, n_runs = n_img;
     for (const cJSON *img = images ? images->child : NULL; img; img = img->next, i++) {
         /* a variant's arguments, drawn for this grading (variant_args) */
@@ -83,10 +109,25 @@ static void judge_pictures(grader *g, grading *gr, assignment_result *a, const c
     const char *id = a->id;
     const cJSON *images = cJSON_GetObjectItemCaseSensitive(asg, "images");
     const char *crash_hint = str_or(asg, "crash_hint", "look for an out-of-bounds access");
+    char why[300];
+    fmt(why, sizeof why,
+        "your %s code could not be linked with the reference of the earlier assignments "
+        "(the first lines of this report say why and what to do)",
+        id);
     int i = 0;
     for (const cJSON *img = images ? images->child : NULL; img; img = img->next, i++) {
         bool own_passed =
             grade_image(g, a, img, dir, id, crash_hint, &b->runs[i], b->sealed[i], false);
+        if (b->has_own && !b->sealed[i]) {
+            integration_not_run(g, gr, img, id, "FAIL", why);
+            if (!a->note || !strstr(a->note, "could not be linked")) {
+                free(a->note);
+                sbuf n = {0};
+                sb_printf(&n, "%s: its pictures ran on your whole chain, and their "
+                          "whole-chain points score 0", why);
+                a->note = n.s;
+            }
+        }
         if (b->whole_at[i] < 0) continue;
         bool whole_passed = grade_image(g, &gr->integration, img, dir, id,
                                         "a crash in one of your assignments (the "
@@ -121,7 +162,10 @@ static void run_and_judge(grader *g, grading *gr, assignment_result *a, const cJ
     if (has_tests) {
         for (int c = 0; c < n_tests; c++)
             tests.workers[c].rr = b.all[c].rr; /* (the replays' are set in place) */
+        int from = a->n_items;
+        bool sealed = tests.own[0] != '\0';
         tests_finish(g, a, asg, &tests);
+        if (sealed) tests_explain_sealed(g, a, asg, dir, from);
     }
     double t_judge = now_s();
     judge_pictures(g, gr, a, asg, dir, &b);
@@ -160,6 +204,15 @@ void grade_assignment(grader *g, grading *gr, const cJSON *asg) {
         if (!strcmp(g->failed_hw[i], id)) failed_log = g->failed_log[i];
     bool built_program = any_program(g, asg);
     mkdirs(dir);
+    if (failed_log || (!file_exists(test_bin) && !built_program)) {
+        /* nothing of it runs: neither do its images' whole-chain checks */
+        char own[4096], why[200];
+        fmt(why, sizeof why, "your %s code %s", id, failed_log ? "does not compile" : "was not built");
+        const cJSON *images = cJSON_GetObjectItemCaseSensitive(asg, "images");
+        if (own_dir(g, id, NULL, own, sizeof own))
+            for (const cJSON *img = images ? images->child : NULL; img; img = img->next)
+                integration_not_run(g, gr, img, id, failed_log ? "BUILD" : "FAIL", why);
+    }
     if (failed_log) {
         a->graded = true;
         a->note = xstrdup("the code does not compile");

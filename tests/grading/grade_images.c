@@ -7,6 +7,7 @@
 #include "grade_evidence.h"
 #include "grade_results.h"
 #include "grade_run.h"
+#include "grade_tests.h"
 #include "grade_text.h"
 #include "ras_catalogue.h"
 
@@ -452,6 +453,7 @@ static ras_image *picture_run(picture *p, const char *crash_hint) {
         rr = (run_result){RUN_TIMEOUT, 0, rr.seconds};
     p->rr = rr;
     char *log = read_small_file(log_path, 16 * 1024);
+    if (p->sealed) unlink(log_path); /* what a sealed run printed is never kept */
     char *clean_raw = without_work_path(g->work, clean_output(log ? log : ""));
     char *clean = student_text(clean_raw, 3000);
     free(clean_raw);
@@ -480,11 +482,13 @@ static ras_image *picture_run(picture *p, const char *crash_hint) {
     } else if (!p->sealed) {
         ras_image_save(got, got_path, &p->err); /* the report's copy, re-encoded by us */
     }
+    /* sealed: whether it printed anything is a bit it chose too; its
+     * verdict is made pass-or-not at the end (seal_verdict) */
     if (p->sealed)
         sb_printf(&p->o,
                   "(rendered with your %s code and the reference of the earlier assignments; "
-                  "this run holds reference code, so its picture and output are not shown%s)\n",
-                  p->a->id, *clean ? ", although it printed some" : "");
+                  "this run holds reference code, so its picture and output are not shown)\n",
+                  p->a->id);
     else if (*clean)
         sb_printf(&p->o, "program output:\n%s\n", clean);
     free(clean);
@@ -751,6 +755,15 @@ bool grade_image(const grader *g, assignment_result *a, const cJSON *img, const 
         p.o.s[--p.o.len] = '\0';
     it->output = p.o.s;
     picture_score(&p);
+    bool matched = it->passed; /* the attribution's answer, sealed or not */
+    if (sealed) {
+        seal_verdict(it, it->passed && !p.todo);
+        /* the --dump re-render of a sealed run (buffer_evidence's ".own-dump"
+         * job) printed beside reference code too: its log leaves OUT */
+        char dump_log[4400];
+        fmt(dump_log, sizeof dump_log, "%s/%s.own-dump.log", dir, p.name);
+        unlink(dump_log);
+    }
     junit_case(it, a->id, NULL);
-    return it->passed;
+    return matched;
 }

@@ -92,9 +92,23 @@ bool intake_out(const grader *g) {
     return true;
 }
 
+/* The grader's folders, as no report names them: the work folder (the
+ * student's tree, build and runs are inside it) and the trusted side's. */
+static void hide_grader_folders(const grader *g) {
+    text_hide_path(g->work, "WORK");
+    text_hide_path(g->student_tree, "WORK/tree");
+    text_hide_path(g->student_build, "WORK/build");
+    text_hide_path(g->own, "WORK/own");
+    text_hide_path(g->sanitized, "WORK/sanitized");
+    text_hide_path(g->source, "SOURCE");
+    text_hide_path(g->build, "BUILD");
+    text_hide_path(g->out, "OUT");
+}
+
 /* The student's side: tests/grading/grade makes it (a sandboxed build of a
- * pristine copy); without it there is nothing to grade. */
-bool intake_student_side(const grader *g) {
+ * pristine copy); without it there is nothing to grade. Once it is known,
+ * the submission's notes become the student's text with its folders hidden. */
+bool intake_student_side(grader *g) {
     if (!g->work || !g->student_tree || !g->student_build) {
         fprintf(stderr,
                 "raster101-grade: expected --work, --student-tree and --student-build (the "
@@ -105,16 +119,21 @@ bool intake_student_side(const grader *g) {
                                    : "--student-build");
         return false;
     }
+    hide_grader_folders(g);
+    if (g->notes) {
+        char *raw = g->notes;
+        g->notes = *raw ? student_text(raw, 8 * 1024) : NULL;
+        free(raw);
+    }
     return true;
 }
 
-/* The file's first 16 KiB, of which 8 KiB are shown, as the student's text
- * (a later --notes replaces an earlier one). */
+/* The file's first 16 KiB, kept as it is until intake_student_side makes
+ * it the student's text (8 KiB shown); a later --notes replaces an earlier
+ * one. */
 void intake_notes(grader *g, const char *path) {
-    char *raw = read_small_file(path, 16 * 1024);
     free(g->notes);
-    g->notes = raw && *raw ? student_text(raw, 8 * 1024) : NULL;
-    free(raw);
+    g->notes = read_small_file(path, 16 * 1024);
 }
 
 /* A random number from the kernel (the variants a grading draws must not be

@@ -19,9 +19,12 @@ const cJSON *intake_rubric(grader *g, const char *rubric_path);
 bool intake_only(const grader *g, const cJSON *asgs, const char *rubric_path);
 /* whether --out is a folder this program made or has, and can write */
 bool intake_out(const grader *g);
-/* whether the student's side was given (--work, --student-tree, --student-build) */
-bool intake_student_side(const grader *g);
-/* --notes FILE: what tests/grading/grade found, escaped, into g->notes */
+/* whether the student's side was given (--work, --student-tree,
+ * --student-build); then the grader's folders are hidden from safe text
+ * (text_hide_path) and g->notes made the student's text */
+bool intake_student_side(grader *g);
+/* --notes FILE: what tests/grading/grade found into g->notes, as it is
+ * until intake_student_side */
 void intake_notes(grader *g, const char *path);
 /* the arguments of image img for this grading: a variant's drawn from the
  * seed (owned by g->drawn), else the rubric's */

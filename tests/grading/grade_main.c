@@ -37,12 +37,14 @@
 #include "grade_priv.h"
 #include "grade_report.h"
 #include "grade_results.h"
+#include "grade_text.h"
 
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 /* What the command line asks beyond the grader's own fields. */
 typedef struct options {
@@ -197,6 +199,37 @@ static int expect_status(const char *expect, double total, double max_total) {
     return 0;
 }
 
+/* The build logs the grade script leaves in OUT (the sandbox's configure and
+ * build, the own-code links, --sanitize's build): the compiler echoes the
+ * student's #error and #include lines byte for byte and names the grader's
+ * folders, and OUT is what a student may be handed. So each is rewritten
+ * as safe text (grade_text.h), its first 8 MiB; the reports have quoted
+ * from them already. */
+static void safe_build_logs(const grader *g, const assignment_result *as, int n) {
+    char path[4400], tmp[4500];
+    for (int i = -4; i < n; i++) {
+        static const char *const top[] = {"build.log", "build-all.log", "build-own.log",
+                                          "build-sanitized.log"};
+        if (i < 0)
+            fmt(path, sizeof path, "%s/%s", g->out, top[i + 4]);
+        else
+            fmt(path, sizeof path, "%s/%s/build.log", g->out, as[i].id);
+        char *raw = read_small_file(path, 8u << 20);
+        if (!raw) continue;
+        char *safe = safe_text(raw, 8u << 20);
+        free(raw);
+        fmt(tmp, sizeof tmp, "%s.safe", path);
+        FILE *f = fopen(tmp, "wb");
+        bool ok = f && fputs(safe, f) >= 0;
+        if (f && fclose(f) != 0) ok = false;
+        if (!ok || rename(tmp, path) != 0) {
+            unlink(tmp);
+            unlink(path); /* never left as the compiler wrote it */
+        }
+        free(safe);
+    }
+}
+
 int main(int argc, char **argv) {
     grader g = {.variant = "student"};
     g.sandbox_uid = -1;
@@ -226,6 +259,7 @@ int main(int argc, char **argv) {
 
     double t_out = now_s();
     bool written = write_outputs(&g, gr.as, gr.n, gr.total, gr.max_total);
+    safe_build_logs(&g, gr.as, gr.n);
     profile("reports written", "all", t_out);
     print_table(&g, gr.as, gr.n, gr.total, gr.max_total);
     /* Freed although the process ends: the sanitizer CI step runs this tool

@@ -122,9 +122,10 @@ typedef struct grader {
     /* --notes: what tests/grading/grade found in the submission (a missing or
      * misnamed file, a link it refused), escaped, shown first; NULL: none */
     char *notes;
-    /* --seed: the keyed hash of the submission's files and the course's
-     * secret (tests/grading/grade), from which the variants are drawn: the same
-     * files always get the same pictures; without it, the kernel's random */
+    /* --seed: the keyed hash of the course's secret and the student's
+     * identity (tests/grading/grade --student-id), from which the variants
+     * are drawn: the same student always gets the same pictures, whatever
+     * bytes they change; without it, the kernel's random */
     unsigned long long seed;
     bool has_seed;
     cJSON *drawn; /* the argument lists drawn for this grading (owned) */

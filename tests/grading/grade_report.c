@@ -6,6 +6,7 @@
 #include "ras_error.h"
 #include "ras_io.h"
 
+#include <stdint.h> /* SIZE_MAX */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -136,6 +137,83 @@ static bool report_end(ras_io_report *r, const char *path) {
     return false;
 }
 
+/* ---------------------------------------------------------------- safe text, by construction */
+
+/* RAS_GRADE_STRICT_TEXT=1 (the grader's own tests): a text that reached a
+ * report without the sanitizer stops the grading, so the test fails loudly. */
+static bool strict_text(void) {
+    const char *v = getenv("RAS_GRADE_STRICT_TEXT");
+    return v && *v && strcmp(v, "0") != 0;
+}
+
+/* The last check on a text a report is about to write (`what` of `whose`):
+ * what safe_text writes (grade_text.h) passes; anything else came from the
+ * student's side without the sanitizer, a bug of the grader's: said on
+ * stderr, and made safe here (under RAS_GRADE_STRICT_TEXT, the grading
+ * stops). `markup`: an XML document, its tags allowed. */
+static void ensure_safe(char **text, bool markup, const char *what, const char *whose) {
+    const char *why = *text ? text_unsafe(*text, markup) : NULL;
+    if (!why) return;
+    fprintf(stderr,
+            "raster101-grade: grader error: the %s of %s holds %s, so it did not pass "
+            "through grade_text.h's sanitizer; expected every text from the student's side "
+            "to; %s\n",
+            what, whose, why,
+            strict_text() ? "stopping (RAS_GRADE_STRICT_TEXT is set)" : "made safe here");
+    if (strict_text()) abort();
+    char *safe = markup ? safe_xml(*text, SIZE_MAX) : safe_text(*text, SIZE_MAX);
+    free(*text);
+    *text = safe;
+}
+
+/* Every text of every item, of every assignment and the notes, checked
+ * before any report is written: every report (and the table on stdout)
+ * writes only these. */
+static void ensure_all_safe(grader *g, assignment_result *as, int n) {
+    ensure_safe(&g->notes, false, "notes", "the submission");
+    for (int i = 0; i < n; i++) {
+        ensure_safe(&as[i].note, false, "note", as[i].id);
+        ensure_safe(&as[i].title, false, "title", as[i].id);
+        for (int k = 0; k < as[i].n_items; k++) {
+            item *it = &as[i].items[k];
+            char **plain[] = {&it->name,         &it->status,  &it->reason,   &it->output,
+                              &it->img_expected, &it->img_got, &it->img_diff, &it->img_crop,
+                              &it->buf_name,     &it->buf_ref, &it->buf_got,  &it->buf_diff};
+            static const char *const names[] = {"name",
+                                                "status",
+                                                "reason",
+                                                "output",
+                                                "reference picture",
+                                                "picture",
+                                                "difference",
+                                                "worst region",
+                                                "buffer name",
+                                                "buffer reference",
+                                                "buffer picture",
+                                                "buffer difference"};
+            char whose[400];
+            fmt(whose, sizeof whose, "%s %s", as[i].id, it->name ? it->name : "?");
+            for (size_t f = 0; f < sizeof plain / sizeof *plain; f++)
+                ensure_safe(plain[f], false, names[f], whose);
+            ensure_safe(&it->xml, true, "JUnit XML", whose);
+        }
+    }
+}
+
+/* Every string of a JSON tree, checked as above (results.json's summary
+ * is put together here, from checked parts). */
+static void ensure_json_safe(cJSON *node) {
+    for (; node; node = node->next) {
+        if (cJSON_IsString(node) && text_unsafe(node->valuestring, false)) {
+            char *copy = xstrdup(node->valuestring);
+            ensure_safe(&copy, false, node->string ? node->string : "string", "results.json");
+            cJSON_SetValuestring(node, copy);
+            free(copy);
+        }
+        ensure_json_safe(node->child);
+    }
+}
+
 /* ---------------------------------------------------------------- the files */
 
 /* results.json — Gradescope: every counted item with its whole message, as
@@ -182,6 +260,7 @@ static bool write_results_json(const grader *g, assignment_result *as, int n, do
         }
     }
     cJSON_AddStringToObject(root, "output", sb_str(&summary));
+    ensure_json_safe(root);
     char *json = cJSON_Print(root);
     fmt(path, sizeof path, "%s/results.json", g->out);
     ras_io_report rep;
@@ -396,7 +475,8 @@ static bool write_report_md(const grader *g, assignment_result *as, int n, doubl
 
 /* Every report, each written whole or not at all; false when one could not
  * be (report_end said why). */
-bool write_outputs(const grader *g, assignment_result *as, int n, double total, double max_total) {
+bool write_outputs(grader *g, assignment_result *as, int n, double total, double max_total) {
+    ensure_all_safe(g, as, n);
     bool ok = true;
     ok &= write_results_json(g, as, n, total, max_total);
     ok &= write_scores_csv(g, as, n, total, max_total);

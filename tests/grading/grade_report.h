@@ -11,8 +11,10 @@
 
 /* each failing item of a from item `from` on opens with the rubric's "where" */
 void mark_where(assignment_result *a, int from, const cJSON *asg, bool integration);
-/* the reports into g->out; false when one could not be written (said on stderr) */
-bool write_outputs(const grader *g, assignment_result *as, int n, double total, double max_total);
+/* the reports into g->out, each text in them first checked to be safe text
+ * (grade_text.h: valid UTF-8, no control, bidi control or tag, no folder
+ * of the grader's); false when one could not be written (said on stderr) */
+bool write_outputs(grader *g, assignment_result *as, int n, double total, double max_total);
 /* the table on stdout */
 void print_table(const grader *g, assignment_result *as, int n, double total, double max_total);
 

@@ -468,6 +468,8 @@ static void worker_fates(const job *w, void *arg) {
     if (calls >= 0) close(calls);
 }
 
+static void tests_jobs(const grader *g, test_batch *b);
+
 bool tests_prepare(const grader *g, assignment_result *a, const char *dir, test_batch *b) {
     memset(b, 0, sizeof *b);
     char out_path[4096], *replay_bin = b->replay_bin, *worker_bin = b->worker_bin;
@@ -513,9 +515,31 @@ bool tests_prepare(const grader *g, assignment_result *a, const char *dir, test_
         return false;
     }
     b->listing = listing;
-    name_list *names = &b->names;
     for (char *line = strtok(listing + 14, "\n"); line; line = strtok(NULL, "\n"))
-        if (*line) names_add(names, line);
+        if (*line) names_add(&b->names, line);
+    tests_jobs(g, b);
+    return true;
+}
+
+bool tests_prepare_whole_chain(const grader *g, assignment_result *a, const char *dir,
+                               const name_list *names, test_batch *b) {
+    memset(b, 0, sizeof *b);
+    fmt(b->xml_dir, sizeof b->xml_dir, "%s/xml-whole-chain", dir);
+    mkdirs(b->xml_dir);
+    fmt(b->replay_bin, sizeof b->replay_bin, "%s/tests/test_%s_replay", g->build, a->id);
+    fmt(b->worker_bin, sizeof b->worker_bin, "%s/tests/test_%s_worker", g->student_build, a->id);
+    if (!file_exists(b->worker_bin) || names->n == 0) return false;
+    for (int i = 0; i < names->n; i++)
+        names_add(&b->names, names->v[i]);
+    tests_jobs(g, b);
+    return true;
+}
+
+/* b's jobs for its names (b->names, xml_dir, worker_bin, replay_bin, own set). */
+static void tests_jobs(const grader *g, test_batch *b) {
+    const char *replay_bin = b->replay_bin, *worker_bin = b->worker_bin;
+    const char *xml_dir = b->xml_dir, *own = b->own;
+    name_list *names = &b->names;
     int n = names->n;
     /* The tests in `chunks` groups, one sandbox and one process each (a
      * forked child per test inside: tests/unit/ras_test_main.h, RAS_EACH_*),
@@ -570,7 +594,7 @@ bool tests_prepare(const grader *g, assignment_result *a, const char *dir, test_
         r->env[5] = "RAS_EACH_MODE=replay";
         r->env[6] = "CMOCKA_MESSAGE_OUTPUT=xml";
         r->env[7] = NULL;
-        r->argv[0] = replay_bin;
+        r->argv[0] = (char *)replay_bin;
         r->argv[1] = NULL;
         r->limit = in_chunk * (test_wall(g) + 21) + 20;
         r->mem_mb = g->mem_mb;
@@ -581,5 +605,4 @@ bool tests_prepare(const grader *g, assignment_result *a, const char *dir, test_
         w->between_arg = &fates[c];
         w->after = records_done;
     }
-    return true;
 }

@@ -75,5 +75,10 @@ typedef struct test_batch {
 /* b's jobs for assignment a (its test list from the trusted replay program);
  * false, with a->note said, when there is no list */
 bool tests_prepare(const grader *g, assignment_result *a, const char *dir, test_batch *b);
+/* b's jobs for the tests `names` of a on the student's whole chain (their
+ * own build, no reference code: nothing in it is sealed), into DIR/xml-whole-chain;
+ * false when there is no such worker or no name */
+bool tests_prepare_whole_chain(const grader *g, assignment_result *a, const char *dir,
+                               const name_list *names, test_batch *b);
 
 #endif

@@ -88,7 +88,9 @@ static char *cmocka_testcases(const char *xml_path, bool *has_failure) {
     *has_failure = strstr(a, "<failure") != NULL || strstr(a, "<error") != NULL;
     sbuf s = {0};
     sb_add(&s, "    ");
-    sb_add(&s, a);
+    char *safe = safe_xml(a, 256 * 1024); /* its CDATA quotes the values returned */
+    sb_add(&s, safe);
+    free(safe);
     free(x);
     while (s.len && (s.s[s.len - 1] == ' ' || s.s[s.len - 1] == '\n'))
         s.s[--s.len] = '\0';
@@ -238,7 +240,11 @@ static char *replay_said(const grader *g, const char *xml_dir, const char *name,
         }
         free(msg);
     }
-    return clean;
+    /* the trusted replay's words, but they quote what the student's code
+     * returned (and its assertion texts): made safe, not marked as theirs */
+    char *safe = safe_text(clean, 96 * 1024);
+    free(clean);
+    return safe;
 }
 
 /* The run a test's verdict is charged to: the replay's (rr), but a failure
@@ -260,22 +266,30 @@ static run_result charged_run(run_result wr, run_result rr, char **clean) {
     return verdict;
 }
 
-/* A failure in a sealed run (own code linked with the earlier references):
- * the verdict and the hint only (sealed_text). */
-static void seal_failure(item *it, const char *clean, const char *own_crash) {
-    /* a crash's hint is the rubric's (crash_hints), said before the
-     * replay's generic "did not return" */
-    char crash_line[1200];
-    const char *said = clean;
-    if (it->status && !strcmp(it->status, "CRASH")) {
-        fmt(crash_line, sizeof crash_line, "Likely mistake: %s", own_crash);
-        said = crash_line;
-    }
-    char *sealed = sealed_text(it->status, said);
+/* A sealed verdict (a run that held reference code: own code linked with
+ * the earlier references): pass or not, and nothing else. `earned`: the
+ * item passed and earned its points (no TODO notice). Every other end -
+ * a failed check, a crash, a time-out, an exit status, a TODO notice, a
+ * replay that did not finish - becomes the same status and the same text
+ * (sealed_text), since each distinction would be a bit the student's code
+ * chose after reading the reference. An image keeps its first line, the
+ * grader's own "command: ..." (the arguments drawn for this grading). */
+void seal_verdict(item *it, bool earned) {
+    sbuf o = {0};
+    const char *out = it->output ? it->output : "";
+    if (it->is_image && !strncmp(out, "command: ", 9))
+        sb_printf(&o, "%.*s\n", (int)strcspn(out, "\n"), out);
+    char *said = sealed_text(earned);
+    sb_add(&o, said);
     free(it->output);
-    it->output = sealed;
+    it->output = o.s;
+    free(it->status);
+    it->status = xstrdup(earned ? "PASS" : "FAIL");
     free(it->reason);
-    it->reason = reason_line(sealed);
+    it->reason = earned ? xstrdup("") : reason_line(said);
+    free(said);
+    it->passed = earned;
+    it->score = earned ? it->max_score : 0;
 }
 
 /* What the student's code printed (the worker's NAME.out in its run folder
@@ -328,16 +342,18 @@ static void test_verdict(const grader *g, assignment_result *a, const cJSON *asg
     const char *own_crash =
         str_or(cJSON_GetObjectItemCaseSensitive(asg, "crash_hints"), name, crash_hint);
     judge_test(it, verdict, xml_failure, clean, g->test_limit, test_wall(g), own_crash);
-    if (own[0] && !it->passed) seal_failure(it, clean, own_crash);
+    if (own[0]) seal_verdict(it, it->passed && !has_todo_notice(clean));
     add_worker_output(g, it, rw, name, own[0]);
-    if (own[0] && !it->passed) {
+    if (own[0]) {
         /* sealed: the replay's own XML and console text quote the values
-         * returned; the student's folder keeps neither */
+         * returned (and its times), its fate says how it ended; the
+         * student's folder keeps none of them */
         junit_case(it, a->id, NULL);
-        fmt(path, sizeof path, "%s/%s.out", xml_dir, name);
-        unlink(path);
-        fmt(path, sizeof path, "%s/%s.xml", xml_dir, name);
-        unlink(path);
+        static const char *const kept[] = {"out", "xml", "fate"};
+        for (int k = 0; k < 3; k++) {
+            fmt(path, sizeof path, "%s/%s.%s", xml_dir, name, kept[k]);
+            unlink(path);
+        }
     } else {
         junit_case(it, a->id, cases);
     }
@@ -371,6 +387,13 @@ void tests_finish(const grader *g, assignment_result *a, const cJSON *asg, test_
     double t_judge = now_s();
     for (int i = 0; i < n; i++)
         test_verdict(g, a, asg, b, i);
+    /* a sealed batch's consoles go with its tests' files: the workers'
+     * (what the student's code printed beside reference code) and the
+     * replays' */
+    for (int c = 0; b->own[0] && c < b->chunks && b->replays; c++) {
+        unlink(b->workers[c].out_path);
+        unlink(b->replays[c].out_path);
+    }
     free(b->workers);
     free(b->replays);
     free(b->chunk_of);
@@ -382,20 +405,102 @@ void tests_finish(const grader *g, assignment_result *a, const cJSON *asg, test_
     free(b->listing);
 }
 
-/* A build that failed: every test and image of the assignment lost to it,
- * each quoting the compiler's error lines (at most 30). */
-void mark_build_failed(const grader *g, assignment_result *a, const cJSON *asg,
-                       const char *log_path) {
-    char *log = read_file(log_path, 0);
-    sbuf tail = {0};
-    /* the compiler's error lines, at most 30 */
-    int lines = 0;
-    for (char *line = log ? strtok(log, "\n") : NULL; line && lines < 30; line = strtok(NULL, "\n"))
+/* The whole-chain run of a sealed failure, said after the sealed verdict
+ * (this line opens it: run-attacks' sealed_uniform compares the texts
+ * before it). */
+#define WHOLE_CHAIN_HEADING "--- the same test on your whole chain ---"
+
+/* A sealed test that failed says only that (seal_verdict): what it did
+ * would be a value computed beside reference code. So each one runs once
+ * more on the student's whole chain (their own build, their code of every
+ * assignment and nothing else), where what happened can be shown, and its
+ * message is added to the sealed item: the student learns what is wrong
+ * without the sealed run saying anything but "not passed". Only the
+ * failures run again: what passes costs nothing. */
+void tests_explain_sealed(const grader *g, assignment_result *a, const cJSON *asg,
+                          const char *dir, int from) {
+    name_list failed = {0};
+    for (int i = from; i < a->n_items; i++) {
+        const item *it = &a->items[i];
+        if (!it->is_image && it->counted && !it->passed) names_add(&failed, it->name);
+    }
+    test_batch b;
+    if (!tests_prepare_whole_chain(g, a, dir, &failed, &b)) {
+        names_free(&failed);
+        return;
+    }
+    double t0 = now_s();
+    run_jobs(b.workers, b.chunks, g->jobs);
+    assignment_result twin = {.id = a->id};
+    for (int i = 0; i < b.n; i++)
+        test_verdict(g, &twin, asg, &b, i);
+    for (int i = 0; i < twin.n_items; i++) {
+        item *t = &twin.items[i];
+        for (int k = from; k < a->n_items; k++) {
+            item *s = &a->items[k];
+            if (s->is_image || strcmp(s->name, t->name)) continue;
+            sbuf o = {0};
+            sb_printf(&o, "%s\n" WHOLE_CHAIN_HEADING "\n", s->output ? s->output : "");
+            if (t->passed)
+                sb_printf(&o,
+                          "it passes on your whole chain (your own code of every assignment, no "
+                          "reference code): it fails only with the earlier assignments' "
+                          "reference, so your %s code depends on something your earlier code "
+                          "does differently from the reference (a helper, a convention, a "
+                          "global)",
+                          a->id);
+            else {
+                sb_printf(&o,
+                          "on your whole chain (your own code of every assignment, no reference "
+                          "code) it fails too, and there it can be shown:\n%s",
+                          t->output ? t->output : "");
+                free(s->reason);
+                s->reason = xstrdup(t->reason);
+            }
+            free(s->output);
+            s->output = o.s;
+        }
+        free(t->name);
+        free(t->status);
+        free(t->reason);
+        free(t->output);
+        free(t->xml);
+    }
+    free(twin.items);
+    free(b.workers);
+    free(b.replays);
+    free(b.chunk_of);
+    free(b.fates);
+    names_free(&b.names);
+    names_free(&failed);
+    profile("tests: sealed failures on the whole chain", a->id, t0);
+}
+
+/* The compiler's error lines in a failed build's log (at most 30), as
+ * the student's text: the compiler echoes their #error and #include lines
+ * byte for byte, and names the sandbox's folders (owned). */
+static char *compiler_error_lines(const char *log_path) {
+    /* the log is written by tests/grading/grade, its text by the build in
+     * the sandbox: read as a regular file, the first 8 MiB */
+    char *log = read_small_file(log_path, 8u << 20);
+    sbuf lines = {0};
+    int n = 0;
+    for (char *line = log ? strtok(log, "\n") : NULL; line && n < 30; line = strtok(NULL, "\n"))
         if (strstr(line, "error") || strstr(line, "Error")) {
-            sb_printf(&tail, "%s\n", line);
-            lines++;
+            sb_printf(&lines, "%s\n", line);
+            n++;
         }
     free(log);
+    char *shown = student_text(sb_str(&lines), 6000);
+    free(lines.s);
+    return shown;
+}
+
+/* A build that failed: every test and image of the assignment lost to it,
+ * each quoting the compiler's error lines (compiler_error_lines). */
+void mark_build_failed(const grader *g, assignment_result *a, const cJSON *asg,
+                       const char *log_path) {
+    char *said = compiler_error_lines(log_path);
     const cJSON *tests = cJSON_GetObjectItemCaseSensitive(asg, "tests");
     const cJSON *images = cJSON_GetObjectItemCaseSensitive(asg, "images");
     for (int pass = 0; pass < 2; pass++)
@@ -412,10 +517,11 @@ void mark_build_failed(const grader *g, assignment_result *a, const cJSON *asg,
             it->status = xstrdup("BUILD");
             it->reason = xstrdup("your code does not compile");
             sbuf o = {0};
-            sb_printf(&o, "your code for %s does not compile, so nothing could be tested.\n%s",
-                      a->id, sb_str(&tail));
+            sb_printf(&o, "your code for %s does not compile, so nothing could be tested.\n",
+                      a->id);
+            if (*said) sb_printf(&o, "--- the compiler's error lines (at most 30) ---\n%s\n", said);
             it->output = o.s;
             junit_case(it, a->id, NULL);
         }
-    free(tail.s);
+    free(said);
 }

@@ -48,11 +48,24 @@ static const char *model_hint(mat4s got, float deg) {
     return "compare with the rotation matrix in docs/hw1.md, section 1";
 }
 
+/* A test whose right answer is the identity passes on the stub's placeholder
+ * (the identity) too: it counts only once the function turns something.
+ * Checked after the test's own case, so a wrong answer there is named first;
+ * any rotation by 37 degrees, right or wrong, is not the identity. */
+static void expect_not_placeholder(mat4s turned, const char *call, const char *function) {
+    if (!ras_mat4_near(turned, glms_mat4_identity(), 1e-6f)) return;
+    fail_msg("%s returned the identity: that is the stub's placeholder, so this test, whose "
+             "right answer is also the identity, cannot count yet; likely mistake: %s is not "
+             "written yet (or ignores its angle)",
+             call, function);
+}
+
 /* 0 degrees is no rotation at all. */
 static void test_model_matrix_zero_is_identity(void **state) {
     (void)state;
     mat4s m = get_model_matrix(0);
     expect_matrix(m, glms_mat4_identity(), TOL, "get_model_matrix(0)", model_hint(m, 0));
+    expect_not_placeholder(get_model_matrix(37), "get_model_matrix(37)", "get_model_matrix");
 }
 
 /* 90 degrees turns +x into +y (counter-clockwise seen from +z). */
@@ -78,6 +91,7 @@ static void test_model_matrix_360_is_identity(void **state) {
     (void)state;
     mat4s m = get_model_matrix(360);
     expect_matrix(m, glms_mat4_identity(), 1e-5f, "get_model_matrix(360)", model_hint(m, 360));
+    expect_not_placeholder(get_model_matrix(37), "get_model_matrix(37)", "get_model_matrix");
 }
 
 /* The matrix is defined up to sign (M and -M are the same projective map);
@@ -224,6 +238,8 @@ static void test_rotation_composes(void **state) {
         fabsf(a.z - axis.z) > 1e-5f)
         fail_msg("the axis must stay put under its own rotation: got (%.4f, %.4f, %.4f)", a.x,
                  a.y, a.z);
+    expect_not_placeholder(get_rotation(axis, 37), "get_rotation((0.3, -0.5, 0.8), 37)",
+                           "get_rotation");
 }
 
 int main(void) {

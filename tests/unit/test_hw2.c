@@ -197,6 +197,15 @@ static void test_inside_degenerate_is_empty(void **state) {
     CHECK(!inside_triangle(1, 1, &nan_tri),
           "inside_triangle on a triangle with a NaN vertex: expected false, got true. Likely "
           "mistake: 'not < 0' instead of '>= 0' (every comparison with NaN is false).");
+    /* "false" everywhere is the stub's placeholder: this test counts only
+     * once a point well inside a proper triangle is inside (either winding) */
+    ras_triangle ccw = tri3(0, 0, 8, 0, 0, 8), cw = tri3(0, 0, 0, 8, 8, 0);
+    CHECK(inside_triangle(2.5f, 2.5f, &ccw) || inside_triangle(2.5f, 2.5f, &cw),
+          "inside_triangle(2.5, 2.5) on the proper triangle (0,0),(8,0),(0,8), in either "
+          "winding: expected true, got false both times. Returning false for every point is "
+          "the stub's placeholder, right for degenerate triangles only, so this test counts "
+          "once inside_triangle accepts a point inside. Likely mistake: inside_triangle is not "
+          "written yet (TODO(hw2) 1-2).");
 }
 
 /* Draws each triangle of `tris` into its own cleared buffer and counts, per
@@ -594,6 +603,18 @@ static void test_bary_degenerate_flagged(void **state) {
           b.x, b.y, b.z);
     CHECK(!compute_barycentric_2d(2, 2, &point, &b),
           "compute_barycentric_2d on a triangle collapsed to a point: expected false, got true.");
+    /* "false" and (0, 0, 0) everywhere is the stub's placeholder: this test
+     * counts only once a proper triangle gets barycentrics */
+    ras_triangle proper = tri3(0, 0, 8, 0, 0, 8);
+    vec3s pb = {{0, 0, 0}};
+    bool proper_ok = compute_barycentric_2d(2, 2, &proper, &pb);
+    CHECK(proper_ok && !(pb.x == 0 && pb.y == 0 && pb.z == 0),
+          "compute_barycentric_2d(2, 2) on the proper triangle (0,0),(8,0),(0,8): expected true "
+          "and (0.5, 0.25, 0.25), got %s and (%g, %g, %g). Returning false with (0, 0, 0) is the "
+          "stub's placeholder, right for degenerate triangles only, so this test counts once "
+          "a proper triangle gets its barycentrics. Likely mistake: compute_barycentric_2d is "
+          "not written yet (TODO(hw2) 1-3).",
+          proper_ok ? "true" : "false", pb.x, pb.y, pb.z);
 }
 
 /* What the shader was handed, per pixel. */
@@ -1003,6 +1024,17 @@ static void test_raster_rejects_nan_and_zero_area(void **state) {
               what[k], covered_pixels(&g.fb),
               guarded_intact(&g) ? "" : " AND writes outside the buffers");
     }
+    /* drawing nothing at all is the stub's placeholder: this test counts
+     * only once a proper triangle is drawn */
+    ras_framebuffer_clear(&g.fb, BLACK);
+    ras_triangle good = tri_z(tri3(1, 1, 7, 1, 1, 7), 0.5f, WHITE);
+    rasterize_triangle(&good, &ctx);
+    CHECK(covered_pixels(&g.fb) > 0,
+          "the proper triangle (1,1),(7,1),(1,7) after the bad ones: expected pixels drawn, got "
+          "none. Drawing nothing is the stub's placeholder, right for the bad triangles only, "
+          "so this test counts once a proper triangle is drawn. Likely mistake: "
+          "rasterize_triangle is not written yet (TODO(hw2) 1-6), or it rejects every "
+          "triangle.");
     guarded_free(&g);
 }
 
@@ -1092,6 +1124,15 @@ static void test_raster_counters(void **state) {
           "covered %llu samples and none passed the depth test, so nothing was drawn. Likely "
           "mistake: the depth comparison is reversed (smaller z is closer: draw when "
           "z < depth[i]).",
+          (unsigned long long)k.samples_covered);
+    /* nothing drawn and nothing counted is the stub's placeholder: every sum
+     * below is 0 = 0 there, so this test counts only once the triangle is drawn */
+    CHECK(covered > 0,
+          "MSAA 4x, one triangle (1,1),(9,1),(1,9) on an empty 10x10 frame: expected samples "
+          "drawn, got none (and the counters say %llu covered). Drawing nothing is the stub's "
+          "placeholder, and its counters (all 0) add up trivially, so this test counts once "
+          "the triangle is drawn. Likely mistake: rasterize_triangle is not written yet "
+          "(TODO(hw2) 1-7).",
           (unsigned long long)k.samples_covered);
     CHECK(k.samples_covered == (uint64_t)covered && k.depth_tests_passed == (uint64_t)covered,
           "MSAA 4x, one triangle on an empty frame: expected samples_covered = "

@@ -690,6 +690,24 @@ static void expect_bilinear(const ras_texture *tex, float u, float v, vec3s want
              ARG3(want), ARG3(got), hint);
 }
 
+/* The stub's placeholder is the nearest texel, which is right wherever a
+ * test's answer is one texel (at an edge with clamp, for garbage
+ * coordinates): such a test counts only once bilinear blends. (0.3, 0.3) on
+ * the ramp is x = 0.7, y = 0.1 between four centres: (0.175, 0.05, 0.3),
+ * and any blend differs from the nearest texel (0.25, 0, 0.3). Checked after
+ * the test's own cases, so a wrong answer there is named first. */
+static void expect_blends(const ras_texture *tex) {
+    vec3s got = texture_sample_bilinear(tex, 0.3f, 0.3f);
+    vec3s nearest = ras_texture_sample_nearest(tex, 0.3f, 0.3f);
+    CHECK(!near3(got, nearest, 1e-4f),
+          "texture_sample_bilinear(0.3, 0.3) on the 4x2 ramp: expected a blend of four texels, "
+          "(0.175, 0.05, 0.3), got the nearest texel " FMT3 ". The nearest texel is the stub's "
+          "placeholder, right at this test's points only, so this test counts once bilinear "
+          "blends. Likely mistake: texture_sample_bilinear is not written yet (TODO(hw3) "
+          "4.2-4.4)",
+          ARG3(got));
+}
+
 /* At texel centres bilinear returns the texel itself; between centres the
  * average. u = (i + 0.5)/4, v = (j + 0.5)/2. */
 static void test_bilinear_centres_and_between(void **state) {
@@ -724,6 +742,7 @@ static void test_bilinear_edges_clamp(void **state) {
     expect_bilinear(tex, 0.125f, 0, V3(0, 0, 0.3f), "bottom edge v = 0");
     expect_bilinear(tex, 0.125f, 1, V3(0, 0.5f, 0.3f), "top edge v = 1");
     expect_bilinear(tex, 0.125f, 1 + eps, V3(0, 0.5f, 0.3f), "above the top edge");
+    expect_blends(tex);
     ramp_destroy(tex);
 }
 
@@ -768,6 +787,7 @@ static void test_bilinear_nan_and_huge(void **state) {
                                 "safe first (TODO 4.1)");
                 }
             }
+        expect_blends(tex);
         ramp_destroy(tex);
     }
 }
@@ -912,6 +932,55 @@ static ras_scene *model_scene(const char *model, const char *texture, bool fit,
     return NULL;
 }
 
+/* The quad of the test wound the other way (so the scene's lights reach
+ * its front after the scene's turn: the other way it shows only ambient,
+ * which has no kd), u along x, with a texture red for u < 0.5 and blue
+ * above, written into `dir`: its two halves must differ in their dominant
+ * colour. The stub's texture shader ignores the texture (one colour
+ * everywhere): the rest of the test holds for it, so this is what makes it
+ * count only once the shader reads the texture. */
+static void expect_quad_textured(const char *dir) {
+    char tex_path[300], quad[300];
+    snprintf(tex_path, sizeof tex_path, "%s/halves.png", dir);
+    snprintf(quad, sizeof quad, "%s/quad_back.obj", dir);
+    write_file(quad, "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+                     "f 1/1 4/4 3/3 2/2\n");
+    ras_error err = {{0}};
+    ras_image *halves = ras_image_create(8, 8, &err);
+    assert_non_null(halves);
+    for (int row = 0; row < 8; row++)
+        for (int col = 0; col < 8; col++)
+            ras_image_set(halves, col, row, col < 4 ? V3(0.9f, 0.1f, 0.1f) : V3(0.1f, 0.1f, 0.9f));
+    CHECK(ras_image_save(halves, tex_path, &err), "test setup: %s", err.msg);
+    ras_image_destroy(halves);
+    ras_scene_assets *a = NULL;
+    ras_scene *s = model_scene(quad, tex_path, true, &a, &err);
+    CHECK(s, "the quad with the texture %s should load: %s", tex_path, err.msg);
+    s->width = s->height = 64;
+    hw3_render_options opt = hw3_render_defaults();
+    opt.shader = RAS_SHADER_TEXTURE;
+    opt.projection = hand_projection;
+    ras_image *img = ras_image_create(64, 64, NULL);
+    ras_counters k;
+    CHECK(hw3_render(s, a, &opt, img, &k, &err), "render the textured quad: %s", err.msg);
+    /* the quad fills the middle of the frame: a quarter in from each side */
+    vec3s left = ras_image_get(img, 20, 32), right = ras_image_get(img, 44, 32);
+    bool left_red = left.x > left.z, right_red = right.x > right.z;
+    unlink(tex_path);
+    unlink(quad);
+    ras_image_destroy(img);
+    ras_scene_assets_destroy(a);
+    ras_scene_destroy(s);
+    CHECK(left_red != right_red,
+          "the fitted quad with a texture red on its left half (u < 0.5) and blue on its right: "
+          "expected one red and one blue half, got " FMT3 " at pixel (20, 32) and " FMT3
+          " at (44, 32). One colour on both halves is the stub's placeholder (the texture "
+          "ignored), so this test counts once the texture is read. Likely mistake: "
+          "texture_fragment_shader does not take kd from the texture (TODO(hw3) 3.1), or the "
+          "texture coordinates are not interpolated (TODO(hw3) 1.5)",
+          ARG3(left), ARG3(right));
+}
+
 /* A missing or malformed model or texture is an error with a message, not a
  * crash and not an empty picture. A quad OBJ without normals loads and fits. */
 static void test_scene_model_errors_and_quads(void **state) {
@@ -951,6 +1020,7 @@ static void test_scene_model_errors_and_quads(void **state) {
     ras_image_destroy(img);
     ras_scene_assets_destroy(a);
     ras_scene_destroy(s);
+    expect_quad_textured(dir);
     unlink(bad);
     unlink(quad);
     rmdir(dir);
