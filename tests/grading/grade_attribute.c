@@ -20,7 +20,9 @@ static bool run_matches(const grader *g, const job *j, const cJSON *img, const c
     ras_compare_options opt;
     if (j->rr.kind != RUN_EXITED || j->rr.code != 0 || !image_options(g, img, &kind, &opt, &err))
         return false;
-    ras_image *got = load_student_image(j->store[15], ref_path, &err);
+    char taken[4200];
+    fmt(taken, sizeof taken, "%s.taken.png", j->out_path); /* trusted: the work folder */
+    ras_image *got = load_student_image(j->store[15], taken, ref_path, &err);
     ras_image *expected = got ? ras_image_load(ref_path, &err) : NULL;
     ras_compare_result r = {0};
     bool pass = expected && ras_compare_images(expected, got, &opt, &r, &err) && r.pass;

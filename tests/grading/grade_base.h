@@ -37,7 +37,34 @@ bool copy_file(const char *from, const char *to);
 void mkdirs(const char *path);
 bool file_exists(const char *path);
 bool is_dir(const char *path);
-/* A file the sandbox wrote: a regular file only, at most `limit` bytes; NULL when none. */
+/* A folder made 0700: what the trusted side keeps where no sandboxed run can write. */
+void trusted_dir(const char *path);
+/* A new 0700 folder at path (whatever stood there removed, never followed),
+ * in a folder that may not be the trusted side's alone; false when it cannot be. */
+bool fresh_trusted_dir(const char *path);
+/* The folder at path and everything in it, never following a link. */
+void remove_tree(const char *path);
+
+/* ---------------------------------------------------------------- what the sandbox wrote */
+
+/* Every read of a file a sandboxed run wrote goes through sandbox_open: a
+ * folder opened O_DIRECTORY|O_NOFOLLOW, the file by openat with
+ * O_NOFOLLOW|O_NONBLOCK, fstat on the open descriptor: a regular file with
+ * one link, else refused with the reason in why. */
+
+/* A folder the sandbox wrote (its last component no link): its descriptor, or -1 and why. */
+int sandbox_dir(const char *path, char *why, size_t n);
+/* File `name` (one component) of that folder: its descriptor and *size, or -1 and why. */
+int sandbox_open(int dir_fd, const char *name, long long *size, char *why, size_t n);
+/* File `name` of the folder dir_fd taken to dest (a trusted folder): the
+ * checked inode hard-linked where both share a filesystem, else copied (new,
+ * 0600); refused, with why, when it is missing, not a regular file or over
+ * max_bytes. Only once the run that wrote it is over. What the trusted side
+ * then reads is dest. */
+bool sandbox_take(int dir_fd, const char *name, const char *dest, size_t max_bytes, char *why,
+                  size_t n);
+/* A file the sandbox wrote, by path (sandbox_open on its folder and name):
+ * at most `limit` bytes of it, then a cut mark; NULL when it is refused or missing. */
 char *read_small_file(const char *path, size_t limit);
 /* One line of printable text of a small file (a fate) into buf, "" when none. */
 void read_small(const char *path, char *buf, size_t n);

@@ -5,9 +5,14 @@
 #include "grade_text.h"
 #include "ras_dump.h"
 
+#include <fcntl.h>
 #include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 /* What a buffer's first difference most likely means, by buffer and
  * pattern; "" when nothing specific can be said. */
@@ -101,33 +106,68 @@ static void blank_reason(const char *log, char *buf, size_t size) {
             raster);
 }
 
+/* ---------------------------------------------------------------- the two dumps */
+
+/* One piece of evidence's folders, in the work folder and never in OUT (a
+ * variant's reference is never handed out): the reference's dump, the
+ * student's files as taken, the buffer's pictures before OUT gets its
+ * share. Made 0700, so no sandboxed run can write them; removed when the
+ * evidence is in. */
+typedef struct evidence_dirs {
+    char root[4200], ref[4300], got[4300], pictures[4300];
+} evidence_dirs;
+
+static void evidence_dirs_make(const grader *g, evidence_dirs *d) {
+    char parent[4200];
+    fmt(parent, sizeof parent, "%s/evidence", g->work);
+    trusted_dir(parent);
+    fmt(d->root, sizeof d->root, "%s/%d", parent, g->evidence_runs);
+    remove_tree(d->root); /* one a previous grading left (--reuse-build) */
+    trusted_dir(d->root);
+    fmt(d->ref, sizeof d->ref, "%s/reference", d->root);
+    fmt(d->got, sizeof d->got, "%s/yours", d->root);
+    fmt(d->pictures, sizeof d->pictures, "%s/pictures", d->root);
+    trusted_dir(d->ref);
+    trusted_dir(d->got);
+    trusted_dir(d->pictures);
+}
+
+/* ev as withheld: the item fails, and says why (a sentence about the
+ * student's --dump run). */
+__attribute__((format(printf, 2, 3))) static void withheld(evidence *ev, const char *f, ...) {
+    va_list ap;
+    va_start(ap, f);
+    vsnprintf(ev->withheld, sizeof ev->withheld, f, ap);
+    va_end(ap);
+    ev->kind = EVIDENCE_WITHHELD;
+    ev->ran = false;
+}
+
 /* The trusted reference program's frame of the picture, with --dump into
- * ref_dir; false when there is no such program or it has no --dump. */
-static bool reference_dump(const grader *g, const cJSON *img, const char *dir, const job *graded,
-                           const char *own, char *ref_dir, size_t size) {
-    const char *name = str_or(img, "name", "image");
+ * d->ref (the work folder); false when there is no such program or it has
+ * no --dump. */
+static bool reference_dump(const grader *g, const cJSON *img, const job *graded,
+                           const evidence_dirs *d) {
     const char *program = str_or(img, "program", "");
-    char ref_prog[4200], log[4400];
+    char ref_prog[4200], log[4400], ref_png[4400];
     const char *rp = str_or(img, "reference_program", NULL);
     if (rp)
         fmt(ref_prog, sizeof ref_prog, "%s/bin/%s", g->build, rp);
     else
         fmt(ref_prog, sizeof ref_prog, "%s/bin/%s_ref", g->build, program);
     if (!file_exists(ref_prog)) return false;
-    fmt(ref_dir, size, "%s/%s%s.buffers-reference", dir, name, own ? ".own" : "");
-    mkdirs(ref_dir);
-    char ref_png[4400];
-    fmt(ref_png, sizeof ref_png, "%s/frame.png", ref_dir);
-    fmt(log, sizeof log, "%s/log.txt", ref_dir);
-    run_result rr = reference_render(g, ref_prog, graded->args, ref_png, ref_dir, log);
+    fmt(ref_png, sizeof ref_png, "%s/frame.png", d->root);
+    fmt(log, sizeof log, "%s/reference.log", d->root);
+    run_result rr = reference_render(g, ref_prog, graded->args, ref_png, d->ref, log);
     return rr.kind == RUN_EXITED && rr.code == 0;
 }
 
 /* The student's run, as the graded one but with --dump (into its run
- * folder's dump/, dj->store[13]) and --stats, in the sandbox; false, said in
- * o, when it fails. */
+ * folder's dump/, dj->store[13]) and --stats, in the sandbox; false, with ev
+ * withheld, when it did not end normally: a run that fails when asked for
+ * its buffers gives no evidence, and no evidence clears nothing. */
 static bool student_dump(const grader *g, const cJSON *img, const char *dir, const job *graded,
-                         const char *own, job *dj, sbuf *o) {
+                         const char *own, job *dj, evidence *ev) {
     memset(dj, 0, sizeof *dj);
     dj->args = graded->args;
     image_job(g, img, dir, dj, own, own ? ".own-dump" : ".dump");
@@ -140,23 +180,85 @@ static bool student_dump(const grader *g, const cJSON *img, const char *dir, con
     dj->argv[k++] = "--stats";
     dj->argv[k] = NULL;
     run_jobs(dj, 1, 1);
-    if (dj->rr.kind != RUN_EXITED || dj->rr.code != 0) {
-        sb_printf(o, "buffers: your program's --dump run %s, so its buffers cannot be compared\n",
-                  dj->rr.kind == RUN_TIMEOUT ? "timed out" : "failed");
+    if (dj->rr.kind == RUN_EXITED && dj->rr.code == 0) return true;
+    char how[300];
+    fate_text(dj->rr, dj->limit, how, sizeof how);
+    withheld(ev,
+             "your program %s when run again with --dump (the same arguments, in the "
+             "sandbox) to give its buffers",
+             how);
+    return false;
+}
+
+/* The files a dump may hold that the grader reads: each buffer's exact floats
+ * and its sidecar, and the vertex stage's steps (hw1: one file per object). */
+static int dump_file_names(char names[][40], int cap) {
+    int n = 0;
+    for (int b = 0; ras_dump_buffer_names[b] && n + 2 <= cap; b++) {
+        fmt(names[n++], 40, "%s.pfm", ras_dump_buffer_names[b]);
+        fmt(names[n++], 40, "%s.json", ras_dump_buffer_names[b]);
+    }
+    if (n < cap) fmt(names[n++], 40, "vertices.json");
+    for (int o = 1; o <= 7 && n < cap; o++)
+        fmt(names[n++], 40, "vertices_%d.json", o);
+    return n;
+}
+
+/* The student's dump folder `from` (sandbox-written) into d->got through
+ * sandbox_take, file by file from the allowlist: each file the reference's
+ * dump holds must be there, a regular file no larger than the reference's
+ * (plus room for a header), and none the reference's lacks. False, with ev
+ * withheld, when the evidence is partial, extra or refused. */
+static bool take_student_dump(const char *from, const evidence_dirs *d, evidence *ev) {
+    char why[300];
+    int dfd = sandbox_dir(from, why, sizeof why);
+    if (dfd < 0) {
+        withheld(ev, "your program's --dump run ended normally but left no buffer folder (%s)",
+                 why);
         return false;
     }
-    return true;
+    char names[64][40];
+    int n = dump_file_names(names, 64);
+    bool ok = true;
+    for (int i = 0; i < n && ok; i++) {
+        char ref_file[4400], dest[4400];
+        fmt(ref_file, sizeof ref_file, "%s/%s", d->ref, names[i]);
+        fmt(dest, sizeof dest, "%s/%s", d->got, names[i]);
+        struct stat rst, gst;
+        bool in_ref = lstat(ref_file, &rst) == 0 && S_ISREG(rst.st_mode);
+        bool in_got = fstatat(dfd, names[i], &gst, AT_SYMLINK_NOFOLLOW) == 0;
+        if (!in_ref && !in_got) continue;
+        if (!in_got)
+            withheld(ev,
+                     "your program's --dump run wrote no %s, which the reference's frame "
+                     "makes (the evidence is partial)",
+                     names[i]);
+        else if (!in_ref)
+            withheld(ev,
+                     "your program's --dump run wrote %s, which the reference's frame does "
+                     "not make",
+                     names[i]);
+        /* the exact floats of the reference's size; a sidecar of about its size */
+        size_t cap =
+            (size_t)rst.st_size + (strstr(names[i], ".pfm") ? 4096 : (size_t)rst.st_size + 65536);
+        if (in_ref && in_got && !sandbox_take(dfd, names[i], dest, cap, why, sizeof why))
+            withheld(ev, "your program's --dump file %s was refused: %s (malformed evidence)",
+                     names[i], why);
+        ok = ev->kind != EVIDENCE_WITHHELD;
+    }
+    close(dfd);
+    return ok;
 }
 
 /* Why a blank frame is blank (used only when the picture is one flat
- * colour): the counters of the --dump run dj, and a depth buffer that holds
- * no sample. */
-static void blank_evidence(const job *dj, evidence *ev) {
-    char *dlog = read_file(dj->out_path, 64 * 1024);
+ * colour): the counters of the --dump run dj (its log, written by the
+ * trusted side), and a depth buffer (as taken) that holds no sample. */
+static void blank_evidence(const job *dj, const char *got_dir, evidence *ev) {
+    char *dlog = read_small_file(dj->out_path, 64 * 1024);
     blank_reason(dlog, ev->why_blank, sizeof ev->why_blank);
     free(dlog);
     char dpfm[4400];
-    fmt(dpfm, sizeof dpfm, "%s/depth.pfm", dj->store[13]);
+    fmt(dpfm, sizeof dpfm, "%s/depth.pfm", got_dir);
     if (file_exists(dpfm)) {
         ras_error derr = {{0}};
         int dw = 0, dh = 0, dc = 0;
@@ -171,7 +273,8 @@ static void blank_evidence(const job *dj, evidence *ev) {
     }
 }
 
-/* hw1's frame: its vertices, step by step; true, said in o, when they differ. */
+/* hw1's frame: its vertices, step by step; true, said in o, when they
+ * differ, or with ev withheld when the student's cannot be read. */
 static bool vertices_differ(const char *ref_dir, const char *got_dir, sbuf *o, evidence *ev) {
     char rv[4400], gv[4400];
     fmt(rv, sizeof rv, "%s/vertices.json", ref_dir);
@@ -179,7 +282,12 @@ static bool vertices_differ(const char *ref_dir, const char *got_dir, sbuf *o, e
     if (!file_exists(rv) || !file_exists(gv)) return false;
     char line[600];
     int r = ras_dump_compare_vertices(rv, gv, line, sizeof line);
-    if (r <= 0) return false;
+    if (r < 0) {
+        withheld(ev, "your program's --dump file vertices.json could not be compared "
+                     "(malformed evidence)");
+        return true;
+    }
+    if (r == 0) return false;
     char *shown = student_text(line, 580);
     sb_printf(o, "buffers: the first that differs is the vertex stage (hw1): %s\n", shown);
     free(shown);
@@ -212,74 +320,60 @@ static void first_difference(sbuf *o, evidence *ev, const char *buf, const ras_d
 }
 
 /* The pictures of buffer `buf`, redrawn from the exact files (never the
- * sandbox's own pictures), into DIR/NAME.buffers/BUF and it->buf_*. */
-static void buffer_pictures(item *it, const char *ref_dir, const char *got_dir, const char *buf,
-                            const char *dir, const char *reldir, const char *name, ras_error *err) {
-    char out_dir[4400];
+ * sandbox's own pictures) in the work folder; OUT (DIR/NAME.buffers/BUF,
+ * it->buf_*) gets only what the report shows: yours and the difference, and
+ * the reference's unless the picture is a variant's (`variant`), whose
+ * reference is never handed out. */
+static void buffer_pictures(item *it, const evidence_dirs *d, const char *buf, const char *dir,
+                            const char *reldir, const char *name, bool variant, ras_error *err) {
+    char work_dir[4400], out_dir[4400];
+    fmt(work_dir, sizeof work_dir, "%s/%s", d->pictures, buf);
+    trusted_dir(work_dir);
+    if (!ras_dump_compare_pictures(d->ref, d->got, buf, work_dir, err)) return;
     fmt(out_dir, sizeof out_dir, "%s/%s.buffers/%s", dir, name, buf);
     mkdirs(out_dir);
-    if (ras_dump_compare_pictures(ref_dir, got_dir, buf, out_dir, err)) {
-        char rel[4600];
-        it->buf_name = xstrdup(buf);
-        fmt(rel, sizeof rel, "%s/%s.buffers/%s/reference.png", reldir, name, buf);
-        it->buf_ref = xstrdup(rel);
-        fmt(rel, sizeof rel, "%s/%s.buffers/%s/yours.png", reldir, name, buf);
-        it->buf_got = xstrdup(rel);
-        fmt(rel, sizeof rel, "%s/%s.buffers/%s/difference.png", reldir, name, buf);
-        it->buf_diff = xstrdup(rel);
+    static const char *const shown[] = {"yours", "difference", "reference"};
+    char *rel[3] = {NULL, NULL, NULL};
+    for (int k = 0; k < (variant ? 2 : 3); k++) {
+        char from[4600], to[4600], r[4600];
+        fmt(from, sizeof from, "%s/%s.png", work_dir, shown[k]);
+        fmt(to, sizeof to, "%s/%s.png", out_dir, shown[k]);
+        fmt(r, sizeof r, "%s/%s.buffers/%s/%s.png", reldir, name, buf, shown[k]);
+        if (copy_file(from, to)) rel[k] = xstrdup(r);
     }
+    it->buf_name = xstrdup(buf);
+    it->buf_got = rel[0];
+    it->buf_diff = rel[1];
+    it->buf_ref = rel[2];
 }
 
-/* Evidence for a picture (docs/grading.md, "Buffers"): the program renders
- * it again with --dump, in the sandbox, and the trusted reference program
- * with --dump; the first buffer in pipeline order that differs (with its
- * kind's tolerance) is named, with the stage's likely cause and owner.
- * Sealed runs give the words only; others also the buffer's pictures
- * (redrawn here from the exact files, never the sandbox's own pictures).
- * Programs without --dump add nothing (ev->ran stays false). */
-void buffer_evidence(const grader *g, item *it, sbuf *o, const cJSON *img, const char *dir,
-                     const char *reldir, const job *graded, const char *own, bool ref_raster,
-                     evidence *ev) {
+/* The dumps compared in pipeline order: the first buffer that differs
+ * (with its kind's tolerance) named in ev and o, with the stage's likely
+ * cause and owner, its pictures unless sealed; "colour" when every buffer
+ * matches; ev withheld when the student's files cannot be compared. */
+static void compare_dumps(item *it, sbuf *o, const cJSON *img, const char *dir, const char *reldir,
+                          const char *own, bool ref_raster, const evidence_dirs *d, evidence *ev) {
     const char *name = str_or(img, "name", "image");
     const char *program = str_or(img, "program", "");
-    memset(ev, 0, sizeof *ev);
-    char ref_dir[4300];
-    if (!reference_dump(g, img, dir, graded, own, ref_dir, sizeof ref_dir))
-        return; /* no --dump here */
-    job dj;
-    if (!student_dump(g, img, dir, graded, own, &dj, o)) return;
-    ev->ran = true;
-    blank_evidence(&dj, ev);
-    const char *got_dir = dj.store[13];
-    if (vertices_differ(ref_dir, got_dir, o, ev)) return;
+    if (vertices_differ(d->ref, d->got, o, ev)) return;
     for (int b = 0; ras_dump_buffer_names[b]; b++) {
         const char *buf = ras_dump_buffer_names[b];
-        char rf[4400], gf[4400];
-        fmt(rf, sizeof rf, "%s/%s.pfm", ref_dir, buf);
-        fmt(gf, sizeof gf, "%s/%s.pfm", got_dir, buf);
-        bool in_ref = file_exists(rf), in_got = file_exists(gf);
-        if (!in_ref && !in_got) continue;
-        if (in_ref != in_got) {
-            fmt(ev->stage, sizeof ev->stage, "%s", buf);
-            ev->owner = stage_owner(buf, program, ref_raster);
-            ev->rasterizer = !ref_raster && strcmp(ev->owner, "hw3");
-            sb_printf(o, "buffers: the first that differs is %s (%s's stage): %s\n", buf, ev->owner,
-                      in_ref ? "your program wrote none (its frame made no such buffer)"
-                             : "the reference's frame makes no such buffer");
-            return;
-        }
-        ras_dump_difference d;
+        /* take_student_dump made sure both dumps hold the same files */
+        if (!ras_dump_has_exact(d->ref, buf)) continue;
+        ras_dump_difference diff;
         ras_error err = {{0}};
-        if (!ras_dump_compare(ref_dir, got_dir, buf, &d, &err)) {
+        if (!ras_dump_compare(d->ref, d->got, buf, &diff, &err)) {
             char *shown = student_text(err.msg, 300);
-            sb_printf(o, "buffers: %s could not be compared: %s\n", buf, shown);
+            withheld(ev, "your program's %s buffer could not be compared%s%s (malformed evidence)",
+                     buf, own ? "" : ": ", own ? "" : shown);
             free(shown);
             return;
         }
-        if (d.pixels_differ == 0) continue;
-        first_difference(o, ev, buf, &d, program, ref_raster);
+        if (diff.pixels_differ == 0) continue;
+        first_difference(o, ev, buf, &diff, program, ref_raster);
         if (own) return; /* sealed: words only */
-        buffer_pictures(it, ref_dir, got_dir, buf, dir, reldir, name, &err);
+        buffer_pictures(it, d, buf, dir, reldir, name, str_or(img, "reference_program", NULL),
+                        &err);
         return;
     }
     fmt(ev->stage, sizeof ev->stage, "colour");
@@ -289,4 +383,39 @@ void buffer_evidence(const grader *g, item *it, sbuf *o, const cJSON *img, const
               "buffers: every buffer matches the reference's: the difference is in the "
               "colours %s computed\n",
               !strcmp(ev->owner, "hw3") ? "your shader" : "your rasterizer wrote");
+}
+
+/* Evidence for a picture (docs/grading.md, "Buffers"): the program renders
+ * it again with --dump, in the sandbox, and the trusted reference program
+ * with --dump, both into the work folder; the student's files are taken
+ * (sandbox_take) and compared (compare_dumps). Evidence or nothing: a
+ * --dump run that fails, or files missing, extra or refused, make ev
+ * withheld, said in o (the item fails); a reference without --dump leaves
+ * the picture to decide (EVIDENCE_NO_REFERENCE). Both dumps are removed when
+ * the evidence is in: OUT holds only the pictures the report shows. */
+void buffer_evidence(const grader *g, item *it, sbuf *o, const cJSON *img, const char *dir,
+                     const char *reldir, const job *graded, const char *own, bool ref_raster,
+                     evidence *ev) {
+    memset(ev, 0, sizeof *ev);
+    evidence_dirs d;
+    evidence_dirs_make(g, &d);
+    job dj;
+    memset(&dj, 0, sizeof dj);
+    if (!reference_dump(g, img, graded, &d)) {
+        ev->kind = EVIDENCE_NO_REFERENCE; /* no --dump here: the picture decides */
+    } else if (student_dump(g, img, dir, graded, own, &dj, ev) &&
+               take_student_dump(dj.store[13], &d, ev)) {
+        ev->kind = EVIDENCE_RAN;
+        ev->ran = true;
+        blank_evidence(&dj, d.got, ev);
+        compare_dumps(it, o, img, dir, reldir, own, ref_raster, &d, ev);
+    }
+    if (ev->kind == EVIDENCE_WITHHELD && own) /* sealed: one sentence, whatever the cause */
+        fmt(ev->withheld, sizeof ev->withheld,
+            "your program did not give its buffers when run again with --dump (this run holds "
+            "reference code, so not why)");
+    if (ev->kind == EVIDENCE_WITHHELD)
+        sb_printf(o, "buffers: %s; a picture the buffers cannot clear is charged\n", ev->withheld);
+    remove_tree(d.root);
+    if (dj.rw[0]) remove_tree(dj.rw); /* the student's dump, out of the runs' quota */
 }

@@ -11,22 +11,39 @@
 #include "grade_base.h"
 #include "grade_priv.h"
 
+/* Where the evidence stands. Only EVIDENCE_RAN can clear a picture; what the
+ * student's program withholds or spoils fails the item (docs/grading.md,
+ * "Buffers"), and where no evidence can be had the picture decides alone. */
+typedef enum evidence_kind {
+    EVIDENCE_NOT_ASKED,    /* the picture needs none (it matches and shows no defect) */
+    EVIDENCE_BUDGET,       /* EVIDENCE_MAX renders spent: the picture decides */
+    EVIDENCE_NO_REFERENCE, /* the trusted side has no --dump here: the picture decides */
+    EVIDENCE_WITHHELD,     /* the student's --dump run failed, or its files were
+                            * missing, extra, malformed or too big: the item fails */
+    EVIDENCE_RAN,          /* both frames were dumped and compared */
+} evidence_kind;
+
 /* What the buffers say about a picture (buffer_evidence), in pipeline order
  * (DESIGN.md): vertices -> coverage -> depth -> overdraw -> interpolated
  * attributes -> per-sample colour -> resolved colour. */
 typedef struct evidence {
-    bool ran;          /* both frames were dumped and compared */
-    char stage[24];    /* the first buffer that differs; "colour": every buffer
-                        * matches and only the colours differ */
-    const char *owner; /* the assignment whose code makes that stage */
-    bool rasterizer;   /* the stage is the rasterizer's or the resolve's */
-    bool blank;        /* the student's frame covered no sample */
+    evidence_kind kind;
+    bool ran;           /* kind == EVIDENCE_RAN */
+    char withheld[600]; /* EVIDENCE_WITHHELD: why, in a sentence for the student */
+    char stage[24];     /* the first buffer that differs; "colour": every buffer
+                         * matches and only the colours differ */
+    const char *owner;  /* the assignment whose code makes that stage */
+    bool rasterizer;    /* the stage is the rasterizer's or the resolve's */
+    bool blank;         /* the student's frame covered no sample */
     char why_blank[400];
 } evidence;
 
 /* ev from the two --dump runs of img (graded: its graded run, for the
  * arguments; own: the own-code link of a sealed run, NULL otherwise), said
- * in o; the buffer's pictures into it->buf_* unless sealed */
+ * in o; both dumps kept in the work folder only while they are compared
+ * (the student's files taken through sandbox_take); the buffer's pictures
+ * into it->buf_* unless sealed (for a variant only yours and the
+ * difference: a variant's reference never reaches OUT) */
 void buffer_evidence(const grader *g, item *it, sbuf *o, const cJSON *img, const char *dir,
                      const char *reldir, const job *graded, const char *own, bool ref_raster,
                      evidence *ev);

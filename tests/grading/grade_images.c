@@ -258,24 +258,13 @@ bool image_defects(sbuf *o, const ras_image *expected, const ras_image *got, boo
 
 /* ---------------------------------------------------------------- the picture and its reference */
 
-/* Reads the image a student's program wrote, refusing before any decoding
- * what is not a regular PNG file of the reference's size: a symlink, a FIFO,
- * a huge file or a decompression bomb costs nothing. */
-ras_image *load_student_image(const char *path, const char *ref_path, ras_error *err) {
+/* A PNG as taken from the sandbox: its header checked against the
+ * reference's size before any decoding. */
+static ras_image *decode_taken(const char *path, const char *ref_path, ras_error *err) {
     unsigned char head[24], rhead[24];
-    int fd = open(path, O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
-    struct stat st;
-    if (fd < 0) return ras_error_set(err, "no file at -o (%s)", strerror(errno)), NULL;
-    bool regular = fstat(fd, &st) == 0 && S_ISREG(st.st_mode);
-    ssize_t got = regular ? read(fd, head, sizeof head) : -1;
-    close(fd);
-    if (!regular) return ras_error_set(err, "the output is not a regular file"), NULL;
-    if (st.st_size > (64 << 20))
-        return ras_error_set(err,
-                             "the output is %lld bytes, over the 64 MiB a PNG of this size "
-                             "needs",
-                             (long long)st.st_size),
-               NULL;
+    int fd = open(path, O_RDONLY | O_NOFOLLOW | O_CLOEXEC);
+    ssize_t got = fd >= 0 ? read(fd, head, sizeof head) : -1;
+    if (fd >= 0) close(fd);
     FILE *rf = fopen(ref_path, "rb");
     size_t rgot = rf ? fread(rhead, 1, sizeof rhead, rf) : 0;
     if (rf) fclose(rf);
@@ -294,6 +283,29 @@ ras_image *load_student_image(const char *path, const char *ref_path, ras_error 
                NULL;
     }
     return ras_image_load(path, err);
+}
+
+/* The image a student's program wrote, taken (sandbox_take) into `taken` (a
+ * trusted path, removed again) and read from there: refused before any
+ * decoding when it is not a regular PNG file of the reference's size: a
+ * symlink, a FIFO, a huge file or a decompression bomb costs nothing. */
+ras_image *load_student_image(const char *path, const char *taken, const char *ref_path,
+                              ras_error *err) {
+    char dir[4096], why[300];
+    const char *slash = strrchr(path, '/');
+    fmt(dir, sizeof dir, "%.*s", slash ? (int)(slash - path) : 1, slash ? path : ".");
+    int dfd = sandbox_dir(dir, why, sizeof why);
+    bool took =
+        dfd >= 0 && sandbox_take(dfd, slash ? slash + 1 : path, taken, 64 << 20, why, sizeof why);
+    if (dfd >= 0) close(dfd);
+    if (!took) {
+        if (!strcmp(why, "it does not exist"))
+            return ras_error_set(err, "no file at -o (%s)", why), NULL;
+        return ras_error_set(err, "the output was refused: %s", why), NULL;
+    }
+    ras_image *img = decode_taken(taken, ref_path, err);
+    unlink(taken);
+    return img;
 }
 
 /* The comparison the rubric asks of an image; false for an unknown metric.
@@ -369,7 +381,7 @@ static bool variant_reference(picture *p) {
     /* in the work folder: a variant's reference is never handed out,
      * only the difference from it */
     variant_reference_path(p->g, p->dir, p->reldir, p->name, p->ref_path, sizeof p->ref_path);
-    fmt(ref_log, sizeof ref_log, "%s/%s.reference.log", p->dir, p->name);
+    fmt(ref_log, sizeof ref_log, "%s.log", p->ref_path); /* the work folder's too */
     if (p->whole && file_exists(p->ref_path)) return true;
     unlink(p->ref_path);
     run_result ref_rr =
@@ -431,6 +443,8 @@ static ras_image *picture_run(picture *p, const char *crash_hint) {
     fmt(prog_path, sizeof prog_path, "%s", p->j->store[14]);
     fmt(got_path, sizeof got_path, "%s/%s.got.png", p->dir, p->name);
     fmt(log_path, sizeof log_path, "%s", p->j->out_path);
+    char taken[4200];
+    fmt(taken, sizeof taken, "%s.taken.png", p->j->out_path); /* trusted: the work folder */
     unlink(got_path);
     run_result rr = file_exists(prog_path) ? p->j->rr : (run_result){RUN_NOT_STARTED, 0, 0};
     if (rr.kind == RUN_EXITED && rr.code > 128 && rr.code < 160) /* bwrap: 128 + signal */
@@ -438,8 +452,8 @@ static ras_image *picture_run(picture *p, const char *crash_hint) {
     if (rr.kind == RUN_SIGNALED && rr.code == SIGXCPU) /* its processor time ran out */
         rr = (run_result){RUN_TIMEOUT, 0, rr.seconds};
     p->rr = rr;
-    char *log = read_file(log_path, 16 * 1024);
-    if (p->sealed) unlink(log_path); /* what a sealed run printed stays out of OUT */
+    char *log = read_small_file(log_path, 16 * 1024);
+    if (p->sealed) unlink(log_path); /* what a sealed run printed is never kept */
     char *clean_raw = without_work_path(g->work, clean_output(log ? log : ""));
     char *clean = student_text(clean_raw, 3000);
     free(clean_raw);
@@ -461,7 +475,7 @@ static ras_image *picture_run(picture *p, const char *crash_hint) {
         it->status = xstrdup("CRASH");
         sb_printf(&p->o, "the program crashed with %s\nlikely mistake: %s\n", signal_text(rr.code),
                   crash_hint);
-    } else if (!(got = load_student_image(written, p->ref_path, &p->err))) {
+    } else if (!(got = load_student_image(written, taken, p->ref_path, &p->err))) {
         it->status = xstrdup("FAIL");
         sb_printf(&p->o, "the program exited with status %d and wrote no usable image: %s\n",
                   rr.code, p->err.msg);
@@ -491,26 +505,42 @@ typedef struct findings {
 
 /* The buffers' evidence (not for a stub's placeholder picture, which says
  * enough; at most EVIDENCE_MAX per grading: each costs two more renders),
- * and a defect within the metric's budget failed only where the buffers
- * place it in the graded assignment's code. */
+ * and a defect within the metric's budget: evidence or nothing. Only
+ * evidence that ran fully and acquits (every buffer matches, or the
+ * difference is in a stage this assignment's code does not make) keeps such
+ * a picture passing; withheld evidence fails it, and where none can be had
+ * (the budget spent, a reference without --dump) the picture decides. */
 static void picture_findings(picture *p, ras_compare_result *r, const ras_image *got,
                              const ras_image *expected, bool ref_raster, findings *f) {
     const grader *g = p->g;
     f->flat = is_flat(got) && !is_flat(expected);
     bool defect = !f->flat && image_defects(&f->defects, expected, got, true);
     memset(&f->ev, 0, sizeof f->ev);
-    if ((!r->pass || defect) && p->rr.kind == RUN_EXITED && !p->todo &&
-        g->evidence_runs < EVIDENCE_MAX && !getenv("RAS_GRADE_NO_BUFFERS")) {
-        ((grader *)g)->evidence_runs++;
-        buffer_evidence(g, p->it, &f->bufs, p->img, p->dir, p->reldir, p->j,
-                        p->sealed ? p->j->extra_ro : NULL, ref_raster, &f->ev);
+    if ((!r->pass || defect) && p->rr.kind == RUN_EXITED && !p->todo) {
+        if (g->evidence_runs >= EVIDENCE_MAX || getenv("RAS_GRADE_NO_BUFFERS")) {
+            f->ev.kind = EVIDENCE_BUDGET;
+        } else {
+            ((grader *)g)->evidence_runs++;
+            buffer_evidence(g, p->it, &f->bufs, p->img, p->dir, p->reldir, p->j,
+                            p->sealed ? p->j->extra_ro : NULL, ref_raster, &f->ev);
+        }
     }
     const evidence *ev = &f->ev;
+    if (ev->kind == EVIDENCE_WITHHELD && r->pass) {
+        r->pass = false;
+        sb_add(&p->o, "(within the metric's budget, but the buffers that would clear it were "
+                      "not given: charged)\n");
+        return;
+    }
+    if (!(r->pass && defect)) return;
     bool placed = ev->ran && *ev->stage && strcmp(ev->stage, "colour") &&
                   (p->whole || (ev->owner && !strcmp(ev->owner, p->a->id))) &&
                   /* the shader's own colours are judged by the metric alone */
                   !(!strcmp(ev->stage, "sample_colour") && !strcmp(ev->owner, "hw3"));
-    if (!(r->pass && defect)) return;
+    /* a sealed run's earlier stages are the reference's code: a difference
+     * placed there did not come from it, so it clears nothing */
+    bool impossible = ev->ran && p->sealed && !p->whole && !placed && *ev->stage &&
+                      strcmp(ev->stage, "colour") && ev->owner && strcmp(ev->owner, p->a->id);
     if (placed) {
         r->pass = false;
         sb_printf(&p->o,
@@ -518,14 +548,23 @@ static void picture_findings(picture *p, ras_compare_result *r, const ras_image 
                   "the reference's and the picture shows the defect below: "
                   "your %s code, not a match)\n",
                   ev->stage, ev->owner);
+    } else if (!ev->ran || impossible) {
+        r->pass = false;
+        sb_printf(&p->o,
+                  "(within the metric's budget, but the picture shows the defect below and "
+                  "%s: decided by the picture, charged)\n",
+                  impossible ? "the buffers place it in a stage this run takes from the "
+                               "reference, which cannot make it"
+                  : ev->kind == EVIDENCE_BUDGET
+                      ? "this grading's buffer comparisons are spent"
+                      : "the reference program here has no buffers to compare");
     } else {
         sb_printf(&p->o,
                   "(the picture shows a defect, but %s: within the metric's "
                   "budget, not charged)\n",
-                  !ev->ran                       ? "no buffer evidence places it"
-                  : !strcmp(ev->stage, "colour") ? "every buffer matches the reference's"
-                                                 : "the buffers place it outside this "
-                                                   "assignment's code");
+                  !strcmp(ev->stage, "colour") ? "every buffer matches the reference's"
+                                               : "the buffers place it outside this "
+                                                 "assignment's code");
         free(f->defects.s);
         f->defects = (sbuf){0};
     }

@@ -21,8 +21,10 @@ bool grade_image(const grader *g, assignment_result *a, const cJSON *img, const 
 /* the comparison the rubric asks of img (the catalogue's thresholds) */
 bool image_options(const grader *g, const cJSON *img, ras_compare_kind *kind,
                    ras_compare_options *opt, ras_error *err);
-/* the picture a student's program wrote: a regular PNG of the reference's size, or NULL */
-ras_image *load_student_image(const char *path, const char *ref_path, ras_error *err);
+/* the picture a student's program wrote (taken through a trusted copy at
+ * `taken`, removed again): a regular PNG of the reference's size, or NULL */
+ras_image *load_student_image(const char *path, const char *taken, const char *ref_path,
+                              ras_error *err);
 /* a dark seam, a wrong line, speckle: one line each into o; whether any */
 bool image_defects(sbuf *o, const ras_image *expected, const ras_image *got, bool causes);
 /* where a variant's reference, rendered at grading time, is kept */

@@ -58,6 +58,8 @@ typedef struct job {
     struct job *then;
     void (*between)(const struct job *j, void *arg);
     void *between_arg;
+    /* and after `then`, with between_arg (NULL: nothing) */
+    void (*after)(const struct job *j, void *arg);
 } job;
 
 /* ---------------------------------------------------------------- results */

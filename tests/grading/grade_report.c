@@ -405,15 +405,16 @@ static void report_md_picture(FILE *f, const item *it) {
                 "\nWorst region (reference | yours | difference):\n\n"
                 "![worst region](%s)\n",
                 it->img_crop);
-    if (it->buf_name && it->buf_ref)
+    if (it->buf_name && (it->buf_ref || it->buf_got)) /* a variant's: no reference */
         fprintf(f,
                 "\nThe first buffer that differs, **%s** (reference | yours | "
-                "difference):\n\n| ![reference](%s) | %s%s%s | %s%s%s |\n|---|---|---|"
+                "difference):\n\n| %s%s%s | %s%s%s | %s%s%s |\n|---|---|---|"
                 "\n",
-                it->buf_name, it->buf_ref, it->buf_got ? "![yours](" : "",
-                it->buf_got ? it->buf_got : "", it->buf_got ? ")" : "",
-                it->buf_diff ? "![difference](" : "", it->buf_diff ? it->buf_diff : "",
-                it->buf_diff ? ")" : "");
+                it->buf_name, it->buf_ref ? "![reference](" : "(drawn for this grading: not shown)",
+                it->buf_ref ? it->buf_ref : "", it->buf_ref ? ")" : "",
+                it->buf_got ? "![yours](" : "", it->buf_got ? it->buf_got : "",
+                it->buf_got ? ")" : "", it->buf_diff ? "![difference](" : "",
+                it->buf_diff ? it->buf_diff : "", it->buf_diff ? ")" : "");
     report_fenced(f, it->output ? it->output : "");
 }
 

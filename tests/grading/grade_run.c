@@ -147,6 +147,7 @@ void run_jobs(job *jobs, int n, int parallel) {
                     j->rr = rr[0];
                     if (j->between) j->between(j, j->between_arg);
                     rr[1] = run_limited(t->argv, t->env, t->out_path, t->limit, t->mem_mb);
+                    if (j->after) j->after(j, j->between_arg);
                 }
                 size_t want = (t ? 2 : 1) * sizeof rr[0];
                 ssize_t w = write(p[1], rr, want);
@@ -374,7 +375,15 @@ void image_job(const grader *g, const cJSON *img, const char *dir, job *j, const
     fmt(j->store[15], sizeof j->store[15], "%s/out.png", j->rw);
     j->argv[n++] = j->store[15];
     j->argv[n] = NULL;
-    fmt(j->out_path, sizeof j->out_path, "%s/%s%s.log", dir, str_or(img, "name", "image"), tag);
+    /* the log in the work folder, where no sandboxed run writes: a sealed
+     * run's output is never handed out, and OUT holds only what the report
+     * shows (it quotes what the program printed) */
+    char logs[4200];
+    fmt(logs, sizeof logs, "%s/logs", g->work);
+    trusted_dir(logs);
+    fmt(j->out_path, sizeof j->out_path, "%s/%d-%s%s.log", logs, g->runs - 1,
+        str_or(img, "name", "image"), tag);
+    (void)dir;
 }
 
 /* The trusted reference program, outside the sandbox: `args` as drawn for
@@ -397,33 +406,66 @@ run_result reference_render(const grader *g, const char *program, const cJSON *a
 
 /* ---------------------------------------------------------------- the tests' chunks */
 
-/* What the sandbox reported for tests whose process never wrote a fate (the
- * whole worker died or was stopped) is the worker's own end; run between a
- * chunk's worker and its replay (job.between), in run_jobs' child. */
+/* What the trusted replay of a chunk reads comes through sandbox_take: each
+ * test's record (NAME.calls) and fate (NAME.fate) copied from the worker's
+ * folder into `calls_dir`, a folder of the work folder no sandboxed run can
+ * write, which the replay is given (RAS_EACH_CALLS) instead of the worker's.
+ * A test whose process never wrote a fate (the whole worker died or was
+ * stopped), or wrote one that is refused, gets the worker's own end, there
+ * and in the worker's folder (grade_tests.c reads it there through
+ * read_small). Run between a chunk's worker and its replay (job.between), in
+ * run_jobs' child, when no sandboxed process of the worker is left. */
 typedef struct chunk_fates {
     const name_list *names;
     int chunk, chunks;
     const char *xml_dir;
+    char calls_dir[4200];
 } chunk_fates;
+
+/* The record cap (RAS_RECORD_CAP_MB) and its header. */
+#define RECORD_MAX (((size_t)256 << 20) + 4096)
+
+/* `fate` written new as `name` in the folder dir_fd (never through a link). */
+static void write_fate(int dir_fd, const char *name, const char *fate) {
+    unlinkat(dir_fd, name, 0);
+    int fd = openat(dir_fd, name, O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
+    if (fd < 0) return;
+    ssize_t w = write(fd, fate, strlen(fate)); /* short: a shorter fate, still a failure */
+    (void)w;
+    close(fd);
+}
+
+/* The replay has read them: the copies go (a chunk's records can be hundreds of MB). */
+static void records_done(const job *w, void *arg) {
+    (void)w;
+    remove_tree(((const chunk_fates *)arg)->calls_dir);
+}
 
 static void worker_fates(const job *w, void *arg) {
     const chunk_fates *cf = arg;
+    char why[300];
+    int rw = sandbox_dir(w->rw, why, sizeof why);
+    int calls = open(cf->calls_dir, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
     for (int i = cf->chunk; i < cf->names->n; i += cf->chunks) {
-        char fate_path[4400], fate[200];
-        fmt(fate_path, sizeof fate_path, "%s/%s.fate", w->rw, cf->names->v[i]);
-        struct stat st;
-        if (lstat(fate_path, &st) != 0) {
-            fate_text(w->rr, w->limit, fate, sizeof fate);
-            FILE *f = fopen(fate_path, "w");
-            if (f) {
-                fprintf(f, "(the whole test program) %s", fate);
-                fclose(f);
-            }
+        const char *test = cf->names->v[i];
+        char name[4300], dest[8600], fate[300], own_end[200];
+        fmt(name, sizeof name, "%s.calls", test);
+        fmt(dest, sizeof dest, "%s/%s", cf->calls_dir, name);
+        if (rw >= 0) sandbox_take(rw, name, dest, RECORD_MAX, why, sizeof why);
+        fmt(name, sizeof name, "%s.fate", test);
+        fmt(dest, sizeof dest, "%s/%s", cf->calls_dir, name);
+        if (rw < 0 || !sandbox_take(rw, name, dest, 4096, why, sizeof why)) {
+            fate_text(w->rr, w->limit, own_end, sizeof own_end);
+            fmt(fate, sizeof fate, "(the whole test program) %s", own_end);
+            if (rw >= 0) write_fate(rw, name, fate);
+            if (calls >= 0) write_fate(calls, name, fate);
         }
         char xml_path[4400];
-        fmt(xml_path, sizeof xml_path, "%s/%s.xml", cf->xml_dir, cf->names->v[i]);
+        fmt(xml_path, sizeof xml_path, "%s/%s.xml", cf->xml_dir, test);
         unlink(xml_path);
     }
+    if (rw >= 0) close(rw);
+    if (calls >= 0) close(calls);
 }
 
 static void tests_jobs(const grader *g, test_batch *b);
@@ -532,7 +574,16 @@ static void tests_jobs(const grader *g, test_batch *b) {
         if (lf) fclose(lf);
         fmt(r->store[1], sizeof r->store[1], "RAS_EACH_NAMES=%s", r->store[0]);
         fmt(r->store[2], sizeof r->store[2], "RAS_EACH_OUT=%s", xml_dir);
-        fmt(r->store[3], sizeof r->store[3], "RAS_EACH_CALLS=%s", w->rw);
+        fates[c] = (chunk_fates){names, c, chunks, xml_dir, ""};
+        /* beside the run folders (their filesystem: the records are linked,
+         * not copied), a folder of the trusted side's own */
+        fmt(fates[c].calls_dir, sizeof fates[c].calls_dir, "%s/runs/records-%d", g->work,
+            g->runs - 1);
+        if (!fresh_trusted_dir(fates[c].calls_dir))
+            fprintf(stderr,
+                    "raster101-grade: cannot make %s: the replay of chunk %d finds no record\n",
+                    fates[c].calls_dir, c);
+        fmt(r->store[3], sizeof r->store[3], "RAS_EACH_CALLS=%s", fates[c].calls_dir);
         fmt(r->store[4], sizeof r->store[4], "RAS_EACH_LIMIT=%.0f", g->test_limit + 20);
         fmt(r->store[5], sizeof r->store[5], "RAS_EACH_WALL=%.0f", test_wall(g) + 20);
         r->env[0] = r->store[1];
@@ -549,9 +600,9 @@ static void tests_jobs(const grader *g, test_batch *b) {
         r->mem_mb = g->mem_mb;
         fmt(r->out_path, sizeof r->out_path, "%s/replay%d.out", xml_dir, c);
         /* 3. each chunk's replay as soon as its own worker has ended */
-        fates[c] = (chunk_fates){names, c, chunks, xml_dir};
         w->then = r;
         w->between = worker_fates;
         w->between_arg = &fates[c];
+        w->after = records_done;
     }
 }
