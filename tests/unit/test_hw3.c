@@ -932,6 +932,19 @@ static ras_scene *model_scene(const char *model, const char *texture, bool fit,
     return NULL;
 }
 
+/* A quad's scene drawn with the texture shader at 64 x 64 and the hand-made
+ * projection; NULL, said in err, when hw3_render fails. */
+static ras_image *quad_frame(ras_scene *s, ras_scene_assets *a, ras_counters *k, ras_error *err) {
+    s->width = s->height = 64;
+    hw3_render_options opt = hw3_render_defaults();
+    opt.shader = RAS_SHADER_TEXTURE;
+    opt.projection = hand_projection;
+    ras_image *img = ras_image_create(64, 64, NULL);
+    if (img && hw3_render(s, a, &opt, img, k, err)) return img;
+    ras_image_destroy(img);
+    return NULL;
+}
+
 /* The quad of the test wound the other way (so the scene's lights reach
  * its front after the scene's turn: the other way it shows only ambient,
  * which has no kd), u along x, with a texture red for u < 0.5 and blue
@@ -956,13 +969,9 @@ static void expect_quad_textured(const char *dir) {
     ras_scene_assets *a = NULL;
     ras_scene *s = model_scene(quad, tex_path, true, &a, &err);
     CHECK(s, "the quad with the texture %s should load: %s", tex_path, err.msg);
-    s->width = s->height = 64;
-    hw3_render_options opt = hw3_render_defaults();
-    opt.shader = RAS_SHADER_TEXTURE;
-    opt.projection = hand_projection;
-    ras_image *img = ras_image_create(64, 64, NULL);
     ras_counters k;
-    CHECK(hw3_render(s, a, &opt, img, &k, &err), "render the textured quad: %s", err.msg);
+    ras_image *img = quad_frame(s, a, &k, &err);
+    CHECK(img, "render the textured quad: %s", err.msg);
     /* the quad fills the middle of the frame: a quarter in from each side */
     vec3s left = ras_image_get(img, 20, 32), right = ras_image_get(img, 44, 32);
     bool left_red = left.x > left.z, right_red = right.x > right.z;
@@ -1007,13 +1016,9 @@ static void test_scene_model_errors_and_quads(void **state) {
     CHECK(s, "a quad OBJ without normals should load: %s", err.msg);
     CHECK(a->meshes[0]->triangle_count == 2, "the quad should become 2 triangles, got %zu",
           a->meshes[0]->triangle_count);
-    s->width = s->height = 64;
-    hw3_render_options opt = hw3_render_defaults();
-    opt.shader = RAS_SHADER_TEXTURE;
-    opt.projection = hand_projection;
-    ras_image *img = ras_image_create(64, 64, NULL);
     ras_counters k;
-    CHECK(hw3_render(s, a, &opt, img, &k, &err), "render the quad: %s", err.msg);
+    ras_image *img = quad_frame(s, a, &k, &err);
+    CHECK(img, "render the quad: %s", err.msg);
     CHECK(hw3_fragments(&k, RAS_SHADER_TEXTURE) > 500,
           "the fitted quad should cover much of a 64x64 frame; %llu fragments shaded",
           (unsigned long long)hw3_fragments(&k, RAS_SHADER_TEXTURE));
