@@ -40,7 +40,8 @@ typedef struct batch {
     int n_tests, n_runs;
     int *whole_at;
     bool *sealed;
-    bool has_own; /* an own-code link was made for the assignment: each image with points needs it */
+    bool
+        has_own; /* an own-code link was made for the assignment: each image with points needs it */
 } batch;
 
 /* The integration item of an image with points whose whole-chain check
@@ -70,8 +71,8 @@ static void integration_not_run(const grader *g, grading *gr, const cJSON *img, 
 
 /* The batch's jobs: the tests' chunks (tests, n_tests of them), then each
  * image's runs, its variant's arguments drawn for this grading. */
-static void batch_make(grader *g, const char *id, const cJSON *images, const char *dir,
-                       const test_batch *tests, int n_tests, batch *b) {
+static void batch_make(grader *g, const char *id, const cJSON *images, const test_batch *tests,
+                       int n_tests, batch *b) {
     int n_img = cJSON_GetArraySize(images);
     b->n_tests = n_tests;
     job *all = b->all = calloc((size_t)n_tests + 2 * (size_t)n_img + 1, sizeof *all);
@@ -91,12 +92,12 @@ static void batch_make(grader *g, const char *id, const cJSON *images, const cha
         char p[4300];
         fmt(p, sizeof p, "%s/bin/%s", own, str_or(img, "program", ""));
         sealed[i] = has_own && file_exists(p);
-        image_job(g, img, dir, &runs[i], sealed[i] ? own : NULL, "");
+        image_job(g, img, &runs[i], sealed[i] ? own : NULL, "");
         whole_at[i] = -1;
         if (sealed[i] && num_or(img, "points", g->default_points) > 0) {
             whole_at[i] = n_runs;
             runs[n_runs].args = runs[i].args;
-            image_job(g, img, dir, &runs[n_runs++], NULL, ".whole");
+            image_job(g, img, &runs[n_runs++], NULL, ".whole");
         }
     }
     b->n_runs = n_runs;
@@ -123,8 +124,10 @@ static void judge_pictures(grader *g, grading *gr, assignment_result *a, const c
             if (!a->note || !strstr(a->note, "could not be linked")) {
                 free(a->note);
                 sbuf n = {0};
-                sb_printf(&n, "%s: its pictures ran on your whole chain, and their "
-                          "whole-chain points score 0", why);
+                sb_printf(&n,
+                          "%s: its pictures ran on your whole chain, and their "
+                          "whole-chain points score 0",
+                          why);
                 a->note = n.s;
             }
         }
@@ -155,7 +158,7 @@ static void run_and_judge(grader *g, grading *gr, assignment_result *a, const cJ
         a->note = xstrdup("no test program built; images only");
     int n_tests = has_tests ? tests.chunks : 0;
     batch b;
-    batch_make(g, id, cJSON_GetObjectItemCaseSensitive(asg, "images"), dir, &tests, n_tests, &b);
+    batch_make(g, id, cJSON_GetObjectItemCaseSensitive(asg, "images"), &tests, n_tests, &b);
     double t_runs = now_s();
     run_jobs(b.all, n_tests + b.n_runs, g->jobs);
     profile("tests and images: sandboxed runs", id, t_runs);
@@ -207,7 +210,8 @@ void grade_assignment(grader *g, grading *gr, const cJSON *asg) {
     if (failed_log || (!file_exists(test_bin) && !built_program)) {
         /* nothing of it runs: neither do its images' whole-chain checks */
         char own[4096], why[200];
-        fmt(why, sizeof why, "your %s code %s", id, failed_log ? "does not compile" : "was not built");
+        fmt(why, sizeof why, "your %s code %s", id,
+            failed_log ? "does not compile" : "was not built");
         const cJSON *images = cJSON_GetObjectItemCaseSensitive(asg, "images");
         if (own_dir(g, id, NULL, own, sizeof own))
             for (const cJSON *img = images ? images->child : NULL; img; img = img->next)

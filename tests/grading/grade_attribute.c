@@ -90,7 +90,7 @@ void attribute_image(grader *g, item *it, const cJSON *img, const char *dir, con
             if (!file_exists(prog)) continue;
             fmt(tag, sizeof tag, ".ref%s", refs);
             subs[m].args = graded->args;
-            image_job(g, img, dir, &subs[m], own, tag);
+            image_job(g, img, &subs[m], own, tag);
             ran[k] = true;
             m++;
         }

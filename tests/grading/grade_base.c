@@ -174,6 +174,19 @@ int sandbox_dir(const char *path, char *why, size_t n) {
     return fd;
 }
 
+int sandbox_dir_of(const char *path, const char **name, char *why, size_t n) {
+    char dir[4096];
+    const char *slash = strrchr(path, '/');
+    if (!slash)
+        fmt(dir, sizeof dir, ".");
+    else if (slash == path)
+        fmt(dir, sizeof dir, "/");
+    else
+        fmt(dir, sizeof dir, "%.*s", (int)(slash - path), path);
+    *name = slash ? slash + 1 : path;
+    return sandbox_dir(dir, why, n);
+}
+
 int sandbox_open(int dir_fd, const char *name, long long *size, char *why, size_t n) {
     if (!*name || strchr(name, '/') || !strcmp(name, ".") || !strcmp(name, "..")) {
         fmt(why, n, "not a plain file name");
@@ -249,13 +262,11 @@ bool sandbox_take(int dir_fd, const char *name, const char *dest, size_t max_byt
  * planted there, nor a link as its folder), at most `limit` bytes of it.
  * NULL when there is none. */
 char *read_small_file(const char *path, size_t limit) {
-    char dir[4096], why[200];
-    const char *slash = strrchr(path, '/');
-    fmt(dir, sizeof dir, "%.*s", slash ? (int)(slash - path) : 1, slash ? path : ".");
-    if (slash == path) fmt(dir, sizeof dir, "/");
-    int dfd = sandbox_dir(dir, why, sizeof why);
+    char why[200];
+    const char *name;
+    int dfd = sandbox_dir_of(path, &name, why, sizeof why);
     long long size = 0;
-    int fd = dfd >= 0 ? sandbox_open(dfd, slash ? slash + 1 : path, &size, why, sizeof why) : -1;
+    int fd = dfd >= 0 ? sandbox_open(dfd, name, &size, why, sizeof why) : -1;
     if (dfd >= 0) close(dfd);
     if (fd < 0) return NULL;
     sbuf b = {0};

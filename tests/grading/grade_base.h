@@ -54,6 +54,8 @@ void remove_tree(const char *path);
 
 /* A folder the sandbox wrote (its last component no link): its descriptor, or -1 and why. */
 int sandbox_dir(const char *path, char *why, size_t n);
+/* The folder of path, as sandbox_dir, and *name its last component (in path). */
+int sandbox_dir_of(const char *path, const char **name, char *why, size_t n);
 /* File `name` (one component) of that folder: its descriptor and *size, or -1 and why. */
 int sandbox_open(int dir_fd, const char *name, long long *size, char *why, size_t n);
 /* File `name` of the folder dir_fd taken to dest (a trusted folder): the

@@ -140,7 +140,6 @@ __attribute__((format(printf, 2, 3))) static void withheld(evidence *ev, const c
     vsnprintf(ev->withheld, sizeof ev->withheld, f, ap);
     va_end(ap);
     ev->kind = EVIDENCE_WITHHELD;
-    ev->ran = false;
 }
 
 /* The trusted reference program's frame of the picture, with --dump into
@@ -166,11 +165,11 @@ static bool reference_dump(const grader *g, const cJSON *img, const job *graded,
  * folder's dump/, dj->store[13]) and --stats, in the sandbox; false, with ev
  * withheld, when it did not end normally: a run that fails when asked for
  * its buffers gives no evidence, and no evidence clears nothing. */
-static bool student_dump(const grader *g, const cJSON *img, const char *dir, const job *graded,
-                         const char *own, job *dj, evidence *ev) {
+static bool student_dump(const grader *g, const cJSON *img, const job *graded, const char *own,
+                         job *dj, evidence *ev) {
     memset(dj, 0, sizeof *dj);
     dj->args = graded->args;
-    image_job(g, img, dir, dj, own, own ? ".own-dump" : ".dump");
+    image_job(g, img, dj, own, own ? ".own-dump" : ".dump");
     int k = 0;
     while (dj->argv[k])
         k++;
@@ -403,10 +402,9 @@ void buffer_evidence(const grader *g, item *it, sbuf *o, const cJSON *img, const
     memset(&dj, 0, sizeof dj);
     if (!reference_dump(g, img, graded, &d)) {
         ev->kind = EVIDENCE_NO_REFERENCE; /* no --dump here: the picture decides */
-    } else if (student_dump(g, img, dir, graded, own, &dj, ev) &&
+    } else if (student_dump(g, img, graded, own, &dj, ev) &&
                take_student_dump(dj.store[13], &d, ev)) {
         ev->kind = EVIDENCE_RAN;
-        ev->ran = true;
         blank_evidence(&dj, d.got, ev);
         compare_dumps(it, o, img, dir, reldir, own, ref_raster, &d, ev);
     }

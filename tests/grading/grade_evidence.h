@@ -28,7 +28,6 @@ typedef enum evidence_kind {
  * attributes -> per-sample colour -> resolved colour. */
 typedef struct evidence {
     evidence_kind kind;
-    bool ran;           /* kind == EVIDENCE_RAN */
     char withheld[600]; /* EVIDENCE_WITHHELD: why, in a sentence for the student */
     char stage[24];     /* the first buffer that differs; "colour": every buffer
                          * matches and only the colours differ */
@@ -37,6 +36,9 @@ typedef struct evidence {
     bool blank;         /* the student's frame covered no sample */
     char why_blank[400];
 } evidence;
+
+/* whether both frames were dumped and compared (only such evidence can clear a picture) */
+static inline bool evidence_ran(const evidence *ev) { return ev->kind == EVIDENCE_RAN; }
 
 /* ev from the two --dump runs of img (graded: its graded run, for the
  * arguments; own: the own-code link of a sealed run, NULL otherwise), said

@@ -87,8 +87,8 @@ static void image_signatures(sbuf *o, const ras_image *expected, const ras_image
                              const ras_compare_options *opt, const cJSON *args, const evidence *ev,
                              bool raster_causes) {
     if (is_flat(got) && !is_flat(expected)) return; /* "nothing was drawn" says it */
-    bool geometry = !ev->ran || !strcmp(ev->stage, "vertices") || !strcmp(ev->stage, "coverage") ||
-                    !strcmp(ev->stage, "depth");
+    bool geometry = !evidence_ran(ev) || !strcmp(ev->stage, "vertices") ||
+                    !strcmp(ev->stage, "coverage") || !strcmp(ev->stage, "depth");
     ras_image *flipped = geometry ? flip_rows(got) : NULL;
     ras_compare_result fr;
     ras_error err;
@@ -137,7 +137,7 @@ static void image_signatures(sbuf *o, const ras_image *expected, const ras_image
                   "note: your image is brighter than the reference on average (mean luma "
                   "%.4f vs %.4f)%s\n",
                   lg, le,
-                  lit && (!ev->ran || !ev->owner || !strcmp(ev->owner, "hw3"))
+                  lit && (!evidence_ran(ev) || !ev->owner || !strcmp(ev->owner, "hw3"))
                       ? ": light added twice (ambient once per light?)"
                       : "");
 }
@@ -291,12 +291,10 @@ static ras_image *decode_taken(const char *path, const char *ref_path, ras_error
  * symlink, a FIFO, a huge file or a decompression bomb costs nothing. */
 ras_image *load_student_image(const char *path, const char *taken, const char *ref_path,
                               ras_error *err) {
-    char dir[4096], why[300];
-    const char *slash = strrchr(path, '/');
-    fmt(dir, sizeof dir, "%.*s", slash ? (int)(slash - path) : 1, slash ? path : ".");
-    int dfd = sandbox_dir(dir, why, sizeof why);
-    bool took =
-        dfd >= 0 && sandbox_take(dfd, slash ? slash + 1 : path, taken, 64 << 20, why, sizeof why);
+    char why[300];
+    const char *name;
+    int dfd = sandbox_dir_of(path, &name, why, sizeof why);
+    bool took = dfd >= 0 && sandbox_take(dfd, name, taken, 64 << 20, why, sizeof why);
     if (dfd >= 0) close(dfd);
     if (!took) {
         if (!strcmp(why, "it does not exist"))
@@ -454,7 +452,8 @@ static ras_image *picture_run(picture *p, const char *crash_hint) {
     p->rr = rr;
     char *log = read_small_file(log_path, 16 * 1024);
     if (p->sealed) unlink(log_path); /* what a sealed run printed is never kept */
-    char *clean_raw = without_work_path(g->work, clean_output(log ? log : ""));
+    /* (student_text writes the grader's folders as WORK, ...) */
+    char *clean_raw = clean_output(log ? log : "");
     char *clean = student_text(clean_raw, 3000);
     free(clean_raw);
     free(log);
@@ -533,13 +532,13 @@ static void picture_findings(picture *p, ras_compare_result *r, const ras_image 
         return;
     }
     if (!(r->pass && defect)) return;
-    bool placed = ev->ran && *ev->stage && strcmp(ev->stage, "colour") &&
+    bool placed = evidence_ran(ev) && *ev->stage && strcmp(ev->stage, "colour") &&
                   (p->whole || (ev->owner && !strcmp(ev->owner, p->a->id))) &&
                   /* the shader's own colours are judged by the metric alone */
                   !(!strcmp(ev->stage, "sample_colour") && !strcmp(ev->owner, "hw3"));
     /* a sealed run's earlier stages are the reference's code: a difference
      * placed there did not come from it, so it clears nothing */
-    bool impossible = ev->ran && p->sealed && !p->whole && !placed && *ev->stage &&
+    bool impossible = evidence_ran(ev) && p->sealed && !p->whole && !placed && *ev->stage &&
                       strcmp(ev->stage, "colour") && ev->owner && strcmp(ev->owner, p->a->id);
     if (placed) {
         r->pass = false;
@@ -548,7 +547,7 @@ static void picture_findings(picture *p, ras_compare_result *r, const ras_image 
                   "the reference's and the picture shows the defect below: "
                   "your %s code, not a match)\n",
                   ev->stage, ev->owner);
-    } else if (!ev->ran || impossible) {
+    } else if (!evidence_ran(ev) || impossible) {
         r->pass = false;
         sb_printf(&p->o,
                   "(within the metric's budget, but the picture shows the defect below and "
@@ -581,7 +580,7 @@ static void picture_first_cause(picture *p, const findings *f) {
                                  : " (are the TODOs written? do the matrices put the "
                                    "scene in front of the camera?)",
                   ev->why_blank);
-    else if (ev->ran && *ev->stage && strcmp(ev->stage, "colour")) {
+    else if (evidence_ran(ev) && *ev->stage && strcmp(ev->stage, "colour")) {
         const char *line = strstr(sb_str(&f->bufs), "buffers: the first that differs is ");
         if (line) {
             line += strlen("buffers: the first that differs is ");
@@ -609,7 +608,7 @@ static void picture_failure(picture *p, const ras_compare_result *r, const ras_i
     sb_add(&p->o, sb_str(&f->bufs));
     /* rasterizer and resolve causes only where those stages are
      * the student's and the buffers do not acquit them */
-    bool raster_causes = !ref_raster && (!f->ev.ran || f->ev.rasterizer);
+    bool raster_causes = !ref_raster && (!evidence_ran(&f->ev) || f->ev.rasterizer);
     if (!f->flat && raster_causes)
         sb_add(&p->o, sb_str(&f->defects));
     else if (!f->flat && f->defects.len) {

@@ -205,28 +205,34 @@ static int expect_status(const char *expect, double total, double max_total) {
  * folders, and OUT is what a student may be handed. So each is rewritten
  * as safe text (grade_text.h), its first 8 MiB; the reports have quoted
  * from them already. */
+static void rewrite_as_safe_text(const char *path) {
+    char *raw = read_small_file(path, 8u << 20);
+    if (!raw) return;
+    char *safe = safe_text(raw, 8u << 20);
+    free(raw);
+    char tmp[4500];
+    fmt(tmp, sizeof tmp, "%s.safe", path);
+    FILE *f = fopen(tmp, "wb");
+    bool ok = f && fputs(safe, f) >= 0;
+    if (f && fclose(f) != 0) ok = false;
+    if (!ok || rename(tmp, path) != 0) {
+        unlink(tmp);
+        unlink(path); /* never left as the compiler wrote it */
+    }
+    free(safe);
+}
+
 static void safe_build_logs(const grader *g, const assignment_result *as, int n) {
-    char path[4400], tmp[4500];
-    for (int i = -4; i < n; i++) {
-        static const char *const top[] = {"build.log", "build-all.log", "build-own.log",
-                                          "build-sanitized.log"};
-        if (i < 0)
-            fmt(path, sizeof path, "%s/%s", g->out, top[i + 4]);
-        else
-            fmt(path, sizeof path, "%s/%s/build.log", g->out, as[i].id);
-        char *raw = read_small_file(path, 8u << 20);
-        if (!raw) continue;
-        char *safe = safe_text(raw, 8u << 20);
-        free(raw);
-        fmt(tmp, sizeof tmp, "%s.safe", path);
-        FILE *f = fopen(tmp, "wb");
-        bool ok = f && fputs(safe, f) >= 0;
-        if (f && fclose(f) != 0) ok = false;
-        if (!ok || rename(tmp, path) != 0) {
-            unlink(tmp);
-            unlink(path); /* never left as the compiler wrote it */
-        }
-        free(safe);
+    static const char *const top[] = {"build.log", "build-all.log", "build-own.log",
+                                      "build-sanitized.log"};
+    char path[4400];
+    for (size_t i = 0; i < sizeof top / sizeof *top; i++) {
+        fmt(path, sizeof path, "%s/%s", g->out, top[i]);
+        rewrite_as_safe_text(path);
+    }
+    for (int i = 0; i < n; i++) {
+        fmt(path, sizeof path, "%s/%s/build.log", g->out, as[i].id);
+        rewrite_as_safe_text(path);
     }
 }
 

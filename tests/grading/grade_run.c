@@ -360,8 +360,7 @@ void worker_job(const grader *g, job *w, const char *bin, const char *own, const
 /* The sandboxed run of an image's program: -o into its own run folder.
  * `own`: an own-code link holding the program (then also bound read-only);
  * NULL: the student's build (the whole chain). `tag` names the log. */
-void image_job(const grader *g, const cJSON *img, const char *dir, job *j, const char *own,
-               const char *tag) {
+void image_job(const grader *g, const cJSON *img, job *j, const char *own, const char *tag) {
     const cJSON *args = j->args;
     fmt(j->extra_ro, sizeof j->extra_ro, "%s", own ? own : "");
     int n = sandbox_job(g, j, g->render_limit, NULL); /* processor seconds (--cpu-s) */
@@ -383,7 +382,6 @@ void image_job(const grader *g, const cJSON *img, const char *dir, job *j, const
     trusted_dir(logs);
     fmt(j->out_path, sizeof j->out_path, "%s/%d-%s%s.log", logs, g->runs - 1,
         str_or(img, "name", "image"), tag);
-    (void)dir;
 }
 
 /* The trusted reference program, outside the sandbox: `args` as drawn for
@@ -470,14 +468,21 @@ static void worker_fates(const job *w, void *arg) {
 
 static void tests_jobs(const grader *g, test_batch *b);
 
-bool tests_prepare(const grader *g, assignment_result *a, const char *dir, test_batch *b) {
+/* A new batch of a's tests: its verdicts' folder DIR/XML, the trusted
+ * replay, and the worker of the student's own build (the whole chain). */
+static void batch_begin(const grader *g, const assignment_result *a, const char *dir,
+                        const char *xml, test_batch *b) {
     memset(b, 0, sizeof *b);
+    fmt(b->xml_dir, sizeof b->xml_dir, "%s/%s", dir, xml);
+    mkdirs(b->xml_dir);
+    fmt(b->replay_bin, sizeof b->replay_bin, "%s/tests/test_%s_replay", g->build, a->id);
+    fmt(b->worker_bin, sizeof b->worker_bin, "%s/tests/test_%s_worker", g->student_build, a->id);
+}
+
+bool tests_prepare(const grader *g, assignment_result *a, const char *dir, test_batch *b) {
+    batch_begin(g, a, dir, "xml", b);
     char out_path[4096], *replay_bin = b->replay_bin, *worker_bin = b->worker_bin;
-    char *xml_dir = b->xml_dir, *own = b->own;
-    fmt(xml_dir, sizeof b->xml_dir, "%s/xml", dir);
-    mkdirs(xml_dir);
-    fmt(replay_bin, sizeof b->replay_bin, "%s/tests/test_%s_replay", g->build, a->id);
-    fmt(worker_bin, sizeof b->worker_bin, "%s/tests/test_%s_worker", g->student_build, a->id);
+    char *own = b->own;
     /* On its own code: the worker linked with the earlier references. It holds
      * reference code, so it is sealed: what it printed is not shown. */
     char own_worker[4200];
@@ -523,11 +528,7 @@ bool tests_prepare(const grader *g, assignment_result *a, const char *dir, test_
 
 bool tests_prepare_whole_chain(const grader *g, assignment_result *a, const char *dir,
                                const name_list *names, test_batch *b) {
-    memset(b, 0, sizeof *b);
-    fmt(b->xml_dir, sizeof b->xml_dir, "%s/xml-whole-chain", dir);
-    mkdirs(b->xml_dir);
-    fmt(b->replay_bin, sizeof b->replay_bin, "%s/tests/test_%s_replay", g->build, a->id);
-    fmt(b->worker_bin, sizeof b->worker_bin, "%s/tests/test_%s_worker", g->student_build, a->id);
+    batch_begin(g, a, dir, "xml-whole-chain", b);
     if (!file_exists(b->worker_bin) || names->n == 0) return false;
     for (int i = 0; i < names->n; i++)
         names_add(&b->names, names->v[i]);

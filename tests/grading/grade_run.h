@@ -47,8 +47,7 @@ bool own_dir(const grader *g, const char *id, const char *refs, char *dir, size_
 void worker_job(const grader *g, job *w, const char *bin, const char *own, const name_list *names,
                 int chunk, int chunks, double per_test, double wall, const char *const extra[]);
 /* a picture's program in the sandbox, -o into its run folder (j->args set) */
-void image_job(const grader *g, const cJSON *img, const char *dir, job *j, const char *own,
-               const char *tag);
+void image_job(const grader *g, const cJSON *img, job *j, const char *own, const char *tag);
 /* the trusted reference program, outside the sandbox */
 run_result reference_render(const grader *g, const char *program, const cJSON *args,
                             const char *out_png, const char *dump_dir, const char *log);

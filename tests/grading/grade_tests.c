@@ -295,12 +295,11 @@ void seal_verdict(item *it, bool earned) {
 /* What the student's code printed (the worker's NAME.out in its run folder
  * rw), added to the item: theirs, shown as such, capped; nothing from a
  * sealed run. */
-static void add_worker_output(const grader *g, item *it, const char *rw, const char *name,
-                              bool sealed) {
+static void add_worker_output(item *it, const char *rw, const char *name, bool sealed) {
     char path[4400];
     fmt(path, sizeof path, "%s/%s.out", rw, name);
     char *wraw = read_small_file(path, 4096);
-    char *wclean = wraw && !sealed ? without_work_path(g->work, clean_output(wraw)) : NULL;
+    char *wclean = wraw && !sealed ? clean_output(wraw) : NULL;
     if (wclean && *wclean) {
         char *shown = student_text(wclean, 1500);
         sbuf o = {0};
@@ -343,7 +342,7 @@ static void test_verdict(const grader *g, assignment_result *a, const cJSON *asg
         str_or(cJSON_GetObjectItemCaseSensitive(asg, "crash_hints"), name, crash_hint);
     judge_test(it, verdict, xml_failure, clean, g->test_limit, test_wall(g), own_crash);
     if (own[0]) seal_verdict(it, it->passed && !has_todo_notice(clean));
-    add_worker_output(g, it, rw, name, own[0]);
+    add_worker_output(it, rw, name, own[0]);
     if (own[0]) {
         /* sealed: the replay's own XML and console text quote the values
          * returned (and its times), its fate says how it ended; the
@@ -379,6 +378,16 @@ static void rubric_only_tests(const grader *g, assignment_result *a, const cJSON
     }
 }
 
+/* What a batch holds (tests_prepare, tests_prepare_whole_chain). */
+static void test_batch_free(test_batch *b) {
+    free(b->workers);
+    free(b->replays);
+    free(b->chunk_of);
+    free(b->fates);
+    names_free(&b->names);
+    free(b->listing);
+}
+
 /* The verdicts of a batch whose jobs have run (b->workers[c].rr and the
  * replays' set); frees the batch. */
 void tests_finish(const grader *g, assignment_result *a, const cJSON *asg, test_batch *b) {
@@ -394,15 +403,10 @@ void tests_finish(const grader *g, assignment_result *a, const cJSON *asg, test_
         unlink(b->workers[c].out_path);
         unlink(b->replays[c].out_path);
     }
-    free(b->workers);
-    free(b->replays);
-    free(b->chunk_of);
-    free(b->fates);
     profile("tests: verdicts", a->id, t_judge);
     if (g->sanitized) sanitizer_pass(g, a, &b->names, a->n_items - n);
     rubric_only_tests(g, a, tests, &b->names);
-    names_free(&b->names);
-    free(b->listing);
+    test_batch_free(b);
 }
 
 /* The whole-chain run of a sealed failure, said after the sealed verdict
@@ -417,8 +421,8 @@ void tests_finish(const grader *g, assignment_result *a, const cJSON *asg, test_
  * message is added to the sealed item: the student learns what is wrong
  * without the sealed run saying anything but "not passed". Only the
  * failures run again: what passes costs nothing. */
-void tests_explain_sealed(const grader *g, assignment_result *a, const cJSON *asg,
-                          const char *dir, int from) {
+void tests_explain_sealed(const grader *g, assignment_result *a, const cJSON *asg, const char *dir,
+                          int from) {
     name_list failed = {0};
     for (int i = from; i < a->n_items; i++) {
         const item *it = &a->items[i];
@@ -460,18 +464,10 @@ void tests_explain_sealed(const grader *g, assignment_result *a, const cJSON *as
             free(s->output);
             s->output = o.s;
         }
-        free(t->name);
-        free(t->status);
-        free(t->reason);
-        free(t->output);
-        free(t->xml);
+        item_free(t);
     }
     free(twin.items);
-    free(b.workers);
-    free(b.replays);
-    free(b.chunk_of);
-    free(b.fates);
-    names_free(&b.names);
+    test_batch_free(&b);
     names_free(&failed);
     profile("tests: sealed failures on the whole chain", a->id, t0);
 }

@@ -24,7 +24,7 @@ void seal_verdict(item *it, bool earned);
 /* each sealed test of a that failed (items from `from` on) run again on the
  * student's whole chain, in DIR/xml-whole-chain, its message added to the
  * sealed item (the sealed verdict stays) */
-void tests_explain_sealed(const grader *g, assignment_result *a, const cJSON *asg,
-                          const char *dir, int from);
+void tests_explain_sealed(const grader *g, assignment_result *a, const cJSON *asg, const char *dir,
+                          int from);
 
 #endif

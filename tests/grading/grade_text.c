@@ -235,6 +235,16 @@ static char *hide_paths(const char *raw) {
     return b.s ? b.s : xstrdup("");
 }
 
+/* Whether the '<' at p would open an HTML tag (a letter, '/', '!' or '?' follows). */
+static bool opens_tag(const unsigned char *p) {
+    return *p == '<' && (isalpha(p[1]) || p[1] == '/' || p[1] == '!' || p[1] == '?');
+}
+
+/* Whether the '>' at p (text from start) ends "]]>", which would close an XML CDATA section. */
+static bool closes_cdata(const unsigned char *start, const unsigned char *p) {
+    return *p == '>' && p - start >= 2 && p[-1] == ']' && p[-2] == ']';
+}
+
 enum text_style {
     TEXT_PLAIN,   /* the grader's text that quotes the student's */
     TEXT_STUDENT, /* the student's: each line marked "│ " */
@@ -256,10 +266,9 @@ static void safe_char(const unsigned char *start, const unsigned char *p, long c
         strcpy(out, "\n");
     } else if (cp < 0x20 || (cp >= 0x7F && cp <= 0x9F) || is_hidden_char(cp)) {
         snprintf(out, 16, "[U+%04X]", (unsigned)cp); /* shown, never acted on */
-    } else if (style != TEXT_XML && cp == '<' &&
-               (isalpha(p[1]) || p[1] == '/' || p[1] == '!' || p[1] == '?')) {
+    } else if (style != TEXT_XML && opens_tag(p)) {
         strcpy(out, "\xe2\x80\xb9"); /* U+2039: no HTML tag can open */
-    } else if (style != TEXT_XML && cp == '>' && p - start >= 2 && p[-1] == ']' && p[-2] == ']') {
+    } else if (style != TEXT_XML && closes_cdata(start, p)) {
         strcpy(out, "\xe2\x80\xba"); /* U+203A: no "]]>" ends an XML CDATA section */
     } else {
         memcpy(out, p, len);
@@ -309,10 +318,8 @@ const char *text_unsafe(const char *s, bool markup) {
         if ((cp < 0x20 && cp != '\n') || (cp >= 0x7F && cp <= 0x9F)) return "a control character";
         if (is_hidden_char(cp)) return "a bidi control or an invisible format character";
         if (*p == '/' && hidden_at((const char *)p) >= 0) return "a folder of the grader's";
-        if (!markup && *p == '<' && (isalpha(p[1]) || p[1] == '/' || p[1] == '!' || p[1] == '?'))
-            return "an HTML tag";
-        if (!markup && *p == '>' && p - start >= 2 && p[-1] == ']' && p[-2] == ']')
-            return "the end of an XML CDATA section";
+        if (!markup && opens_tag(p)) return "an HTML tag";
+        if (!markup && closes_cdata(start, p)) return "the end of an XML CDATA section";
         p += len;
     }
     return NULL;

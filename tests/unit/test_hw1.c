@@ -26,8 +26,7 @@ static void expect_matrix(mat4s got, mat4s expected, float tol, const char *what
     char g[512], e[512];
     ras_mat4_format(got, g, sizeof g);
     ras_mat4_format(expected, e, sizeof e);
-    fail_msg("%s\nexpected (rows as on paper):\n%sgot:\n%slikely mistake: %s", what, e, g,
-             hint);
+    fail_msg("%s\nexpected (rows as on paper):\n%sgot:\n%slikely mistake: %s", what, e, g, hint);
 }
 
 /* Rotation about z by `rad` RADIANS, written out independently of the solution. */
@@ -80,10 +79,9 @@ static void test_model_matrix_90_turns_x_into_y(void **state) {
 static void test_model_matrix_minus_30(void **state) {
     (void)state;
     mat4s m = get_model_matrix(-30);
-    expect_matrix(m,
-                  ras_mat4_rows(0.8660254f, 0.5f, 0, 0, -0.5f, 0.8660254f, 0, 0, 0, 0, 1, 0, 0,
-                                0, 0, 1),
-                  TOL, "get_model_matrix(-30)", model_hint(m, -30));
+    expect_matrix(
+        m, ras_mat4_rows(0.8660254f, 0.5f, 0, 0, -0.5f, 0.8660254f, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1),
+        TOL, "get_model_matrix(-30)", model_hint(m, -30));
 }
 
 /* A full turn comes back to the identity (float rounding aside). */
@@ -234,10 +232,9 @@ static void test_rotation_composes(void **state) {
                   "the result is not a rotation about the axis: check n nT and N");
     /* and it is a rotation: it keeps lengths and the axis itself. */
     vec4s a = glms_mat4_mulv(get_rotation(axis, 85), glms_vec4(axis, 0));
-    if (fabsf(a.x - axis.x) > 1e-5f || fabsf(a.y - axis.y) > 1e-5f ||
-        fabsf(a.z - axis.z) > 1e-5f)
-        fail_msg("the axis must stay put under its own rotation: got (%.4f, %.4f, %.4f)", a.x,
-                 a.y, a.z);
+    if (fabsf(a.x - axis.x) > 1e-5f || fabsf(a.y - axis.y) > 1e-5f || fabsf(a.z - axis.z) > 1e-5f)
+        fail_msg("the axis must stay put under its own rotation: got (%.4f, %.4f, %.4f)", a.x, a.y,
+                 a.z);
     expect_not_placeholder(get_rotation(axis, 37), "get_rotation((0.3, -0.5, 0.8), 37)",
                            "get_rotation");
 }

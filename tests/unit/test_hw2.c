@@ -323,8 +323,8 @@ static void check_exactly_once(const char *what, const ras_triangle *tris, int n
                         double e0 = edge_exact(v[0].x, v[0].y, v[1].x, v[1].y, sx, sy),
                                e1 = edge_exact(v[1].x, v[1].y, v[2].x, v[2].y, sx, sy),
                                e2 = edge_exact(v[2].x, v[2].y, v[0].x, v[0].y, sx, sy);
-                        bool inside = (e0 >= 0 && e1 >= 0 && e2 >= 0) ||
-                                      (e0 <= 0 && e1 <= 0 && e2 <= 0);
+                        bool inside =
+                            (e0 >= 0 && e1 >= 0 && e2 >= 0) || (e0 <= 0 && e1 <= 0 && e2 <= 0);
                         double mx = fmax(fmax(v[0].x, v[1].x), v[2].x),
                                my = fmax(fmax(v[0].y, v[1].y), v[2].y);
                         at_edge = inside && (x == (int)floor(mx) || y == (int)floor(my));
@@ -466,8 +466,8 @@ static void test_bary_precision_at_600px(void **state) {
                                   edge_exact(c[0], c[1], c[2], c[3], x, y) / area};
                 vec3s got = {{0, 0, 0}};
                 if (!compute_barycentric_2d((float)x, (float)y, &t, &got)) continue;
-                double err = fmax(fabs(got.x - want[0]),
-                                  fmax(fabs(got.y - want[1]), fabs(got.z - want[2])));
+                double err =
+                    fmax(fabs(got.x - want[0]), fmax(fabs(got.y - want[1]), fabs(got.z - want[2])));
                 if (err > worst) worst = err, wx = x, wy = y;
             }
     }
@@ -485,13 +485,15 @@ static void test_bary_precision_at_600px(void **state) {
     const float *c = tris[0];
     const float z[3] = {0.3f, 0.9f, 0.5f};
     ras_triangle t = tri3(c[0], c[1], c[2], c[3], c[4], c[5]);
-    for (int k = 0; k < 3; k++) t.v[k].z = z[k];
+    for (int k = 0; k < 3; k++)
+        t.v[k].z = z[k];
     rasterize_triangle(&t, &ctx);
     /* Against the plane through the vertices as given and through the
      * vertices snapped to 1/256 px (a fixed-point rasterizer's): either is
      * right, and both are far closer than the cancellation's error. */
     double snapped[6], dworst = 0;
-    for (int k = 0; k < 6; k++) snapped[k] = round((double)c[k] * 256) / 256;
+    for (int k = 0; k < 6; k++)
+        snapped[k] = round((double)c[k] * 256) / 256;
     int seen = 0, negative = 0;
     for (int py = 580; py < 600; py++)
         for (int px = 605; px < 625; px++) {
@@ -501,7 +503,8 @@ static void test_bary_precision_at_600px(void **state) {
             double x = px + 0.5, y = py + 0.5, err = INFINITY;
             for (int v = 0; v < 2; v++) {
                 double q[6];
-                for (int k = 0; k < 6; k++) q[k] = v ? snapped[k] : (double)c[k];
+                for (int k = 0; k < 6; k++)
+                    q[k] = v ? snapped[k] : (double)c[k];
                 double area = edge_exact(q[0], q[1], q[2], q[3], q[4], q[5]);
                 double want = (edge_exact(q[2], q[3], q[4], q[5], x, y) * z[0] +
                                edge_exact(q[4], q[5], q[0], q[1], x, y) * z[1] +
@@ -675,10 +678,12 @@ static void test_bary_at_pixel_centre(void **state) {
               f->x, f->y, z, f->depth);
         float d = fb->depth[ras_fb_sample_index(fb, f->x, f->y, 0)];
         CHECK(fabsf(d - z) < 1e-4f,
-              "depth buffer at pixel (%d, %d): expected %.5f, got %.5f. Likely mistake: %s",
-              f->x, f->y, z, d,
+              "depth buffer at pixel (%d, %d): expected %.5f, got %.5f. Likely mistake: %s", f->x,
+              f->y, z, d,
               fabsf(d + z) < 1e-4f && z != 0
-                  ? "the depth stored NEGATED (-z): the course framework's negated depth test, kept; here the viewport already negated z (smaller is closer, the buffer starts at +INF): store and compare z as it is."
+                  ? "the depth stored NEGATED (-z): the course framework's negated depth test, "
+                    "kept; here the viewport already negated z (smaller is closer, the buffer "
+                    "starts at +INF): store and compare z as it is."
                   : "the depth stored is not the interpolated one (or stored at another index).");
     }
     ras_framebuffer_destroy(fb);
@@ -720,7 +725,9 @@ static void test_raster_depth_with_different_w(void **state) {
               "α·z0 + β·z1 + γ·z2 with the screen barycentrics), got %.5f. Likely mistake: %s",
               f->x, f->y, want, d,
               fabs(d + want) < 1e-4
-                  ? "the depth stored NEGATED (-z): the course framework's negated depth test, kept; here the viewport already negated z (smaller is closer, the buffer starts at +INF): store and compare z as it is."
+                  ? "the depth stored NEGATED (-z): the course framework's negated depth test, "
+                    "kept; here the viewport already negated z (smaller is closer, the buffer "
+                    "starts at +INF): store and compare z as it is."
               : fabs(d - snippet) < 1e-4
                   ? "the course framework's `z_interpolated *= w_reciprocal` snippet, which "
                     "divides by an interpolated 1/w: there every w was 1 and it did nothing; "
@@ -880,13 +887,13 @@ static void test_index_rasterizer_writes_flipped(void **state) {
           "its 4 sample entries written (indices 20..23), got %d of them and %d entries in all. "
           "Likely mistake: %s",
           at_pixel, written,
-          written == 4 ? "a wrong stride: sample s of pixel (x, y) is at ((h-1-y)*w + x)*samples "
-                         "+ s; use ras_fb_sample_index(fb, x, y, s)"
+          written == 4   ? "a wrong stride: sample s of pixel (x, y) is at ((h-1-y)*w + x)*samples "
+                           "+ s; use ras_fb_sample_index(fb, x, y, s)"
           : written == 0 ? "nothing drawn with 4 samples"
           : at_pixel == 4 ? "entries of other pixels written by a triangle that reaches past the "
                             "frame's corner: the bounding box not clamped to the screen (TODO 1)"
-                         : "samples of the neighbouring pixels written, or some of this one's "
-                           "missed: the sample positions are (x + offset.x, y + offset.y)");
+                          : "samples of the neighbouring pixels written, or some of this one's "
+                            "missed: the sample positions are (x + offset.x, y + offset.y)");
     CHECK(guarded_intact(&g), "rasterize_triangle (4 samples, a triangle reaching past the "
                               "frame's top-right corner) wrote outside the frame's buffers. "
                               "Likely mistake: the bounding box not clamped to the screen, or a "
@@ -902,7 +909,8 @@ static void test_raster_samples_from_pattern(void **state) {
     ras_framebuffer *fb = make_fb(1, 1, 4);
     ras_sample_pattern pat = pattern(RAS_PATTERN_STANDARD, 4);
     const float left[4][2] = {{0.1f, 0.1f}, {0.2f, 0.7f}, {0.3f, 0.3f}, {0.4f, 0.9f}};
-    for (int k = 0; k < 4; k++) pat.offsets[k] = (vec2s){{left[k][0], left[k][1]}};
+    for (int k = 0; k < 4; k++)
+        pat.offsets[k] = (vec2s){{left[k][0], left[k][1]}};
     ras_raster_ctx ctx = make_ctx(fb, RAS_AA_MSAA, pat);
     ras_triangle t = tri_z(tri3(-5, -5, 0.45f, -5, 0.45f, 10), 0.5f, RED);
     rasterize_triangle(&t, &ctx);
@@ -911,8 +919,8 @@ static void test_raster_samples_from_pattern(void **state) {
           "4 samples placed by ctx->pattern at x = 0.1, 0.2, 0.3, 0.4 px in pixel (0, 0), under "
           "a triangle covering x < 0.45: expected all 4 covered, got %d. Likely mistake: %s",
           covered,
-          covered == 2 ? "sample positions written into the rasterizer (a 2x2 grid or the "
-                         "standard offsets) instead of read from ctx->pattern.offsets[k]"
+          covered == 2   ? "sample positions written into the rasterizer (a 2x2 grid or the "
+                           "standard offsets) instead of read from ctx->pattern.offsets[k]"
           : covered == 0 ? "nothing drawn with MSAA (the samples, or the depth test)"
                          : "the sample positions not taken from ctx->pattern.offsets[k] "
                            "(from the pixel's lower-left corner, in pixels)");
@@ -939,8 +947,8 @@ static void test_raster_box_maximum_included(void **state) {
         ras_raster_ctx ctx = ctx_none(fb);
         /* below the diagonal from (x+0.05, y+0.2) to (x+0.95, y+0.95): the
          * centre (x+0.5, y+0.5) is inside, 0.075 px from that edge */
-        ras_triangle t = tri_z(tri3(x + 0.05f, y + 0.2f, x + 0.95f, y + 0.2f, x + 0.95f, y + 0.95f),
-                               0.5f, RED);
+        ras_triangle t =
+            tri_z(tri3(x + 0.05f, y + 0.2f, x + 0.95f, y + 0.2f, x + 0.95f, y + 0.95f), 0.5f, RED);
         rasterize_triangle(&t, &ctx);
         int idx = ras_fb_sample_index(fb, pixels[i][0], pixels[i][1], 0);
         CHECK(!isinf(fb->depth[idx]) && covered_pixels(fb) == 1,
@@ -1086,8 +1094,8 @@ static void test_raster_depth_test_order(void **state) {
               "two triangles at depth 0.2 (red) and 0.7 (blue), %s drawn first: expected red "
               "with depth 0.2 at pixel (2, 2), got (%g, %g, %g) with depth %g. Likely mistake: "
               "%s",
-              order ? "the far one" : "the near one", c[order].x, c[order].y, c[order].z,
-              d[order], why);
+              order ? "the far one" : "the near one", c[order].x, c[order].y, c[order].z, d[order],
+              why);
     }
     /* A sloped triangle: depth follows the plane. */
     ras_framebuffer_clear(fb, BLACK);

@@ -40,9 +40,9 @@
 #include <string.h> /* strlen */
 #include <unistd.h> /* unlink */
 
-#define CHECK(cond, ...)                                                     \
-    do {                                                                     \
-        if (!(cond)) fail_msg(__VA_ARGS__);                                  \
+#define CHECK(cond, ...)                                                                           \
+    do {                                                                                           \
+        if (!(cond)) fail_msg(__VA_ARGS__);                                                        \
     } while (0)
 
 static bool near3(vec3s a, vec3s b, float tol) {
@@ -118,7 +118,8 @@ static void exact_uv(double xs, double ys, double *s, double *t) {
     double det = DET3(m);
     double ms[3][3], mt[3][3];
     for (int i = 0; i < 3; i++)
-        for (int j = 0; j < 3; j++) ms[i][j] = mt[i][j] = m[i][j];
+        for (int j = 0; j < 3; j++)
+            ms[i][j] = mt[i][j] = m[i][j];
     for (int k = 0; k < 3; k++) {
         ms[k][1] = r[k];
         mt[k][2] = r[k];
@@ -208,7 +209,8 @@ static void test_interp_affine_error_matches_theory(void **state) {
 static void test_interp_w1_pitfall_caught(void **state) {
     (void)state;
     ras_triangle t = tilted_plane(), t_w1 = t;
-    for (int i = 0; i < 3; i++) t_w1.v[i].w = 1.0f;
+    for (int i = 0; i < 3; i++)
+        t_w1.v[i].w = 1.0f;
     vec3s bary = V3(0.366f, 0.634f, 0.0f); /* σ = √3/(√3+1): the worst point */
     vec3s b_w1 = perspective_correct_barycentric(&t_w1, bary);
     CHECK(near3(b_w1, bary, 1e-6f),
@@ -230,8 +232,7 @@ static void test_interp_w1_pitfall_caught(void **state) {
     for (int i = 0; i < 3; i++) {
         vec3s e = {{i == 0, i == 1, i == 2}};
         vec3s g = perspective_correct_barycentric(&t, e);
-        CHECK(near3(g, e, 1e-6f), "at vertex %d expected " FMT3 ", got " FMT3, i, ARG3(e),
-              ARG3(g));
+        CHECK(near3(g, e, 1e-6f), "at vertex %d expected " FMT3 ", got " FMT3, i, ARG3(e), ARG3(g));
     }
     vec3s attr[3] = {V3(1, 0, 0), V3(0, 1, 0), V3(0, 0, 1)};
     vec3s c = interpolate_vec3(&t, bary, attr, true);
@@ -324,12 +325,17 @@ static vec3s blinn_phong_double(vec3s kd, const double P[3], const double n[3],
                                 const double light_pos[3], double I, double ks, double pw,
                                 double ambient, const double eye[3]) {
     double d[3], v[3], r2 = 0, vl = 0;
-    for (int k = 0; k < 3; k++) d[k] = light_pos[k] - P[k], r2 += d[k] * d[k];
-    for (int k = 0; k < 3; k++) v[k] = eye[k] - P[k], vl += v[k] * v[k];
+    for (int k = 0; k < 3; k++)
+        d[k] = light_pos[k] - P[k], r2 += d[k] * d[k];
+    for (int k = 0; k < 3; k++)
+        v[k] = eye[k] - P[k], vl += v[k] * v[k];
     double l[3], h[3], hl = 0, nl = 0, nh = 0;
-    for (int k = 0; k < 3; k++) l[k] = d[k] / sqrt(r2), v[k] /= sqrt(vl), h[k] = l[k] + v[k];
-    for (int k = 0; k < 3; k++) hl += h[k] * h[k];
-    for (int k = 0; k < 3; k++) nl += n[k] * l[k], nh += n[k] * h[k] / sqrt(hl);
+    for (int k = 0; k < 3; k++)
+        l[k] = d[k] / sqrt(r2), v[k] /= sqrt(vl), h[k] = l[k] + v[k];
+    for (int k = 0; k < 3; k++)
+        hl += h[k] * h[k];
+    for (int k = 0; k < 3; k++)
+        nl += n[k] * l[k], nh += n[k] * h[k] / sqrt(hl);
     double spec = ks * I / r2 * pow(fmax(0, nh), pw), diff = I / r2 * fmax(0, nl);
     return V3((float)(ambient + kd.x * diff + spec), (float)(ambient + kd.y * diff + spec),
               (float)(ambient + kd.z * diff + spec));
@@ -403,8 +409,7 @@ static void test_shader_blinn_phong_classic_numbers(void **state) {
     vec3s c = phong_fragment_shader(&p);
     vec3s want = V3(0.281689f, 0.239422f, 0.194024f);
     CHECK(near3(c, want, 1e-4f),
-          "Blinn-Phong with the GAMES101 lights and material: expected " FMT3 ", got " FMT3
-          ". %s",
+          "Blinn-Phong with the GAMES101 lights and material: expected " FMT3 ", got " FMT3 ". %s",
           ARG3(want), ARG3(c),
           near3(c, glms_vec3_adds(want, 0.05f), 1e-4f)
               ? "Likely mistake: ambient added once per light"
@@ -455,7 +460,8 @@ static ras_texture *height_ramp(void) {
     ras_image *img = ras_image_create(4, 4, NULL);
     assert_non_null(img);
     for (int r = 0; r < 4; r++)
-        for (int i = 0; i < 4; i++) ras_image_set(img, i, r, V3(0.1f * i, 0.1f * i, 0.1f * i));
+        for (int i = 0; i < 4; i++)
+            ras_image_set(img, i, r, V3(0.1f * i, 0.1f * i, 0.1f * i));
     ras_texture *tex = ras_texture_from_image(img, RAS_WRAP_CLAMP, NULL);
     ras_image_destroy(img);
     assert_non_null(tex);
@@ -498,7 +504,8 @@ static void test_shader_bump(void **state) {
     ras_texture_destroy(hm);
     vec3s want_n = V3(0, -0.662040f, 0.749469f);
     const char *hint = "see the arithmetic above this test (docs/hw3.md section 5)";
-    if (near3(n, V3(0, 0, 1), 1e-5f)) hint = "the normal was not perturbed";
+    if (near3(n, V3(0, 0, 1), 1e-5f))
+        hint = "the normal was not perturbed";
     else if (near3(n, V3(0, 0.662040f, 0.749469f), 1e-4f))
         hint = "sign: the perturbed normal is TBN·(−dU, −dV, 1)";
     else if (near3(n, V3(0.662040f, 0, 0.749469f), 1e-4f) ||
@@ -511,8 +518,7 @@ static void test_shader_bump(void **state) {
           ", got " FMT3 ". Likely mistake: %s",
           ARG3(want_n), ARG3(n), hint);
     CHECK(near3(c, V3(0.5f, 0.168980f, 0.874734f), 1e-4f),
-          "bump shader colour: expected (n'+1)/2 = (0.5, 0.168980, 0.874734), got " FMT3,
-          ARG3(c));
+          "bump shader colour: expected (n'+1)/2 = (0.5, 0.168980, 0.874734), got " FMT3, ARG3(c));
     /* On height_slope at uv (0.375, 0.375) (column 1, row 1 from the bottom):
      *   h = 255·√3·0.14, h(u + 1/4, v) = 255·√3·0.24, h(u, v + 1/4) = 255·√3·0.18
      *   dU = 0.02·255·√3·0.10 = 0.883346, dV = 0.02·255·√3·0.04 = 0.353338
@@ -556,8 +562,10 @@ static void test_shader_displacement(void **state) {
     vec3s c = displacement_fragment_shader(&p);
     ras_texture_destroy(hm);
     const char *hint = "see the arithmetic above this test (docs/hw3.md section 6)";
-    if (fabsf(c.x - 0.167347f) < 1e-4f) hint = "the point was not displaced: p' = p + kn·h·n";
-    else if (fabsf(c.x - 0.379437f) < 1e-4f) hint = "the normal was not bumped: use bump_normal";
+    if (fabsf(c.x - 0.167347f) < 1e-4f)
+        hint = "the point was not displaced: p' = p + kn·h·n";
+    else if (fabsf(c.x - 0.379437f) < 1e-4f)
+        hint = "the normal was not bumped: use bump_normal";
     CHECK(fabsf(c.x - 0.243292f) < 1e-4f && fabsf(c.y - c.x) < 1e-6f && fabsf(c.z - c.x) < 1e-6f,
           "displacement on a height ramp (h = 44.1673, kn = 0.1): expected (0.243292, 0.243292, "
           "0.243292), got " FMT3 ". Likely mistake: %s",
@@ -574,8 +582,9 @@ static void check_frame(vec3s n, bool perpendicular) {
           ". Likely mistake: at n = (0, ±1, 0) the course formula divides 0 by 0; use any unit "
           "t perpendicular to n there",
           ARG3(n), ARG3(t), ARG3(b));
-    CHECK(fabsf(glms_vec3_norm(t) - 1) < 1e-4f, "tangent_frame at n = " FMT3 ": |t| = %.6f, expected 1",
-          ARG3(n), (double)glms_vec3_norm(t));
+    CHECK(fabsf(glms_vec3_norm(t) - 1) < 1e-4f,
+          "tangent_frame at n = " FMT3 ": |t| = %.6f, expected 1", ARG3(n),
+          (double)glms_vec3_norm(t));
     if (perpendicular)
         CHECK(fabsf(glms_vec3_dot(t, n)) < 1e-4f,
               "tangent_frame at n = " FMT3 ": t = " FMT3 " is not perpendicular to n (t·n = %.6f)",
@@ -630,7 +639,8 @@ static ras_texture *ramp4x2(ras_wrap wrap) {
     ras_image *img = ras_image_create(4, 2, NULL);
     assert_non_null(img);
     for (int j = 0; j < 2; j++)
-        for (int i = 0; i < 4; i++) ras_image_set(img, i, 1 - j, V3(i / 4.0f, j / 2.0f, 0.3f));
+        for (int i = 0; i < 4; i++)
+            ras_image_set(img, i, 1 - j, V3(i / 4.0f, j / 2.0f, 0.3f));
     ras_texture *tex = ras_texture_from_image(img, wrap, NULL);
     ras_image_destroy(img);
     assert_non_null(tex);
@@ -655,10 +665,10 @@ static void ramp_destroy(ras_texture *tex) {
  * its green never below 0. */
 static bool read_past_the_edge(vec3s c) { return c.z > 0.3f + 1e-4f || c.y < -1e-4f; }
 
-#define PAST_THE_EDGE                                                                      \
-    "read outside the texture: a guard texel placed just before or after the texel array " \
-    "came back, so an index went one past the edge (i0 + 1 = W or j0 + 1 = H, or -1). "   \
-    "Read the four texels through ras_texture_texel(tex, 0, i, j), which wraps or clamps " \
+#define PAST_THE_EDGE                                                                              \
+    "read outside the texture: a guard texel placed just before or after the texel array "         \
+    "came back, so an index went one past the edge (i0 + 1 = W or j0 + 1 = H, or -1). "            \
+    "Read the four texels through ras_texture_texel(tex, 0, i, j), which wraps or clamps "         \
     "(TODO 4.3): reading tex->texels directly reads memory that is not the texture"
 
 static void expect_bilinear(const ras_texture *tex, float u, float v, vec3s want,
@@ -738,7 +748,8 @@ static void test_bilinear_edges_clamp(void **state) {
     for (int k = 0; k < 3; k++)
         expect_bilinear(tex, ue[k], 0.75f, V3(0.75f, 0.5f, 0.3f), "right edge");
     float us[] = {0, -eps, -3};
-    for (int k = 0; k < 3; k++) expect_bilinear(tex, us[k], 0.25f, V3(0, 0, 0.3f), "left edge");
+    for (int k = 0; k < 3; k++)
+        expect_bilinear(tex, us[k], 0.25f, V3(0, 0, 0.3f), "left edge");
     expect_bilinear(tex, 0.125f, 0, V3(0, 0, 0.3f), "bottom edge v = 0");
     expect_bilinear(tex, 0.125f, 1, V3(0, 0.5f, 0.3f), "top edge v = 1");
     expect_bilinear(tex, 0.125f, 1 + eps, V3(0, 0.5f, 0.3f), "above the top edge");
@@ -755,7 +766,8 @@ static void test_bilinear_edges_repeat(void **state) {
     expect_bilinear(tex, 1, 0.25f, V3(0.375f, 0, 0.3f), "u = 1 wraps");
     expect_bilinear(tex, 2.625f, 0.25f, V3(0.5f, 0, 0.3f), "u = 2.625 is u = 0.625");
     expect_bilinear(tex, -0.375f, 0.25f, V3(0.5f, 0, 0.3f), "u = -0.375 is u = 0.625");
-    vec3s a = texture_sample_bilinear(tex, -1e-4f, 0.25f), b = texture_sample_bilinear(tex, 1 + 1e-4f, 0.25f);
+    vec3s a = texture_sample_bilinear(tex, -1e-4f, 0.25f),
+          b = texture_sample_bilinear(tex, 1 + 1e-4f, 0.25f);
     CHECK(fabsf(a.x - 0.375f) < 2e-3f && fabsf(b.x - 0.375f) < 2e-3f,
           "repeat just outside [0,1]: expected ≈ 0.375 on both sides of the seam, got %.5f "
           "(u = −ε) and %.5f (u = 1 + ε)",
@@ -802,8 +814,9 @@ static void test_trilinear_levels(void **state) {
     vec2s uv = {{0.3f, 0.6f}}, zero = {{0, 0}};
     vec3s a = texture_sample_trilinear(tex, uv, zero, zero);
     vec3s b = texture_sample_bilinear(tex, uv.x, uv.y);
-    CHECK(near3(a, b, 1e-6f), "trilinear without minification: expected bilinear " FMT3
-                              ", got " FMT3, ARG3(b), ARG3(a));
+    CHECK(near3(a, b, 1e-6f),
+          "trilinear without minification: expected bilinear " FMT3 ", got " FMT3, ARG3(b),
+          ARG3(a));
     vec2s big = {{1, 0}}, big_y = {{0, 1}};
     vec3s c = texture_sample_trilinear(tex, uv, big, big_y);
     CHECK(near3(c, V3(0.5f, 0.5f, 0.5f), 0.02f),
@@ -830,10 +843,8 @@ static mat4s hand_projection(float fov_deg, float aspect, float n_dist, float f_
      * t = near·tan(fov/2), r = t·aspect (times −1: w > 0 in front, same map). */
     double t = n_dist * tan(fov_deg * RAS_PI / 360.0), r = t * aspect;
     double n = -n_dist, f = -f_dist;
-    return ras_mat4_rows((float)(n / r), 0, 0, 0,
-                         0, (float)(n / t), 0, 0,
-                         0, 0, (float)((n + f) / (n - f)), (float)(-2 * n * f / (n - f)),
-                         0, 0, 1, 0);
+    return ras_mat4_rows((float)(n / r), 0, 0, 0, 0, (float)(n / t), 0, 0, 0, 0,
+                         (float)((n + f) / (n - f)), (float)(-2 * n * f / (n - f)), 0, 0, 1, 0);
 }
 
 /* The program's default scene, scenes/hw3_default.json as built in. */
@@ -1068,11 +1079,15 @@ static vec3s hand_blinn_phong(vec3s kd, const double P3[3], const double n[3]) {
     double v[3] = {-P3[0] / vlen, -P3[1] / vlen, -P3[2] / vlen};
     for (int i = 0; i < 2; i++) {
         double d[3], l[3], h[3], r2 = 0, hl = 0;
-        for (int k = 0; k < 3; k++) d[k] = lights[i][k] - P3[k], r2 += d[k] * d[k];
-        for (int k = 0; k < 3; k++) l[k] = d[k] / sqrt(r2), h[k] = l[k] + v[k];
-        for (int k = 0; k < 3; k++) hl += h[k] * h[k];
+        for (int k = 0; k < 3; k++)
+            d[k] = lights[i][k] - P3[k], r2 += d[k] * d[k];
+        for (int k = 0; k < 3; k++)
+            l[k] = d[k] / sqrt(r2), h[k] = l[k] + v[k];
+        for (int k = 0; k < 3; k++)
+            hl += h[k] * h[k];
         double nl = 0, nh = 0;
-        for (int k = 0; k < 3; k++) nl += n[k] * l[k], nh += n[k] * h[k] / sqrt(hl);
+        for (int k = 0; k < 3; k++)
+            nl += n[k] * l[k], nh += n[k] * h[k] / sqrt(hl);
         double kdv[3] = {kd.x, kd.y, kd.z};
         for (int k = 0; k < 3; k++)
             c[k] += kdv[k] * 500 / r2 * fmax(0, nl) + 0.7937 * 500 / r2 * pow(fmax(0, nh), 150);
@@ -1197,8 +1212,10 @@ static void check_image(ras_scene_shader shader) {
     ras_image *ref = load_reference(shader);
     ic->sanity(ref);
     ras_compare_options opt = ras_compare_defaults(ic->kind);
-    if (ic->kind == RAS_COMPARE_PSNR) opt.min_psnr_db = ic->threshold;
-    else opt.min_ssim = ic->threshold;
+    if (ic->kind == RAS_COMPARE_PSNR)
+        opt.min_psnr_db = ic->threshold;
+    else
+        opt.min_ssim = ic->threshold;
     ras_compare_result res;
     ras_error err = {{0}};
     bool ok = ras_compare_images(ref, got, &opt, &res, &err);
