@@ -756,7 +756,7 @@ bool grade_image(const grader *g, assignment_result *a, const cJSON *img, const 
     picture_score(&p);
     bool matched = it->passed; /* the attribution's answer, sealed or not */
     if (sealed) {
-        seal_verdict(it, it->passed && !p.todo);
+        seal_verdict(g, it, it->passed && !p.todo);
         /* the --dump re-render of a sealed run (buffer_evidence's ".own-dump"
          * job) printed beside reference code too: its log leaves OUT */
         char dump_log[4400];

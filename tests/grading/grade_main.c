@@ -186,13 +186,24 @@ static int check_folders(const grader *g) {
     return -1;
 }
 
-/* The exit status for --expect (NULL: none asked). */
-static int expect_status(const char *expect, double total, double max_total) {
+/* The exit status for --expect (NULL: none asked). A self-test that
+ * misses it prints the items that lost points (OUT/failures.txt, its first
+ * 200 lines): a CI log then says why, with the output folder long gone. */
+static int expect_status(const char *expect, double total, double max_total, const char *out) {
     if (expect) {
         double want = !strcmp(expect, "full") ? max_total : atof(expect);
         if (fabs(total - want) > 1e-9 || max_total <= 0) {
             fprintf(stderr, "raster101-grade: expected %s (%g points), got %g / %g\n", expect, want,
                     total, max_total);
+            char path[4200];
+            fmt(path, sizeof path, "%s/failures.txt", out);
+            FILE *f = fopen(path, "r");
+            char line[1024];
+            for (int n = 0; f && n < 200 && fgets(line, sizeof line, f); n++) {
+                if (!n) fprintf(stderr, "raster101-grade: what lost points (%s):\n", path);
+                fputs(line, stderr);
+            }
+            if (f) fclose(f);
             return 1;
         }
     }
@@ -283,5 +294,5 @@ int main(int argc, char **argv) {
                 g.out);
         return 2;
     }
-    return expect_status(o.expect, gr.total, gr.max_total);
+    return expect_status(o.expect, gr.total, gr.max_total, g.out);
 }

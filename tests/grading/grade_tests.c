@@ -273,14 +273,21 @@ static run_result charged_run(run_result wr, run_result rr, char **clean) {
  * replay that did not finish - becomes the same status and the same text
  * (sealed_text), since each distinction would be a bit the student's code
  * chose after reading the reference. An image keeps its first line, the
- * grader's own "command: ..." (the arguments drawn for this grading). */
-void seal_verdict(item *it, bool earned) {
+ * grader's own "command: ..." (the arguments drawn for this grading).
+ * The grader's self-test (--variant ref: the course's own reference graded
+ * as the student, trusted code) keeps what the run said below that text,
+ * so that a failure of the self-test in CI can be read from its log. */
+void seal_verdict(const grader *g, item *it, bool earned) {
     sbuf o = {0};
     const char *out = it->output ? it->output : "";
     if (it->is_image && !strncmp(out, "command: ", 9))
         sb_printf(&o, "%.*s\n", (int)strcspn(out, "\n"), out);
     char *said = sealed_text(earned);
     sb_add(&o, said);
+    if (!earned && !strcmp(g->variant, "ref"))
+        sb_printf(&o, "\n(self-test: the reference graded as the student; the sealed run ended %s "
+                      "and said:)\n%s",
+                  it->status ? it->status : "?", out);
     free(it->output);
     it->output = o.s;
     free(it->status);
@@ -341,7 +348,7 @@ static void test_verdict(const grader *g, assignment_result *a, const cJSON *asg
     const char *own_crash =
         str_or(cJSON_GetObjectItemCaseSensitive(asg, "crash_hints"), name, crash_hint);
     judge_test(it, verdict, xml_failure, clean, g->test_limit, test_wall(g), own_crash);
-    if (own[0]) seal_verdict(it, it->passed && !has_todo_notice(clean));
+    if (own[0]) seal_verdict(g, it, it->passed && !has_todo_notice(clean));
     add_worker_output(it, rw, name, own[0]);
     if (own[0]) {
         /* sealed: the replay's own XML and console text quote the values

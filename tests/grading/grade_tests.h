@@ -20,7 +20,7 @@ void mark_build_failed(const grader *g, assignment_result *a, const cJSON *asg,
 /* a sealed run's item (it held reference code) reduced to pass or not:
  * `earned` its points (passed, no TODO notice), else the one fixed failure
  * for every way it could have failed */
-void seal_verdict(item *it, bool earned);
+void seal_verdict(const grader *g, item *it, bool earned);
 /* each sealed test of a that failed (items from `from` on) run again on the
  * student's whole chain, in DIR/xml-whole-chain, its message added to the
  * sealed item (the sealed verdict stays) */
