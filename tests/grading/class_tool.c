@@ -170,6 +170,14 @@ static cJSON *picture_of(const char *out, const char *student, const char *item)
     const char *img = strstr(item, "image ");
     size_t asg_len = strcspn(item, ":");
     if (!img || item[asg_len] != ':' || asg_len == 0 || asg_len > 40) return NULL;
+    /* a whole-chain item "integration: hw2 image NAME, your whole chain"
+     * keeps its pictures in its assignment's folder (hw2/) */
+    const char *folder = item;
+    if (item[asg_len + 1] == ' ' && img > item + asg_len + 2 && img[-1] == ' ') {
+        const char *w = item + asg_len + 2;
+        size_t wl = strspn(w, "abcdefghijklmnopqrstuvwxyz0123456789");
+        if (wl && w + wl + 1 == img) folder = w, asg_len = wl;
+    }
     img += 6;
     size_t n = strspn(img, "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_");
     if (n == 0 || n > 100) return NULL;
@@ -178,7 +186,7 @@ static cJSON *picture_of(const char *out, const char *student, const char *item)
     cJSON *pic = cJSON_CreateObject();
     for (int k = 0; k < 3; k++) {
         char rel[300];
-        fmt(rel, sizeof rel, "%.*s/%.*s.%s.png", (int)asg_len, item, (int)n, img, kinds[k]);
+        fmt(rel, sizeof rel, "%.*s/%.*s.%s.png", (int)asg_len, folder, (int)n, img, kinds[k]);
         if (student_picture(out, student, rel)) {
             char *l = student_link(student, rel);
             cJSON_AddStringToObject(pic, keys[k], l);
