@@ -594,8 +594,6 @@ static void page_mistakes(sbuf *b, const cJSON *root) {
         sb_printf(b, "<tr class=\"mistake\"><td class=\"n\">%d</td><td class=\"n\">%g</td><td>",
                   ++rank, num_or(m, "students", 0));
         html(b, str_or(m, "mistake", ""));
-        const cJSON *pic = cJSON_GetObjectItemCaseSensitive(m, "picture");
-        if (pic) page_picture(b, pic);
         sb_add(b, "</td><td>");
         cJSON_ArrayForEach(e, cJSON_GetObjectItemCaseSensitive(m, "items")) {
             html(b, cJSON_IsString(e) ? e->valuestring : "");
@@ -612,6 +610,13 @@ static void page_mistakes(sbuf *b, const cJSON *root) {
             link_to(b, e);
         }
         sb_add(b, "</td></tr>\n");
+        /* its picture on a row of its own, the three side by side */
+        const cJSON *pic = cJSON_GetObjectItemCaseSensitive(m, "picture");
+        if (pic) {
+            sb_add(b, "<tr class=\"picture\"><td></td><td></td><td colspan=\"3\">");
+            page_picture(b, pic);
+            sb_add(b, "</td></tr>\n");
+        }
     }
     sb_add(b, "</table>\n");
 }
