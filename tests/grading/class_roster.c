@@ -85,7 +85,8 @@ static row *read_roster(const char *text, int *count, sbuf *problems) {
             rows[n++] = (row){{f[0], f[1], f[2]}, line};
             continue;
         }
-        for (int i = 0; i < 3 && i < nf; i++) free(f[i]);
+        for (int i = 0; i < 3 && i < nf; i++)
+            free(f[i]);
     }
     *count = n;
     return rows;
@@ -106,7 +107,8 @@ static int roster_index(const row *rows, int n, const char *name) {
 /* A CSV field, always quoted: a name with a comma or a quote stays one field. */
 static void csv_field(sbuf *b, const char *s) {
     sb_add(b, "\"");
-    for (; *s; s++) sb_add(b, *s == '"' ? "\"\"" : (char[]){*s, 0});
+    for (; *s; s++)
+        sb_add(b, *s == '"' ? "\"\"" : (char[]){*s, 0});
     sb_add(b, "\"");
 }
 
@@ -181,10 +183,10 @@ int roster_main(const char *out, const char *roster_path) {
     char *class_text = read_file(path, 0), *roster_text = read_file(roster_path, 4 << 20);
     cJSON *root = class_text ? cJSON_Parse(class_text) : NULL;
     if (!cJSON_IsObject(root) || !roster_text) {
-        fprintf(stderr, "raster101-class: expected %s (raster101-class view) and the roster %s "
-                        "(CSV: name,id,email), got %s\n",
-                path, roster_path,
-                !roster_text ? "no readable roster" : "no readable class.json");
+        fprintf(stderr,
+                "raster101-class: expected %s (raster101-class view) and the roster %s "
+                "(CSV: name,id,email), got %s\n",
+                path, roster_path, !roster_text ? "no readable roster" : "no readable class.json");
         cJSON_Delete(root);
         free(class_text);
         free(roster_text);
@@ -243,7 +245,8 @@ int roster_main(const char *out, const char *roster_path) {
            "%s\n",
            written, n, out, problems.len ? "; problems listed in roster-problems.txt" : "");
     for (int i = 0; i < n; i++)
-        for (int f = 0; f < 3; f++) free(rows[i].field[f]);
+        for (int f = 0; f < 3; f++)
+            free(rows[i].field[f]);
     free(rows);
     free(twice);
     free(problems.s);

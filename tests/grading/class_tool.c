@@ -37,11 +37,11 @@
 #include <unistd.h>
 
 enum {
-    TEXT_CAP = 400,                /* bytes of one quoted line */
-    RESULTS_LIMIT = 8 << 20,       /* a results.json larger than this is cut (and then unreadable) */
-    SMALL_LIMIT = 64 << 10,        /* scores.csv, missing.txt, status */
-    BINS = 10,                     /* a histogram's bars */
-    MISTAKE_NAMES_SHOWN = 40,      /* names listed in a mistake's row before "and N more" */
+    TEXT_CAP = 400,           /* bytes of one quoted line */
+    RESULTS_LIMIT = 8 << 20,  /* a results.json larger than this is cut (and then unreadable) */
+    SMALL_LIMIT = 64 << 10,   /* scores.csv, missing.txt, status */
+    BINS = 10,                /* a histogram's bars */
+    MISTAKE_NAMES_SHOWN = 40, /* names listed in a mistake's row before "and N more" */
 };
 
 /* ---------------------------------------------------------------- text */
@@ -89,7 +89,8 @@ static bool link_ok(const char *l) {
 static char *mistake_key(const char *line) {
     sbuf b = {0};
     const char *p = line;
-    while (*p == ' ') p++;
+    while (*p == ' ')
+        p++;
     for (; *p; p++) {
         bool word_before = p > line && (isalnum((unsigned char)p[-1]) || p[-1] == '_');
         bool sign = (*p == '-' || *p == '+') && isdigit((unsigned char)p[1]) && !word_before;
@@ -105,7 +106,8 @@ static char *mistake_key(const char *line) {
             sb_addn(&b, p, 1);
         }
     }
-    while (b.len && b.s[b.len - 1] == ' ') b.s[--b.len] = '\0';
+    while (b.len && b.s[b.len - 1] == ' ')
+        b.s[--b.len] = '\0';
     return b.s ? b.s : xstrdup("");
 }
 
@@ -208,7 +210,8 @@ static void attention_from_scores(const char *csv, cJSON *reasons) {
     while (line && *line) {
         size_t len = strcspn(line, "\n");
         const char *comma = memchr(line, ',', len), *last = line + len;
-        while (last > line && last[-1] != ',') last--;
+        while (last > line && last[-1] != ',')
+            last--;
         if (comma && last > comma) {
             char asg[64], status[16];
             fmt(asg, sizeof asg, "%.*s", (int)(comma - line), line);
@@ -315,7 +318,8 @@ static void tally_assignment(klass *k, const char *id, double score, double max)
         cJSON_AddNumberToObject(a, "max", max);
         cJSON_AddNumberToObject(a, "graded", 0);
         cJSON *h = cJSON_AddArrayToObject(a, "histogram");
-        for (int i = 0; i < BINS; i++) cJSON_AddItemToArray(h, cJSON_CreateNumber(0));
+        for (int i = 0; i < BINS; i++)
+            cJSON_AddItemToArray(h, cJSON_CreateNumber(0));
         cJSON_AddItemToArray(k->assignments, a);
     }
     cJSON *g = cJSON_GetObjectItemCaseSensitive(a, "graded");
@@ -459,9 +463,11 @@ static int by_students(const void *a, const void *b) {
 static void rank_mistakes(cJSON *mistakes) {
     int n = cJSON_GetArraySize(mistakes);
     cJSON **v = calloc((size_t)n + 1, sizeof *v);
-    for (int i = n - 1; i >= 0; i--) v[i] = cJSON_DetachItemFromArray(mistakes, i);
+    for (int i = n - 1; i >= 0; i--)
+        v[i] = cJSON_DetachItemFromArray(mistakes, i);
     qsort(v, (size_t)n, sizeof *v, by_students);
-    for (int i = 0; i < n; i++) cJSON_AddItemToArray(mistakes, v[i]);
+    for (int i = 0; i < n; i++)
+        cJSON_AddItemToArray(mistakes, v[i]);
     free(v);
 }
 
@@ -480,8 +486,8 @@ static bool list_students(const char *out, name_list *names) {
     struct dirent *e;
     while ((e = readdir(d))) {
         struct stat st;
-        if (e->d_name[0] == '.' ||
-            fstatat(dirfd(d), e->d_name, &st, AT_SYMLINK_NOFOLLOW) || !S_ISDIR(st.st_mode))
+        if (e->d_name[0] == '.' || fstatat(dirfd(d), e->d_name, &st, AT_SYMLINK_NOFOLLOW) ||
+            !S_ISDIR(st.st_mode))
             continue;
         names_add(names, e->d_name);
     }
@@ -501,7 +507,8 @@ static cJSON *read_class(const char *out) {
                .items = cJSON_AddArrayToObject(root, "items"),
                .mistakes = cJSON_AddArrayToObject(root, "mistakes"),
                .attention = cJSON_AddArrayToObject(root, "attention")};
-    for (int i = 0; i < names.n; i++) read_student(&k, names.v[i]);
+    for (int i = 0; i < names.n; i++)
+        read_student(&k, names.v[i]);
     rank_mistakes(k.mistakes);
     names_free(&names);
     return root;
@@ -645,8 +652,9 @@ static void page_histogram(sbuf *b, const cJSON *a) {
     }
     sb_add(b, "</svg><figcaption>");
     html(b, str_or(a, "id", "?"));
-    sb_printf(b, ": %g students graded; bars: students scoring up to the points below each "
-                 "(of %g)</figcaption></figure>\n",
+    sb_printf(b,
+              ": %g students graded; bars: students scoring up to the points below each "
+              "(of %g)</figcaption></figure>\n",
               num_or(a, "graded", 0), max);
 }
 
@@ -746,8 +754,9 @@ static cJSON *read_json(const char *path) {
     cJSON *j = text ? cJSON_Parse(text) : NULL;
     free(text);
     if (!cJSON_IsObject(j))
-        fprintf(stderr, "raster101-class: expected a class.json (raster101-class view) at %s, "
-                        "got %s\n",
+        fprintf(stderr,
+                "raster101-class: expected a class.json (raster101-class view) at %s, "
+                "got %s\n",
                 path, text ? "something that is not a JSON object" : "no readable file");
     return j;
 }
