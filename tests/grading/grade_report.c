@@ -353,6 +353,30 @@ static bool write_cmocka_xml(const grader *g, assignment_result *as, int n) {
     return ok;
 }
 
+/* The points of the items reported but not counted ("SKIP", "not counted"):
+ * what a grade elsewhere (the course's, with its reference programs) adds.
+ * *no_reference: every one of them lacks only a reference program (the
+ * student edition's variant pictures and integration; grade_images.c). */
+static double uncounted_points(const assignment_result *as, int n, bool *no_reference) {
+    double sum = 0;
+    *no_reference = true;
+    for (int i = 0; i < n; i++)
+        for (int k = 0; as[i].graded && k < as[i].n_items; k++) {
+            const item *it = &as[i].items[k];
+            if (it->counted) continue;
+            sum += it->max_score;
+            *no_reference &= it->reason && !strncmp(it->reason, "no reference program", 20);
+        }
+    return sum;
+}
+
+/* Why the uncounted items are not counted, for the TOTAL lines. */
+static const char *uncounted_why(bool no_reference) {
+    return no_reference ? "the variant pictures and the integration, which need the reference "
+                          "programs the student edition lacks; the course's grader counts them"
+                        : "each says why";
+}
+
 /* report.md's opening: the notes on the submission, the total, where to
  * start, the table of assignments. */
 static void report_md_top(FILE *f, const grader *g, assignment_result *as, int n, double total,
@@ -365,6 +389,13 @@ static void report_md_top(FILE *f, const grader *g, assignment_result *as, int n
     }
     fprintf(f, "**Total: %g / %g**", total, max_total);
     if (strcmp(g->variant, "ref") == 0) fprintf(f, " (reference solutions graded as the student)");
+    bool no_reference;
+    double more = uncounted_points(as, n, &no_reference);
+    if (more > 0)
+        fprintf(f,
+                " (the most this grading gives; %g more points (%g in all) are in the items "
+                "marked \"not counted\" below: %s)",
+                more, max_total + more, uncounted_why(no_reference));
     const char *first_id = NULL;
     const item *first = start_here(as, n, &first_id);
     if (first) {
@@ -486,6 +517,30 @@ bool write_outputs(grader *g, assignment_result *as, int n, double total, double
     return ok;
 }
 
+/* The printed table's "why" column, which starts at `column`: its text
+ * wrapped at spaces into lines of at most WHY_CHARS characters, each one
+ * after the first indented to the column, so that no word is cut. */
+enum { WHY_CHARS = 64 };
+
+static void print_wrapped_why(int column, const char *why) {
+    size_t left = strlen(why);
+    bool first = true;
+    while (left > 0) {
+        size_t n = utf8_prefix(why, left, WHY_CHARS);
+        if (n < left) { /* break at the last space that fits, if any */
+            size_t sp = n;
+            while (sp > 0 && why[sp] != ' ') sp--;
+            if (sp > 0) n = sp;
+        }
+        printf("%s%*s%.*s", first ? "" : "\n", first ? 0 : column, "", (int)n, why);
+        first = false;
+        why += n;
+        left -= n;
+        while (left > 0 && *why == ' ') why++, left--;
+    }
+    putchar('\n');
+}
+
 void print_table(const grader *g, assignment_result *as, int n, double total, double max_total) {
     bool defaults = false;
     const char *first_id = NULL;
@@ -510,12 +565,11 @@ void print_table(const grader *g, assignment_result *as, int n, double total, do
             char name[300];
             fmt(name, sizeof name, "%s%s", it->name, it->default_weight ? " *" : "");
             defaults |= it->default_weight;
-            if (it->counted)
-                printf("  %-7s %-50.50s %5g / %-3g %s\n", it->status, name, it->score,
-                       it->max_score, it->reason ? it->reason : "");
-            else
-                printf("  %-7s %-50.50s   (not counted) %s\n", it->status, name,
-                       it->reason ? it->reason : "");
+            int column =
+                it->counted ? printf("  %-7s %-50.50s %5g / %-3g ", it->status, name, it->score,
+                                     it->max_score)
+                            : printf("  %-7s %-50.50s   (not counted) ", it->status, name);
+            print_wrapped_why(column > 0 ? column : 0, it->reason ? it->reason : "");
         }
         printf("  %-58s %5g / %-3g (%.1f s)\n", "total", a->score, a->max_score, a->seconds);
     }
@@ -524,5 +578,11 @@ void print_table(const grader *g, assignment_result *as, int n, double total, do
                g->default_points, g->default_points == 1 ? "" : "s");
     printf("TOTAL %g / %g%s\n", total, max_total,
            strcmp(g->variant, "ref") == 0 ? "   (reference solutions graded as the student)" : "");
+    bool no_reference;
+    double more = uncounted_points(as, n, &no_reference);
+    if (more > 0)
+        printf("      %g is the most this grading gives; %g more points (%g in all) are in the "
+               "items marked \"not counted\" above: %s\n",
+               max_total, more, max_total + more, uncounted_why(no_reference));
     printf("report: %s/report.md   Gradescope: %s/results.json\n", g->out, g->out);
 }
