@@ -2,6 +2,7 @@
 """habit_list_test.py — ctest habit_list: the one list of course habits holds.
 
     tests/habit_list_test.py SOURCE_DIR [--pitfalls FILE]
+    tests/habit_list_test.py SOURCE_DIR --self-test   (ctest habit_list_catches)
 
 docs/pitfalls.md, "Coming from the GAMES101 framework", lists the habits of
 the GAMES101 course's C++ framework that are wrong here, each with its
@@ -237,7 +238,52 @@ def check_advice(row, test_files):
     return bad
 
 
+def self_test(src):
+    """The check catches what it is for: three copies of the table, each
+    broken one way (a test renamed, words no message says, a link to no
+    heading), must each fail. Returns 0 when all three are caught."""
+    import subprocess
+    import tempfile
+    with open(os.path.join(src, "docs", "pitfalls.md"), encoding="utf-8") as f:
+        text = f.read()
+    # what to break, how, and the words the new failure must name
+    breaks = {
+        "a test that does not exist": ("`test_raster_depth_test_order`",
+                                       "`test_raster_depth_test_order_gone`", "order_gone"),
+        "words no message says": ("`z_interpolated *= w_reciprocal` snippet",
+                                  "`z_interpolated /= w_reciprocal` snippet", "/= w_reciprocal"),
+        "a link to no heading": ("(hw3.md#coming-from-the-games101-framework)",
+                                 "(hw3.md#coming-from-the-games-framework)", "games-framework"),
+    }
+    run = [sys.executable, __file__, src, "--pitfalls"]
+    # failures of the table as it is (a habit another change is still to
+    # name) are not the broken copy's: only a new failure counts
+    baseline = set(subprocess.run(run + [os.path.join(src, "docs", "pitfalls.md")],
+                                  capture_output=True, text=True).stdout.splitlines())
+    bad = 0
+    for what, (old, new, token) in breaks.items():
+        if old not in text:
+            bad |= fail(f"self-test: cannot break the table with {what}: '{old}' is not in it")
+            continue
+        with tempfile.NamedTemporaryFile("w", suffix=".md", dir=os.path.join(src, "docs"),
+                                         delete=False, encoding="utf-8") as f:
+            f.write(text.replace(old, new, 1))
+        try:
+            r = subprocess.run(run + [f.name], capture_output=True, text=True)
+        finally:
+            os.unlink(f.name)
+        caught = r.returncode == 1 and any(
+            token in line and line not in baseline for line in r.stdout.splitlines())
+        print(f"self-test: a table with {what}: {'caught' if caught else 'NOT caught'}")
+        if not caught:
+            bad |= fail(f"self-test: expected exit 1 naming '{new}', got exit {r.returncode}:\n"
+                        f"{r.stdout}")
+    return bad
+
+
 def main(argv):
+    if len(argv) == 3 and argv[2] == "--self-test" and os.path.isdir(argv[1]):
+        return self_test(argv[1])
     if len(argv) < 2 or not os.path.isdir(argv[1]):
         print(__doc__.split("\n\n")[1])
         return 2
