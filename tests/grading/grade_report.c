@@ -370,11 +370,32 @@ static double uncounted_points(const assignment_result *as, int n, bool *no_refe
     return sum;
 }
 
-/* Why the uncounted items are not counted, for the TOTAL lines. */
-static const char *uncounted_why(bool no_reference) {
-    return no_reference ? "the variant pictures and the integration, which need the reference "
-                          "programs the student edition lacks; the course's grader counts them"
-                        : "each says why";
+/* What the course's grade counts that this grading did not, in words for
+ * the TOTAL lines (empty when nothing): the items marked "not counted", and
+ * the integration part when this grading had none (the student edition: no
+ * reference code to link the student's with, so no whole-chain runs). */
+static void not_counted_here(const grader *g, const assignment_result *as, int n, char *buf,
+                             size_t size) {
+    bool no_reference, has_integration = false;
+    double more = uncounted_points(as, n, &no_reference);
+    for (int i = 0; i < n; i++)
+        has_integration |= as[i].graded && !strcmp(as[i].id, "integration");
+    double per_image = num_or(g->rubric, "integration_points_per_image", 0);
+    buf[0] = '\0';
+    if (more <= 0 && (has_integration || per_image <= 0)) return;
+    int k = snprintf(buf, size, "the course's grade also counts ");
+    if (more > 0 && k >= 0 && (size_t)k < size)
+        k += snprintf(buf + k, size - (size_t)k,
+                      "the %g points of the items marked \"not counted\" (%s)", more,
+                      no_reference ? "the variant pictures, which need the reference programs "
+                                     "the student edition lacks"
+                                   : "each says why");
+    if (!has_integration && per_image > 0 && k >= 0 && (size_t)k < size)
+        snprintf(buf + k, size - (size_t)k,
+                 "%san integration part, which this grading does not run (%g point%s for each "
+                 "picture with points of the assignments after hw1, drawn again by your whole "
+                 "chain)",
+                 more > 0 ? " and " : "", per_image, per_image == 1 ? "" : "s");
 }
 
 /* report.md's opening: the notes on the submission, the total, where to
@@ -389,13 +410,9 @@ static void report_md_top(FILE *f, const grader *g, assignment_result *as, int n
     }
     fprintf(f, "**Total: %g / %g**", total, max_total);
     if (strcmp(g->variant, "ref") == 0) fprintf(f, " (reference solutions graded as the student)");
-    bool no_reference;
-    double more = uncounted_points(as, n, &no_reference);
-    if (more > 0)
-        fprintf(f,
-                " (the most this grading gives; %g more points (%g in all) are in the items "
-                "marked \"not counted\" below: %s)",
-                more, max_total + more, uncounted_why(no_reference));
+    char more[600];
+    not_counted_here(g, as, n, more, sizeof more);
+    if (*more) fprintf(f, " (the most this grading gives: %s)", more);
     const char *first_id = NULL;
     const item *first = start_here(as, n, &first_id);
     if (first) {
@@ -578,11 +595,8 @@ void print_table(const grader *g, assignment_result *as, int n, double total, do
                g->default_points, g->default_points == 1 ? "" : "s");
     printf("TOTAL %g / %g%s\n", total, max_total,
            strcmp(g->variant, "ref") == 0 ? "   (reference solutions graded as the student)" : "");
-    bool no_reference;
-    double more = uncounted_points(as, n, &no_reference);
-    if (more > 0)
-        printf("      %g is the most this grading gives; %g more points (%g in all) are in the "
-               "items marked \"not counted\" above: %s\n",
-               max_total, more, max_total + more, uncounted_why(no_reference));
+    char more[600];
+    not_counted_here(g, as, n, more, sizeof more);
+    if (*more) printf("      %g is the most this grading gives: %s\n", max_total, more);
     printf("report: %s/report.md   Gradescope: %s/results.json\n", g->out, g->out);
 }
