@@ -287,7 +287,7 @@ static bool add_picture(cJSON *images, int out_dir, const picture_ref *p, size_t
     }
     char label[400];
     snprintf(label, sizeof label, "%s", p->label);
-    size_t overhead = strlen(label) + 40; /* {"label":"","url":""}, */
+    size_t overhead = strlen(label) + 80; /* the object, indented as written */
     for (int halvings = 0; uri_size(len) + overhead > *room; halvings++) {
         size_t n2 = 0;
         int w2 = 0, h2 = 0;
@@ -298,7 +298,7 @@ static bool add_picture(cJSON *images, int out_dir, const picture_ref *p, size_t
         len = n2;
         snprintf(label, sizeof label, "%s (downscaled to %dx%d: PrairieLearn's 1 MB limit)",
                  p->label, w2, h2);
-        overhead = strlen(label) + 40;
+        overhead = strlen(label) + 80;
         *downscaled = true;
     }
     char *uri = base64_uri(png, len);
@@ -314,8 +314,9 @@ static bool add_picture(cJSON *images, int out_dir, const picture_ref *p, size_t
 
 /* ------------------------------------------------------ results.json */
 
+/* the size of the file as written (write_json) */
 static size_t json_size(const cJSON *root) {
-    char *s = cJSON_PrintUnformatted(root);
+    char *s = cJSON_Print(root);
     size_t n = s ? strlen(s) : SIZE_MAX;
     free(s);
     return n;
@@ -373,6 +374,29 @@ static cJSON *compile_error(const cJSON *gs, const char *hw) {
              hw);
     const char *errors[2] = {first, said ? said : "(the compiler's lines were not found)"};
     return not_gradable(errors, 2);
+}
+
+/* The estimate above is close, not exact: the last pictures go until the
+ * whole file fits, each test that lost one saying so. */
+static int drop_past_limit(cJSON *tests, size_t limit, const cJSON *root) {
+    int dropped = 0;
+    while (json_size(root) > limit) {
+        cJSON *last = NULL, *t;
+        cJSON_ArrayForEach(t, tests) {
+            if (cJSON_GetArraySize(cJSON_GetObjectItemCaseSensitive(t, "images")) > 0) last = t;
+        }
+        if (!last) break;
+        cJSON *images = cJSON_GetObjectItemCaseSensitive(last, "images");
+        cJSON_DeleteItemFromArray(images, cJSON_GetArraySize(images) - 1);
+        const char *m = json_str(last, "message", "");
+        if (!strstr(m, "left out")) {
+            char note[300];
+            snprintf(note, sizeof note, "%.200s (pictures left out: PrairieLearn's 1 MB limit)", m);
+            cJSON_ReplaceItemInObjectCaseSensitive(last, "message", cJSON_CreateString(note));
+        }
+        dropped++;
+    }
+    return dropped;
 }
 
 /* Each test of hwN with its pictures, as long as they fit in the limit. */
@@ -439,6 +463,7 @@ static cJSON *graded(const cJSON *gs, const char *hw, int out_dir, const report_
         }
         left_out_total += left_out;
     }
+    left_out_total += drop_past_limit(tests, limit, root);
     if (left_out_total) {
         snprintf(msg, sizeof msg, "%s: %g / %g points (%d pictures left out: PrairieLearn's 1 MB limit)",
                  hw, got, max, left_out_total);
@@ -490,7 +515,7 @@ static int convert(const char *from, const char *hw, const char *out_path, size_
     size_t size = json_size(root);
     int rc = write_json(root, out_path) ? 0 : 2;
     if (!rc)
-        printf("raster101-pl-results: %s (%zu bytes unformatted, limit %zu)\n", out_path, size,
+        printf("raster101-pl-results: %s (%zu bytes, limit %zu)\n", out_path, size,
                limit);
     cJSON_Delete(root);
     cJSON_Delete(gs);
