@@ -140,7 +140,9 @@ typedef struct {
 } picture_ref;
 
 typedef struct {
-    char *item; /* "hwN: NAME", as results.json names the test */
+    char *item;   /* "hwN: NAME", as results.json names the test */
+    char *status; /* the grader's (PASS, FAIL, TODO, BUILD, ...): the table's */
+    char *why;    /* the table's one-line reason */
     picture_ref *pics;
     int n_pics;
 } item_pictures;
@@ -151,6 +153,13 @@ typedef struct {
 } report_pictures;
 
 static item_pictures *item_add(report_pictures *r, const char *hw, const char *name, size_t len) {
+    for (int i = 0; i < r->n; i++) {
+        const char *it = r->items[i].item;
+        size_t h = strlen(hw);
+        if (!strncmp(it, hw, h) && !strncmp(it + h, ": ", 2) && strlen(it + h + 2) == len &&
+            !strncmp(it + h + 2, name, len))
+            return &r->items[i];
+    }
     r->items = realloc(r->items, (size_t)(r->n + 1) * sizeof *r->items);
     if (!r->items) abort();
     item_pictures *it = &r->items[r->n++];
@@ -184,6 +193,36 @@ static void pictures_of_line(item_pictures *it, const char *line, size_t len, bo
     }
 }
 
+/* A cell of report.md's table as text: the grader's escapes undone. */
+static char *cell_text(const char *c, size_t n) {
+    while (n && *c == ' ') c++, n--;
+    while (n && c[n - 1] == ' ') n--;
+    char *out = xmalloc(n + 1), *o = out;
+    for (size_t i = 0; i < n; i++) {
+        if (c[i] == '\\' && i + 1 < n && strchr("\\`*_[]<>!#~&", c[i + 1])) i++;
+        *o++ = c[i];
+    }
+    *o = '\0';
+    return out;
+}
+
+/* "| STATUS | `NAME` | POINTS | WHY |": an item's status and reason. */
+static void table_row(report_pictures *r, const char *hw, const char *line, size_t len) {
+    const char *cells[6];
+    int n = 0;
+    for (const char *c = line; c < line + len && n < 6; c++)
+        if (*c == '|') cells[n++] = c;
+    if (n != 5) return;
+    const char *tick = memchr(cells[1], '`', (size_t)(cells[2] - cells[1]));
+    const char *end = tick ? memchr(tick + 1, '`', (size_t)(cells[2] - tick - 1)) : NULL;
+    if (!end) return;
+    item_pictures *it = item_add(r, hw, tick + 1, (size_t)(end - tick - 1));
+    free(it->status);
+    free(it->why);
+    it->status = cell_text(cells[0] + 1, (size_t)(cells[1] - cells[0] - 1));
+    it->why = cell_text(cells[3] + 1, (size_t)(cells[4] - cells[3] - 1));
+}
+
 /* report.md's picture sections: "## hwN — ..." opens an assignment,
  * "### NAME — STATUS (s / m)" an item that lost points; its image links
  * follow until the next heading. */
@@ -205,6 +244,8 @@ static report_pictures parse_report(const char *md) {
             buffer = false;
         } else if (!strncmp(line, "#", 1)) {
             cur = NULL;
+        } else if (!cur && *hw && !strncmp(line, "| ", 2)) {
+            table_row(&r, hw, line, len);
         } else if (cur) {
             if (!strncmp(line, "The first buffer that differs", 29)) buffer = true;
             pictures_of_line(cur, line, len, buffer);
@@ -299,8 +340,8 @@ static bool add_picture(cJSON *images, int out_dir, const picture_ref *p, size_t
         snprintf(label, sizeof label, "%s (downscaled to %dx%d: PrairieLearn's 1 MB limit)",
                  p->label, w2, h2);
         overhead = strlen(label) + 80;
-        *downscaled = true;
     }
+    *downscaled |= strcmp(label, p->label) != 0;
     char *uri = base64_uri(png, len);
     free(png);
     cJSON *img = cJSON_CreateObject();
@@ -390,8 +431,8 @@ static int drop_past_limit(cJSON *tests, size_t limit, const cJSON *root) {
         cJSON_DeleteItemFromArray(images, cJSON_GetArraySize(images) - 1);
         const char *m = json_str(last, "message", "");
         if (!strstr(m, "left out")) {
-            char note[300];
-            snprintf(note, sizeof note, "%.200s (pictures left out: PrairieLearn's 1 MB limit)", m);
+            char note[800];
+            snprintf(note, sizeof note, "%.600s (pictures left out: PrairieLearn's 1 MB limit)", m);
             cJSON_ReplaceItemInObjectCaseSensitive(last, "message", cJSON_CreateString(note));
         }
         dropped++;
@@ -425,7 +466,13 @@ static cJSON *graded(const cJSON *gs, const char *hw, int out_dir, const report_
         cJSON_AddStringToObject(nt, "name", name);
         cJSON_AddNumberToObject(nt, "points", json_num(t, "score"));
         cJSON_AddNumberToObject(nt, "max_points", json_num(t, "max_score"));
-        cJSON_AddStringToObject(nt, "message", json_str(t, "status", ""));
+        const item_pictures *ip = pictures_for(pics, name);
+        char said[600];
+        if (ip && ip->status)
+            snprintf(said, sizeof said, "%s%s%.500s", ip->status, *ip->why ? ": " : "", ip->why);
+        else
+            snprintf(said, sizeof said, "%s", json_str(t, "status", ""));
+        cJSON_AddStringToObject(nt, "message", said);
         cJSON_AddStringToObject(nt, "output", json_str(t, "output", ""));
         cJSON_AddItemToArray(tests, nt);
     }
@@ -445,16 +492,19 @@ static cJSON *graded(const cJSON *gs, const char *hw, int out_dir, const report_
     size_t used = json_size(root) + 200;
     size_t room = used < limit ? limit - used : 0;
     int left_out_total = 0;
-    cJSON_ArrayForEach(pt, tests) {
+    /* the pictures of the items that lost points first, then the others' */
+    for (int lost_first = 1; lost_first >= 0; lost_first--) cJSON_ArrayForEach(pt, tests) {
         const item_pictures *ip = pictures_for(pics, json_str(pt, "name", ""));
         if (!ip || !ip->n_pics) continue;
+        bool lost = json_num(pt, "points") < json_num(pt, "max_points");
+        if (lost != (lost_first == 1)) continue;
         cJSON *images = cJSON_AddArrayToObject(pt, "images");
         int left_out = 0;
         bool downscaled = false;
         for (int i = 0; i < ip->n_pics; i++)
             left_out += !add_picture(images, out_dir, &ip->pics[i], &room, &downscaled);
         if (left_out || downscaled) {
-            char note[300];
+            char note[800];
             snprintf(note, sizeof note, "%s (%s%s%s)", json_str(pt, "message", ""),
                      downscaled ? "pictures downscaled" : "", downscaled && left_out ? "; " : "",
                      left_out ? "pictures left out: PrairieLearn's 1 MB limit on results" : "");
@@ -509,6 +559,8 @@ static int convert(const char *from, const char *hw, const char *out_path, size_
             }
             free(pics.items[i].pics);
             free(pics.items[i].item);
+            free(pics.items[i].status);
+            free(pics.items[i].why);
         }
         free(pics.items);
     }
