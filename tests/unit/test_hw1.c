@@ -172,6 +172,14 @@ static bool row_right(mat4s got, mat4s right, int row) {
     return true;
 }
 
+/* got's z row is the right one negated: near and far exchanged. */
+static bool z_row_negated(mat4s got, mat4s right) {
+    for (int c = 2; c < 4; c++)
+        if (fabsf(got.raw[c][2] + right.raw[c][2]) > 1e-4f * fmaxf(1, fabsf(right.raw[c][2])))
+            return false;
+    return true;
+}
+
 /* The likely mistake, read from what get_projection_matrix returned for these
  * arguments: the mistake whose matrix it is, else which rows are wrong. */
 static const char *projection_hint(float fov, float aspect, float zn, float zf, mat4s got) {
@@ -188,21 +196,18 @@ static const char *projection_hint(float fov, float aspect, float zn, float zf, 
     for (int i = 0; i < PROJECTION_MISTAKES; i++) {
         mat4s made = positive_w(lecture_projection(m[i].n, m[i].f, m[i].t, m[i].r));
         /* at aspect 1 the aspect mistake makes the right matrix: no evidence */
-        if (!ras_mat4_near(made, right, 1e-4f) && ras_mat4_near(pg, made, 1e-4f))
-            return m[i].hint;
+        if (!ras_mat4_near(made, right, 1e-4f) && ras_mat4_near(pg, made, 1e-4f)) return m[i].hint;
     }
     bool x = row_right(pg, right, 0), y = row_right(pg, right, 1), z = row_right(pg, right, 2),
          w = row_right(pg, right, 3);
     if (!w)
         return "the w row is wrong: it must copy z into w, (0, 0, 1, 0) in the squish matrix, "
                "so that the divide by w makes the perspective";
-    if (x && y && !z) {
-        bool negated = fabsf(pg.raw[2][2] + right.raw[2][2]) < 1e-4f * fmaxf(1, fabsf(right.raw[2][2])) &&
-                       fabsf(pg.raw[3][2] + right.raw[3][2]) < 1e-4f * fmaxf(1, fabsf(right.raw[3][2]));
-        return negated ? m[2].hint
-                       : "only the z row is wrong (x, y and w are right): the ortho z scale "
-                         "2/(n-f) and centre -(n+f)/2, times the squish's (n+f, -nf) row";
-    }
+    if (x && y && !z)
+        return z_row_negated(pg, right)
+                   ? m[2].hint
+                   : "only the z row is wrong (x, y and w are right): the ortho z scale "
+                     "2/(n-f) and centre -(n+f)/2, times the squish's (n+f, -nf) row";
     if (!x && !y && z)
         return "only the x and y scales are wrong (z and w are right): the diagonal should be "
                "n/r and n/t, i.e. cot(fov/2)/aspect and cot(fov/2) up to sign, with "
@@ -244,8 +249,8 @@ static void test_projection_classic_maps_frustum_to_cube(void **state) {
     /* A point off axis: x_ndc = x / (z_dist · tan(fov/2)). */
     vec3s p = project(m, (vec3s){{1, 0, -5}});
     float expected_x = 1.0f / (5.0f * tanf(ras_deg_to_rad(22.5f)));
-    bool corner_right = fabsf(corner.x - 1) < 1e-3f && fabsf(corner.y - 1) < 1e-3f &&
-                        fabsf(corner.z - 1) < 1e-3f;
+    bool corner_right =
+        fabsf(corner.x - 1) < 1e-3f && fabsf(corner.y - 1) < 1e-3f && fabsf(corner.z - 1) < 1e-3f;
     if (corner_right && fabsf(far_centre.z + 1) < 1e-3f && fabsf(p.x - expected_x) < 1e-4f) return;
     char got[512];
     ras_mat4_format(m, got, sizeof got);
@@ -301,18 +306,18 @@ static void describe_rotation(mat4s m, char *buf, size_t size) {
     for (int c = 0; c < 3; c++)
         len[c] = sqrtf(m.raw[c][0] * m.raw[c][0] + m.raw[c][1] * m.raw[c][1] +
                        m.raw[c][2] * m.raw[c][2]);
-    bool unit = fabsf(len[0] - 1) < 1e-3f && fabsf(len[1] - 1) < 1e-3f &&
-                fabsf(len[2] - 1) < 1e-3f;
+    bool unit = fabsf(len[0] - 1) < 1e-3f && fabsf(len[1] - 1) < 1e-3f && fabsf(len[2] - 1) < 1e-3f;
     if (!unit || fabsf(det - 1) > 1e-3f) {
-        snprintf(buf, size, "not a rotation: its columns have lengths %.4f, %.4f, %.4f and "
-                            "its determinant is %.4f (a rotation's are 1)",
+        snprintf(buf, size,
+                 "not a rotation: its columns have lengths %.4f, %.4f, %.4f and "
+                 "its determinant is %.4f (a rotation's are 1)",
                  len[0], len[1], len[2], det);
         return;
     }
     float tr = m.raw[0][0] + m.raw[1][1] + m.raw[2][2];
     float angle = acosf(fmaxf(-1, fminf(1, (tr - 1) / 2)));
-    vec3s axis = {{m.raw[1][2] - m.raw[2][1], m.raw[2][0] - m.raw[0][2],
-                   m.raw[0][1] - m.raw[1][0]}};
+    vec3s axis = {
+        {m.raw[1][2] - m.raw[2][1], m.raw[2][0] - m.raw[0][2], m.raw[0][1] - m.raw[1][0]}};
     if (glms_vec3_norm(axis) < 1e-4f) {
         snprintf(buf, size, "a rotation by %.1f degrees (its axis cannot be read off)",
                  angle * (float)(180 / RAS_PI));
@@ -411,13 +416,17 @@ static void test_rotation_any_axis_direction(void **state) {
         mat4s expected;
         const char *what;
     } cases[] = {
-        {{{1, 0, 0}}, ras_mat4_rows(1, 0, 0, 0, 0, c, -s, 0, 0, s, c, 0, 0, 0, 0, 1),
+        {{{1, 0, 0}},
+         ras_mat4_rows(1, 0, 0, 0, 0, c, -s, 0, 0, s, c, 0, 0, 0, 0, 1),
          "get_rotation((1,0,0), 50), about the x axis"},
-        {{{0, 1, 0}}, ras_mat4_rows(c, 0, s, 0, 0, 1, 0, 0, -s, 0, c, 0, 0, 0, 0, 1),
+        {{{0, 1, 0}},
+         ras_mat4_rows(c, 0, s, 0, 0, 1, 0, 0, -s, 0, c, 0, 0, 0, 0, 1),
          "get_rotation((0,1,0), 50), about the y axis"},
-        {{{0, 0, -1}}, rot_z_rad(-ras_deg_to_rad(deg)),
+        {{{0, 0, -1}},
+         rot_z_rad(-ras_deg_to_rad(deg)),
          "get_rotation((0,0,-1), 50), about the negative z axis (clockwise seen from +z)"},
-        {{{1, -2, -3}}, rotation_expected((vec3s){{1, -2, -3}}, deg),
+        {{{1, -2, -3}},
+         rotation_expected((vec3s){{1, -2, -3}}, deg),
          "get_rotation((1,-2,-3), 50), an axis with z < 0"},
     };
     enum { CASES = sizeof cases / sizeof *cases };
