@@ -186,20 +186,37 @@ static void test_interp_affine_error_matches_theory(void **state) {
         vec2s affine = interpolate_vec2(&t, bary, t.uv, false);
         CHECK(fabsf(affine.x - sigma) < 1e-6f,
               "interpolate_vec2(perspective = false) at screen fraction %.3f of the edge "
-              "uv 0 → 1: expected the affine %.6f, got %.6f. Likely mistake: the affine path "
-              "must use the screen barycentrics as they are",
-              (double)sigma, (double)sigma, (double)affine.x);
+              "uv 0 → 1: expected the affine %.6f, got %.6f. Likely mistake: %s",
+              (double)sigma, (double)sigma, (double)affine.x,
+              fabsf(affine.x - correct.x) < 1e-6f
+                  ? "the 1/w correction applied with perspective = false too: the affine path "
+                    "uses the screen barycentrics as they are"
+                  : "the affine path must use the screen barycentrics as they are");
         double k = 3.0, s_exact = (sigma / k) / ((1 - sigma) + sigma / k);
+        /* the classic wrong weights on this edge (w0 = 2, w1 = 6) */
+        double times_w = sigma * 6 / ((1 - sigma) * 2 + sigma * 6), no_sum = sigma / 6;
         CHECK(fabs(correct.x - s_exact) < 2e-6,
               "perspective-correct u at screen fraction %.3f along the edge (w 2 → 6): "
-              "expected %.6f = (σ/w1)/((1−σ)/w0 + σ/w1), got %.6f",
-              (double)sigma, s_exact, (double)correct.x);
+              "expected %.6f = (σ/w1)/((1−σ)/w0 + σ/w1), got %.6f. Likely mistake: %s",
+              (double)sigma, s_exact, (double)correct.x,
+              fabs(correct.x - sigma) < 2e-6
+                  ? "this is the AFFINE value: the 1/w correction is missing (w forced to 1 as "
+                    "the course framework's toVector4 does, or `perspective` ignored) — the w = 1 "
+                    "pitfall, docs/hw3.md section 1"
+              : fabs(correct.x - times_w) < 2e-6
+                  ? "the weights multiplied by w: b_i = λ_i / w_i, not λ_i · w_i"
+              : fabs(correct.x - no_sum) < 2e-6
+                  ? "the weights λ_i / w_i not divided by their sum Σ λ_j / w_j"
+                  : "b_i = (λ_i / w_i) / Σ (λ_j / w_j), then attr = Σ b_i · attr_i");
         double e = fabs(affine.x - correct.x);
         if (e > worst) worst = e, worst_sigma = sigma;
     }
     double theory = (sqrt(3.0) - 1) / (sqrt(3.0) + 1), sigma_theory = sqrt(3.0) / (sqrt(3.0) + 1);
     CHECK(fabs(worst - theory) < 1e-4 && fabs(worst_sigma - sigma_theory) < 2e-3,
-          "worst affine error along the edge: expected %.5f at σ = %.3f, got %.5f at σ = %.3f",
+          "worst affine error along the edge: expected %.5f at σ = %.3f, got %.5f at σ = %.3f. "
+          "Likely mistake: the affine and the perspective-correct values differ from the "
+          "formulas above by less than the per-point tolerance, but drift: b_i = (λ_i / w_i) / "
+          "Σ (λ_j / w_j) in float, without rounding the weights",
           theory, sigma_theory, worst, worst_sigma);
 }
 
@@ -232,14 +249,22 @@ static void test_interp_w1_pitfall_caught(void **state) {
     for (int i = 0; i < 3; i++) {
         vec3s e = {{i == 0, i == 1, i == 2}};
         vec3s g = perspective_correct_barycentric(&t, e);
-        CHECK(near3(g, e, 1e-6f), "at vertex %d expected " FMT3 ", got " FMT3, i, ARG3(e), ARG3(g));
+        CHECK(near3(g, e, 1e-6f),
+              "perspective_correct_barycentric at vertex %d: expected " FMT3 ", got " FMT3
+              ". Likely mistake: the weights λ_i / w_i must be divided by their sum, so a vertex "
+              "keeps weight 1",
+              i, ARG3(e), ARG3(g));
     }
     vec3s attr[3] = {V3(1, 0, 0), V3(0, 1, 0), V3(0, 0, 1)};
     vec3s c = interpolate_vec3(&t, bary, attr, true);
     CHECK(near3(c, b, 1e-5f),
           "interpolate_vec3 of the unit vectors should return the corrected barycentrics " FMT3
-          ", got " FMT3,
-          ARG3(b), ARG3(c));
+          ", got " FMT3 ". Likely mistake: %s",
+          ARG3(b), ARG3(c),
+          near3(c, bary, 1e-5f) ? "interpolate_vec3 ignores `perspective`: with true it weighs "
+                                  "with perspective_correct_barycentric (TODO 1.3)"
+                                : "interpolate_vec3 = Σ b_i · attr_i with b the corrected "
+                                  "barycentrics (TODO 1.3)");
 }
 
 /* ---- shaders ---------------------------------------------------------------- */
@@ -311,7 +336,7 @@ static const struct {
                     "half vector h = normalize(l + v)"},
     {BP_HALF_FROM_UNNORMALISED,
      "the half vector from the UNNORMALISED light and view vectors, h = normalize((light − "
-     "point) + (−point)), which leans towards the nearer of light and eye: normalise l and v "
+     "point) + (−point)), which leans towards the farther of light and eye: normalise l and v "
      "first, then h = normalize(l + v)"},
     {BP_HALF_NOT_NORMALISED, "the half vector h = l + v is not normalised: h = normalize(l + v)"},
     {BP_L_NOT_NORMALISED, "l is not normalised: l = normalize(light − point)"},
@@ -343,8 +368,8 @@ static void unit3(double a[3]) {
 /* The specular factor s (before pow) of one light for direction d = light −
  * point, the viewer direction v (unit unless BP_V_NOT_NORMALISED) and its
  * unnormalised form eye − point. */
-static double bp_specular_base(unsigned m, const double n[3], const double l[3],
-                               const double v[3], const double d[3], const double to_eye[3]) {
+static double bp_specular_base(unsigned m, const double n[3], const double l[3], const double v[3],
+                               const double d[3], const double to_eye[3]) {
     double h[3];
     if (m & BP_REFLECTION) { /* r = 2(n·l)n − l, then r·v */
         double nl = dot3(n, l), r[3];
@@ -374,10 +399,13 @@ static vec3s bp_colour(const bp_case *c, unsigned m) {
         for (int k = 0; k < 3; k++)
             d[k] = l[k] = c->L[i][k] - c->P[k];
         double r2 = dot3(d, d);
-        grey += m & BP_AMBIENT_PER_LIGHT ? c->ambient : m & BP_AMBIENT_OVER_R2 ? c->ambient / r2 : 0;
+        grey += m & BP_AMBIENT_PER_LIGHT ? c->ambient
+                : m & BP_AMBIENT_OVER_R2 ? c->ambient / r2
+                                         : 0;
         if (!(m & BP_L_NOT_NORMALISED)) unit3(l);
-        double fall = m & BP_NO_FALLOFF ? c->I[i] : m & BP_FALLOFF_R ? c->I[i] / sqrt(r2)
-                                                                     : c->I[i] / r2;
+        double fall = m & BP_NO_FALLOFF  ? c->I[i]
+                      : m & BP_FALLOFF_R ? c->I[i] / sqrt(r2)
+                                         : c->I[i] / r2;
         double nl = dot3(n, l), s = bp_specular_base(m, n, l, v, d, to_eye);
         diffuse += fall * (m & BP_DIFFUSE_NO_MAX ? nl : fmax(0, nl));
         if (!(m & BP_NO_SPECULAR))
@@ -463,7 +491,10 @@ static const char *bp_diagnose(const bp_case *c, vec3s got, char *out, size_t si
 
 /* The case of a payload from base_payload (kd, ks, p, ambient grey). */
 static bp_case bp_case_of(const fragment_shader_payload *p, vec3s kd) {
-    bp_case c = {.kd = kd, .ks = p->ks.x, .pw = p->p, .ambient = p->ka.x * p->ambient_intensity.x,
+    bp_case c = {.kd = kd,
+                 .ks = p->ks.x,
+                 .pw = p->p,
+                 .ambient = p->ka.x * p->ambient_intensity.x,
                  .lights = p->light_count};
     for (int k = 0; k < 3; k++)
         c.P[k] = p->view_pos.raw[k], c.n[k] = p->normal.raw[k];
@@ -487,12 +518,16 @@ static void test_shader_normal(void **state) {
     (void)state;
     fragment_shader_payload p = base_payload();
     vec3s c = normal_fragment_shader(&p);
-    CHECK(near3(c, V3(0.5f, 0.5f, 1), 1e-6f), "normal (0,0,1): expected (0.5, 0.5, 1), got " FMT3,
+    CHECK(near3(c, V3(0.5f, 0.5f, 1), 1e-6f),
+          "normal (0,0,1): expected (0.5, 0.5, 1), got " FMT3 ". Likely mistake: the normal "
+          "shader (given) was changed: it returns (normalize(n) + 1) / 2",
           ARG3(c));
     p.normal = V3(0.6f, 0, 0.8f);
     c = normal_fragment_shader(&p);
     CHECK(near3(c, V3(0.8f, 0.5f, 0.9f), 1e-6f),
-          "normal (0.6,0,0.8): expected (0.8, 0.5, 0.9), got " FMT3, ARG3(c));
+          "normal (0.6,0,0.8): expected (0.8, 0.5, 0.9), got " FMT3 ". Likely mistake: the "
+          "normal shader (given) was changed: it returns (normalize(n) + 1) / 2",
+          ARG3(c));
 }
 
 /* One light, all three terms. P = (0,0,-10), n = (0,0,1), v = (0,0,1).
@@ -734,10 +769,10 @@ static bitangent_kind bitangent_of(vec3s n, vec3s t, vec3s b) {
 }
 
 #define B_T_CROSS_N_MISTAKE                                                                        \
-    "the bitangent b = t × n in tangent_frame: it is b = n × t (glms_vec3_cross(n, t), "          \
+    "the bitangent b = t × n in tangent_frame: it is b = n × t (glms_vec3_cross(n, t), "         \
     "TODO 5.3); the reversed order negates b and with it dV's term in n' = n − dU·t − dV·b"
 #define B_ELEMENTWISE_MISTAKE                                                                      \
-    "the bitangent computed element-wise in tangent_frame, b = n ∘ t (glms_vec3_mul multiplies "  \
+    "the bitangent computed element-wise in tangent_frame, b = n ∘ t (glms_vec3_mul multiplies " \
     "component by component): it is the cross product b = n × t (glms_vec3_cross(n, t), TODO "    \
     "5.3); element-wise, b is (0, 0, 0) wherever n and t have no common axis, so dV's term "       \
     "vanishes"
@@ -971,8 +1006,8 @@ static bool read_past_the_edge(vec3s c) { return c.z > 0.3f + 1e-4f || c.y < -1e
 /* ---- bilinear diagnoses: the reference lookup on the ramp with one mistake ---
  * The four corners of a lookup, in the course's names. */
 static const char *const corner_names[4] = {
-    "bottom-left (i0, j0), the course's u00", "bottom-right (i0+1, j0), u10",
-    "top-left (i0, j0+1), u01", "top-right (i0+1, j0+1), u11"};
+    "bottom-left texel (i0, j0) (the course's u00)", "bottom-right texel (i0+1, j0) (u10)",
+    "top-left texel (i0, j0+1) (u01)", "top-right texel (i0+1, j0+1) (u11)"};
 
 typedef struct bl_variant {
     float shift_x, shift_y; /* the half-texel shift per axis: −0.5 is right */
@@ -1016,7 +1051,7 @@ typedef struct bl_candidate {
 
 #define BL_NO_SHIFT "half-texel shift missing: texel centres are at u·W − 0.5, not u·W"
 #define BL_WRONG_SIGN                                                                              \
-    "the half-texel shift with the wrong sign: x = u·W + 0.5 reads half a texel too far right "    \
+    "the half-texel shift with the wrong sign: x = u·W + 0.5 reads a whole texel too far right "  \
     "(and up); texel centres are at x = u·W − 0.5, y = v·H − 0.5 (TODO 4.2)"
 #define BL_CORNER_TWICE                                                                            \
     "one corner texel read twice: the %s read as the %s, so one of the four texels is never "      \
@@ -1170,7 +1205,8 @@ static void test_bilinear_edges_repeat(void **state) {
           b = texture_sample_bilinear(tex, 1 + 1e-4f, 0.25f);
     CHECK(fabsf(a.x - 0.375f) < 2e-3f && fabsf(b.x - 0.375f) < 2e-3f,
           "repeat just outside [0,1]: expected ≈ 0.375 on both sides of the seam, got %.5f "
-          "(u = −ε) and %.5f (u = 1 + ε)",
+          "(u = −ε) and %.5f (u = 1 + ε). Likely mistake: repeat keeps the fraction u − floor(u) "
+          "(TODO 4.1), then the texel index i0 + 1 = W wraps to 0",
           (double)a.x, (double)b.x);
     ramp_destroy(tex);
 }
@@ -1215,8 +1251,10 @@ static void test_trilinear_levels(void **state) {
     vec3s a = texture_sample_trilinear(tex, uv, zero, zero);
     vec3s b = texture_sample_bilinear(tex, uv.x, uv.y);
     CHECK(near3(a, b, 1e-6f),
-          "trilinear without minification: expected bilinear " FMT3 ", got " FMT3, ARG3(b),
-          ARG3(a));
+          "trilinear without minification: expected bilinear " FMT3 ", got " FMT3
+          ". Likely mistake: with ρ ≤ 1 (magnified) the level is 0, and level 0 is "
+          "texture_sample_bilinear (TODO 7.2)",
+          ARG3(b), ARG3(a));
     vec2s big = {{1, 0}}, big_y = {{0, 1}};
     vec3s c = texture_sample_trilinear(tex, uv, big, big_y);
     CHECK(near3(c, V3(0.5f, 0.5f, 0.5f), 0.02f),
@@ -1275,7 +1313,9 @@ static ras_image *render(ras_scene_shader shader, texture_filter filter, ras_cou
     ras_error err = {{0}};
     ras_image *img = ras_image_create(g_scene->width, g_scene->height, &err);
     assert_non_null(img);
-    CHECK(hw3_render(g_scene, g_assets, &opt, img, stats, &err), "hw3_render(%s): %s",
+    CHECK(hw3_render(g_scene, g_assets, &opt, img, stats, &err),
+          "hw3_render(%s): %s. Likely mistake: hw3_render (the handout's code) rejected its input: "
+          "the message above says which",
           ras_scene_shader_name(shader), err.msg);
     return img;
 }
@@ -1297,16 +1337,20 @@ static void test_stages_only_what_the_shader_needs(void **state) {
               hw3_shader_varyings(RAS_SHADER_PHONG) ==
                   (RAS_VARYING_NORMAL | RAS_VARYING_VIEW_POS) &&
               hw3_shader_varyings(RAS_SHADER_BUMP) == (RAS_VARYING_NORMAL | RAS_VARYING_UV),
-          "varyings masks: normal reads NORMAL; phong NORMAL|VIEW_POS; bump NORMAL|UV");
+          "varyings masks: normal reads NORMAL; phong NORMAL|VIEW_POS; bump NORMAL|UV. Likely "
+          "mistake: the masks are given: hw3_shader_varyings was changed");
     ras_counters k;
     ras_image_destroy(render(RAS_SHADER_NORMAL, FILTER_TRILINEAR, &k));
     CHECK(k.texels_fetched == 0 && k.lighting_evaluations == 0 && k.mip_levels_built == 0 &&
               !(k.stages_run & (RAS_STAGE_TEXTURE | RAS_STAGE_LIGHTING | RAS_STAGE_MIPMAP)),
           "normal shader: expected no texels, lighting or mips, got %llu texels, %llu lighting, "
-          "%llu mip levels",
+          "%llu mip levels. Likely mistake: the normal shader must read only the normal: no "
+          "texture, no lighting (it is given)",
           (unsigned long long)k.texels_fetched, (unsigned long long)k.lighting_evaluations,
           (unsigned long long)k.mip_levels_built);
-    CHECK(k.varyings_interpolated > 0, "normal shader: no fragment reached the shader");
+    CHECK(k.varyings_interpolated > 0,
+          "normal shader: no fragment reached the shader. Likely mistake: nothing was drawn: see "
+          "the hw2 tests (the rasterizer) and interpolate_vec3 (TODO 1.3)");
     ras_image_destroy(render(RAS_SHADER_PHONG, FILTER_BILINEAR, &k));
     uint64_t frags = hw3_fragments(&k, RAS_SHADER_PHONG);
     CHECK(k.texels_fetched == 0 && k.lighting_evaluations == 2 * frags,
@@ -1319,7 +1363,9 @@ static void test_stages_only_what_the_shader_needs(void **state) {
     ras_image_destroy(render(RAS_SHADER_TEXTURE, FILTER_NEAREST, &k));
     frags = hw3_fragments(&k, RAS_SHADER_TEXTURE);
     CHECK(k.texels_fetched == frags,
-          "texture, nearest: one texel per fragment expected, got %llu for %llu",
+          "texture, nearest: one texel per fragment expected, got %llu for %llu. Likely mistake: "
+          "with FILTER_NEAREST texture_fragment_shader reads one texel a fragment through "
+          "texture_sample (TODO 3.1)",
           (unsigned long long)k.texels_fetched, (unsigned long long)frags);
 }
 
@@ -1379,10 +1425,15 @@ static void expect_quad_textured(const char *dir) {
     ras_image_destroy(halves);
     ras_scene_assets *a = NULL;
     ras_scene *s = model_scene(quad, tex_path, true, &a, &err);
-    CHECK(s, "the quad with the texture %s should load: %s", tex_path, err.msg);
+    CHECK(s,
+          "the quad with the texture %s should load: %s. Likely mistake: model loading (scene.c) "
+          "is the handout's code, not a TODO: tell the course staff",
+          tex_path, err.msg);
     ras_counters k;
     ras_image *img = quad_frame(s, a, &k, &err);
-    CHECK(img, "render the textured quad: %s", err.msg);
+    CHECK(img,
+          "render the textured quad: %s. Likely mistake: hw3_render failed with the message above",
+          err.msg);
     /* the quad fills the middle of the frame: a quarter in from each side */
     vec3s left = ras_image_get(img, 20, 32), right = ras_image_get(img, 44, 32);
     bool left_red = left.x > left.z, right_red = right.x > right.z;
@@ -1408,7 +1459,9 @@ static void test_scene_model_errors_and_quads(void **state) {
     ras_error err = {{0}};
     ras_scene_assets *a = NULL;
     ras_scene *s = model_scene("/nonexistent/model.obj", NULL, false, &a, &err);
-    CHECK(!s && strlen(err.msg) > 0, "a missing model must fail with a message");
+    CHECK(!s && strlen(err.msg) > 0,
+          "a missing model must fail with a message. Likely mistake: model loading (scene.c) is "
+          "the handout's code, not a TODO: tell the course staff");
     char dir[] = "/tmp/raster101_hw3_XXXXXX";
     assert_non_null(mkdtemp(dir));
     char bad[256], quad[256];
@@ -1419,19 +1472,31 @@ static void test_scene_model_errors_and_quads(void **state) {
                      "f 1/1 2/2 3/3 4/4\n");
     err.msg[0] = '\0';
     s = model_scene(bad, NULL, false, &a, &err);
-    CHECK(!s && strlen(err.msg) > 0, "an OBJ with an out-of-range index must fail with a message");
+    CHECK(!s && strlen(err.msg) > 0,
+          "an OBJ with an out-of-range index must fail with a message. Likely mistake: model "
+          "loading (scene.c) is the handout's code, not a TODO: tell the course staff");
     err.msg[0] = '\0';
     s = model_scene(quad, "/nonexistent/tex.png", false, &a, &err);
-    CHECK(!s && strlen(err.msg) > 0, "a missing texture must fail with a message");
+    CHECK(!s && strlen(err.msg) > 0,
+          "a missing texture must fail with a message. Likely mistake: model loading (scene.c) is "
+          "the handout's code, not a TODO: tell the course staff");
     s = model_scene(quad, NULL, true, &a, &err);
-    CHECK(s, "a quad OBJ without normals should load: %s", err.msg);
-    CHECK(a->meshes[0]->triangle_count == 2, "the quad should become 2 triangles, got %zu",
+    CHECK(s,
+          "a quad OBJ without normals should load: %s. Likely mistake: model loading (scene.c) is "
+          "the handout's code, not a TODO: tell the course staff",
+          err.msg);
+    CHECK(a->meshes[0]->triangle_count == 2,
+          "the quad should become 2 triangles, got %zu. Likely mistake: model loading (scene.c) is "
+          "the handout's code, not a TODO: tell the course staff",
           a->meshes[0]->triangle_count);
     ras_counters k;
     ras_image *img = quad_frame(s, a, &k, &err);
-    CHECK(img, "render the quad: %s", err.msg);
+    CHECK(img, "render the quad: %s. Likely mistake: hw3_render failed with the message above",
+          err.msg);
     CHECK(hw3_fragments(&k, RAS_SHADER_TEXTURE) > 500,
-          "the fitted quad should cover much of a 64x64 frame; %llu fragments shaded",
+          "the fitted quad should cover much of a 64x64 frame; %llu fragments shaded. Likely "
+          "mistake: the quad was not drawn: see the hw2 tests (the rasterizer) and the "
+          "interpolators (TODO 1)",
           (unsigned long long)hw3_fragments(&k, RAS_SHADER_TEXTURE));
     ras_image_destroy(img);
     ras_scene_assets_destroy(a);
