@@ -1515,7 +1515,8 @@ static ras_image *load_reference(ras_scene_shader shader) {
              ras_scene_shader_name(shader));
     ras_error err = {{0}};
     ras_image *img = ras_image_load(path, &err);
-    CHECK(img, "reference image missing: %s (make reference-images writes it)", err.msg);
+    CHECK(img, "reference image missing: %s (make reference-images writes it)" REF_NOT_YOURS,
+          err.msg);
     return img;
 }
 
@@ -1532,9 +1533,15 @@ static void expect_pixel(const ras_image *img, int col, int row, vec3s c, int to
                          const char *what) {
     vec3s p = ras_image_get(img, col, row);
     CHECK(pixel_is(img, col, row, c, tol),
-          "%s: pixel (%d, %d) expected " FMT3 " (within %d/255), got " FMT3, what, col, row,
-          ARG3(c), tol, ARG3(p));
+          "%s: pixel (%d, %d) expected " FMT3 " (within %d/255), got " FMT3 REF_NOT_YOURS, what,
+          col, row, ARG3(c), tol, ARG3(p));
 }
+
+/* The sanity checks below test the repository's reference images, not the
+ * student's code. */
+#define REF_NOT_YOURS                                                                              \
+    ". Likely mistake: not yours: this checks the course's reference image, which is "             \
+    "damaged or stale; tell the course staff"
 
 /* Blinn-Phong in double, written out again here so the reference images are
  * checked against arithmetic that does not come from the solution. */
@@ -1606,7 +1613,7 @@ static void sanity_texture(const ras_image *ref) {
     vec3s b = hand_blinn_phong(V3(0.2f, 0.25f, 0.35f), P3, up);
     CHECK(pixel_is(ref, 436, FLOOR_ROW, a, 2) || pixel_is(ref, 436, FLOOR_ROW, b, 2),
           "hw3_texture: the floor pixel (436, 690) should be Blinn-Phong with one of the checker "
-          "colours: " FMT3 " or " FMT3 ", got " FMT3,
+          "colours: " FMT3 " or " FMT3 ", got " FMT3 REF_NOT_YOURS,
           ARG3(a), ARG3(b), ARG3(ras_image_get(ref, 436, FLOOR_ROW)));
 }
 
@@ -1623,10 +1630,10 @@ static void sanity_bump(const ras_image *ref) {
             float len = glms_vec3_norm(glms_vec3_subs(glms_vec3_scale(p, 2), 1));
             CHECK(fabsf(len - 1) < 0.03f,
                   "hw3_bump: pixel (%d, %d) = " FMT3 " is not the colour of a unit normal "
-                  "(NaN at n = (0,±1,0)?)",
+                  "(NaN at n = (0,±1,0)?)" REF_NOT_YOURS,
                   c, r, ARG3(p));
         }
-    CHECK(drawn > 200000, "hw3_bump: only %ld pixels drawn", drawn);
+    CHECK(drawn > 200000, "hw3_bump: only %ld pixels drawn" REF_NOT_YOURS, drawn);
 }
 
 static void sanity_displacement(const ras_image *ref) {
@@ -1636,8 +1643,9 @@ static void sanity_displacement(const ras_image *ref) {
     vec3s want = hand_blinn_phong(V3(0.7f, 0.7f, 0.7f), floor_point, up);
     vec3s got = ras_image_get(ref, FLOOR_COL, FLOOR_ROW);
     CHECK(got.x > 0.5f * want.x && got.x < 2 * want.x,
-          "hw3_displacement: the floor pixel " FMT3 " should be near Blinn-Phong " FMT3, ARG3(got),
-          ARG3(want));
+          "hw3_displacement: the floor pixel " FMT3
+          " should be near Blinn-Phong " FMT3 REF_NOT_YOURS,
+          ARG3(got), ARG3(want));
 }
 
 typedef struct image_case {
