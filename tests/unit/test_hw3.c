@@ -1509,6 +1509,12 @@ static void test_scene_model_errors_and_quads(void **state) {
 
 /* ---- scene: whole images and their references ---------------------------------- */
 
+/* The sanity checks below test the repository's reference images, not the
+ * student's code. */
+#define REF_NOT_YOURS                                                                              \
+    ". Likely mistake: not yours: this checks the course's reference image, which is "             \
+    "damaged or stale; tell the course staff"
+
 static ras_image *load_reference(ras_scene_shader shader) {
     char path[1024];
     snprintf(path, sizeof path, "%s/tests/reference/hw3_%s.png", RAS_SOURCE_DIR,
@@ -1536,12 +1542,6 @@ static void expect_pixel(const ras_image *img, int col, int row, vec3s c, int to
           "%s: pixel (%d, %d) expected " FMT3 " (within %d/255), got " FMT3 REF_NOT_YOURS, what,
           col, row, ARG3(c), tol, ARG3(p));
 }
-
-/* The sanity checks below test the repository's reference images, not the
- * student's code. */
-#define REF_NOT_YOURS                                                                              \
-    ". Likely mistake: not yours: this checks the course's reference image, which is "             \
-    "damaged or stale; tell the course staff"
 
 /* Blinn-Phong in double, written out again here so the reference images are
  * checked against arithmetic that does not come from the solution. */
