@@ -125,6 +125,14 @@ static bool closed_inside_exact(const ras_triangle *t, double px, double py) {
     return true;
 }
 
+/* Whether (px, py) lies exactly on one of t's edge lines. */
+static bool on_an_edge(const ras_triangle *t, double px, double py) {
+    const vec4s *v = t->v;
+    return edge_exact(v[1].x, v[1].y, v[2].x, v[2].y, px, py) == 0 ||
+           edge_exact(v[2].x, v[2].y, v[0].x, v[0].y, px, py) == 0 ||
+           edge_exact(v[0].x, v[0].y, v[1].x, v[1].y, px, py) == 0;
+}
+
 /* The closed triangle with each edge function truncated to an int first
  * (`int e = ...`): values in (-1, 1) px² become 0, "on the edge". */
 static bool truncated_inside_exact(const ras_triangle *t, double px, double py) {
@@ -190,6 +198,32 @@ static bool bary_swapped_for_clockwise(void) {
         if (!near3(a, want, 1e-5f) || !near3(b, swapped, 1e-5f)) return false;
     }
     return true;
+}
+
+/* Why a rasterizer draws nothing, from one triangle drawn here with counters
+ * and inside_triangle asked about a point well inside it; NULL when neither
+ * tells. */
+static const char *why_nothing_drawn(void) {
+    ras_framebuffer *fb = make_fb(8, 8, 1);
+    ras_counters k = {0};
+    ras_raster_ctx ctx = ctx_none(fb);
+    ctx.counters = &k;
+    ras_triangle t = tri_z(tri3(1, 1, 7, 1, 1, 7), 0.5f, WHITE);
+    rasterize_triangle(&t, &ctx);
+    int drawn = 0;
+    for (int i = 0; i < 64; i++)
+        drawn += !isinf(fb->depth[i]);
+    ras_framebuffer_destroy(fb);
+    if (drawn) return NULL;
+    if (k.samples_covered > 0 && k.depth_tests_passed == 0)
+        return "nothing is drawn: a triangle drawn with counters covered samples and passed no "
+               "depth test, so the depth test never passes — with the buffer cleared to +INF, "
+               "`z > depth[i]` is the test reversed (smaller is closer: draw when z < depth[i]).";
+    if (inside_triangle(2.5f, 2.5f, &t))
+        return "nothing is drawn, although inside_triangle accepts (2.5, 2.5) inside the triangle "
+               "(1,1),(7,1),(1,7): the depth test never passes (against +INF, `z > depth[i]` is "
+               "reversed: draw when z < depth[i]), or depth and colour are not written.";
+    return NULL;
 }
 
 #define BARY_SWAPPED_CW                                                                            \
@@ -413,8 +447,11 @@ static coverage_evidence coverage_hypotheses(const ras_triangle *tris, int ntris
                 double sx = x + pat.offsets[s].x, sy = y + pat.offsets[s].y;
                 int got = counts[(y * w + x) * S + s], e = expect(sx, sy, user);
                 int corner = 0, exact = 0, trunc_in = 0;
+                bool on_edge = false; /* of a triangle: the top-left rule may drop it */
                 for (int i = 0; i < ntris; i++) {
                     corner += closed_inside_exact(&tris[i], x, y);
+                    on_edge = on_edge || (closed_inside_exact(&tris[i], x, y) &&
+                                          on_an_edge(&tris[i], sx, sy));
                     bool in = closed_inside_exact(&tris[i], sx, sy);
                     exact += in;
                     trunc_in += truncated_inside_exact(&tris[i], sx, sy) && !in;
@@ -424,7 +461,8 @@ static coverage_evidence coverage_hypotheses(const ras_triangle *tris, int ntris
                 /* at the corner: never where it is outside, at least once where
                  * it is inside, at most as often as it is (the top-left rule may
                  * still drop one of two on a shared edge) */
-                if (corner == 0 ? got != 0 : (got < 1 || got > corner)) ev.at_corner = false;
+                if (corner == 0 ? got != 0 : ((got < 1 && !on_edge) || got > corner))
+                    ev.at_corner = false;
                 bool ok = got <= 1 && (e != 1 || got == 1) && (e != 0 || got == 0);
                 if (ok) continue;
                 /* a wrong sample: extra coverage only an int edge function
@@ -911,8 +949,10 @@ static void test_bary_at_pixel_centre(void **state) {
     rasterize_triangle(&t, &ctx);
     CHECK(rec.calls > 0,
           "rasterize_triangle with ctx->shade set: expected the shader to be called for each "
-          "covered pixel, got 0 calls. Likely mistake: ctx->shade ignored (call it, or "
-          "ras_shade_vertex_color when it is NULL), or nothing is drawn yet.");
+          "covered pixel, got 0 calls. Likely mistake: %s",
+          why_nothing_drawn() ? why_nothing_drawn()
+                              : "ctx->shade ignored (call it, or ras_shade_vertex_color when "
+                                "it is NULL), or nothing is drawn yet.");
     for (int i = 0; i < rec.calls && i < 256; i++) {
         const ras_fragment *f = &rec.frag[i];
         double cx = f->x + 0.5, cy = f->y + 0.5;
@@ -967,8 +1007,10 @@ static void test_raster_depth_with_different_w(void **state) {
     rasterize_triangle(&t, &ctx);
     CHECK(rec.calls > 0,
           "rasterize_triangle of a triangle whose vertices have w = 1, 2, 4: expected fragments, "
-          "got none. Likely mistake: the triangle rejected because w is not 1 (w is the clip w, "
-          "any positive value), or nothing is drawn yet.");
+          "got none. Likely mistake: %s",
+          why_nothing_drawn() ? why_nothing_drawn()
+                              : "the triangle rejected because w is not 1 (w is the clip w, any "
+                                "positive value), or nothing is drawn yet.");
     for (int i = 0; i < rec.calls && i < 256; i++) {
         const ras_fragment *f = &rec.frag[i];
         double b[3];
@@ -1117,7 +1159,11 @@ static void test_index_rasterizer_writes_flipped(void **state) {
           "written, index %d %s. Likely mistake: %s",
           idx, covered_pixels(&g.fb), idx, isinf(g.fb.depth[idx]) ? "untouched" : "written",
           !isinf(g.fb.depth[0]) ? "no y-flip (y*w + x): use ras_fb_sample_index."
-                                : "the pixel centre not tested, or nothing drawn yet.");
+          : covered_pixels(&g.fb) == 0 && inside_answers_at_corner()
+              ? "nothing drawn (the triangle holds the centre (0.5, 0.5), not the corner (0, "
+                "0)), and inside_triangle, called on other points, answers for each as for its "
+                "pixel's corner: " INT_SIGNATURE_HABIT "."
+              : "the pixel centre not tested, or nothing drawn yet.");
     ras_framebuffer_clear(&g.fb, BLACK);
     /* the first triangle moved by (5, 3): the centre lies inside, not on an
      * edge, so a strict inside test is as right here as the top-left rule */
@@ -1259,9 +1305,16 @@ static void test_raster_clamped_to_screen(void **state) {
             int n = covered_pixels(&g.fb), all = W * H * pat.count;
             CHECK(want_all[k] != 1 || n == all,
                   "triangle %zu covers the whole %dx%d frame: expected all %d samples covered, "
-                  "got %d. Likely mistake: the bounding box clamped wrongly (e.g. to the first "
-                  "vertex), or an overflow for huge coordinates.",
-                  k, W, H, all, n);
+                  "got %d. Likely mistake: %s",
+                  k, W, H, all, n,
+                  n == 0 && why_nothing_drawn() ? why_nothing_drawn()
+                  : !inside_triangle(W / 2 + 0.5f, H / 2 + 0.5f, &t)
+                      ? "inside_triangle itself says the frame's centre is outside this "
+                        "triangle (called here): its edge functions overflow for corners this "
+                        "far out — an int edge function (`int e = ...`) holds at most 2^31 px², "
+                        "these reach 10^14; keep them float (or double)."
+                      : "the bounding box clamped wrongly (e.g. to the first vertex), or an "
+                        "overflow for huge coordinates in the loop.");
             CHECK(want_all[k] != 0 || n == 0,
                   "triangle %zu is wholly off-screen: expected nothing drawn, got %d samples. "
                   "Likely mistake: clamping the box INTO the screen drew its edge pixels; an "
@@ -1303,9 +1356,10 @@ static void test_raster_rejects_nan_and_zero_area(void **state) {
     CHECK(covered_pixels(&g.fb) > 0,
           "the proper triangle (1,1),(7,1),(1,7) after the bad ones: expected pixels drawn, got "
           "none. Drawing nothing is the stub's placeholder, right for the bad triangles only, "
-          "so this test counts once a proper triangle is drawn. Likely mistake: "
-          "rasterize_triangle is not written yet (TODO(hw2) 1-6), or it rejects every "
-          "triangle.");
+          "so this test counts once a proper triangle is drawn. Likely mistake: %s",
+          why_nothing_drawn() ? why_nothing_drawn()
+                              : "rasterize_triangle is not written yet (TODO(hw2) 1-6), or it "
+                                "rejects every triangle.");
     guarded_free(&g);
 }
 
@@ -1581,6 +1635,12 @@ static void test_resolve_no_dark_seam(void **state) {
                         seam[y * N + x] = 1;
                     }
                 }
+            if (worst_x >= 0 && covered_pixels(fb) == 0)
+                fail_msg("%s 4x %s: two white triangles sharing an edge over black: expected "
+                         "every inner pixel white, got nothing drawn (no sample has a depth). "
+                         "Likely mistake: nothing is drawn with 4 samples; see the first "
+                         "failing rasterize test.",
+                         ras_aa_mode_name(modes[m]), ras_pattern_kind_name(kinds[k]));
             if (worst_x >= 0) {
                 char art[512];
                 ascii_raster(seam, NULL, N, N, art, sizeof art);
@@ -1626,7 +1686,11 @@ static void test_resolve_overdraw_replaces(void **state) {
               "(%g, %g, %g). Likely mistake: %s",
               ras_aa_mode_name(cases[i].aa), cases[i].aa == RAS_AA_NONE ? "" : " 4x",
               f == 1 ? "all" : "half", want.x, want.z, got.x, got.y, got.z,
-              near3(got, sum, 1e-5f)
+              f < 1 && near3(got, RED, 1e-5f) && inside_answers_at_corner()
+                  ? "the near red triangle took all four samples although it covers two, and "
+                    "inside_triangle, called on other points, answers for each as for its "
+                    "pixel's corner: " INT_SIGNATURE_HABIT "."
+              : near3(got, sum, 1e-5f)
                   ? "the pixel is the SUM of both triangles' colours x their covered shares: "
                     ADDITIVE_MSAA "."
               : near3(got, BLUE, 1e-5f)
@@ -1753,7 +1817,8 @@ static bool pixel_is(const ras_image *img, int x, int y, const unsigned char *rg
  * positions only: pixels well inside a triangle have its exact colour, the
  * overlap shows the nearer (green) one, the background is black; with
  * anti-aliasing, pixels straddling green's left edge are mixtures. */
-static void check_scene_image(const ras_image *img, const char *what, bool antialiased) {
+static void check_scene_image(const ras_image *img, const char *what, bool antialiased,
+                              bool inside_at_corner) {
     double g[3][2], b[3][2];
     project_by_hand(GREEN_POS, g);
     project_by_hand(BLUE_POS, b);
@@ -1806,9 +1871,13 @@ static void check_scene_image(const ras_image *img, const char *what, bool antia
         }
     CHECK(edge_pixels > 50 && mixtures * 10 >= edge_pixels * 9,
           "%s: of %ld pixels whose centre lies within 0.4 px of the green triangle's left edge, "
-          "expected at least 90%% to mix green and black, got %ld. Likely mistake: samples all "
-          "at the pixel centre (no anti-aliasing), or the resolve picks one sample.",
-          what, edge_pixels, mixtures);
+          "expected at least 90%% to mix green and black, got %ld. Likely mistake: %s",
+          what, edge_pixels, mixtures,
+          inside_at_corner
+              ? "every sample of a pixel covered alike, and inside_triangle, called on other "
+                "points, answers for each as for its pixel's corner: " INT_SIGNATURE_HABIT "."
+              : "samples all at the pixel centre (no anti-aliasing), or the resolve picks one "
+                "sample.");
 }
 
 static ras_image *load_reference(const char *name) {
@@ -1837,7 +1906,7 @@ static void test_scene_reference_images_sane(void **state) {
                 {"hw2_msaa4_standard.png", true}};
     for (size_t i = 0; i < sizeof refs / sizeof refs[0]; i++) {
         ras_image *img = load_reference(refs[i].file);
-        check_scene_image(img, refs[i].file, refs[i].aa);
+        check_scene_image(img, refs[i].file, refs[i].aa, false);
         ras_image_destroy(img);
     }
 }
@@ -1853,8 +1922,9 @@ static void test_scene_depth_order(void **state) {
           "(217, 238, 185) in front, got (%d, %d, %d). Likely mistake: %s",
           ras_unit_to_byte(c.x), ras_unit_to_byte(c.y), ras_unit_to_byte(c.z),
           pixel_is(img, 350, 400, BLUE8) ? "the depth test reversed (draw when z < depth)."
+          : why_nothing_drawn()          ? why_nothing_drawn()
                                          : "nothing or something else drawn there.");
-    check_scene_image(img, "your 1x render", false);
+    check_scene_image(img, "your 1x render", false, false);
     ras_image_destroy(img);
 }
 
@@ -1863,8 +1933,10 @@ static void compare_scene(const char *ref_name, ras_aa_mode aa, ras_pattern_kind
     /* Rendered first: in grading the student's frame is recorded in a sandbox
      * that has no reference images (tests/grading/ras_call.h). */
     ras_image *got = render_scene(aa, kind, samples);
+    /* the evidence for a diagnosis too: the record ends at the reference */
+    bool at_corner = aa != RAS_AA_NONE && inside_answers_at_corner();
     ras_image *want = load_reference(ref_name);
-    check_scene_image(got, ref_name, aa != RAS_AA_NONE);
+    check_scene_image(got, ref_name, aa != RAS_AA_NONE, at_corner);
     /* Edge-tolerant, and with AA one sample's worth more: a vertex that lands
      * 1/256 px elsewhere (another rounding of the same projection, or float
      * edge functions) flips single samples along the shallow edges — not a
