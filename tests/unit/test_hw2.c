@@ -783,7 +783,7 @@ static void precision_depth_check(const float c[6]) {
             float d = fb->depth[ras_fb_sample_index(fb, px, py, 0)];
             if (isinf(d)) continue;
             negative += d < 0; /* every depth here is in [0.3, 0.9] */
-            double x = px + 0.5, y = py + 0.5, err = INFINITY;
+            double x = px + 0.5, y = py + 0.5, err = INFINITY, corner_err = INFINITY;
             for (int v = 0; v < 2; v++) {
                 double q[6];
                 for (int k = 0; k < 6; k++)
@@ -794,12 +794,14 @@ static void precision_depth_check(const float c[6]) {
                                edge_exact(q[0], q[1], q[2], q[3], x, y) * z[2]) /
                               area;
                 err = fmin(err, fabs(d - want));
-                if (!v) {
-                    double b[3];
-                    exact_bary(&t, px, py, b); /* the pixel's corner */
-                    at_corner += fabs(d - (b[0] * z[0] + b[1] * z[1] + b[2] * z[2])) < 2e-5;
-                }
+                /* the same plane at the pixel's corner */
+                double corner = (edge_exact(q[2], q[3], q[4], q[5], px, py) * z[0] +
+                                 edge_exact(q[4], q[5], q[0], q[1], px, py) * z[1] +
+                                 edge_exact(q[0], q[1], q[2], q[3], px, py) * z[2]) /
+                                area;
+                corner_err = fmin(corner_err, fabs(d - corner));
             }
+            at_corner += corner_err < 2e-5;
             dworst = fmax(dworst, err);
             seen++;
         }
@@ -983,6 +985,10 @@ static void test_bary_at_pixel_centre(void **state) {
                   ? "the depth stored NEGATED (-z): the course framework's negated depth test, "
                     "kept; here the viewport already negated z (smaller is closer, the buffer "
                     "starts at +INF): store and compare z as it is."
+              : fabsf(d - (corner.x * 0.1f + corner.y * 0.5f + corner.z * 0.9f)) < 1e-4f
+                  ? "the stored depth is the plane's value at the pixel CORNER (x, y): the "
+                    "depth's barycentrics taken at the loop's integer (x, y), not at the sample "
+                    "inside_triangle tested (x + 0.5, y + 0.5); use the same point for both."
                   : "the depth stored is not the interpolated one (or stored at another index).");
     }
     ras_framebuffer_destroy(fb);
@@ -1428,9 +1434,14 @@ static void test_raster_depth_test_order(void **state) {
             float got = fb->depth[ras_fb_sample_index(fb, x, y, 0)];
             CHECK(fabsf(got - want) < 1e-5f,
                   "sloped triangle, pixel (%d, %d): expected depth %.5f (the plane through the "
-                  "vertices, at the pixel centre), got %.5f. Likely mistake: depth not "
-                  "interpolated (one vertex's z), or interpolated at the corner.",
-                  x, y, want, got);
+                  "vertices, at the pixel centre), got %.5f. Likely mistake: %s",
+                  x, y, want, got,
+                  fabsf(got - (0.1f + 0.8f * x / 8 + 0.4f * y / 8)) < 1e-5f
+                      ? "the stored depth is the plane's at the pixel CORNER (x, y): the "
+                        "depth's barycentrics taken at the loop's integer (x, y), not at the "
+                        "sample inside_triangle tested; use the same point for both."
+                      : "depth not interpolated (one vertex's z), or interpolated with other "
+                        "weights than the sample's barycentrics.");
         }
     ras_framebuffer_destroy(fb);
 }
@@ -1576,8 +1587,11 @@ static void test_resolve_half_covered_pixel(void **state) {
         hand->depth[ras_fb_sample_index(hand, 1, 1, s)] = 0.5f;
     }
     vec3s hand_resolved = resolve_pixel(hand, 1, 1);
-    ras_framebuffer_destroy(hand);
     bool covered_only = fabsf(hand_resolved.x - 0.8f) < 1e-4f;
+    /* sample 0 alone gives 0.8 there too: told apart on a pixel whose
+     * only covered sample is sample 1 */
+    bool sample_zero = covered_only && resolves_sample_zero(hand);
+    ras_framebuffer_destroy(hand);
     for (size_t m = 0; m < sizeof modes / sizeof modes[0]; m++) {
         vec3s got = render_pixel(&half, 1, modes[m].aa, pattern(modes[m].kind, 4));
         vec3s want = {{0.4f, 0.3f, 0.2f}};
@@ -1592,6 +1606,11 @@ static void test_resolve_half_covered_pixel(void **state) {
                     INT_SIGNATURE_HABIT "."
               : got.x == 0
                   ? "nothing resolved: integer division in the resolve, or samples not written."
+              : got.x > 0.79f && sample_zero
+                  ? "resolve_pixel returns sample 0's colour whatever the others hold (a pixel "
+                    "whose only coloured sample is sample 1 resolves to black): one colour kept "
+                    "per pixel; keep a colour per sample and return the average of all "
+                    "fb->samples."
               : got.x > 0.79f && covered_only
                   ? "the resolve averages over the COVERED samples only (resolve_pixel gives "
                     "0.8 for two of four samples written): divide the sum of all fb->samples "
