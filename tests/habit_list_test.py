@@ -147,7 +147,8 @@ def definitions(code):
             j += 1
         defs.setdefault(m.group(1), code[m.start():j])
     # file-scope tables and strings (static const char *const hints[] = {...};)
-    for m in re.finditer(r"^(?:static\s+)?(?:const\s+)?\w[\w \t\*]*?\b(\w+)\s*(?:\[[^\]]*\])*\s*=",
+    # (the second form: a table of an anonymous struct, `} name[] = {`)
+    for m in re.finditer(r"^(?:(?:static\s+)?(?:const\s+)?\w[\w \t\*]*?|\}\s*)\b(\w+)\s*(?:\[[^\]]*\])*\s*=",
                          code, flags=re.M):
         end = code.find(";\n", m.end())
         defs.setdefault(m.group(1), code[m.start():end if end >= 0 else len(code)])

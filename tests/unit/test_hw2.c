@@ -725,8 +725,8 @@ static void test_bary_precision_at_600px(void **state) {
               ? "cancellation — right near the origin, wrong at 600 px: the expanded formula "
                 "x*(y1-y2) + (x2-x1)*y + x1*y2 - x2*y1, whose products near 3.6e5 cancel to "
                 "areas near 30 and lose about 1e-3 (in hw3 back faces then win the depth test: "
-                "speckle). Subtract a vertex first: ((x-x0)*(y1-y0) - (x1-x0)*(y-y0)) / area, "
-                "as docs/hw2.md writes it."
+                "speckle). Write it as docs/hw2.md does, a vertex taken away before the products: "
+                "((x-x0)*(y1-y0) - (x1-x0)*(y-y0)) / area."
               : "wrong near the origin too, so not a rounding matter: the formula itself (see "
                 "test_bary_vertices_centroid_sum and test_bary_outside_is_negative).");
     precision_depth_check(tris[0]);
