@@ -79,6 +79,14 @@ handout:
 autograder:
 	@tests/grading/make-autograder --out $(BUILD)/autograder
 
+# The PrairieLearn package: build/prairielearn/ in PrairieLearn's course layout
+# (questions/hwN with external grading, serverFilesCourse/raster101 with the
+# grader and its entrypoint pl-grade, the grading image's Dockerfile;
+# tests/grading/make-prairielearn, docs/instructors.md "PrairieLearn").
+.PHONY: prairielearn
+prairielearn:
+	@tests/grading/make-prairielearn --out $(BUILD)/prairielearn
+
 # The accuracy report: time and error of every accuracy option,
 # measured on this machine, into docs/accuracy.md, docs/accuracy.csv and
 # docs/img/accuracy_*.png. A few minutes; `bench_accuracy --quick` for seconds.

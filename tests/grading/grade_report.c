@@ -353,6 +353,51 @@ static bool write_cmocka_xml(const grader *g, assignment_result *as, int n) {
     return ok;
 }
 
+/* The points of the items reported but not counted ("SKIP", "not counted"):
+ * what a grade elsewhere (the course's, with its reference programs) adds.
+ * *no_reference: every one of them lacks only a reference program (the
+ * student edition's variant pictures and integration; grade_images.c). */
+static double uncounted_points(const assignment_result *as, int n, bool *no_reference) {
+    double sum = 0;
+    *no_reference = true;
+    for (int i = 0; i < n; i++)
+        for (int k = 0; as[i].graded && k < as[i].n_items; k++) {
+            const item *it = &as[i].items[k];
+            if (it->counted) continue;
+            sum += it->max_score;
+            *no_reference &= it->reason && !strncmp(it->reason, "no reference program", 20);
+        }
+    return sum;
+}
+
+/* What the course's grade counts that this grading did not, in words for
+ * the TOTAL lines (empty when nothing): the items marked "not counted", and
+ * the integration part when this grading had none (the student edition: no
+ * reference code to link the student's with, so no whole-chain runs). */
+static void not_counted_here(const grader *g, const assignment_result *as, int n, char *buf,
+                             size_t size) {
+    bool no_reference, has_integration = false;
+    double more = uncounted_points(as, n, &no_reference);
+    for (int i = 0; i < n; i++)
+        has_integration |= as[i].graded && !strcmp(as[i].id, "integration");
+    double per_image = num_or(g->rubric, "integration_points_per_image", 0);
+    buf[0] = '\0';
+    if (more <= 0 && (has_integration || per_image <= 0)) return;
+    int k = snprintf(buf, size, "the course's grade also counts ");
+    if (more > 0 && k >= 0 && (size_t)k < size)
+        k += snprintf(buf + k, size - (size_t)k,
+                      "the %g points of the items marked \"not counted\" (%s)", more,
+                      no_reference ? "the variant pictures, which need the reference programs "
+                                     "the student edition lacks"
+                                   : "each says why");
+    if (!has_integration && per_image > 0 && k >= 0 && (size_t)k < size)
+        snprintf(buf + k, size - (size_t)k,
+                 "%san integration part, which this grading does not run (%g point%s for each "
+                 "picture with points of the assignments after hw1, drawn again by your whole "
+                 "chain)",
+                 more > 0 ? " and " : "", per_image, per_image == 1 ? "" : "s");
+}
+
 /* report.md's opening: the notes on the submission, the total, where to
  * start, the table of assignments. */
 static void report_md_top(FILE *f, const grader *g, assignment_result *as, int n, double total,
@@ -365,6 +410,9 @@ static void report_md_top(FILE *f, const grader *g, assignment_result *as, int n
     }
     fprintf(f, "**Total: %g / %g**", total, max_total);
     if (strcmp(g->variant, "ref") == 0) fprintf(f, " (reference solutions graded as the student)");
+    char more[600];
+    not_counted_here(g, as, n, more, sizeof more);
+    if (*more) fprintf(f, " (the most this grading gives: %s)", more);
     const char *first_id = NULL;
     const item *first = start_here(as, n, &first_id);
     if (first) {
@@ -486,6 +534,30 @@ bool write_outputs(grader *g, assignment_result *as, int n, double total, double
     return ok;
 }
 
+/* The printed table's "why" column, which starts at `column`: its text
+ * wrapped at spaces into lines of at most WHY_CHARS characters, each one
+ * after the first indented to the column, so that no word is cut. */
+enum { WHY_CHARS = 64 };
+
+static void print_wrapped_why(int column, const char *why) {
+    size_t left = strlen(why);
+    bool first = true;
+    while (left > 0) {
+        size_t n = utf8_prefix(why, left, WHY_CHARS);
+        if (n < left) { /* break at the last space that fits, if any */
+            size_t sp = n;
+            while (sp > 0 && why[sp] != ' ') sp--;
+            if (sp > 0) n = sp;
+        }
+        printf("%s%*s%.*s", first ? "" : "\n", first ? 0 : column, "", (int)n, why);
+        first = false;
+        why += n;
+        left -= n;
+        while (left > 0 && *why == ' ') why++, left--;
+    }
+    putchar('\n');
+}
+
 void print_table(const grader *g, assignment_result *as, int n, double total, double max_total) {
     bool defaults = false;
     const char *first_id = NULL;
@@ -510,12 +582,11 @@ void print_table(const grader *g, assignment_result *as, int n, double total, do
             char name[300];
             fmt(name, sizeof name, "%s%s", it->name, it->default_weight ? " *" : "");
             defaults |= it->default_weight;
-            if (it->counted)
-                printf("  %-7s %-50.50s %5g / %-3g %s\n", it->status, name, it->score,
-                       it->max_score, it->reason ? it->reason : "");
-            else
-                printf("  %-7s %-50.50s   (not counted) %s\n", it->status, name,
-                       it->reason ? it->reason : "");
+            int column =
+                it->counted ? printf("  %-7s %-50.50s %5g / %-3g ", it->status, name, it->score,
+                                     it->max_score)
+                            : printf("  %-7s %-50.50s   (not counted) ", it->status, name);
+            print_wrapped_why(column > 0 ? column : 0, it->reason ? it->reason : "");
         }
         printf("  %-58s %5g / %-3g (%.1f s)\n", "total", a->score, a->max_score, a->seconds);
     }
@@ -524,5 +595,8 @@ void print_table(const grader *g, assignment_result *as, int n, double total, do
                g->default_points, g->default_points == 1 ? "" : "s");
     printf("TOTAL %g / %g%s\n", total, max_total,
            strcmp(g->variant, "ref") == 0 ? "   (reference solutions graded as the student)" : "");
+    char more[600];
+    not_counted_here(g, as, n, more, sizeof more);
+    if (*more) printf("      %g is the most this grading gives: %s\n", max_total, more);
     printf("report: %s/report.md   Gradescope: %s/results.json\n", g->out, g->out);
 }

@@ -34,9 +34,10 @@ char *clean_output(const char *raw) {
 
 bool has_todo_notice(const char *out) { return strstr(out, "is not written yet") != NULL; }
 
-/* A table's "why" column holds this many characters (not bytes: a cut never
- * falls inside a UTF-8 character). */
-enum { REASON_CHARS = 110 };
+/* A table's "why" column holds the whole line, which the tables wrap; only a
+ * line longer than this many characters (not bytes: a cut never falls inside
+ * a UTF-8 character) is cut, at a space, and ends in "…". */
+enum { REASON_CHARS = 600 };
 
 /* The length in bytes of the first `chars` characters of s[0..n) (UTF-8: a
  * continuation byte 10xxxxxx never starts a character). */
@@ -79,11 +80,18 @@ char *reason_line(const char *out) {
         if (!*p || !strncmp(p, "TODO:", 5)) p = out;
     }
     const char *nl = strchr(p, '\n');
-    size_t n = utf8_prefix(p, nl ? (size_t)(nl - p) : strlen(p), REASON_CHARS);
-    char *r = malloc(n + 1);
+    size_t whole = nl ? (size_t)(nl - p) : strlen(p);
+    size_t n = utf8_prefix(p, whole, REASON_CHARS);
+    bool cut = n < whole;
+    if (cut) { /* at the last space, so that no word is cut */
+        size_t sp = n;
+        while (sp > 0 && p[sp] != ' ') sp--;
+        if (sp > n / 2) n = sp;
+    }
+    char *r = malloc(n + sizeof " …");
     if (!r) abort();
     memcpy(r, p, n);
-    r[n] = '\0';
+    strcpy(r + n, cut ? " …" : "");
     return r;
 }
 

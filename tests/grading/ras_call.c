@@ -135,6 +135,27 @@ static size_t rec_cap, rec_used; /* rec_used includes the header */
 static int rec_state;            /* 0 not opened, 1 open, -1 off or failed or full */
 static int depth;                /* > 0: inside a recorded call, do not record */
 
+/* The record lies between two inaccessible zones. The student's buffers
+ * (hw3_render's frame, a test's framebuffer) are mappings of their own that
+ * the kernel may place right below or above the record; without the zones a
+ * write past their end lands in the record and the replay can only say the
+ * record is malformed. With them it stops the process at the first such
+ * write, and the test says what it is: a crash, an access out of bounds. A
+ * zone is larger than a few hundred rows of a big sample buffer, since an
+ * unclamped box writes row by row, not byte by byte. */
+#define GUARD_BYTES ((size_t)32 << 20)
+
+static void *map_between_guards(int fd, size_t n) {
+    size_t total = GUARD_BYTES + n + GUARD_BYTES;
+    unsigned char *zone =
+        mmap(NULL, total, PROT_NONE, MAP_PRIVATE | MAP_ANONYMOUS | MAP_NORESERVE, -1, 0);
+    if (zone == MAP_FAILED) /* a tight address-space limit: the record alone */
+        return mmap(NULL, n, PROT_READ | PROT_WRITE, MAP_SHARED, fd, 0);
+    void *m = mmap(zone + GUARD_BYTES, n, PROT_READ | PROT_WRITE, MAP_SHARED | MAP_FIXED, fd, 0);
+    if (m == MAP_FAILED) munmap(zone, total);
+    return m;
+}
+
 static void rec_open(void) {
     if (rec_state) return;
     rec_state = -1;
@@ -149,7 +170,7 @@ static void rec_open(void) {
         if (fd >= 0) close(fd);
         return;
     }
-    void *m = mmap(NULL, rec_cap, PROT_READ | PROT_WRITE, MAP_SHARED, fd, 0);
+    void *m = map_between_guards(fd, rec_cap);
     close(fd);
     if (m == MAP_FAILED) return;
     rec_map = m;
@@ -349,6 +370,24 @@ static const char *worker_fate(void) {
     return w && *w ? w : "ended";
 }
 
+/* What a record that the recorder could not have written means. Only the
+ * recorder and the student's code run in the sandboxed process, and the
+ * record lies between inaccessible zones (map_between_guards), so a write
+ * running off the end of a buffer stops the process there; what still
+ * reaches the record is a write far out of bounds. Nothing here proves a
+ * deliberate change, so none is claimed. */
+#define OVERWRITTEN_BY_CODE                                                                        \
+    "likely mistake: memory written out of bounds: your code wrote far past the end of a buffer " \
+    "(an index outside the sample or frame buffers: a bounding box not clamped to the screen, a " \
+    "row or sample index not checked) and hit the record the grader keeps of its calls; grade " \
+    "with --sanitize (docs/grading.md) to see the line that writes out of bounds"
+
+/* The worker was stopped by an access to memory it may not touch. */
+static bool out_of_bounds_fate(void) {
+    const char *w = worker_fate();
+    return strstr(w, "(SIGSEGV)") || strstr(w, "(SIGBUS)");
+}
+
 static void rp_open(void) {
     if (rp_state) return;
     const char *path = getenv("RAS_REPLAY");
@@ -369,9 +408,9 @@ static void rp_open(void) {
     uint64_t used;
     memcpy(&used, rp_map + 8, 8);
     if (memcmp(rp_map, MAGIC, 8) != 0 || used > (uint64_t)st.st_size - HEADER)
-        fail_msg("the record of your code's calls is malformed (it was overwritten from "
-                 "inside the sandbox?); the sandboxed test process %s",
-                 worker_fate());
+        fail_msg("the record of your code's calls was overwritten while your code ran (its "
+                 "header is not the one the grader wrote; the sandboxed test process %s); %s",
+                 worker_fate(), OVERWRITTEN_BY_CODE);
     rp_len = HEADER + (size_t)used;
     rp_pos = HEADER;
     rp_state = 1;
@@ -382,17 +421,34 @@ static const unsigned char *rp_next(uint32_t *tag, uint32_t *len, uint32_t want_
                                     bool inside) {
     for (;;) {
         if (rp_len - rp_pos < 8) {
+            if (inside && want_fn == FN_hw3_render && out_of_bounds_fate())
+                fail_msg("hw3_render() did not return: the sandboxed test process %s while it "
+                         "drew the frame (call %lu of this test); likely mistake: memory "
+                         "accessed out of bounds in one of YOUR functions it runs: your "
+                         "rasterizer (hw2: a bounding box not clamped to the screen writes past "
+                         "the sample and frame buffers), your texture lookups (hw3: u, v outside "
+                         "[0, 1]); the hw2 tests say whether the rasterizer passes, and grading "
+                         "with --sanitize (docs/grading.md) shows the line",
+                         worker_fate(), rp_calls);
             if (inside && want_fn == FN_hw3_render)
                 fail_msg("hw3_render() did not return: the sandboxed test process %s while it "
-                         "drew the frame (call %lu of this test). Likely mistake: a crash, an "
+                         "drew the frame (call %lu of this test); likely mistake: a crash, an "
                          "endless loop or exit() in one of YOUR functions it runs: your shaders "
                          "and texture lookups (hw3), or your rasterizer (hw2) and matrices "
                          "(hw1), which hw3 draws with; the hw2 and hw1 tests say whether those "
                          "pass",
                          worker_fate(), rp_calls);
+            if (inside && out_of_bounds_fate())
+                fail_msg("%s() did not return: the sandboxed test process %s while it ran "
+                         "(call %lu of this test); likely mistake: memory accessed out of "
+                         "bounds in your %s (or in a function of yours that it calls): an index "
+                         "outside a buffer (the sample or frame buffers: a bounding box not "
+                         "clamped to the screen?); grading with --sanitize (docs/grading.md) "
+                         "shows the line",
+                         fn_name(want_fn), worker_fate(), rp_calls, fn_name(want_fn));
             if (inside)
                 fail_msg("%s() did not return: the sandboxed test process %s while it ran "
-                         "(call %lu of this test). Likely mistake: a crash, an endless loop or "
+                         "(call %lu of this test); likely mistake: a crash, an endless loop or "
                          "exit() in your %s (or in a function of yours that it calls)",
                          fn_name(want_fn), worker_fate(), rp_calls, fn_name(want_fn));
             fail_msg("the sandboxed test process %s before the test called %s() (call %lu); "
@@ -402,7 +458,9 @@ static const unsigned char *rp_next(uint32_t *tag, uint32_t *len, uint32_t want_
         memcpy(tag, rp_map + rp_pos, 4);
         memcpy(len, rp_map + rp_pos + 4, 4);
         if (*len > rp_len - rp_pos - 8)
-            fail_msg("the record of your code's calls is malformed at byte %zu", rp_pos);
+            fail_msg("the record of your code's calls was overwritten while your code ran (at "
+                     "byte %zu a record claims more bytes than follow); %s",
+                     rp_pos, OVERWRITTEN_BY_CODE);
         const unsigned char *p = rp_map + rp_pos + 8;
         rp_pos += 8 + (size_t)*len;
         if (*tag != TAG_TODO) return p;
@@ -441,20 +499,27 @@ static void replay(uint32_t fn, hash h, region *regs, int nregs, const ras_raste
     uint32_t got_fn;
     uint64_t got_h;
     if (tag != TAG_BEGIN || len != 12)
-        fail_msg("the record of your code's calls is malformed at call %lu", rp_calls);
+        fail_msg("the record of your code's calls was overwritten while your code ran (call "
+                 "%lu does not start as the grader wrote it); %s",
+                 rp_calls, OVERWRITTEN_BY_CODE);
     memcpy(&got_fn, p, 4);
     memcpy(&got_h, p + 4, 8);
     if (got_fn != fn || got_h != h.h)
-        fail_msg("call %lu of this test is %s() with its own inputs, but the sandboxed process "
-                 "recorded %s()%s: the test did not run there as written (your code changed "
-                 "memory it does not own, or the process was tampered with)",
+        fail_msg("call %lu of this test is %s() with the test's inputs, but in the sandboxed "
+                 "process the test called %s()%s: the test's own data had changed there before "
+                 "this call; likely mistake: your code changed memory it was not given to "
+                 "write: past the end of a buffer (an index outside the sample or frame "
+                 "buffers: a bounding box not clamped to the screen?), or an input it should "
+                 "only read; grade with --sanitize (docs/grading.md) to see the line",
                  rp_calls, fn_name(fn), fn_name(got_fn),
                  got_fn == fn ? " with other inputs" : "");
     for (;;) {
         p = rp_next(&tag, &len, fn, true);
         if (tag == TAG_SHADE) {
             if (len != sizeof(ras_triangle) + sizeof(ras_fragment))
-                fail_msg("the record of your code's calls is malformed (shade call)");
+                fail_msg("the record of your code's calls was overwritten while your code "
+                         "ran (a shade call of the wrong size); %s",
+                         OVERWRITTEN_BY_CODE);
             if (ctx && ctx->shade) {
                 ras_triangle t;
                 ras_fragment f;
@@ -470,32 +535,43 @@ static void replay(uint32_t fn, hash h, region *regs, int nregs, const ras_raste
     }
     const unsigned char *end = p + len;
     uint32_t nreg;
-    if (len < 8) fail_msg("the record of your code's calls is malformed (end of call)");
+    if (len < 8)
+        fail_msg("the record of your code's calls was overwritten while your code ran (an end "
+                 "of call too short); %s",
+                 OVERWRITTEN_BY_CODE);
     memcpy(&got_fn, p, 4);
     memcpy(&nreg, p + 4, 4);
     p += 8;
     if (got_fn != fn || nreg != (uint32_t)nregs)
-        fail_msg("the record of %s() (call %lu) does not match the call", fn_name(fn), rp_calls);
+        fail_msg("the record of %s() (call %lu) does not match the call: it was overwritten "
+                 "while your code ran; %s",
+                 fn_name(fn), rp_calls, OVERWRITTEN_BY_CODE);
     for (int i = 0; i < nregs; i++) {
         uint64_t size;
         uint32_t runs;
-        if (end - p < 12) fail_msg("the record of %s() is cut short", fn_name(fn));
+        if (end - p < 12) fail_msg("the record of %s() is cut short: it was overwritten while your code ran; %s",
+                                    fn_name(fn), OVERWRITTEN_BY_CODE);
         memcpy(&size, p, 8);
         memcpy(&runs, p + 8, 4);
         p += 12;
         if (size != regs[i].n)
             fail_msg("the record of %s() (call %lu) has a region of %llu bytes where the test "
-                     "has %zu",
-                     fn_name(fn), rp_calls, (unsigned long long)size, regs[i].n);
+                     "has %zu: the test's own data, or the record, was overwritten while your "
+                     "code ran; %s",
+                     fn_name(fn), rp_calls, (unsigned long long)size, regs[i].n,
+                     OVERWRITTEN_BY_CODE);
         for (uint32_t r = 0; r < runs; r++) {
             uint64_t off;
             uint32_t n;
-            if (end - p < 12) fail_msg("the record of %s() is cut short", fn_name(fn));
+            if (end - p < 12) fail_msg("the record of %s() is cut short: it was overwritten while your code ran; %s",
+                                    fn_name(fn), OVERWRITTEN_BY_CODE);
             memcpy(&off, p, 8);
             memcpy(&n, p + 8, 4);
             p += 12;
             if (off > size || n > size - off || (size_t)(end - p) < n)
-                fail_msg("the record of %s() writes outside its region", fn_name(fn));
+                fail_msg("the record of %s() claims a change outside the memory the test gave it: "
+                         "it was overwritten while your code ran; %s",
+                         fn_name(fn), OVERWRITTEN_BY_CODE);
             memcpy((unsigned char *)regs[i].p + off, p, n);
             p += n;
         }

@@ -109,6 +109,129 @@ static void exact_bary(const ras_triangle *t, double px, double py, double b[3])
     b[2] = edge_exact(v[0].x, v[0].y, v[1].x, v[1].y, px, py) / area;
 }
 
+/* ---- what the student's functions did: evidence for the diagnoses ----------- */
+
+/* The closed triangle (either winding), decided exactly: the hypotheses below
+ * are "the student's answers are what this gives at another point". */
+static bool closed_inside_exact(const ras_triangle *t, double px, double py) {
+    const vec4s *v = t->v;
+    double area = edge_exact(v[0].x, v[0].y, v[1].x, v[1].y, v[2].x, v[2].y);
+    if (!(area != 0)) return false;
+    double e[3] = {edge_exact(v[1].x, v[1].y, v[2].x, v[2].y, px, py),
+                   edge_exact(v[2].x, v[2].y, v[0].x, v[0].y, px, py),
+                   edge_exact(v[0].x, v[0].y, v[1].x, v[1].y, px, py)};
+    for (int i = 0; i < 3; i++)
+        if ((area > 0 ? e[i] : -e[i]) < 0) return false;
+    return true;
+}
+
+/* Whether (px, py) lies exactly on one of t's edge lines. */
+static bool on_an_edge(const ras_triangle *t, double px, double py) {
+    const vec4s *v = t->v;
+    return edge_exact(v[1].x, v[1].y, v[2].x, v[2].y, px, py) == 0 ||
+           edge_exact(v[2].x, v[2].y, v[0].x, v[0].y, px, py) == 0 ||
+           edge_exact(v[0].x, v[0].y, v[1].x, v[1].y, px, py) == 0;
+}
+
+/* The closed triangle with each edge function truncated to an int first
+ * (`int e = ...`): values in (-1, 1) px² become 0, "on the edge". */
+static bool truncated_inside_exact(const ras_triangle *t, double px, double py) {
+    const vec4s *v = t->v;
+    double area = edge_exact(v[0].x, v[0].y, v[1].x, v[1].y, v[2].x, v[2].y);
+    if (!(area != 0)) return false;
+    double e[3] = {trunc(edge_exact(v[1].x, v[1].y, v[2].x, v[2].y, px, py)),
+                   trunc(edge_exact(v[2].x, v[2].y, v[0].x, v[0].y, px, py)),
+                   trunc(edge_exact(v[0].x, v[0].y, v[1].x, v[1].y, px, py))};
+    for (int i = 0; i < 3; i++)
+        if ((area > 0 ? e[i] : -e[i]) < 0) return false;
+    return true;
+}
+
+/* The course framework's insideTriangle(int x, int y, ...), in the words
+ * docs/hw2.md's "Coming from the GAMES101 framework" uses. */
+#define INT_SIGNATURE_HABIT                                                                        \
+    "insideTriangle taking ints (the course framework's insideTriangle(int x, int y, ...) "       \
+    "habit): every sample is tested at its pixel's corner, its position truncated to int, "      \
+    "while the barycentrics still use the float position; inside_triangle takes float x, y: "   \
+    "pass the sample's float position (x + offset.x, y + offset.y) and keep it float"
+
+#define EDGE_TRUNCATED                                                                             \
+    "edge functions truncated to int (`int e = ...`): an edge function between -1 and 1 px² "    \
+    "becomes 0, \"on the edge\", so samples up to 1/(edge length) px outside count as inside; "  \
+    "keep the edge functions in float (or double)"
+
+#define ADDITIVE_MSAA                                                                              \
+    "an ADDITIVE resolve — one colour per pixel with colour x covered / samples added in, so "   \
+    "a later triangle adds to what is there instead of replacing it on the samples it wins; "   \
+    "write the colour to each sample that passes the depth test (=, not +=) and let "          \
+    "resolve_pixel average them"
+
+/* Probes the student's inside_triangle where truncating the point to its
+ * pixel corner changes the answer both ways: true when every answer is the
+ * corner's. (In grading these calls are recorded like the test's own.) */
+static bool inside_answers_at_corner(void) {
+    ras_triangle t[2] = {tri3(0.5f, 0.5f, 3.5f, 0.5f, 0.5f, 3.5f),
+                         tri3(0.5f, 0.5f, 0.5f, 3.5f, 3.5f, 0.5f)};
+    const float pts[][2] = {{0.75f, 0.75f}, {1.5f, 1.25f}, {2.75f, 1.5f}, {3.25f, 0.75f},
+                            {1.25f, 2.5f},  {3.9f, 0.9f}};
+    bool differs = false;
+    for (int w = 0; w < 2; w++)
+        for (size_t i = 0; i < sizeof pts / sizeof pts[0]; i++) {
+            double cx = trunc(pts[i][0]), cy = trunc(pts[i][1]);
+            bool corner = closed_inside_exact(&t[w], cx, cy);
+            differs = differs || corner != closed_inside_exact(&t[w], pts[i][0], pts[i][1]);
+            if (inside_triangle(pts[i][0], pts[i][1], &t[w]) != corner) return false;
+        }
+    return differs;
+}
+
+/* Probes compute_barycentric_2d at the vertices of one triangle in both
+ * windings: true when the counter-clockwise one is right and the clockwise
+ * one has beta and gamma swapped. */
+static bool bary_swapped_for_clockwise(void) {
+    ras_triangle ccw = tri3(1, 1, 9, 1, 1, 9), cw = tri3(1, 1, 1, 9, 9, 1);
+    for (int i = 0; i < 3; i++) {
+        vec3s a = {{0, 0, 0}}, b = {{0, 0, 0}};
+        compute_barycentric_2d(ccw.v[i].x, ccw.v[i].y, &ccw, &a);
+        compute_barycentric_2d(cw.v[i].x, cw.v[i].y, &cw, &b);
+        vec3s want = {{i == 0, i == 1, i == 2}}, swapped = {{want.x, want.z, want.y}};
+        if (!near3(a, want, 1e-5f) || !near3(b, swapped, 1e-5f)) return false;
+    }
+    return true;
+}
+
+/* Why a rasterizer draws nothing, from one triangle drawn here with counters
+ * and inside_triangle asked about a point well inside it; NULL when neither
+ * tells. */
+static const char *why_nothing_drawn(void) {
+    ras_framebuffer *fb = make_fb(8, 8, 1);
+    ras_counters k = {0};
+    ras_raster_ctx ctx = ctx_none(fb);
+    ctx.counters = &k;
+    ras_triangle t = tri_z(tri3(1, 1, 7, 1, 1, 7), 0.5f, WHITE);
+    rasterize_triangle(&t, &ctx);
+    int drawn = 0;
+    for (int i = 0; i < 64; i++)
+        drawn += !isinf(fb->depth[i]);
+    ras_framebuffer_destroy(fb);
+    if (drawn) return NULL;
+    if (k.samples_covered > 0 && k.depth_tests_passed == 0)
+        return "nothing is drawn: a triangle drawn with counters covered samples and passed no "
+               "depth test, so the depth test never passes — with the buffer cleared to +INF, "
+               "`z > depth[i]` is the test reversed (smaller is closer: draw when z < depth[i]).";
+    if (inside_triangle(2.5f, 2.5f, &t))
+        return "nothing is drawn, although inside_triangle accepts (2.5, 2.5) inside the triangle "
+               "(1,1),(7,1),(1,7): the depth test never passes (against +INF, `z > depth[i]` is "
+               "reversed: draw when z < depth[i]), or depth and colour are not written.";
+    return NULL;
+}
+
+#define BARY_SWAPPED_CW                                                                            \
+    "barycentrics with beta and gamma swapped for CLOCKWISE triangles only "                    \
+    "(compute_barycentric_2d is right on a counter-clockwise triangle and returns (a, g, b) on "  \
+    "a clockwise one): alpha, beta, gamma are E_12/A, E_20/A, E_01/A in either winding — the "   \
+    "sign of A takes care of the winding, swap nothing"
+
 /* ---- ASCII rasters ----------------------------------------------------------- */
 
 /* One character per pixel, top row first: counts[pixel] as '.', '#', '2'..'9';
@@ -143,19 +266,32 @@ static void test_inside_basic_both_windings(void **state) {
         bool in;
     } pts[] = {{2, 2, true},  {3.5f, 4.25f, true}, {1.5f, 7, true}, {8, 8, false},
                {0, 0, false}, {5, 0.5f, false},    {-3, 4, false},  {5.5f, 5.5f, false}};
-    for (size_t i = 0; i < sizeof pts / sizeof pts[0]; i++) {
-        bool a = inside_triangle(pts[i].x, pts[i].y, &ccw);
-        bool b = inside_triangle(pts[i].x, pts[i].y, &cw);
-        CHECK(a == pts[i].in,
+    enum { N = sizeof pts / sizeof pts[0] };
+    bool a[N], b[N], at_corner = true;
+    for (size_t i = 0; i < N; i++) {
+        a[i] = inside_triangle(pts[i].x, pts[i].y, &ccw);
+        b[i] = inside_triangle(pts[i].x, pts[i].y, &cw);
+        /* every answer the closed test's at the point truncated to int */
+        bool corner = closed_inside_exact(&ccw, trunc(pts[i].x), trunc(pts[i].y));
+        at_corner = at_corner && a[i] == corner && b[i] == corner;
+    }
+    for (size_t i = 0; i < N; i++) {
+        CHECK(a[i] == pts[i].in,
               "inside_triangle(%g, %g) on the counter-clockwise triangle (1,1),(9,1),(1,9): "
-              "expected %s, got %s. Likely mistake: the edge function's sign (E = (b-a) x (p-a) "
-              "is > 0 LEFT of a->b with y up), or the wrong vertices paired.",
-              pts[i].x, pts[i].y, pts[i].in ? "inside" : "outside", a ? "inside" : "outside");
-        CHECK(b == pts[i].in,
+              "expected %s, got %s. Likely mistake: %s",
+              pts[i].x, pts[i].y, pts[i].in ? "inside" : "outside", a[i] ? "inside" : "outside",
+              at_corner ? "every answer of this test is the one for the point truncated to int "
+                          "(its pixel corner): " INT_SIGNATURE_HABIT "."
+                        : "the edge function's sign (E = (b-a) x (p-a) is > 0 LEFT of a->b with "
+                          "y up), or the wrong vertices paired.");
+        CHECK(b[i] == pts[i].in,
               "inside_triangle(%g, %g) on the CLOCKWISE triangle (1,1),(1,9),(9,1): expected %s, "
-              "got %s. Likely mistake: only one winding handled; inside means all three edge "
-              "functions have the same sign as the triangle's area (either sign).",
-              pts[i].x, pts[i].y, pts[i].in ? "inside" : "outside", b ? "inside" : "outside");
+              "got %s. Likely mistake: %s",
+              pts[i].x, pts[i].y, pts[i].in ? "inside" : "outside", b[i] ? "inside" : "outside",
+              at_corner ? "every answer of this test is the one for the point truncated to int "
+                          "(its pixel corner): " INT_SIGNATURE_HABIT "."
+                        : "only one winding handled; inside means all three edge functions have "
+                          "the same sign as the triangle's area (either sign).");
     }
 }
 
@@ -174,12 +310,34 @@ static void test_inside_on_edges_and_vertices(void **state) {
                   pts[i][0], pts[i][1], w ? "clockwise" : "counter-clockwise");
     /* And just outside each edge. */
     const float out[][2] = {{5, 0.99f}, {0.99f, 5}, {5.01f, 5.01f}};
-    for (size_t i = 0; i < sizeof out / sizeof out[0]; i++)
-        CHECK(!inside_triangle(out[i][0], out[i][1], &t[0]),
-              "inside_triangle(%g, %g): expected outside (0.01 px beyond an edge), got inside. "
-              "Likely mistake: a tolerance in the test, or an edge function built from the "
-              "wrong pair of vertices.",
-              out[i][0], out[i][1]);
+    enum { NOUT = sizeof out / sizeof out[0] };
+    bool got[NOUT];
+    for (size_t i = 0; i < NOUT; i++)
+        got[i] = inside_triangle(out[i][0], out[i][1], &t[0]);
+    for (size_t i = 0; i < NOUT; i++) {
+        if (!got[i]) continue;
+        /* Which rule explains every answer, the probes' too: 0.1 px below
+         * the edge y = 1 (E = -0.8) and 0.15 px below (E = -1.2) tell an
+         * int edge function from a tolerance; the corner from both. */
+        const float probe[][2] = {{5, 0.9f}, {5, 0.85f}, {2.5f, 6.75f}, {6.5f, 3.75f}};
+        bool at_corner = true, truncated = true;
+        for (size_t k = 0; k < NOUT + 4; k++) {
+            const float *q = k < NOUT ? out[k] : probe[k - NOUT];
+            bool in = k < NOUT ? got[k] : inside_triangle(q[0], q[1], &t[0]);
+            at_corner = at_corner && in == closed_inside_exact(&t[0], trunc(q[0]), trunc(q[1]));
+            truncated = truncated && in == truncated_inside_exact(&t[0], q[0], q[1]);
+        }
+        fail_msg("inside_triangle(%g, %g): expected outside (0.01 px beyond an edge), got "
+                 "inside. Likely mistake: %s",
+                 out[i][0], out[i][1],
+                 at_corner ? "every answer here is the one for the point truncated to int (its "
+                             "pixel corner): " INT_SIGNATURE_HABIT "."
+                 : truncated
+                     ? "every answer here, (5, 0.9) inside and (5, 0.85) outside too, is what "
+                       "an int edge function gives: " EDGE_TRUNCATED "."
+                     : "a tolerance in the test (inside is E >= 0 exactly), or an edge "
+                       "function built from the wrong pair of vertices.");
+    }
 }
 
 /* A zero-area triangle contains nothing, not even points on its line. */
@@ -266,6 +424,70 @@ static int expect_square(double px, double py, const void *user) {
     return 0;
 }
 
+/* What a failing coverage shows, decided from the counts and from the
+ * student's own functions called on the case's positions. */
+typedef struct coverage_evidence {
+    bool nothing_drawn, depth_never_passed, inside_accepts; /* no sample written at all */
+    bool at_corner;       /* every count the closed test's at the pixel corner */
+    bool truncated;       /* every extra sample inside an int-truncated edge function */
+    bool bary_swapped_cw; /* compute_barycentric_2d probed: CW triangles permuted */
+} coverage_evidence;
+
+static coverage_evidence coverage_hypotheses(const ras_triangle *tris, int ntris, int w, int h,
+                                             ras_sample_pattern pat, const int *counts,
+                                             expect_fn expect, const void *user) {
+    coverage_evidence ev = {.nothing_drawn = true, .at_corner = true, .truncated = true};
+    int S = pat.count;
+    bool explained = false;
+    double in_x = NAN, in_y = NAN;
+    const ras_triangle *in_t = NULL;
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++)
+            for (int s = 0; s < S; s++) {
+                double sx = x + pat.offsets[s].x, sy = y + pat.offsets[s].y;
+                int got = counts[(y * w + x) * S + s], e = expect(sx, sy, user);
+                int corner = 0, exact = 0, trunc_in = 0;
+                bool on_edge = false; /* of a triangle: the top-left rule may drop it */
+                for (int i = 0; i < ntris; i++) {
+                    corner += closed_inside_exact(&tris[i], x, y);
+                    on_edge = on_edge || (closed_inside_exact(&tris[i], x, y) &&
+                                          on_an_edge(&tris[i], sx, sy));
+                    bool in = closed_inside_exact(&tris[i], sx, sy);
+                    exact += in;
+                    trunc_in += truncated_inside_exact(&tris[i], sx, sy) && !in;
+                    if (e == 1 && in && !in_t) in_t = &tris[i], in_x = sx, in_y = sy;
+                }
+                ev.nothing_drawn = ev.nothing_drawn && got == 0;
+                /* at the corner: never where it is outside, at least once where
+                 * it is inside, at most as often as it is (the top-left rule may
+                 * still drop one of two on a shared edge) */
+                if (corner == 0 ? got != 0 : ((got < 1 && !on_edge) || got > corner))
+                    ev.at_corner = false;
+                bool ok = got <= 1 && (e != 1 || got == 1) && (e != 0 || got == 0);
+                if (ok) continue;
+                /* a wrong sample: extra coverage only an int edge function
+                 * gives, or a shared edge's sample counted by both */
+                if (got > 0 && trunc_in > 0 && got <= exact + trunc_in) explained = true;
+                else if (!(got == exact && got > 1)) ev.truncated = false;
+            }
+    ev.truncated = ev.truncated && explained;
+    if (ev.nothing_drawn) {
+        ev.at_corner = ev.truncated = false;
+        if (in_t) {
+            ras_framebuffer *fb = make_fb(w, h, S);
+            ras_counters k = {0};
+            ras_raster_ctx ctx = make_ctx(fb, S > 1 ? RAS_AA_MSAA : RAS_AA_NONE, pat);
+            ctx.counters = &k;
+            rasterize_triangle(in_t, &ctx);
+            ev.depth_never_passed = k.samples_covered > 0 && k.depth_tests_passed == 0;
+            ras_framebuffer_destroy(fb);
+            ev.inside_accepts = inside_triangle((float)in_x, (float)in_y, in_t);
+        }
+    }
+    if (!ev.nothing_drawn && !ev.at_corner) ev.bary_swapped_cw = bary_swapped_for_clockwise();
+    return ev;
+}
+
 /* Draws the triangles one by one and checks every sample's count against
  * `expect`; on failure prints the coverage per pixel as ASCII. */
 static void check_exactly_once(const char *what, const ras_triangle *tris, int ntris, int w, int h,
@@ -349,8 +571,30 @@ static void check_exactly_once(const char *what, const ras_triangle *tris, int n
                         if ((e == 1 && got != 1) || (e == 0 && got != 0)) grid = false;
                     }
         }
+        coverage_evidence ev = coverage_hypotheses(tris, ntris, w, h, pat, counts, expect, user);
         const char *loop = NULL;
-        if (grid)
+        if (ev.nothing_drawn)
+            loop = ev.depth_never_passed
+                       ? "nothing was drawn, and your counters say samples were covered but no "
+                         "depth test passed: the depth test never passes — with the buffer "
+                         "cleared to +INF, `z > depth[i]` is the test reversed (smaller is "
+                         "closer: draw when z < depth[i])"
+                   : ev.inside_accepts
+                       ? "nothing was drawn, although inside_triangle accepts a sample inside "
+                         "(called here on its position): the depth test never passes (with the "
+                         "buffer cleared to +INF, `z > depth[i]` is the test reversed: draw "
+                         "when z < depth[i]), or depth and colour are not written"
+                       : "nothing was drawn, and inside_triangle rejects a sample well inside "
+                         "(called here on its position): see the inside_triangle tests";
+        else if (ev.at_corner)
+            loop = "every sample's coverage is what its pixel's corner (x, y) gets: " INT_SIGNATURE_HABIT;
+        else if (ev.bary_swapped_cw)
+            loop = "the top-left rule read from barycentrics that are wrong on clockwise "
+                   "triangles: " BARY_SWAPPED_CW;
+        else if (ev.truncated)
+            loop = "every wrongly covered sample lies within 1 px² (edge function) outside a "
+                   "triangle, where an int edge function is 0: " EDGE_TRUNCATED;
+        else if (grid)
             loop = "the coverage is what the ordered 2x2 grid's points (0.25, 0.75) give, but "
                    "this pattern's samples are elsewhere: sample positions written into the "
                    "rasterizer — read ctx->pattern.offsets[k] for k < ctx->pattern.count";
@@ -448,19 +692,60 @@ static void test_inside_fan_watertight(void **state) {
  * The course's expanded form x*(y1-y2) + (x2-x1)*y + x1*y2 - x2*y1 subtracts
  * products of ~3.6e5 to get areas of ~30: about 1e-3 wrong, which is more than
  * the depth between a torus's front and back (7.8e-4 in z01). */
+static double bary_error_near(const float c0[6], float dx, float dy, double *wx, double *wy,
+                              double worst_so_far);
+static void precision_depth_check(const float c[6]);
+
 static void test_bary_precision_at_600px(void **state) {
     (void)state;
     const float tris[][6] = {{612.3f, 587.1f, 617.9f, 588.4f, 613.2f, 594.6f},
                              {401.7f, 655.2f, 405.1f, 652.9f, 404.4f, 659.8f},
                              {650.2f, 640.6f, 652.9f, 640.9f, 651.0f, 645.3f}};
     double worst = 0, wx = 0, wy = 0;
+    size_t wi = 0;
     for (size_t i = 0; i < sizeof tris / sizeof tris[0]; i++) {
-        const float *c = tris[i];
+        double err = bary_error_near(tris[i], 0, 0, &wx, &wy, worst);
+        if (err > worst) worst = err, wi = i;
+    }
+    /* Cancellation grows with the distance from the origin; a formula that
+     * subtracts a vertex first does not care where the triangle is. The
+     * worst triangle moved by whole pixels to the origin (exact in float)
+     * tells the two apart from the values returned. */
+    double near_origin =
+        worst > 1e-4 ? bary_error_near(tris[wi], floorf(tris[wi][0]), floorf(tris[wi][1]), NULL,
+                                       NULL, 0)
+                     : 0;
+    CHECK(worst <= 1e-4,
+          "compute_barycentric_2d on small triangles near screen (600, 600): off by %.2g at "
+          "(%.1f, %.1f) against double (at most 1e-4 expected; a float edge function is off "
+          "by about 1e-6 there); the same triangle moved to the origin: off by %.2g. Likely "
+          "mistake: %s",
+          worst, wx, wy, near_origin,
+          near_origin <= 1e-5
+              ? "cancellation — right near the origin, wrong at 600 px: the expanded formula "
+                "x*(y1-y2) + (x2-x1)*y + x1*y2 - x2*y1, whose products near 3.6e5 cancel to "
+                "areas near 30 and lose about 1e-3 (in hw3 back faces then win the depth test: "
+                "speckle). Write it as docs/hw2.md does, a vertex taken away before the products: "
+                "((x-x0)*(y1-y0) - (x1-x0)*(y-y0)) / area."
+              : "wrong near the origin too, so not a rounding matter: the formula itself (see "
+                "test_bary_vertices_centroid_sum and test_bary_outside_is_negative).");
+    precision_depth_check(tris[0]);
+}
+
+/* The largest error of compute_barycentric_2d over the pixel centres around
+ * triangle c moved by (-dx, -dy), against double; where, if asked. */
+static double bary_error_near(const float c0[6], float dx, float dy, double *wx, double *wy,
+                              double worst_so_far) {
+    float c[6];
+    for (int k = 0; k < 6; k++)
+        c[k] = c0[k] - (k % 2 ? dy : dx);
+    double worst = 0;
+    {
         ras_triangle t = tri3(c[0], c[1], c[2], c[3], c[4], c[5]);
         double area = edge_exact(c[0], c[1], c[2], c[3], c[4], c[5]);
-        for (int py = (int)c[1] - 1; py < (int)c[5] + 2; py++)
-            for (int px = (int)c[0] - 2; px < (int)c[2] + 2; px++) {
-                double x = px + 0.5, y = py + 0.5;
+        for (int py = (int)floorf(c0[1]) - 1; py < (int)floorf(c0[5]) + 2; py++)
+            for (int px = (int)floorf(c0[0]) - 2; px < (int)floorf(c0[2]) + 2; px++) {
+                double x = px + 0.5 - dx, y = py + 0.5 - dy;
                 double want[3] = {edge_exact(c[2], c[3], c[4], c[5], x, y) / area,
                                   edge_exact(c[4], c[5], c[0], c[1], x, y) / area,
                                   edge_exact(c[0], c[1], c[2], c[3], x, y) / area};
@@ -468,21 +753,19 @@ static void test_bary_precision_at_600px(void **state) {
                 if (!compute_barycentric_2d((float)x, (float)y, &t, &got)) continue;
                 double err =
                     fmax(fabs(got.x - want[0]), fmax(fabs(got.y - want[1]), fabs(got.z - want[2])));
-                if (err > worst) worst = err, wx = x, wy = y;
+                if (err > worst) {
+                    worst = err;
+                    if (wx && err > worst_so_far) *wx = x + dx, *wy = y + dy;
+                }
             }
     }
-    CHECK(worst <= 1e-4,
-          "compute_barycentric_2d on small triangles near screen (600, 600): off by %.2g at "
-          "(%.1f, %.1f) against double (at most 1e-4 expected; a float edge function is off "
-          "by about 1e-6 there). Likely mistake: the expanded formula x*(y1-y2) + (x2-x1)*y + "
-          "x1*y2 - x2*y1 — its products near 3.6e5 cancel to areas near 30 and lose about 1e-3, "
-          "which in hw3 lets back faces win the depth test (speckle). Subtract a vertex first: "
-          "((x-x0)*(y1-y0) - (x1-x0)*(y-y0)) / area, as docs/hw2.md writes it.",
-          worst, wx, wy);
-    /* The same through the rasterizer: the depth it stores. */
+    return worst;
+}
+
+/* The same through the rasterizer: the depth it stores. */
+static void precision_depth_check(const float c[6]) {
     ras_framebuffer *fb = make_fb(700, 700, 1);
     ras_raster_ctx ctx = ctx_none(fb);
-    const float *c = tris[0];
     const float z[3] = {0.3f, 0.9f, 0.5f};
     ras_triangle t = tri3(c[0], c[1], c[2], c[3], c[4], c[5]);
     for (int k = 0; k < 3; k++)
@@ -494,13 +777,13 @@ static void test_bary_precision_at_600px(void **state) {
     double snapped[6], dworst = 0;
     for (int k = 0; k < 6; k++)
         snapped[k] = round((double)c[k] * 256) / 256;
-    int seen = 0, negative = 0;
+    int seen = 0, negative = 0, at_corner = 0;
     for (int py = 580; py < 600; py++)
         for (int px = 605; px < 625; px++) {
             float d = fb->depth[ras_fb_sample_index(fb, px, py, 0)];
             if (isinf(d)) continue;
             negative += d < 0; /* every depth here is in [0.3, 0.9] */
-            double x = px + 0.5, y = py + 0.5, err = INFINITY;
+            double x = px + 0.5, y = py + 0.5, err = INFINITY, corner_err = INFINITY;
             for (int v = 0; v < 2; v++) {
                 double q[6];
                 for (int k = 0; k < 6; k++)
@@ -511,7 +794,14 @@ static void test_bary_precision_at_600px(void **state) {
                                edge_exact(q[0], q[1], q[2], q[3], x, y) * z[2]) /
                               area;
                 err = fmin(err, fabs(d - want));
+                /* the same plane at the pixel's corner */
+                double corner = (edge_exact(q[2], q[3], q[4], q[5], px, py) * z[0] +
+                                 edge_exact(q[4], q[5], q[0], q[1], px, py) * z[1] +
+                                 edge_exact(q[0], q[1], q[2], q[3], px, py) * z[2]) /
+                                area;
+                corner_err = fmin(corner_err, fabs(d - corner));
             }
+            at_corner += corner_err < 2e-5;
             dworst = fmax(dworst, err);
             seen++;
         }
@@ -520,12 +810,18 @@ static void test_bary_precision_at_600px(void **state) {
           "0.5: %s (at most 2e-5 expected). Likely mistake: %s",
           seen ? "the stored depth is off by more than 2e-5 against double"
                : "nothing drawn, so the depth could not be checked",
-          seen && negative == seen
+          !seen ? "nothing drawn (see the other rasterize tests)."
+          : negative == seen
               ? "the depth stored NEGATED (-z): the course framework's negated depth test, "
                 "kept; store and compare z as it is (smaller is closer)."
-              : "depth interpolated with barycentrics from the expanded formula x*(y1-y2) + "
-                "(x2-x1)*y + x1*y2 - x2*y1, which cancels at hundreds of pixels; subtract a "
-                "vertex first (docs/hw2.md).");
+          : at_corner == seen
+              ? "every stored depth is the plane's at the pixel's CORNER (x, y), not at the "
+                "sample (x + 0.5, y + 0.5): the barycentrics for the depth taken at the loop's "
+                "integer (x, y); take them at the position inside_triangle tested."
+              : "your compute_barycentric_2d is accurate here (the check above passed), so the "
+                "depth is interpolated at another point or with other weights than the "
+                "sample's barycentrics: z = alpha*z0 + beta*z1 + gamma*z2 at the tested "
+                "position.");
     ras_framebuffer_destroy(fb);
 }
 
@@ -546,9 +842,12 @@ static void test_bary_vertices_centroid_sum(void **state) {
             CHECK(
                 fabsf(b.x - e[0]) < 1e-5f && fabsf(b.y - e[1]) < 1e-5f && fabsf(b.z - e[2]) < 1e-5f,
                 "compute_barycentric_2d at vertex v%d of a %s triangle: expected (%g, %g, %g), "
-                "got (%g, %g, %g). Likely mistake: the coordinates are in the wrong order "
-                "(alpha belongs to v0 and is the area OPPOSITE v0), or divided by the wrong area.",
-                i, w ? "clockwise" : "counter-clockwise", e[0], e[1], e[2], b.x, b.y, b.z);
+                "got (%g, %g, %g). Likely mistake: %s",
+                i, w ? "clockwise" : "counter-clockwise", e[0], e[1], e[2], b.x, b.y, b.z,
+                w && bary_swapped_for_clockwise()
+                    ? BARY_SWAPPED_CW "."
+                    : "the coordinates are in the wrong order (alpha belongs to v0 and is the "
+                      "area OPPOSITE v0), or divided by the wrong area.");
         }
         float cx = (t->v[0].x + t->v[1].x + t->v[2].x) / 3,
               cy = (t->v[0].y + t->v[1].y + t->v[2].y) / 3;
@@ -652,8 +951,10 @@ static void test_bary_at_pixel_centre(void **state) {
     rasterize_triangle(&t, &ctx);
     CHECK(rec.calls > 0,
           "rasterize_triangle with ctx->shade set: expected the shader to be called for each "
-          "covered pixel, got 0 calls. Likely mistake: ctx->shade ignored (call it, or "
-          "ras_shade_vertex_color when it is NULL), or nothing is drawn yet.");
+          "covered pixel, got 0 calls. Likely mistake: %s",
+          why_nothing_drawn() ? why_nothing_drawn()
+                              : "ctx->shade ignored (call it, or ras_shade_vertex_color when "
+                                "it is NULL), or nothing is drawn yet.");
     for (int i = 0; i < rec.calls && i < 256; i++) {
         const ras_fragment *f = &rec.frag[i];
         double cx = f->x + 0.5, cy = f->y + 0.5;
@@ -684,6 +985,10 @@ static void test_bary_at_pixel_centre(void **state) {
                   ? "the depth stored NEGATED (-z): the course framework's negated depth test, "
                     "kept; here the viewport already negated z (smaller is closer, the buffer "
                     "starts at +INF): store and compare z as it is."
+              : fabsf(d - (corner.x * 0.1f + corner.y * 0.5f + corner.z * 0.9f)) < 1e-4f
+                  ? "the stored depth is the plane's value at the pixel CORNER (x, y): the "
+                    "depth's barycentrics taken at the loop's integer (x, y), not at the sample "
+                    "inside_triangle tested (x + 0.5, y + 0.5); use the same point for both."
                   : "the depth stored is not the interpolated one (or stored at another index).");
     }
     ras_framebuffer_destroy(fb);
@@ -708,8 +1013,10 @@ static void test_raster_depth_with_different_w(void **state) {
     rasterize_triangle(&t, &ctx);
     CHECK(rec.calls > 0,
           "rasterize_triangle of a triangle whose vertices have w = 1, 2, 4: expected fragments, "
-          "got none. Likely mistake: the triangle rejected because w is not 1 (w is the clip w, "
-          "any positive value), or nothing is drawn yet.");
+          "got none. Likely mistake: %s",
+          why_nothing_drawn() ? why_nothing_drawn()
+                              : "the triangle rejected because w is not 1 (w is the clip w, any "
+                                "positive value), or nothing is drawn yet.");
     for (int i = 0; i < rec.calls && i < 256; i++) {
         const ras_fragment *f = &rec.frag[i];
         double b[3];
@@ -858,7 +1165,11 @@ static void test_index_rasterizer_writes_flipped(void **state) {
           "written, index %d %s. Likely mistake: %s",
           idx, covered_pixels(&g.fb), idx, isinf(g.fb.depth[idx]) ? "untouched" : "written",
           !isinf(g.fb.depth[0]) ? "no y-flip (y*w + x): use ras_fb_sample_index."
-                                : "the pixel centre not tested, or nothing drawn yet.");
+          : covered_pixels(&g.fb) == 0 && inside_answers_at_corner()
+              ? "nothing drawn (the triangle holds the centre (0.5, 0.5), not the corner (0, "
+                "0)), and inside_triangle, called on other points, answers for each as for its "
+                "pixel's corner: " INT_SIGNATURE_HABIT "."
+              : "the pixel centre not tested, or nothing drawn yet.");
     ras_framebuffer_clear(&g.fb, BLACK);
     /* the first triangle moved by (5, 3): the centre lies inside, not on an
      * edge, so a strict inside test is as right here as the top-left rule */
@@ -957,7 +1268,11 @@ static void test_raster_box_maximum_included(void **state) {
               "mistake: %s",
               pixels[i][0], pixels[i][1], (double)x + 0.05, (double)x + 0.95, (double)x + 0.5,
               (double)y + 0.5, covered_pixels(fb), isinf(fb->depth[idx]) ? ", not that one" : "",
-              covered_pixels(fb) == 0
+              covered_pixels(fb) == 0 && inside_answers_at_corner()
+                  ? "nothing drawn, and inside_triangle, called on other points, answers for "
+                    "each as for its pixel's corner (the centre here is inside, the corner "
+                    "not): " INT_SIGNATURE_HABIT "."
+              : covered_pixels(fb) == 0
                   ? "the bounding box's maximum used as an exclusive bound (x < floor(max_x)): "
                     "the last column and row of the box are never visited; loop to "
                     "x <= floor(max_x) (and y likewise), clamped to the screen."
@@ -996,9 +1311,16 @@ static void test_raster_clamped_to_screen(void **state) {
             int n = covered_pixels(&g.fb), all = W * H * pat.count;
             CHECK(want_all[k] != 1 || n == all,
                   "triangle %zu covers the whole %dx%d frame: expected all %d samples covered, "
-                  "got %d. Likely mistake: the bounding box clamped wrongly (e.g. to the first "
-                  "vertex), or an overflow for huge coordinates.",
-                  k, W, H, all, n);
+                  "got %d. Likely mistake: %s",
+                  k, W, H, all, n,
+                  n == 0 && why_nothing_drawn() ? why_nothing_drawn()
+                  : !inside_triangle(W / 2 + 0.5f, H / 2 + 0.5f, &t)
+                      ? "inside_triangle itself says the frame's centre is outside this "
+                        "triangle (called here): its edge functions overflow for corners this "
+                        "far out — an int edge function (`int e = ...`) holds at most 2^31 px², "
+                        "these reach 10^14; keep them float (or double)."
+                      : "the bounding box clamped wrongly (e.g. to the first vertex), or an "
+                        "overflow for huge coordinates in the loop.");
             CHECK(want_all[k] != 0 || n == 0,
                   "triangle %zu is wholly off-screen: expected nothing drawn, got %d samples. "
                   "Likely mistake: clamping the box INTO the screen drew its edge pixels; an "
@@ -1040,9 +1362,10 @@ static void test_raster_rejects_nan_and_zero_area(void **state) {
     CHECK(covered_pixels(&g.fb) > 0,
           "the proper triangle (1,1),(7,1),(1,7) after the bad ones: expected pixels drawn, got "
           "none. Drawing nothing is the stub's placeholder, right for the bad triangles only, "
-          "so this test counts once a proper triangle is drawn. Likely mistake: "
-          "rasterize_triangle is not written yet (TODO(hw2) 1-6), or it rejects every "
-          "triangle.");
+          "so this test counts once a proper triangle is drawn. Likely mistake: %s",
+          why_nothing_drawn() ? why_nothing_drawn()
+                              : "rasterize_triangle is not written yet (TODO(hw2) 1-6), or it "
+                                "rejects every triangle.");
     guarded_free(&g);
 }
 
@@ -1077,6 +1400,9 @@ static void test_raster_depth_test_order(void **state) {
                 ? "the depth test reversed: the FARTHER sample wins in both orders (smaller is "
                   "closer: draw when z < depth[i]; the course framework's negated z, "
                   "-z < depth or z > depth, is for its own z sign: undo it here)"
+            : near3(c[order], glms_vec3_add(RED, BLUE), 1e-6f) && fabsf(d[order] - 0.2f) < 1e-6f
+                ? "the depth is right but the colour is red + blue, the SUM of both triangles' "
+                  "colours: " ADDITIVE_MSAA
             : blue[0] && red[1] ? "no depth test: the LAST triangle drawn wins in both orders"
             : red[0] && blue[1] ? "the FIRST triangle drawn wins in both orders: the depth "
                                   "buffer is written but the test never lets a later, nearer "
@@ -1108,9 +1434,14 @@ static void test_raster_depth_test_order(void **state) {
             float got = fb->depth[ras_fb_sample_index(fb, x, y, 0)];
             CHECK(fabsf(got - want) < 1e-5f,
                   "sloped triangle, pixel (%d, %d): expected depth %.5f (the plane through the "
-                  "vertices, at the pixel centre), got %.5f. Likely mistake: depth not "
-                  "interpolated (one vertex's z), or interpolated at the corner.",
-                  x, y, want, got);
+                  "vertices, at the pixel centre), got %.5f. Likely mistake: %s",
+                  x, y, want, got,
+                  fabsf(got - (0.1f + 0.8f * x / 8 + 0.4f * y / 8)) < 1e-5f
+                      ? "the stored depth is the plane's at the pixel CORNER (x, y): the "
+                        "depth's barycentrics taken at the loop's integer (x, y), not at the "
+                        "sample inside_triangle tested; use the same point for both."
+                      : "depth not interpolated (one vertex's z), or interpolated with other "
+                        "weights than the sample's barycentrics.");
         }
     ras_framebuffer_destroy(fb);
 }
@@ -1173,6 +1504,16 @@ static void test_raster_counters(void **state) {
 
 /* ---- 5. resolve ------------------------------------------------------------------------- */
 
+/* Whether resolve_pixel answers with sample 0 alone: pixel (0, 0) gets its
+ * sample 1 coloured (and covered), sample 0 black; covered-only averaging
+ * gives the colour, the box filter a share of it, sample 0 black. */
+static bool resolves_sample_zero(ras_framebuffer *fb) {
+    ras_framebuffer_clear(fb, BLACK);
+    fb->color[ras_fb_sample_index(fb, 0, 0, 1)] = WHITE;
+    fb->depth[ras_fb_sample_index(fb, 0, 0, 1)] = 0.5f;
+    return near3(resolve_pixel(fb, 0, 0), BLACK, 1e-6f);
+}
+
 /* resolve_pixel averages in float, over fb->samples (not a hard-coded 4). */
 static void test_resolve_box_filter_float(void **state) {
     (void)state;
@@ -1182,8 +1523,10 @@ static void test_resolve_box_filter_float(void **state) {
         ras_framebuffer *fb = make_fb(3, 2, S);
         for (int lit = 0; lit <= S; lit++) {
             ras_framebuffer_clear(fb, BLACK);
-            for (int s = 0; s < lit; s++)
+            for (int s = 0; s < lit; s++) {
                 fb->color[ras_fb_sample_index(fb, 2, 1, s)] = (vec3s){{1, 0.5f, 0.25f}};
+                fb->depth[ras_fb_sample_index(fb, 2, 1, s)] = 0.5f; /* covered, as drawn */
+            }
             vec3s got = resolve_pixel(fb, 2, 1);
             float f = (float)lit / (float)S;
             vec3s want = {{f, 0.5f * f, 0.25f * f}};
@@ -1193,6 +1536,13 @@ static void test_resolve_box_filter_float(void **state) {
                   lit, S, want.x, want.y, want.z, got.x, got.y, got.z,
                   (lit > 0 && lit < S && got.x == 0)
                       ? "integer division (cnt / 4 is 0 for a partial pixel): divide in float."
+                  : (lit > 0 && lit < S && near3(got, (vec3s){{1, 0.5f, 0.25f}}, 1e-5f) &&
+                     resolves_sample_zero(fb))
+                      ? "resolve_pixel returns sample 0's colour whatever the others hold (a "
+                        "pixel whose only coloured sample is sample 1 resolves to sample 0's "
+                        "black): one colour kept per pixel, as when colour x covered / 4 is "
+                        "ADDED into the pixel's colour; keep a colour per sample and return "
+                        "the average of all fb->samples."
                   : (S == 16 && fabsf(got.x - lit / 4.0f) < 1e-5f)
                       ? "the sample count hard-coded as 4: use fb->samples."
                   : (lit > 0 && lit < S && near3(got, (vec3s){{1, 0.5f, 0.25f}}, 1e-5f))
@@ -1237,8 +1587,11 @@ static void test_resolve_half_covered_pixel(void **state) {
         hand->depth[ras_fb_sample_index(hand, 1, 1, s)] = 0.5f;
     }
     vec3s hand_resolved = resolve_pixel(hand, 1, 1);
-    ras_framebuffer_destroy(hand);
     bool covered_only = fabsf(hand_resolved.x - 0.8f) < 1e-4f;
+    /* sample 0 alone gives 0.8 there too: told apart on a pixel whose
+     * only covered sample is sample 1 */
+    bool sample_zero = covered_only && resolves_sample_zero(hand);
+    ras_framebuffer_destroy(hand);
     for (size_t m = 0; m < sizeof modes / sizeof modes[0]; m++) {
         vec3s got = render_pixel(&half, 1, modes[m].aa, pattern(modes[m].kind, 4));
         vec3s want = {{0.4f, 0.3f, 0.2f}};
@@ -1247,8 +1600,17 @@ static void test_resolve_half_covered_pixel(void **state) {
               "half its colour (0.4, 0.3, 0.2), got (%g, %g, %g). Likely mistake: %s",
               ras_aa_mode_name(modes[m].aa), ras_pattern_kind_name(modes[m].kind), got.x, got.y,
               got.z,
-              got.x == 0
+              got.x > 0.79f && inside_answers_at_corner()
+                  ? "all four samples covered, and inside_triangle, called on other points, "
+                    "answers for each as for its pixel's corner (here (1, 1), inside): "
+                    INT_SIGNATURE_HABIT "."
+              : got.x == 0
                   ? "nothing resolved: integer division in the resolve, or samples not written."
+              : got.x > 0.79f && sample_zero
+                  ? "resolve_pixel returns sample 0's colour whatever the others hold (a pixel "
+                    "whose only coloured sample is sample 1 resolves to black): one colour kept "
+                    "per pixel; keep a colour per sample and return the average of all "
+                    "fb->samples."
               : got.x > 0.79f && covered_only
                   ? "the resolve averages over the COVERED samples only (resolve_pixel gives "
                     "0.8 for two of four samples written): divide the sum of all fb->samples "
@@ -1292,6 +1654,12 @@ static void test_resolve_no_dark_seam(void **state) {
                         seam[y * N + x] = 1;
                     }
                 }
+            if (worst_x >= 0 && covered_pixels(fb) == 0)
+                fail_msg("%s 4x %s: two white triangles sharing an edge over black: expected "
+                         "every inner pixel white, got nothing drawn (no sample has a depth). "
+                         "Likely mistake: nothing is drawn with 4 samples; see the first "
+                         "failing rasterize test.",
+                         ras_aa_mode_name(modes[m]), ras_pattern_kind_name(kinds[k]));
             if (worst_x >= 0) {
                 char art[512];
                 ascii_raster(seam, NULL, N, N, art, sizeof art);
@@ -1306,6 +1674,49 @@ static void test_resolve_no_dark_seam(void **state) {
             }
             ras_framebuffer_destroy(fb);
         }
+}
+
+/* Overdraw: a nearer triangle drawn over a farther one REPLACES its colour on
+ * the samples it wins, it does not add to it. Two triangles sharing a pixel
+ * sum right under an additive resolve (their shares add up to the pixel), so
+ * only overdraw shows that mistake. */
+static void test_resolve_overdraw_replaces(void **state) {
+    (void)state;
+    ras_triangle far_full = tri_z(tri3(-10, -10, 40, -10, -10, 40), 0.8f, BLUE);
+    ras_triangle near_full = tri_z(tri3(-10, -10, 40, -10, -10, 40), 0.2f, RED);
+    ras_triangle near_half = tri_z(tri3(-10, -10, 1.5f, -10, 1.5f, 40), 0.2f, RED);
+    const struct {
+        ras_aa_mode aa;
+        const ras_triangle *near_t;
+        float share; /* of the pixel the near triangle covers */
+    } cases[] = {{RAS_AA_NONE, &near_full, 1},
+                 {RAS_AA_MSAA, &near_full, 1},
+                 {RAS_AA_MSAA, &near_half, 0.5f}};
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        ras_sample_pattern pat = cases[i].aa == RAS_AA_NONE ? ras_sample_pattern_center()
+                                                            : pattern(RAS_PATTERN_ORDERED, 4);
+        ras_triangle tris[2] = {far_full, *cases[i].near_t};
+        vec3s got = render_pixel(tris, 2, cases[i].aa, pat);
+        float f = cases[i].share;
+        vec3s want = {{f, 0, 1 - f}}, sum = {{f, 0, 1}};
+        CHECK(near3(got, want, 1e-5f),
+              "%s%s: a far blue triangle over all of pixel (1, 1), then a near red one over %s "
+              "of it: expected (%g, 0, %g) — red replaces blue where it is nearer — got "
+              "(%g, %g, %g). Likely mistake: %s",
+              ras_aa_mode_name(cases[i].aa), cases[i].aa == RAS_AA_NONE ? "" : " 4x",
+              f == 1 ? "all" : "half", want.x, want.z, got.x, got.y, got.z,
+              f < 1 && near3(got, RED, 1e-5f) && inside_answers_at_corner()
+                  ? "the near red triangle took all four samples although it covers two, and "
+                    "inside_triangle, called on other points, answers for each as for its "
+                    "pixel's corner: " INT_SIGNATURE_HABIT "."
+              : near3(got, sum, 1e-5f)
+                  ? "the pixel is the SUM of both triangles' colours x their covered shares: "
+                    ADDITIVE_MSAA "."
+              : near3(got, BLUE, 1e-5f)
+                  ? "the near red triangle lost everywhere: the depth test (smaller is closer, "
+                    "z < depth[i]), see test_raster_depth_test_order."
+                  : "the near triangle's colour not written to the samples it won.");
+    }
 }
 
 /* A near red triangle over 2 of 4 samples, a far blue one over all 4: the
@@ -1324,7 +1735,14 @@ static void test_resolve_per_sample_depth(void **state) {
                   "%s 4x: near red triangle over 2 of 4 samples, far blue one over all, %s drawn "
                   "first: expected (0.5, 0, 0.5), got (%g, %g, %g). Likely mistake: %s",
                   ras_aa_mode_name(aa), order ? "blue" : "red", got.x, got.y, got.z,
-                  (got.z == 0 && got.x > 0.4f) ? "depth kept per PIXEL: the near triangle's depth "
+                  (order && near3(got, (vec3s){{0.5f, 0, 1}}, 1e-5f))
+                      ? "the pixel is the SUM of what each triangle drew, blue x 4/4 + red x "
+                        "2/4 = (0.5, 0, 1): " ADDITIVE_MSAA "."
+                  : (got.z == 0 && got.x > 0.4f && inside_answers_at_corner())
+                      ? "the near red triangle took all four samples although it covers two, "
+                        "and inside_triangle, called on other points, answers for each as for "
+                        "its pixel's corner: " INT_SIGNATURE_HABIT "."
+                  : (got.z == 0 && got.x > 0.4f) ? "depth kept per PIXEL: the near triangle's depth "
                                                  "blocked the far one on samples it does not cover."
                   : got.x == 0 ? "the far triangle overwrote the near one: the depth test per "
                                  "sample (z < depth[sample]) is missing or reversed."
@@ -1418,7 +1836,8 @@ static bool pixel_is(const ras_image *img, int x, int y, const unsigned char *rg
  * positions only: pixels well inside a triangle have its exact colour, the
  * overlap shows the nearer (green) one, the background is black; with
  * anti-aliasing, pixels straddling green's left edge are mixtures. */
-static void check_scene_image(const ras_image *img, const char *what, bool antialiased) {
+static void check_scene_image(const ras_image *img, const char *what, bool antialiased,
+                              bool inside_at_corner) {
     double g[3][2], b[3][2];
     project_by_hand(GREEN_POS, g);
     project_by_hand(BLUE_POS, b);
@@ -1471,9 +1890,13 @@ static void check_scene_image(const ras_image *img, const char *what, bool antia
         }
     CHECK(edge_pixels > 50 && mixtures * 10 >= edge_pixels * 9,
           "%s: of %ld pixels whose centre lies within 0.4 px of the green triangle's left edge, "
-          "expected at least 90%% to mix green and black, got %ld. Likely mistake: samples all "
-          "at the pixel centre (no anti-aliasing), or the resolve picks one sample.",
-          what, edge_pixels, mixtures);
+          "expected at least 90%% to mix green and black, got %ld. Likely mistake: %s",
+          what, edge_pixels, mixtures,
+          inside_at_corner
+              ? "every sample of a pixel covered alike, and inside_triangle, called on other "
+                "points, answers for each as for its pixel's corner: " INT_SIGNATURE_HABIT "."
+              : "samples all at the pixel centre (no anti-aliasing), or the resolve picks one "
+                "sample.");
 }
 
 static ras_image *load_reference(const char *name) {
@@ -1502,7 +1925,7 @@ static void test_scene_reference_images_sane(void **state) {
                 {"hw2_msaa4_standard.png", true}};
     for (size_t i = 0; i < sizeof refs / sizeof refs[0]; i++) {
         ras_image *img = load_reference(refs[i].file);
-        check_scene_image(img, refs[i].file, refs[i].aa);
+        check_scene_image(img, refs[i].file, refs[i].aa, false);
         ras_image_destroy(img);
     }
 }
@@ -1518,8 +1941,9 @@ static void test_scene_depth_order(void **state) {
           "(217, 238, 185) in front, got (%d, %d, %d). Likely mistake: %s",
           ras_unit_to_byte(c.x), ras_unit_to_byte(c.y), ras_unit_to_byte(c.z),
           pixel_is(img, 350, 400, BLUE8) ? "the depth test reversed (draw when z < depth)."
+          : why_nothing_drawn()          ? why_nothing_drawn()
                                          : "nothing or something else drawn there.");
-    check_scene_image(img, "your 1x render", false);
+    check_scene_image(img, "your 1x render", false, false);
     ras_image_destroy(img);
 }
 
@@ -1528,8 +1952,10 @@ static void compare_scene(const char *ref_name, ras_aa_mode aa, ras_pattern_kind
     /* Rendered first: in grading the student's frame is recorded in a sandbox
      * that has no reference images (tests/grading/ras_call.h). */
     ras_image *got = render_scene(aa, kind, samples);
+    /* the evidence for a diagnosis too: the record ends at the reference */
+    bool at_corner = aa != RAS_AA_NONE && inside_answers_at_corner();
     ras_image *want = load_reference(ref_name);
-    check_scene_image(got, ref_name, aa != RAS_AA_NONE);
+    check_scene_image(got, ref_name, aa != RAS_AA_NONE, at_corner);
     /* Edge-tolerant, and with AA one sample's worth more: a vertex that lands
      * 1/256 px elsewhere (another rounding of the same projection, or float
      * edge functions) flips single samples along the shallow edges — not a
@@ -1598,6 +2024,7 @@ int main(void) {
         cmocka_unit_test(test_resolve_half_covered_pixel),
         cmocka_unit_test(test_resolve_no_dark_seam),
         cmocka_unit_test(test_resolve_per_sample_depth),
+        cmocka_unit_test(test_resolve_overdraw_replaces),
         cmocka_unit_test(test_scene_reference_images_sane),
         cmocka_unit_test(test_scene_depth_order),
         cmocka_unit_test(test_scene_matches_reference_1x),

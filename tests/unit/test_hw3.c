@@ -186,20 +186,37 @@ static void test_interp_affine_error_matches_theory(void **state) {
         vec2s affine = interpolate_vec2(&t, bary, t.uv, false);
         CHECK(fabsf(affine.x - sigma) < 1e-6f,
               "interpolate_vec2(perspective = false) at screen fraction %.3f of the edge "
-              "uv 0 → 1: expected the affine %.6f, got %.6f. Likely mistake: the affine path "
-              "must use the screen barycentrics as they are",
-              (double)sigma, (double)sigma, (double)affine.x);
+              "uv 0 → 1: expected the affine %.6f, got %.6f. Likely mistake: %s",
+              (double)sigma, (double)sigma, (double)affine.x,
+              fabsf(affine.x - correct.x) < 1e-6f
+                  ? "the 1/w correction applied with perspective = false too: the affine path "
+                    "uses the screen barycentrics as they are"
+                  : "the affine path must use the screen barycentrics as they are");
         double k = 3.0, s_exact = (sigma / k) / ((1 - sigma) + sigma / k);
+        /* the classic wrong weights on this edge (w0 = 2, w1 = 6) */
+        double times_w = sigma * 6 / ((1 - sigma) * 2 + sigma * 6), no_sum = sigma / 6;
         CHECK(fabs(correct.x - s_exact) < 2e-6,
               "perspective-correct u at screen fraction %.3f along the edge (w 2 → 6): "
-              "expected %.6f = (σ/w1)/((1−σ)/w0 + σ/w1), got %.6f",
-              (double)sigma, s_exact, (double)correct.x);
+              "expected %.6f = (σ/w1)/((1−σ)/w0 + σ/w1), got %.6f. Likely mistake: %s",
+              (double)sigma, s_exact, (double)correct.x,
+              fabs(correct.x - sigma) < 2e-6
+                  ? "this is the AFFINE value: the 1/w correction is missing (w forced to 1 as "
+                    "the course framework's toVector4 does, or `perspective` ignored) — the w = 1 "
+                    "pitfall, docs/hw3.md section 1"
+              : fabs(correct.x - times_w) < 2e-6
+                  ? "the weights multiplied by w: b_i = λ_i / w_i, not λ_i · w_i"
+              : fabs(correct.x - no_sum) < 2e-6
+                  ? "the weights λ_i / w_i not divided by their sum Σ λ_j / w_j"
+                  : "b_i = (λ_i / w_i) / Σ (λ_j / w_j), then attr = Σ b_i · attr_i");
         double e = fabs(affine.x - correct.x);
         if (e > worst) worst = e, worst_sigma = sigma;
     }
     double theory = (sqrt(3.0) - 1) / (sqrt(3.0) + 1), sigma_theory = sqrt(3.0) / (sqrt(3.0) + 1);
     CHECK(fabs(worst - theory) < 1e-4 && fabs(worst_sigma - sigma_theory) < 2e-3,
-          "worst affine error along the edge: expected %.5f at σ = %.3f, got %.5f at σ = %.3f",
+          "worst affine error along the edge: expected %.5f at σ = %.3f, got %.5f at σ = %.3f. "
+          "Likely mistake: the affine and the perspective-correct values differ from the "
+          "formulas above by less than the per-point tolerance, but drift: b_i = (λ_i / w_i) / "
+          "Σ (λ_j / w_j) in float, without rounding the weights",
           theory, sigma_theory, worst, worst_sigma);
 }
 
@@ -232,14 +249,22 @@ static void test_interp_w1_pitfall_caught(void **state) {
     for (int i = 0; i < 3; i++) {
         vec3s e = {{i == 0, i == 1, i == 2}};
         vec3s g = perspective_correct_barycentric(&t, e);
-        CHECK(near3(g, e, 1e-6f), "at vertex %d expected " FMT3 ", got " FMT3, i, ARG3(e), ARG3(g));
+        CHECK(near3(g, e, 1e-6f),
+              "perspective_correct_barycentric at vertex %d: expected " FMT3 ", got " FMT3
+              ". Likely mistake: the weights λ_i / w_i must be divided by their sum, so a vertex "
+              "keeps weight 1",
+              i, ARG3(e), ARG3(g));
     }
     vec3s attr[3] = {V3(1, 0, 0), V3(0, 1, 0), V3(0, 0, 1)};
     vec3s c = interpolate_vec3(&t, bary, attr, true);
     CHECK(near3(c, b, 1e-5f),
           "interpolate_vec3 of the unit vectors should return the corrected barycentrics " FMT3
-          ", got " FMT3,
-          ARG3(b), ARG3(c));
+          ", got " FMT3 ". Likely mistake: %s",
+          ARG3(b), ARG3(c),
+          near3(c, bary, 1e-5f) ? "interpolate_vec3 ignores `perspective`: with true it weighs "
+                                  "with perspective_correct_barycentric (TODO 1.3)"
+                                : "interpolate_vec3 = Σ b_i · attr_i with b the corrected "
+                                  "barycentrics (TODO 1.3)");
 }
 
 /* ---- shaders ---------------------------------------------------------------- */
@@ -262,17 +287,247 @@ static fragment_shader_payload base_payload(void) {
     return p;
 }
 
+/* ---- Blinn-Phong diagnoses: the reference formula with one mistake applied --
+ *
+ * A failing shader test names the mistake whose colour, computed here in
+ * double on the test's own case, is the colour the student's function
+ * returned; candidates that give the right colour on the case cannot be
+ * told apart there and are skipped. */
+typedef struct bp_case {
+    double P[3], n[3]; /* the point and its normal (view space) */
+    vec3s kd;
+    double ks, pw, ambient; /* ks, p and ka·Ia, all grey */
+    int lights;
+    double L[2][3], I[2];
+} bp_case;
+
+enum bp_mistake {
+    BP_NO_LIGHTING = 1 << 0,
+    BP_AMBIENT_PER_LIGHT = 1 << 1,
+    BP_AMBIENT_OVER_R2 = 1 << 2,
+    BP_NO_AMBIENT = 1 << 3,
+    BP_NO_SPECULAR = 1 << 4,
+    BP_REFLECTION = 1 << 5,
+    BP_HALF_FROM_UNNORMALISED = 1 << 6,
+    BP_HALF_NOT_NORMALISED = 1 << 7,
+    BP_L_NOT_NORMALISED = 1 << 8,
+    BP_V_NOT_NORMALISED = 1 << 9,
+    BP_FIXED_EYE = 1 << 10,
+    BP_NO_FALLOFF = 1 << 11,
+    BP_FALLOFF_R = 1 << 12,
+    BP_SPECULAR_NO_MAX = 1 << 13,
+    BP_DIFFUSE_NO_MAX = 1 << 14,
+};
+
+/* In the order a message lists them when none matches. */
+static const struct {
+    unsigned mistake;
+    const char *name;
+} bp_mistakes[] = {
+    {BP_NO_LIGHTING, "no lighting yet — the colour is kd itself (the placeholder)"},
+    {BP_AMBIENT_PER_LIGHT,
+     "the ambient term added once PER LIGHT; add ka·Ia once, outside the loop (TODO 2.2)"},
+    {BP_AMBIENT_OVER_R2,
+     "the ambient term divided by r² (ka·Ia / r² for each light): ambient light comes from no "
+     "light and has no fall-off; add ka·Ia once, outside the loop (TODO 2.2)"},
+    {BP_NO_AMBIENT, "the ambient term ka·Ia is missing"},
+    {BP_NO_SPECULAR, "the specular term is missing (ks·(I/r²)·max(0, n·h)^p)"},
+    {BP_REFLECTION, "the specular term used the reflection vector (r·v)^p: Blinn-Phong uses the "
+                    "half vector h = normalize(l + v)"},
+    {BP_HALF_FROM_UNNORMALISED,
+     "the half vector from the UNNORMALISED light and view vectors, h = normalize((light − "
+     "point) + (−point)), which leans towards the farther of light and eye: normalise l and v "
+     "first, then h = normalize(l + v)"},
+    {BP_HALF_NOT_NORMALISED, "the half vector h = l + v is not normalised: h = normalize(l + v)"},
+    {BP_L_NOT_NORMALISED, "l is not normalised: l = normalize(light − point)"},
+    {BP_V_NOT_NORMALISED, "v is not normalised: v = normalize(−point)"},
+    {BP_FIXED_EYE, "the viewer at a fixed eye position (the course viewer's eye_pos = (0,0,10)): "
+                   "points and lights are in view space, where the camera is the origin, so "
+                   "v = normalize(−point) (TODO 2.1)"},
+    {BP_NO_FALLOFF, "no 1/r² fall-off: divide the intensity by the squared distance to the light"},
+    {BP_FALLOFF_R, "the intensity divided by the distance r, not by r² = (light − point)·(light − "
+                   "point)"},
+    {BP_SPECULAR_NO_MAX,
+     "the specular term pow(n·h, p) without max(0, n·h): with the light behind the surface "
+     "n·h < 0, and an even p makes it a highlight; pow(max(0, n·h), p) (TODO 2.4)"},
+    {BP_DIFFUSE_NO_MAX, "the diffuse term without max(0, n·l): a light behind the surface darkens "
+                        "it; clamp negative dot products (TODO 2.3)"},
+};
+#define BP_MISTAKES (sizeof bp_mistakes / sizeof *bp_mistakes)
+
+static double dot3(const double a[3], const double b[3]) {
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+static void unit3(double a[3]) {
+    double l = sqrt(dot3(a, a));
+    for (int k = 0; k < 3; k++)
+        a[k] /= l;
+}
+
+/* The specular factor s (before pow) of one light for direction d = light −
+ * point, the viewer direction v (unit unless BP_V_NOT_NORMALISED) and its
+ * unnormalised form eye − point. */
+static double bp_specular_base(unsigned m, const double n[3], const double l[3], const double v[3],
+                               const double d[3], const double to_eye[3]) {
+    double h[3];
+    if (m & BP_REFLECTION) { /* r = 2(n·l)n − l, then r·v */
+        double nl = dot3(n, l), r[3];
+        for (int k = 0; k < 3; k++)
+            r[k] = 2 * nl * n[k] - l[k];
+        return dot3(r, v);
+    }
+    for (int k = 0; k < 3; k++)
+        h[k] = m & BP_HALF_FROM_UNNORMALISED ? d[k] + to_eye[k] : l[k] + v[k];
+    if (!(m & BP_HALF_NOT_NORMALISED)) unit3(h);
+    return dot3(n, h);
+}
+
+/* Blinn-Phong of case c with the mistakes m applied (0: the right colour). */
+static vec3s bp_colour(const bp_case *c, unsigned m) {
+    if (m & BP_NO_LIGHTING) return c->kd;
+    const double eye[3] = {0, 0, m & BP_FIXED_EYE ? 10 : 0};
+    double n[3] = {c->n[0], c->n[1], c->n[2]}, to_eye[3], v[3];
+    unit3(n);
+    for (int k = 0; k < 3; k++)
+        to_eye[k] = v[k] = eye[k] - c->P[k];
+    if (!(m & BP_V_NOT_NORMALISED)) unit3(v);
+    bool per_light = m & (BP_AMBIENT_PER_LIGHT | BP_AMBIENT_OVER_R2);
+    double grey = per_light || (m & BP_NO_AMBIENT) ? 0 : c->ambient, diffuse = 0;
+    for (int i = 0; i < c->lights; i++) {
+        double d[3], l[3];
+        for (int k = 0; k < 3; k++)
+            d[k] = l[k] = c->L[i][k] - c->P[k];
+        double r2 = dot3(d, d);
+        grey += m & BP_AMBIENT_PER_LIGHT ? c->ambient
+                : m & BP_AMBIENT_OVER_R2 ? c->ambient / r2
+                                         : 0;
+        if (!(m & BP_L_NOT_NORMALISED)) unit3(l);
+        double fall = m & BP_NO_FALLOFF  ? c->I[i]
+                      : m & BP_FALLOFF_R ? c->I[i] / sqrt(r2)
+                                         : c->I[i] / r2;
+        double nl = dot3(n, l), s = bp_specular_base(m, n, l, v, d, to_eye);
+        diffuse += fall * (m & BP_DIFFUSE_NO_MAX ? nl : fmax(0, nl));
+        if (!(m & BP_NO_SPECULAR))
+            grey += c->ks * fall * pow(m & BP_SPECULAR_NO_MAX ? s : fmax(0, s), c->pw);
+    }
+    return V3((float)(grey + c->kd.x * diffuse), (float)(grey + c->kd.y * diffuse),
+              (float)(grey + c->kd.z * diffuse));
+}
+
+static bool bp_near(vec3s a, vec3s b) {
+    float tol = 1e-4f * (1 + fmaxf(fabsf(b.x), fmaxf(fabsf(b.y), fabsf(b.z))));
+    return near3(a, b, tol);
+}
+
+static float dist3(vec3s a, vec3s b) { return glms_vec3_norm(glms_vec3_sub(a, b)); }
+
+/* Appends the names of the mistakes (bits of m) to out, joined by "; and ". */
+static void bp_names(char *out, size_t size, unsigned m) {
+    for (size_t i = 0; i < BP_MISTAKES; i++)
+        if (m & bp_mistakes[i].mistake) {
+            size_t used = strlen(out);
+            snprintf(out + used, size - used, "%s%s", used ? "; and " : "", bp_mistakes[i].name);
+        }
+}
+
+/* The likely mistake behind `got` on case c, written into out: the one
+ * mistake (or, when none, the pair) whose colour is got; when several give
+ * got, all of them; when none, what was observed and the nearest candidates
+ * in order. */
+static const char *bp_diagnose(const bp_case *c, vec3s got, char *out, size_t size) {
+    vec3s right = bp_colour(c, 0);
+    unsigned found[8];
+    int nfound = 0;
+    for (int pairs = 0; pairs < 2 && nfound == 0; pairs++)
+        for (size_t i = 0; i < BP_MISTAKES; i++)
+            for (size_t j = pairs ? i + 1 : i; j < (pairs ? BP_MISTAKES : i + 1); j++) {
+                unsigned m = bp_mistakes[i].mistake | bp_mistakes[j].mistake;
+                vec3s cand = bp_colour(c, m);
+                if (!bp_near(cand, right) && bp_near(got, cand) && nfound < 8) found[nfound++] = m;
+            }
+    out[0] = '\0';
+    if (nfound == 1) {
+        if (found[0] & (found[0] - 1)) snprintf(out, size, "two mistakes together: ");
+        bp_names(out, size, found[0]);
+        return out;
+    }
+    if (nfound > 1) {
+        snprintf(out, size, "one of these %d, which give exactly this colour here: ", nfound);
+        for (int k = 0; k < nfound; k++) {
+            size_t used = strlen(out);
+            snprintf(out + used, size - used, "%s(%d) ", k ? "; " : "", k + 1);
+            bp_names(out, size, found[k]);
+        }
+        return out;
+    }
+    /* none: the nearest three single mistakes, nearest first */
+    size_t order[BP_MISTAKES];
+    for (size_t i = 0; i < BP_MISTAKES; i++)
+        order[i] = i;
+    for (size_t i = 1; i < BP_MISTAKES; i++)
+        for (size_t j = i; j > 0 && dist3(got, bp_colour(c, bp_mistakes[order[j]].mistake)) <
+                                        dist3(got, bp_colour(c, bp_mistakes[order[j - 1]].mistake));
+             j--) {
+            size_t t = order[j];
+            order[j] = order[j - 1], order[j - 1] = t;
+        }
+    vec3s diff = glms_vec3_sub(got, right);
+    snprintf(out, size,
+             "no single classic mistake (nor two together) gives this colour here; observed: got "
+             "− expected = " FMT3 "%s. Nearest first, check:",
+             ARG3(diff),
+             fabsf(diff.x - diff.y) < 1e-4f && fabsf(diff.y - diff.z) < 1e-4f
+                 ? " (grey: the ambient or the specular term, which do not depend on kd)"
+                 : " (not grey: a term multiplied by kd, the diffuse one)");
+    for (int k = 0; k < 3; k++) {
+        size_t used = strlen(out);
+        vec3s cand = bp_colour(c, bp_mistakes[order[k]].mistake);
+        snprintf(out + used, size - used, " (%d) %s (would give " FMT3 ")", k + 1,
+                 bp_mistakes[order[k]].name, ARG3(cand));
+    }
+    return out;
+}
+
+/* The case of a payload from base_payload (kd, ks, p, ambient grey). */
+static bp_case bp_case_of(const fragment_shader_payload *p, vec3s kd) {
+    bp_case c = {.kd = kd,
+                 .ks = p->ks.x,
+                 .pw = p->p,
+                 .ambient = p->ka.x * p->ambient_intensity.x,
+                 .lights = p->light_count};
+    for (int k = 0; k < 3; k++)
+        c.P[k] = p->view_pos.raw[k], c.n[k] = p->normal.raw[k];
+    for (int i = 0; i < c.lights; i++) {
+        c.I[i] = p->lights[i].intensity.x;
+        for (int k = 0; k < 3; k++)
+            c.L[i][k] = p->lights[i].position.raw[k];
+    }
+    return c;
+}
+
+/* The test's hand-worked colour agrees with bp_colour (a test-setup check). */
+static void bp_expect_setup(const bp_case *c, vec3s hand) {
+    CHECK(bp_near(bp_colour(c, 0), hand),
+          "test setup: the hand-worked colour " FMT3 " and the test's formula " FMT3 " differ",
+          ARG3(hand), ARG3(bp_colour(c, 0)));
+}
+
 /* The worked example: (n + 1) / 2. */
 static void test_shader_normal(void **state) {
     (void)state;
     fragment_shader_payload p = base_payload();
     vec3s c = normal_fragment_shader(&p);
-    CHECK(near3(c, V3(0.5f, 0.5f, 1), 1e-6f), "normal (0,0,1): expected (0.5, 0.5, 1), got " FMT3,
+    CHECK(near3(c, V3(0.5f, 0.5f, 1), 1e-6f),
+          "normal (0,0,1): expected (0.5, 0.5, 1), got " FMT3 ". Likely mistake: the normal "
+          "shader (given) was changed: it returns (normalize(n) + 1) / 2",
           ARG3(c));
     p.normal = V3(0.6f, 0, 0.8f);
     c = normal_fragment_shader(&p);
     CHECK(near3(c, V3(0.8f, 0.5f, 0.9f), 1e-6f),
-          "normal (0.6,0,0.8): expected (0.8, 0.5, 0.9), got " FMT3, ARG3(c));
+          "normal (0.6,0,0.8): expected (0.8, 0.5, 0.9), got " FMT3 ". Likely mistake: the "
+          "normal shader (given) was changed: it returns (normalize(n) + 1) / 2",
+          ARG3(c));
 }
 
 /* One light, all three terms. P = (0,0,-10), n = (0,0,1), v = (0,0,1).
@@ -298,25 +553,13 @@ static void test_shader_blinn_phong_one_light(void **state) {
               ARG3(want), ARG3(c2));
         return;
     }
-    const char *hint = "check each term against docs/hw3.md section 2";
-    /* reflection-vector Phong: r = 2(n·l)n − l = (−0.8, 0, 0.6), (r·v)⁴ = 0.1296 → 0.07776 */
-    if (near3(c, glms_vec3_adds(V3(0.65f, 0.35f, 0.17f), 0.07776f), 1e-4f))
-        hint = "the specular term used the reflection vector (r·v)^p: Blinn-Phong uses the "
-               "half vector h = normalize(l + v)";
-    else if (near3(c, V3(0.65f, 0.35f, 0.17f), 1e-4f))
-        hint = "the specular term is missing (ks·(I/r²)·max(0, n·h)^p)";
-    else if (near3(c, V3(0.984f, 0.684f, 0.504f), 1e-4f))
-        hint = "the ambient term ka·Ia is missing";
-    else if (c.x > 5)
-        hint = "no 1/r² fall-off: divide the intensity by the squared distance to the light";
-    else if (c.x > 1.5f)
-        hint = "a direction is not normalised: l, v, h (and n) must be unit vectors";
-    else if (near3(c, glms_vec3_adds(V3(0.55f, 0.3f, 0.17f), 0.0f), 1e-2f) || c.x < 0.5f)
-        hint = "is v = normalize(−point)? The viewer is at the view-space origin";
+    char hint[2048];
+    bp_case bc = bp_case_of(&p, p.color);
+    bp_expect_setup(&bc, want);
     fail_msg("Blinn-Phong, one light at (4,0,-7), I = 50, P = (0,0,-10), n = (0,0,1), "
              "kd = (0.5,0.25,0.1), ks = 0.3, p = 4, ka·Ia = 0.05: expected " FMT3 ", got " FMT3
              ". Likely mistake: %s",
-             ARG3(want), ARG3(c), hint);
+             ARG3(want), ARG3(c), bp_diagnose(&bc, c, hint, sizeof hint));
 }
 
 /* Blinn-Phong of one light in double (the test's own arithmetic), with the
@@ -352,20 +595,17 @@ static void test_shader_viewer_off_axis(void **state) {
     p.p = 8;
     p.lights[0] = (light){{{6, 0, -1}}, {{50, 50, 50}}};
     const double P[3] = {3, 0, -4}, n[3] = {0, 0, 1}, L[3] = {6, 0, -1};
-    const double origin[3] = {0, 0, 0}, course_eye[3] = {0, 0, 10};
+    const double origin[3] = {0, 0, 0};
     vec3s want = blinn_phong_double(p.color, P, n, L, 50, 0.3, 8, 0.05, origin);
-    vec3s course = blinn_phong_double(p.color, P, n, L, 50, 0.3, 8, 0.05, course_eye);
     vec3s c = phong_fragment_shader(&p);
+    char hint[2048];
+    bp_case bc = bp_case_of(&p, p.color);
+    bp_expect_setup(&bc, want);
     CHECK(near3(c, want, 1e-4f),
           "Blinn-Phong at the off-axis point P = (3, 0, -4), n = (0,0,1), one light at (6,0,-1), "
           "I = 50, kd = (0.5,0.25,0.1), ks = 0.3, p = 8: expected " FMT3 ", got " FMT3
           ". Likely mistake: %s",
-          ARG3(want), ARG3(c),
-          near3(c, course, 1e-4f)
-              ? "the viewer at a fixed eye position (the course viewer's eye_pos = (0,0,10)): "
-                "points and lights are in view space, where the camera is the origin, so "
-                "v = normalize(−point) (TODO 2.1)"
-              : "check v = normalize(−point) and the other terms (docs/hw3.md section 2)");
+          ARG3(want), ARG3(c), bp_diagnose(&bc, c, hint, sizeof hint));
 }
 
 /* Ambient once: two lights at grazing incidence (n·l = 0, and (n·h)^150 =
@@ -380,15 +620,13 @@ static void test_shader_ambient_once_not_per_light(void **state) {
     p.lights[1] = (light){{{0, 10, -10}}, {{500, 500, 500}}};
     p.light_count = 2;
     vec3s c = phong_fragment_shader(&p);
+    char hint[2048];
+    bp_case bc = bp_case_of(&p, p.color);
+    bp_expect_setup(&bc, V3(0.05f, 0.05f, 0.05f));
     CHECK(near3(c, V3(0.05f, 0.05f, 0.05f), 1e-5f),
           "two grazing lights add nothing, so expected only the ambient (0.05, 0.05, 0.05), "
-          "got " FMT3 ". %s",
-          ARG3(c),
-          near3(c, V3(0.1f, 0.1f, 0.1f), 1e-5f)
-              ? "Likely mistake: ambient added once PER LIGHT; add ka·Ia once, outside the loop"
-          : near3(c, p.color, 1e-6f)
-              ? "Likely mistake: no lighting yet — the colour is kd itself (the placeholder)"
-              : "Likely mistake: diffuse/specular must be max(0, ·): clamp negative dot products");
+          "got " FMT3 ". Likely mistake: %s",
+          ARG3(c), bp_diagnose(&bc, c, hint, sizeof hint));
 }
 
 /* The classic GAMES101 numbers at P = (0,0,-10), n = (0,0,1):
@@ -408,12 +646,38 @@ static void test_shader_blinn_phong_classic_numbers(void **state) {
     p.light_count = 2;
     vec3s c = phong_fragment_shader(&p);
     vec3s want = V3(0.281689f, 0.239422f, 0.194024f);
+    char hint[2048];
+    bp_case bc = bp_case_of(&p, p.color);
+    bp_expect_setup(&bc, want);
     CHECK(near3(c, want, 1e-4f),
-          "Blinn-Phong with the GAMES101 lights and material: expected " FMT3 ", got " FMT3 ". %s",
-          ARG3(want), ARG3(c),
-          near3(c, glms_vec3_adds(want, 0.05f), 1e-4f)
-              ? "Likely mistake: ambient added once per light"
-              : "Likely mistake: see the arithmetic above this test");
+          "Blinn-Phong with the GAMES101 lights and material: expected " FMT3 ", got " FMT3
+          ". Likely mistake: %s",
+          ARG3(want), ARG3(c), bp_diagnose(&bc, c, hint, sizeof hint));
+}
+
+/* A light behind the surface: n = (0.6, 0, 0.8) at P = (0,0,-10), the light
+ * 5 units along l = −n at (−3, 0, −14), I/r² = 50/25 = 2. n·l = −1, so no
+ * diffuse; h = normalize(l + v) = normalize(−0.6, 0, 0.2) = (−0.948683, 0,
+ * 0.316228), n·h = −0.316228 < 0, so no specular either: only the ambient
+ * (0.05, 0.05, 0.05). Without max(0, ·) the EVEN exponent p = 2 turns n·h < 0
+ * into (n·h)² = 0.1 and a highlight of 0.3·2·0.1 = 0.06: 0.11. */
+static void test_shader_blinn_phong_light_behind(void **state) {
+    (void)state;
+    fragment_shader_payload p = base_payload();
+    p.color = V3(0.5f, 0.25f, 0.1f);
+    p.normal = V3(0.6f, 0, 0.8f);
+    p.p = 2;
+    p.lights[0] = (light){{{-3, 0, -14}}, {{50, 50, 50}}};
+    vec3s c = phong_fragment_shader(&p);
+    vec3s want = V3(0.05f, 0.05f, 0.05f);
+    char hint[2048];
+    bp_case bc = bp_case_of(&p, p.color);
+    bp_expect_setup(&bc, want);
+    CHECK(near3(c, want, 1e-4f),
+          "Blinn-Phong with the light behind the surface (n = (0.6,0,0.8) at P = (0,0,-10), "
+          "light at (-3,0,-14), n·l = -1, n·h = -0.316, I = 50, ks = 0.3, p = 2): expected "
+          "only the ambient " FMT3 ", got " FMT3 ". Likely mistake: %s",
+          ARG3(want), ARG3(c), bp_diagnose(&bc, c, hint, sizeof hint));
 }
 
 /* A 2×2 texture, built from an image whose TOP row is (red, green) and bottom
@@ -443,11 +707,18 @@ static void test_shader_texture_kd_from_texture(void **state) {
     p.uv = (vec2s){{0.25f, 0.25f}};
     vec3s c = texture_fragment_shader(&p);
     vec3s want = V3(0.674f, 0.914f, 1.154f);
-    const char *hint = "kd = the texture's colour at uv, then Blinn-Phong as in section 2";
+    char lighting[2048];
+    bp_case bc = bp_case_of(&p, V3(0.2f, 0.4f, 0.6f));
+    bp_expect_setup(&bc, want);
+    const char *hint = lighting;
     if (near3(c, V3(0.434f, 0.434f, 0.434f), 1e-4f))
         hint = "the texture was not read: kd is still payload->color";
     else if (near3(c, V3(1.634f, 0.434f, 0.434f), 1e-4f))
         hint = "v flipped twice: the texture already stores the bottom row at v = 0";
+    else if (strncmp(bp_diagnose(&bc, c, lighting, sizeof lighting), "no single", 9) == 0)
+        hint = "kd is not the texel (0.2, 0.4, 0.6) read at uv with texture_sample(payload, "
+               "payload->texture, payload->uv), or the lighting differs from section 2 in a way "
+               "no classic mistake explains";
     ras_texture_destroy(tex);
     CHECK(near3(c, want, 1e-4f),
           "texture shader at uv (0.25, 0.25) of a 2x2 texture whose bottom-left texel is "
@@ -486,6 +757,43 @@ static ras_texture *height_slope(void) {
     return tex;
 }
 
+/* The bitangent tangent_frame returned, against the three ways it is
+ * written: n × t (right), t × n, and n ∘ t (element-wise, glms_vec3_mul). */
+typedef enum bitangent_kind { B_RIGHT, B_T_CROSS_N, B_ELEMENTWISE, B_OTHER } bitangent_kind;
+
+static bitangent_kind bitangent_of(vec3s n, vec3s t, vec3s b) {
+    if (near3(b, glms_vec3_cross(n, t), 1e-5f)) return B_RIGHT;
+    if (near3(b, glms_vec3_cross(t, n), 1e-5f)) return B_T_CROSS_N;
+    if (near3(b, glms_vec3_mul(n, t), 1e-5f)) return B_ELEMENTWISE;
+    return B_OTHER;
+}
+
+#define B_T_CROSS_N_MISTAKE                                                                        \
+    "the bitangent b = t × n in tangent_frame: it is b = n × t (glms_vec3_cross(n, t), "         \
+    "TODO 5.3); the reversed order negates b and with it dV's term in n' = n − dU·t − dV·b"
+#define B_ELEMENTWISE_MISTAKE                                                                      \
+    "the bitangent computed element-wise in tangent_frame, b = n ∘ t (glms_vec3_mul multiplies " \
+    "component by component): it is the cross product b = n × t (glms_vec3_cross(n, t), TODO "    \
+    "5.3); element-wise, b is (0, 0, 0) wherever n and t have no common axis, so dV's term "       \
+    "vanishes"
+
+/* The likely mistake of a bumped normal whose dV term is 0 (`zero`) or
+ * negated (`negated`), from the student's tangent_frame at n. */
+static const char *bump_dv_mistake(vec3s n, bool negated) {
+    vec3s t, b;
+    tangent_frame(n, &t, &b);
+    bitangent_kind k = bitangent_of(n, t, b);
+    if (negated)
+        return k == B_T_CROSS_N ? B_T_CROSS_N_MISTAKE
+                                : "the sign of dV's term: n' = TBN·(−dU, −dV, 1) = n − dU·t − dV·b "
+                                  "(your tangent_frame's b = n × t is right here, so either the "
+                                  "sign, or a frame bump_normal builds itself with b = t × n)";
+    return k == B_ELEMENTWISE
+               ? B_ELEMENTWISE_MISTAKE
+               : "dV is always 0 (your tangent_frame's b is not 0 here): the v step 1/height "
+                 "computed in integers (1 / h is 0), or h(u, v + 1/height) read at the same v";
+}
+
 /* Bump, nearest filter, uv (0.375, 0.5), n = (0,0,1):
  *   h(u,v) = 255·|(0.1,0.1,0.1)| = 255·0.173205 = 44.1673 (column 1)
  *   h(u + 1/4, v) = 88.3346 (column 2), h(u, v + 1/4) = 44.1673 (same column)
@@ -518,7 +826,13 @@ static void test_shader_bump(void **state) {
           ", got " FMT3 ". Likely mistake: %s",
           ARG3(want_n), ARG3(n), hint);
     CHECK(near3(c, V3(0.5f, 0.168980f, 0.874734f), 1e-4f),
-          "bump shader colour: expected (n'+1)/2 = (0.5, 0.168980, 0.874734), got " FMT3, ARG3(c));
+          "bump shader colour: expected (n'+1)/2 = (0.5, 0.168980, 0.874734), got " FMT3
+          ". Likely mistake: %s",
+          ARG3(c),
+          near3(c, want_n, 1e-4f) ? "bump_fragment_shader returned n' itself: the colour is "
+                                    "(n' + 1) / 2, as normal_fragment_shader shows"
+                                  : "bump_fragment_shader must return (bump_normal(payload) + 1) "
+                                    "/ 2");
     /* On height_slope at uv (0.375, 0.375) (column 1, row 1 from the bottom):
      *   h = 255·√3·0.14, h(u + 1/4, v) = 255·√3·0.24, h(u, v + 1/4) = 255·√3·0.18
      *   dU = 0.02·255·√3·0.10 = 0.883346, dV = 0.02·255·√3·0.04 = 0.353338
@@ -531,13 +845,12 @@ static void test_shader_bump(void **state) {
     want_n = V3(0.255992f, -0.639980f, 0.724495f);
     hint = "see the arithmetic above this test (docs/hw3.md section 5)";
     if (near3(n, V3(0, -0.662040f, 0.749469f), 1e-4f))
-        hint = "dV is always 0: the v step 1/height computed in integers (1 / h is 0), or "
-               "h(u, v + 1/height) read at the same v";
+        hint = bump_dv_mistake(V3(0, 0, 1), false);
     else if (near3(n, V3(0.639980f, -0.255992f, 0.724495f), 1e-4f))
         hint = "dU and dV swapped (u and v swapped): dU steps u by 1/width and multiplies t, "
                "dV steps v by 1/height and multiplies b";
     else if (near3(n, V3(-0.255992f, -0.639980f, 0.724495f), 1e-4f))
-        hint = "the sign of dV: n' = TBN·(−dU, −dV, 1)";
+        hint = bump_dv_mistake(V3(0, 0, 1), true);
     CHECK(near3(n, want_n, 1e-4f),
           "bump_normal on a height map rising in u and in v (dU = 0.883346, dV = 0.353338) at "
           "n = (0,0,1): expected " FMT3 ", got " FMT3 ". Likely mistake: %s",
@@ -583,15 +896,27 @@ static void check_frame(vec3s n, bool perpendicular) {
           "t perpendicular to n there",
           ARG3(n), ARG3(t), ARG3(b));
     CHECK(fabsf(glms_vec3_norm(t) - 1) < 1e-4f,
-          "tangent_frame at n = " FMT3 ": |t| = %.6f, expected 1", ARG3(n),
-          (double)glms_vec3_norm(t));
+          "tangent_frame at n = " FMT3 ": |t| = %.6f, expected 1. Likely mistake: %s", ARG3(n),
+          (double)glms_vec3_norm(t),
+          glms_vec3_norm(t) < 1e-6f ? "t = (0, 0, 0) at the pole: pick a unit t perpendicular to "
+                                      "n there, e.g. (1, 0, 0) (TODO 5.2)"
+                                    : "t is not a unit vector: t = (x·y/s, s, z·y/s) with s = "
+                                      "√(x² + z²) is unit for a unit n (TODO 5.1)");
     if (perpendicular)
         CHECK(fabsf(glms_vec3_dot(t, n)) < 1e-4f,
-              "tangent_frame at n = " FMT3 ": t = " FMT3 " is not perpendicular to n (t·n = %.6f)",
+              "tangent_frame at n = " FMT3 ": t = " FMT3 " is not perpendicular to n (t·n = %.6f)"
+              ". Likely mistake: at n = (0, ±1, 0) the fallback t must be perpendicular to n, "
+              "e.g. (1, 0, 0) (TODO 5.2)",
               ARG3(n), ARG3(t), (double)glms_vec3_dot(t, n));
     vec3s want_b = glms_vec3_cross(n, t);
-    CHECK(near3(b, want_b, 1e-5f), "tangent_frame: expected b = n × t = " FMT3 ", got " FMT3,
-          ARG3(want_b), ARG3(b));
+    bitangent_kind k = bitangent_of(n, t, b);
+    CHECK(k == B_RIGHT,
+          "tangent_frame at n = " FMT3 ": expected b = n × t = " FMT3 ", got " FMT3
+          ". Likely mistake: %s",
+          ARG3(n), ARG3(want_b), ARG3(b),
+          k == B_T_CROSS_N     ? B_T_CROSS_N_MISTAKE
+          : k == B_ELEMENTWISE ? B_ELEMENTWISE_MISTAKE
+                               : "b = glms_vec3_cross(n, t) of the unit n and t (TODO 5.3)");
 }
 
 /* The poles n = (0, ±1, 0) and their neighbourhood give finite frames. */
@@ -610,7 +935,11 @@ static void test_tbn_at_poles_finite(void **state) {
     p.normal = V3(0, 1, 0);
     vec3s c = bump_fragment_shader(&p);
     ras_texture_destroy(hm);
-    CHECK(ras_vec3_finite(c), "bump shader at n = (0,1,0): got NaN/Inf " FMT3, ARG3(c));
+    CHECK(ras_vec3_finite(c),
+          "bump shader at n = (0,1,0): expected a finite colour, got NaN/Inf " FMT3
+          ". Likely mistake: bump_normal builds its own frame with the course formula, 0/0 at "
+          "the pole: use tangent_frame (TODO 5.4)",
+          ARG3(c));
 }
 
 /* The course formula away from the poles: n = (1,2,2)/3, s = √5/3 = 0.745356,
@@ -621,8 +950,11 @@ static void test_tbn_formula(void **state) {
     tangent_frame(n, &t, &b);
     CHECK(near3(t, V3(0.298142f, 0.745356f, 0.596285f), 1e-5f),
           "tangent_frame((1,2,2)/3): expected t = (0.298142, 0.745356, 0.596285) (the course "
-          "formula), got " FMT3,
-          ARG3(t));
+          "formula), got " FMT3 ". Likely mistake: %s",
+          ARG3(t),
+          near3(t, V3(0.298142f, -0.745356f, 0.596285f), 1e-5f)
+              ? "the middle component's sign: t = (x·y/s, s, z·y/s), s = √(x² + z²) (TODO 5.1)"
+              : "t = (x·y/s, s, z·y/s) with s = √(x² + z²) (the course's formula, TODO 5.1)");
 }
 
 /* ---- bilinear ------------------------------------------------------------------ */
@@ -671,29 +1003,132 @@ static bool read_past_the_edge(vec3s c) { return c.z > 0.3f + 1e-4f || c.y < -1e
     "Read the four texels through ras_texture_texel(tex, 0, i, j), which wraps or clamps "         \
     "(TODO 4.3): reading tex->texels directly reads memory that is not the texture"
 
+/* ---- bilinear diagnoses: the reference lookup on the ramp with one mistake ---
+ * The four corners of a lookup, in the course's names. */
+static const char *const corner_names[4] = {
+    "bottom-left texel (i0, j0) (the course's u00)", "bottom-right texel (i0+1, j0) (u10)",
+    "top-left texel (i0, j0+1) (u01)", "top-right texel (i0+1, j0+1) (u11)"};
+
+typedef struct bl_variant {
+    float shift_x, shift_y; /* the half-texel shift per axis: −0.5 is right */
+    bool flip_v;            /* v read from the top */
+    int corner, from;       /* corner `corner` reads corner `from`'s texel (−1: none) */
+} bl_variant;
+
+#define BL_RIGHT ((bl_variant){-0.5f, -0.5f, false, -1, -1})
+
+static int ramp_index(ras_wrap wrap, int i, int n) {
+    if (wrap == RAS_WRAP_REPEAT) return ((i % n) + n) % n;
+    return i < 0 ? 0 : i >= n ? n - 1 : i;
+}
+
+static float ramp_coord(ras_wrap wrap, float u) {
+    if (!isfinite(u)) return 0;
+    return wrap == RAS_WRAP_REPEAT ? u - floorf(u) : fminf(fmaxf(u, 0), 1);
+}
+
+/* The 4x2 ramp's bilinear value at (u, v) with the mistake m applied. */
+static vec3s ramp_bilinear(ras_wrap wrap, float u, float v, bl_variant m) {
+    float x = ramp_coord(wrap, u) * 4 + m.shift_x;
+    float y = ramp_coord(wrap, m.flip_v ? 1 - v : v) * 2 + m.shift_y;
+    int i0 = (int)floorf(x), j0 = (int)floorf(y);
+    vec3s c[4];
+    for (int k = 0; k < 4; k++) {
+        int i = ramp_index(wrap, i0 + (k & 1), 4), j = ramp_index(wrap, j0 + (k >> 1), 2);
+        c[k] = V3(i / 4.0f, j / 2.0f, 0.3f);
+    }
+    if (m.corner >= 0) c[m.corner] = c[m.from];
+    float s = x - (float)i0, t = y - (float)j0;
+    vec3s bottom = glms_vec3_lerp(c[0], c[1], s), top = glms_vec3_lerp(c[2], c[3], s);
+    return glms_vec3_lerp(bottom, top, t);
+}
+
+/* The candidates: each variant with the mistake it shows. */
+typedef struct bl_candidate {
+    bl_variant m;
+    const char *mistake;
+} bl_candidate;
+
+#define BL_NO_SHIFT "half-texel shift missing: texel centres are at u·W − 0.5, not u·W"
+#define BL_WRONG_SIGN                                                                              \
+    "the half-texel shift with the wrong sign: x = u·W + 0.5 reads a whole texel too far right "  \
+    "(and up); texel centres are at x = u·W − 0.5, y = v·H − 0.5 (TODO 4.2)"
+#define BL_CORNER_TWICE                                                                            \
+    "one corner texel read twice: the %s read as the %s, so one of the four texels is never "      \
+    "read; the corners are (i0, j0), (i0+1, j0), (i0, j0+1), (i0+1, j0+1) (TODO 4.3)"
+
+static int bl_candidates(bl_candidate *out) {
+    int n = 0;
+    const float sx[] = {0, -0.5f, 0}, sy[] = {0, 0, -0.5f};
+    for (int k = 0; k < 3; k++) { /* no shift on both axes, on x only, on y only */
+        out[n++] = (bl_candidate){{sx[k], sy[k], false, -1, -1}, BL_NO_SHIFT};
+        out[n++] = (bl_candidate){{sx[k] ? -0.5f : 0.5f, sy[k] ? -0.5f : 0.5f, false, -1, -1},
+                                  BL_WRONG_SIGN};
+    }
+    out[n++] = (bl_candidate){{-0.5f, -0.5f, true, -1, -1},
+                              "v is flipped: the texture already stores the bottom row at v = 0"};
+    for (int c = 0; c < 4; c++)
+        for (int f = 0; f < 4; f++)
+            if (c != f) out[n++] = (bl_candidate){{-0.5f, -0.5f, false, c, f}, NULL};
+    return n;
+}
+
+static void bl_name(const bl_candidate *c, char *out, size_t size) {
+    if (c->mistake)
+        snprintf(out, size, "%s", c->mistake);
+    else
+        snprintf(out, size, BL_CORNER_TWICE, corner_names[c->m.corner], corner_names[c->m.from]);
+}
+
+/* Which candidates give `got` at (u, v) and, when more than one does, also
+ * the student's value at a point whose four weights all differ (x = 1.25,
+ * y = 0.75, inside the ramp), which tells them apart. */
+static const char *bl_diagnose(const ras_texture *tex, float u, float v, vec3s got, char *out,
+                               size_t size) {
+    bl_candidate cand[32];
+    int n = bl_candidates(cand), match[32], nm = 0;
+    vec3s right = ramp_bilinear(tex->wrap, u, v, BL_RIGHT);
+    for (int k = 0; k < n; k++) {
+        vec3s val = ramp_bilinear(tex->wrap, u, v, cand[k].m);
+        if (!near3(val, right, 1e-5f) && near3(val, got, 1e-5f)) match[nm++] = k;
+    }
+    if (nm > 1) {
+        const float pu = 1.75f / 4, pv = 1.25f / 2;
+        vec3s probe = texture_sample_bilinear(tex, pu, pv);
+        int kept = 0;
+        for (int k = 0; k < nm; k++)
+            if (near3(ramp_bilinear(tex->wrap, pu, pv, cand[match[k]].m), probe, 1e-5f))
+                match[kept++] = match[k];
+        if (kept > 0) nm = kept;
+    }
+    out[0] = '\0';
+    for (int k = 0; k < nm; k++) {
+        char one[512];
+        bl_name(&cand[match[k]], one, sizeof one);
+        if (strstr(out, one)) continue; /* the same mistake on another axis */
+        size_t used = strlen(out);
+        snprintf(out + used, size - used, "%s%s", used ? "; or " : "", one);
+    }
+    if (!out[0])
+        snprintf(out, size,
+                 "none of the classic mistakes gives this value here (a missing or wrong-signed "
+                 "half-texel shift, v flipped, a corner texel read twice); check x = u·W − 0.5, "
+                 "y = v·H − 0.5, then i0 = floor(x), s = x − i0, the four corners wrapped, "
+                 "lerp along x, then along y");
+    return out;
+}
+
 static void expect_bilinear(const ras_texture *tex, float u, float v, vec3s want,
                             const char *what) {
     vec3s got = texture_sample_bilinear(tex, u, v);
     if (near3(got, want, 1e-5f)) return;
-    const char *hint = "x = u·W − 0.5, y = v·H − 0.5, then floor / fraction / wrap";
-    /* What the two classic mistakes would read here (the ramp is linear, so
-     * with clamp-to-edge its bilinear value is the clamped ramp itself). */
+    char why[2048];
+    const char *hint = why;
     if (read_past_the_edge(got))
         hint = PAST_THE_EDGE;
-    else if (tex->wrap == RAS_WRAP_CLAMP) {
-        float x_ok = fminf(fmaxf(u * 4 - 0.5f, 0), 3);
-        float y_ok = fminf(fmaxf(v * 2 - 0.5f, 0), 1);
-        float x_noshift = fminf(fmaxf(u * 4, 0), 3), y_noshift = fminf(fmaxf(v * 2, 0), 1);
-        float y_flip = fminf(fmaxf((1 - v) * 2 - 0.5f, 0), 1);
-        if (near3(got, V3(x_noshift / 4, y_noshift / 2, 0.3f), 1e-5f) ||
-            near3(got, V3(x_noshift / 4, y_ok / 2, 0.3f), 1e-5f) ||
-            near3(got, V3(x_ok / 4, y_noshift / 2, 0.3f), 1e-5f))
-            hint = "half-texel shift missing: texel centres are at u·W − 0.5, not u·W";
-        else if (near3(got, V3(x_ok / 4, y_flip / 2, 0.3f), 1e-5f))
-            hint = "v is flipped: the texture already stores the bottom row at v = 0";
-        else if (near3(got, ras_texture_sample_nearest(tex, u, v), 1e-6f))
-            hint = "this is the nearest texel: blend the four neighbours";
-    }
+    else if (strncmp(bl_diagnose(tex, u, v, got, why, sizeof why), "none", 4) == 0 &&
+             near3(got, ras_texture_sample_nearest(tex, u, v), 1e-6f))
+        hint = "this is the nearest texel: blend the four neighbours";
     fail_msg("texture_sample_bilinear(%s) at (u, v) = (%g, %g) on the 4x2 ramp texel (i,j) = "
              "(i/4, j/2, 0.3), %s: expected " FMT3 ", got " FMT3 ". Likely mistake: %s",
              what, (double)u, (double)v, tex->wrap == RAS_WRAP_CLAMP ? "clamp" : "repeat",
@@ -770,7 +1205,8 @@ static void test_bilinear_edges_repeat(void **state) {
           b = texture_sample_bilinear(tex, 1 + 1e-4f, 0.25f);
     CHECK(fabsf(a.x - 0.375f) < 2e-3f && fabsf(b.x - 0.375f) < 2e-3f,
           "repeat just outside [0,1]: expected ≈ 0.375 on both sides of the seam, got %.5f "
-          "(u = −ε) and %.5f (u = 1 + ε)",
+          "(u = −ε) and %.5f (u = 1 + ε). Likely mistake: repeat keeps the fraction u − floor(u) "
+          "(TODO 4.1), then the texel index i0 + 1 = W wraps to 0",
           (double)a.x, (double)b.x);
     ramp_destroy(tex);
 }
@@ -815,8 +1251,10 @@ static void test_trilinear_levels(void **state) {
     vec3s a = texture_sample_trilinear(tex, uv, zero, zero);
     vec3s b = texture_sample_bilinear(tex, uv.x, uv.y);
     CHECK(near3(a, b, 1e-6f),
-          "trilinear without minification: expected bilinear " FMT3 ", got " FMT3, ARG3(b),
-          ARG3(a));
+          "trilinear without minification: expected bilinear " FMT3 ", got " FMT3
+          ". Likely mistake: with ρ ≤ 1 (magnified) the level is 0, and level 0 is "
+          "texture_sample_bilinear (TODO 7.2)",
+          ARG3(b), ARG3(a));
     vec2s big = {{1, 0}}, big_y = {{0, 1}};
     vec3s c = texture_sample_trilinear(tex, uv, big, big_y);
     CHECK(near3(c, V3(0.5f, 0.5f, 0.5f), 0.02f),
@@ -875,7 +1313,9 @@ static ras_image *render(ras_scene_shader shader, texture_filter filter, ras_cou
     ras_error err = {{0}};
     ras_image *img = ras_image_create(g_scene->width, g_scene->height, &err);
     assert_non_null(img);
-    CHECK(hw3_render(g_scene, g_assets, &opt, img, stats, &err), "hw3_render(%s): %s",
+    CHECK(hw3_render(g_scene, g_assets, &opt, img, stats, &err),
+          "hw3_render(%s): %s. Likely mistake: hw3_render (the handout's code) rejected its input: "
+          "the message above says which",
           ras_scene_shader_name(shader), err.msg);
     return img;
 }
@@ -897,16 +1337,20 @@ static void test_stages_only_what_the_shader_needs(void **state) {
               hw3_shader_varyings(RAS_SHADER_PHONG) ==
                   (RAS_VARYING_NORMAL | RAS_VARYING_VIEW_POS) &&
               hw3_shader_varyings(RAS_SHADER_BUMP) == (RAS_VARYING_NORMAL | RAS_VARYING_UV),
-          "varyings masks: normal reads NORMAL; phong NORMAL|VIEW_POS; bump NORMAL|UV");
+          "varyings masks: normal reads NORMAL; phong NORMAL|VIEW_POS; bump NORMAL|UV. Likely "
+          "mistake: the masks are given: hw3_shader_varyings was changed");
     ras_counters k;
     ras_image_destroy(render(RAS_SHADER_NORMAL, FILTER_TRILINEAR, &k));
     CHECK(k.texels_fetched == 0 && k.lighting_evaluations == 0 && k.mip_levels_built == 0 &&
               !(k.stages_run & (RAS_STAGE_TEXTURE | RAS_STAGE_LIGHTING | RAS_STAGE_MIPMAP)),
           "normal shader: expected no texels, lighting or mips, got %llu texels, %llu lighting, "
-          "%llu mip levels",
+          "%llu mip levels. Likely mistake: the normal shader must read only the normal: no "
+          "texture, no lighting (it is given)",
           (unsigned long long)k.texels_fetched, (unsigned long long)k.lighting_evaluations,
           (unsigned long long)k.mip_levels_built);
-    CHECK(k.varyings_interpolated > 0, "normal shader: no fragment reached the shader");
+    CHECK(k.varyings_interpolated > 0,
+          "normal shader: no fragment reached the shader. Likely mistake: nothing was drawn: see "
+          "the hw2 tests (the rasterizer) and interpolate_vec3 (TODO 1.3)");
     ras_image_destroy(render(RAS_SHADER_PHONG, FILTER_BILINEAR, &k));
     uint64_t frags = hw3_fragments(&k, RAS_SHADER_PHONG);
     CHECK(k.texels_fetched == 0 && k.lighting_evaluations == 2 * frags,
@@ -919,7 +1363,9 @@ static void test_stages_only_what_the_shader_needs(void **state) {
     ras_image_destroy(render(RAS_SHADER_TEXTURE, FILTER_NEAREST, &k));
     frags = hw3_fragments(&k, RAS_SHADER_TEXTURE);
     CHECK(k.texels_fetched == frags,
-          "texture, nearest: one texel per fragment expected, got %llu for %llu",
+          "texture, nearest: one texel per fragment expected, got %llu for %llu. Likely mistake: "
+          "with FILTER_NEAREST texture_fragment_shader reads one texel a fragment through "
+          "texture_sample (TODO 3.1)",
           (unsigned long long)k.texels_fetched, (unsigned long long)frags);
 }
 
@@ -979,10 +1425,15 @@ static void expect_quad_textured(const char *dir) {
     ras_image_destroy(halves);
     ras_scene_assets *a = NULL;
     ras_scene *s = model_scene(quad, tex_path, true, &a, &err);
-    CHECK(s, "the quad with the texture %s should load: %s", tex_path, err.msg);
+    CHECK(s,
+          "the quad with the texture %s should load: %s. Likely mistake: model loading (scene.c) "
+          "is the handout's code, not a TODO: tell the course staff",
+          tex_path, err.msg);
     ras_counters k;
     ras_image *img = quad_frame(s, a, &k, &err);
-    CHECK(img, "render the textured quad: %s", err.msg);
+    CHECK(img,
+          "render the textured quad: %s. Likely mistake: hw3_render failed with the message above",
+          err.msg);
     /* the quad fills the middle of the frame: a quarter in from each side */
     vec3s left = ras_image_get(img, 20, 32), right = ras_image_get(img, 44, 32);
     bool left_red = left.x > left.z, right_red = right.x > right.z;
@@ -1008,7 +1459,9 @@ static void test_scene_model_errors_and_quads(void **state) {
     ras_error err = {{0}};
     ras_scene_assets *a = NULL;
     ras_scene *s = model_scene("/nonexistent/model.obj", NULL, false, &a, &err);
-    CHECK(!s && strlen(err.msg) > 0, "a missing model must fail with a message");
+    CHECK(!s && strlen(err.msg) > 0,
+          "a missing model must fail with a message. Likely mistake: model loading (scene.c) is "
+          "the handout's code, not a TODO: tell the course staff");
     char dir[] = "/tmp/raster101_hw3_XXXXXX";
     assert_non_null(mkdtemp(dir));
     char bad[256], quad[256];
@@ -1019,19 +1472,31 @@ static void test_scene_model_errors_and_quads(void **state) {
                      "f 1/1 2/2 3/3 4/4\n");
     err.msg[0] = '\0';
     s = model_scene(bad, NULL, false, &a, &err);
-    CHECK(!s && strlen(err.msg) > 0, "an OBJ with an out-of-range index must fail with a message");
+    CHECK(!s && strlen(err.msg) > 0,
+          "an OBJ with an out-of-range index must fail with a message. Likely mistake: model "
+          "loading (scene.c) is the handout's code, not a TODO: tell the course staff");
     err.msg[0] = '\0';
     s = model_scene(quad, "/nonexistent/tex.png", false, &a, &err);
-    CHECK(!s && strlen(err.msg) > 0, "a missing texture must fail with a message");
+    CHECK(!s && strlen(err.msg) > 0,
+          "a missing texture must fail with a message. Likely mistake: model loading (scene.c) is "
+          "the handout's code, not a TODO: tell the course staff");
     s = model_scene(quad, NULL, true, &a, &err);
-    CHECK(s, "a quad OBJ without normals should load: %s", err.msg);
-    CHECK(a->meshes[0]->triangle_count == 2, "the quad should become 2 triangles, got %zu",
+    CHECK(s,
+          "a quad OBJ without normals should load: %s. Likely mistake: model loading (scene.c) is "
+          "the handout's code, not a TODO: tell the course staff",
+          err.msg);
+    CHECK(a->meshes[0]->triangle_count == 2,
+          "the quad should become 2 triangles, got %zu. Likely mistake: model loading (scene.c) is "
+          "the handout's code, not a TODO: tell the course staff",
           a->meshes[0]->triangle_count);
     ras_counters k;
     ras_image *img = quad_frame(s, a, &k, &err);
-    CHECK(img, "render the quad: %s", err.msg);
+    CHECK(img, "render the quad: %s. Likely mistake: hw3_render failed with the message above",
+          err.msg);
     CHECK(hw3_fragments(&k, RAS_SHADER_TEXTURE) > 500,
-          "the fitted quad should cover much of a 64x64 frame; %llu fragments shaded",
+          "the fitted quad should cover much of a 64x64 frame; %llu fragments shaded. Likely "
+          "mistake: the quad was not drawn: see the hw2 tests (the rasterizer) and the "
+          "interpolators (TODO 1)",
           (unsigned long long)hw3_fragments(&k, RAS_SHADER_TEXTURE));
     ras_image_destroy(img);
     ras_scene_assets_destroy(a);
@@ -1044,13 +1509,20 @@ static void test_scene_model_errors_and_quads(void **state) {
 
 /* ---- scene: whole images and their references ---------------------------------- */
 
+/* The sanity checks below test the repository's reference images, not the
+ * student's code. */
+#define REF_NOT_YOURS                                                                              \
+    ". Likely mistake: not yours: this checks the course's reference image, which is "             \
+    "damaged or stale; tell the course staff"
+
 static ras_image *load_reference(ras_scene_shader shader) {
     char path[1024];
     snprintf(path, sizeof path, "%s/tests/reference/hw3_%s.png", RAS_SOURCE_DIR,
              ras_scene_shader_name(shader));
     ras_error err = {{0}};
     ras_image *img = ras_image_load(path, &err);
-    CHECK(img, "reference image missing: %s (make reference-images writes it)", err.msg);
+    CHECK(img, "reference image missing: %s (make reference-images writes it)" REF_NOT_YOURS,
+          err.msg);
     return img;
 }
 
@@ -1067,8 +1539,8 @@ static void expect_pixel(const ras_image *img, int col, int row, vec3s c, int to
                          const char *what) {
     vec3s p = ras_image_get(img, col, row);
     CHECK(pixel_is(img, col, row, c, tol),
-          "%s: pixel (%d, %d) expected " FMT3 " (within %d/255), got " FMT3, what, col, row,
-          ARG3(c), tol, ARG3(p));
+          "%s: pixel (%d, %d) expected " FMT3 " (within %d/255), got " FMT3 REF_NOT_YOURS, what,
+          col, row, ARG3(c), tol, ARG3(p));
 }
 
 /* Blinn-Phong in double, written out again here so the reference images are
@@ -1141,7 +1613,7 @@ static void sanity_texture(const ras_image *ref) {
     vec3s b = hand_blinn_phong(V3(0.2f, 0.25f, 0.35f), P3, up);
     CHECK(pixel_is(ref, 436, FLOOR_ROW, a, 2) || pixel_is(ref, 436, FLOOR_ROW, b, 2),
           "hw3_texture: the floor pixel (436, 690) should be Blinn-Phong with one of the checker "
-          "colours: " FMT3 " or " FMT3 ", got " FMT3,
+          "colours: " FMT3 " or " FMT3 ", got " FMT3 REF_NOT_YOURS,
           ARG3(a), ARG3(b), ARG3(ras_image_get(ref, 436, FLOOR_ROW)));
 }
 
@@ -1158,10 +1630,10 @@ static void sanity_bump(const ras_image *ref) {
             float len = glms_vec3_norm(glms_vec3_subs(glms_vec3_scale(p, 2), 1));
             CHECK(fabsf(len - 1) < 0.03f,
                   "hw3_bump: pixel (%d, %d) = " FMT3 " is not the colour of a unit normal "
-                  "(NaN at n = (0,±1,0)?)",
+                  "(NaN at n = (0,±1,0)?)" REF_NOT_YOURS,
                   c, r, ARG3(p));
         }
-    CHECK(drawn > 200000, "hw3_bump: only %ld pixels drawn", drawn);
+    CHECK(drawn > 200000, "hw3_bump: only %ld pixels drawn" REF_NOT_YOURS, drawn);
 }
 
 static void sanity_displacement(const ras_image *ref) {
@@ -1171,8 +1643,9 @@ static void sanity_displacement(const ras_image *ref) {
     vec3s want = hand_blinn_phong(V3(0.7f, 0.7f, 0.7f), floor_point, up);
     vec3s got = ras_image_get(ref, FLOOR_COL, FLOOR_ROW);
     CHECK(got.x > 0.5f * want.x && got.x < 2 * want.x,
-          "hw3_displacement: the floor pixel " FMT3 " should be near Blinn-Phong " FMT3, ARG3(got),
-          ARG3(want));
+          "hw3_displacement: the floor pixel " FMT3
+          " should be near Blinn-Phong " FMT3 REF_NOT_YOURS,
+          ARG3(got), ARG3(want));
 }
 
 typedef struct image_case {
@@ -1259,6 +1732,7 @@ int main(void) {
         cmocka_unit_test(test_shader_viewer_off_axis),
         cmocka_unit_test(test_shader_ambient_once_not_per_light),
         cmocka_unit_test(test_shader_blinn_phong_classic_numbers),
+        cmocka_unit_test(test_shader_blinn_phong_light_behind),
         cmocka_unit_test(test_shader_texture_kd_from_texture),
         cmocka_unit_test(test_shader_bump),
         cmocka_unit_test(test_shader_displacement),
