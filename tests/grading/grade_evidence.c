@@ -384,6 +384,32 @@ static void compare_dumps(item *it, sbuf *o, const cJSON *img, const char *dir, 
               !strcmp(ev->owner, "hw3") ? "your shader" : "your rasterizer wrote");
 }
 
+/* Why a blank frame is blank where no buffers can be compared (the
+ * student edition has no reference program; the budget may be spent): the
+ * student's program run once more in the sandbox, with --stats only, and
+ * its counters read from the log the trusted side wrote. They only choose
+ * the words of a picture that already fails; a run that fails gives none. */
+void blank_counters(const grader *g, const cJSON *img, const job *graded, const char *own,
+                    evidence *ev) {
+    job sj;
+    memset(&sj, 0, sizeof sj);
+    sj.args = graded->args;
+    image_job(g, img, &sj, own, own ? ".own-stats" : ".stats");
+    int k = 0;
+    while (sj.argv[k])
+        k++;
+    sj.argv[k++] = "--stats";
+    sj.argv[k] = NULL;
+    run_jobs(&sj, 1, 1);
+    if (sj.rr.kind == RUN_EXITED && sj.rr.code == 0) {
+        char *log = read_small_file(sj.out_path, 64 * 1024);
+        blank_reason(log, ev->why_blank, sizeof ev->why_blank);
+        free(log);
+    }
+    unlink(sj.out_path); /* a sealed run's print beside reference code is never kept */
+    if (sj.rw[0]) remove_tree(sj.rw);
+}
+
 /* Evidence for a picture (docs/grading.md, "Buffers"): the program renders
  * it again with --dump, in the sandbox, and the trusted reference program
  * with --dump, both into the work folder; the student's files are taken
