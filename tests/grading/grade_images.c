@@ -552,8 +552,8 @@ typedef struct findings {
     sbuf defects; /* what the picture shows (image_defects, causes named) */
     sbuf bufs;    /* what the buffers say (buffer_evidence) */
     evidence ev;
-    /* a whole-chain run: its picture is, pixel for pixel, the one the
-     * assignment's own-code run drew and passed (same_as_own_picture) */
+    /* a whole-chain run: its picture is, up to the rubric's comparison, the
+     * one the assignment's own-code run drew and passed (same_as_own_picture) */
     bool as_own;
 } findings;
 
@@ -580,9 +580,10 @@ static void keep_own_picture(const picture *p, const ras_image *got, bool passed
     if (passed && got) ras_image_save(got, path, &err);
 }
 
-/* Whether a whole-chain picture is the own-code run's passed picture, no
- * pixel off by more than one 8-bit level: then the earlier assignments'
- * code changed nothing visible, and what differs from the reference is the
+/* Whether a whole-chain picture is the own-code run's passed picture up to
+ * what the rubric's comparison allows, with no defect between them: then
+ * the earlier assignments' code changed nothing that shows (a float style's
+ * few pixels aside), and what differs from the reference is the
  * assignment's own code, judged (and passed) on its own-code run. */
 static bool same_as_own_picture(const picture *p, const ras_image *got) {
     char path[4400];
@@ -590,10 +591,12 @@ static bool same_as_own_picture(const picture *p, const ras_image *got) {
     if (!p->whole || !*path || !file_exists(path)) return false;
     ras_error err = {{0}};
     ras_image *own = ras_image_load(path, &err);
-    bool same = own && own->width == got->width && own->height == got->height;
-    for (int y = 0; same && y < got->height; y++)
-        for (int x = 0; same && x < got->width; x++)
-            same = byte_diff(ras_image_get(own, x, y), ras_image_get(got, x, y)) <= 1;
+    ras_compare_result r;
+    bool same = own && own->width == got->width && own->height == got->height &&
+                ras_compare_images(own, got, &p->opt, &r, &err) && r.pass;
+    sbuf ignored = {0};
+    if (same && image_defects(&ignored, own, got, DEFECT_PATTERN)) same = false;
+    free(ignored.s);
     ras_image_destroy(own);
     return same;
 }
@@ -643,9 +646,10 @@ static void picture_findings(picture *p, ras_compare_result *r, const ras_image 
          * evidence cleared it (or it showed nothing); the integration item
          * measures what the earlier assignments' code adds, here nothing */
         sb_printf(&p->o,
-                  "(the picture shows a defect, but your whole chain draws the same picture as "
-                  "your %s code with the reference of the earlier assignments, which passed: "
-                  "your earlier assignments change no visible pixel, and what differs is your "
+                  "(the picture shows a defect, but your whole chain draws the picture your %s "
+                  "code drew with the reference of the earlier assignments, which passed (the "
+                  "two match as this image's comparison asks, with no defect between them): "
+                  "your earlier assignments add nothing that shows, and what differs is your "
                   "%s code's, judged in %s: within the metric's budget, not charged)\n",
                   p->reldir, p->reldir, p->reldir);
         free(f->defects.s);
@@ -690,9 +694,10 @@ static void picture_findings(picture *p, ras_compare_result *r, const ras_image 
 }
 
 /* A failed picture's first likely mistake: nothing drawn, or the first
- * buffer that differs. */
-static void picture_first_cause(picture *p, const findings *f) {
+ * buffer that differs; whether it said one. */
+static bool picture_first_cause(picture *p, const findings *f) {
     const evidence *ev = &f->ev;
+    size_t before = p->o.len;
     if (f->flat)
         sb_printf(&p->o, "likely mistake: nothing was drawn: your image is one flat colour%s%s\n",
                   *ev->why_blank ? ": "
@@ -717,6 +722,7 @@ static void picture_first_cause(picture *p, const findings *f) {
             }
         }
     }
+    return p->o.len > before;
 }
 
 /* Which causes the picture's defects may name: none of a stage the program
@@ -742,13 +748,19 @@ static defect_voice picture_voice(const picture *p, const findings *f, bool ref_
  * checks. */
 static void picture_failure(picture *p, const ras_compare_result *r, const ras_image *got,
                             const ras_image *expected, bool ref_raster, const findings *f) {
-    picture_first_cause(p, f);
+    bool told = picture_first_cause(p, f);
     sb_add(&p->o, sb_str(&f->bufs));
     defect_voice voice = picture_voice(p, f, ref_raster);
     if (!f->flat) {
         sbuf whole = {0}, notes = {0};
         image_signatures(&whole, &notes, expected, got, &p->opt, p->j->args, &f->ev,
                          voice == DEFECT_RASTER);
+        /* a wireframe is its vertices joined by lines: what else can move them */
+        if (!told && !whole.len && voice == DEFECT_WIREFRAME)
+            sb_add(&p->o, "likely mistake: the lines are drawn elsewhere than the reference's: "
+                          "your vertices land in other places, so one of your matrices is off "
+                          "(the model matrix's rotation, its direction or its axis; the "
+                          "projection): the failing tests above say which\n");
         if (whole.len)
             sb_add(&p->o, sb_str(&whole));
         else if (f->defects.len && voice == DEFECT_RASTER)
