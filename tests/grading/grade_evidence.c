@@ -16,7 +16,8 @@
 
 /* What a buffer's first difference most likely means, by buffer and
  * pattern; "" when nothing specific can be said. */
-static const char *buffer_hint(const char *name, const ras_dump_difference *d) {
+static const char *buffer_hint(const char *name, const ras_dump_difference *d,
+                               const char *program) {
     const char *pattern = d->pattern;
     bool speckle = !strcmp(pattern, "in speckles"), line = !strncmp(pattern, "along", 5),
          one = !strcmp(pattern, "where only one drew");
@@ -48,6 +49,11 @@ static const char *buffer_hint(const char *name, const ras_dump_difference *d) {
     if (!strcmp(name, "uv"))
         return "the texture coordinates the shader got: perspective-correct interpolation (the "
                "1/w weights), not affine";
+    /* hw3's samples get its shader's colours: the buffers before them match */
+    if (!strcmp(name, "sample_colour") && !strncmp(program, "hw3", 3))
+        return "the colours your shader returned differ while the coverage, depth and "
+               "interpolated buffers match the reference's: the shading (a term of the "
+               "lighting, a vector it uses, the texture lookup), not the rasterizer";
     if (!strcmp(name, "sample_colour"))
         return "the colours stored per sample: each covered sample that passes the depth test "
                "gets the fragment's colour, the others keep theirs (one colour per pixel "
@@ -313,7 +319,7 @@ static void first_difference(sbuf *o, evidence *ev, const char *buf, const ras_d
                                 !strcmp(stage, "overdraw"))
                            ? "the rasterizer here is the reference's, so your hw3 code "
                              "hands it different triangles or depths"
-                           : buffer_hint(buf, d);
+                           : buffer_hint(buf, d, program);
     sb_printf(o, "buffers: the first that differs is %s (%s's stage)%s%s\n", line, ev->owner,
               *hint ? "; likely: " : "", hint);
 }
