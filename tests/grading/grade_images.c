@@ -96,7 +96,7 @@ static void image_signatures(sbuf *whole, sbuf *o, const ras_image *expected, co
     ras_error err;
     if (flipped && ras_compare_images(expected, flipped, opt, &fr, &err) && fr.pass)
         sb_add(whole, "likely mistake: your image is the reference upside down: the y-flip is "
-                  "missing (image row = height - 1 - y) or the projection flips y\n");
+                      "missing (image row = height - 1 - y) or the projection flips y\n");
     ras_image_destroy(flipped);
     int ex0, ey0, ex1, ey1, gx0, gy0, gx1, gy1;
     if (geometry && content_box(expected, &ex0, &ey0, &ex1, &ey1) &&
@@ -174,8 +174,7 @@ static const char *seam_cause(defect_voice v) {
     case DEFECT_SHADING:
         return ": the buffers up to the rasterizer match the reference's, so it is the colour "
                "your shader returned there (shading), not coverage";
-    default:
-        return "";
+    default: return "";
     }
 }
 
@@ -189,8 +188,7 @@ static const char *speckle_cause(defect_voice v) {
         return ": the buffers up to the rasterizer match the reference's, so it is the colour "
                "your shader returned in those pixels (a NaN, or a term that jumps: a missing "
                "max(0, ...), a vector not normalised)";
-    default:
-        return "";
+    default: return "";
     }
 }
 
@@ -207,8 +205,7 @@ static const char *line_cause(defect_voice v, bool column) {
     case DEFECT_WIREFRAME:
         return ": an edge of the wireframe runs along it in one picture and not in the other "
                "(the vertices land elsewhere: the matrices)";
-    default:
-        return "";
+    default: return "";
     }
 }
 
@@ -286,12 +283,12 @@ bool image_defects(sbuf *o, const ras_image *expected, const ras_image *got, def
             if (i > 0 && line[i - 1] > beside) beside = line[i - 1];
             if (i < n - 1 && line[i + 1] > beside) beside = line[i + 1];
             if (line[i] >= LINE_MIN && line[i] >= 4 * (beside + 1)) {
-                sb_printf(o,
-                          "%s%s %d of the image is wrong along %d pixels while the %ss "
-                          "beside it match%s\n",
-                          voice == DEFECT_RASTER ? lead : "the picture shows: ",
-                          pass ? "column" : "row", i, line[i], pass ? "column" : "row",
-                          line_cause(voice, pass));
+                sb_printf(
+                    o,
+                    "%s%s %d of the image is wrong along %d pixels while the %ss "
+                    "beside it match%s\n",
+                    voice == DEFECT_RASTER ? lead : "the picture shows: ", pass ? "column" : "row",
+                    i, line[i], pass ? "column" : "row", line_cause(voice, pass));
                 found = true;
                 break;
             }
@@ -612,9 +609,9 @@ static void picture_findings(picture *p, ras_compare_result *r, const ras_image 
                              const ras_image *expected, bool ref_raster, findings *f) {
     const grader *g = p->g;
     f->flat = is_flat(got) && !is_flat(expected);
-    bool defect = !f->flat && image_defects(&f->defects, expected, got,
-                                            image_is_wireframe(p->img) ? DEFECT_WIREFRAME
-                                                                       : DEFECT_RASTER);
+    bool defect =
+        !f->flat && image_defects(&f->defects, expected, got,
+                                  image_is_wireframe(p->img) ? DEFECT_WIREFRAME : DEFECT_RASTER);
     f->as_own = same_as_own_picture(p, got);
     memset(&f->ev, 0, sizeof f->ev);
     if ((!r->pass || defect) && p->rr.kind == RUN_EXITED && !p->todo) {
