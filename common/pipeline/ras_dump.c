@@ -132,7 +132,12 @@ static void paint(const ras_dump_buffer *b, const ras_dump_stats *s_own, uint8_t
 static void legend_text(const ras_dump_buffer *b, const ras_dump_stats *s_own, char *text, size_t size) {
     ras_dump_stats drawn = drawn_range(b, *s_own);
     const ras_dump_stats *s = &drawn;
-    if (b->style == RAS_DUMP_SCALAR && s->lo[0] <= s->hi[0])
+    /* one value has no range to colour: a "1 (blue) .. 1 (red)" scale
+     * would promise two colours the picture cannot show */
+    if (b->style == RAS_DUMP_SCALAR && s->lo[0] == s->hi[0])
+        snprintf(text, size, "%s: %.6g wherever drawn (one value, one colour); black: empty",
+                 b->name, s->lo[0]);
+    else if (b->style == RAS_DUMP_SCALAR && s->lo[0] < s->hi[0])
         snprintf(text, size, "%s: %.6g (blue) .. %.6g (red); black: empty", b->name, s->lo[0],
                  s->hi[0]);
     else if (b->style == RAS_DUMP_SCALAR)

@@ -27,7 +27,9 @@ static bool run_matches(const grader *g, const job *j, const cJSON *img, const c
     ras_compare_result r = {0};
     bool pass = expected && ras_compare_images(expected, got, &opt, &r, &err) && r.pass;
     sbuf ignored = {0};
-    if (pass && image_defects(&ignored, expected, got, false)) pass = false;
+    if (pass && image_defects(&ignored, expected, got,
+                              image_is_wireframe(img) ? DEFECT_WIREFRAME : DEFECT_PATTERN))
+        pass = false;
     free(ignored.s);
     ras_image_destroy(got);
     ras_image_destroy(expected);

@@ -16,7 +16,8 @@
 
 /* What a buffer's first difference most likely means, by buffer and
  * pattern; "" when nothing specific can be said. */
-static const char *buffer_hint(const char *name, const ras_dump_difference *d) {
+static const char *buffer_hint(const char *name, const ras_dump_difference *d,
+                               const char *program) {
     const char *pattern = d->pattern;
     bool speckle = !strcmp(pattern, "in speckles"), line = !strncmp(pattern, "along", 5),
          one = !strcmp(pattern, "where only one drew");
@@ -48,6 +49,11 @@ static const char *buffer_hint(const char *name, const ras_dump_difference *d) {
     if (!strcmp(name, "uv"))
         return "the texture coordinates the shader got: perspective-correct interpolation (the "
                "1/w weights), not affine";
+    /* hw3's samples get its shader's colours: the buffers before them match */
+    if (!strcmp(name, "sample_colour") && !strncmp(program, "hw3", 3))
+        return "the colours your shader returned differ while the coverage, depth and "
+               "interpolated buffers match the reference's: the shading (a term of the "
+               "lighting, a vector it uses, the texture lookup), not the rasterizer";
     if (!strcmp(name, "sample_colour"))
         return "the colours stored per sample: each covered sample that passes the depth test "
                "gets the fragment's colour, the others keep theirs (one colour per pixel "
@@ -313,7 +319,7 @@ static void first_difference(sbuf *o, evidence *ev, const char *buf, const ras_d
                                 !strcmp(stage, "overdraw"))
                            ? "the rasterizer here is the reference's, so your hw3 code "
                              "hands it different triangles or depths"
-                           : buffer_hint(buf, d);
+                           : buffer_hint(buf, d, program);
     sb_printf(o, "buffers: the first that differs is %s (%s's stage)%s%s\n", line, ev->owner,
               *hint ? "; likely: " : "", hint);
 }
@@ -382,6 +388,32 @@ static void compare_dumps(item *it, sbuf *o, const cJSON *img, const char *dir, 
               "buffers: every buffer matches the reference's: the difference is in the "
               "colours %s computed\n",
               !strcmp(ev->owner, "hw3") ? "your shader" : "your rasterizer wrote");
+}
+
+/* Why a blank frame is blank where no buffers can be compared (the
+ * student edition has no reference program; the budget may be spent): the
+ * student's program run once more in the sandbox, with --stats only, and
+ * its counters read from the log the trusted side wrote. They only choose
+ * the words of a picture that already fails; a run that fails gives none. */
+void blank_counters(const grader *g, const cJSON *img, const job *graded, const char *own,
+                    evidence *ev) {
+    job sj;
+    memset(&sj, 0, sizeof sj);
+    sj.args = graded->args;
+    image_job(g, img, &sj, own, own ? ".own-stats" : ".stats");
+    int k = 0;
+    while (sj.argv[k])
+        k++;
+    sj.argv[k++] = "--stats";
+    sj.argv[k] = NULL;
+    run_jobs(&sj, 1, 1);
+    if (sj.rr.kind == RUN_EXITED && sj.rr.code == 0) {
+        char *log = read_small_file(sj.out_path, 64 * 1024);
+        blank_reason(log, ev->why_blank, sizeof ev->why_blank);
+        free(log);
+    }
+    unlink(sj.out_path); /* a sealed run's print beside reference code is never kept */
+    if (sj.rw[0]) remove_tree(sj.rw);
 }
 
 /* Evidence for a picture (docs/grading.md, "Buffers"): the program renders

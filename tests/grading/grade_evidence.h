@@ -50,4 +50,10 @@ void buffer_evidence(const grader *g, item *it, sbuf *o, const cJSON *img, const
                      const char *reldir, const job *graded, const char *own, bool ref_raster,
                      evidence *ev);
 
+/* ev->why_blank from the counters of one more sandboxed run of img with
+ * --stats (graded, own: as buffer_evidence's), for a blank picture that
+ * got no buffers; left "" when the run fails or prints none */
+void blank_counters(const grader *g, const cJSON *img, const job *graded, const char *own,
+                    evidence *ev);
+
 #endif

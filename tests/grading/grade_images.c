@@ -83,7 +83,9 @@ static bool args_have(const cJSON *args, const char *word) {
 /* `ev`: what the buffers said (geometry signatures only where the geometry
  * differs or nothing is known); `raster_causes`: the rasterizer and resolve
  * are the student's and the buffers do not acquit them. */
-static void image_signatures(sbuf *o, const ras_image *expected, const ras_image *got,
+/* `whole` gets the findings that explain the whole picture (upside down,
+ * scaled, stretched), `o` the notes on its brightness. */
+static void image_signatures(sbuf *whole, sbuf *o, const ras_image *expected, const ras_image *got,
                              const ras_compare_options *opt, const cJSON *args, const evidence *ev,
                              bool raster_causes) {
     if (is_flat(got) && !is_flat(expected)) return; /* "nothing was drawn" says it */
@@ -93,8 +95,8 @@ static void image_signatures(sbuf *o, const ras_image *expected, const ras_image
     ras_compare_result fr;
     ras_error err;
     if (flipped && ras_compare_images(expected, flipped, opt, &fr, &err) && fr.pass)
-        sb_add(o, "likely mistake: your image is the reference upside down: the y-flip is "
-                  "missing (image row = height - 1 - y) or the projection flips y\n");
+        sb_add(whole, "likely mistake: your image is the reference upside down: the y-flip is "
+                      "missing (image row = height - 1 - y) or the projection flips y\n");
     ras_image_destroy(flipped);
     int ex0, ey0, ex1, ey1, gx0, gy0, gx1, gy1;
     if (geometry && content_box(expected, &ex0, &ey0, &ex1, &ey1) &&
@@ -109,13 +111,13 @@ static void image_signatures(sbuf *o, const ras_image *expected, const ras_image
         if (fabs(sx - sy) < 0.05 && fabs(scale - 1) > 0.05 &&
             fabs((cxe - ccx) * scale - (cxe + cx - ccx)) < 4 &&
             fabs((cye - ccy) * scale - (cye + cy - ccy)) < 4)
-            sb_printf(o,
+            sb_printf(whole,
                       "likely mistake: your picture is the reference scaled by %.2f about the "
                       "image centre: the field of view is off (the whole fov used instead of "
                       "half of it, or degrees given to tanf)\n",
                       scale);
         else if (fabs(sx - 1) > 0.05 && fabs(sy - 1) < 0.05)
-            sb_printf(o,
+            sb_printf(whole,
                       "likely mistake: your picture is stretched horizontally by %.2f: the "
                       "aspect ratio is applied to the wrong axis\n",
                       sx);
@@ -162,11 +164,60 @@ static int byte_diff(vec3s a, vec3s b) {
 
 static double luma(vec3s p) { return 0.299 * p.x + 0.587 * p.y + 0.114 * p.z; }
 
-/* `causes`: name the rasterizer or resolve mistakes that make each defect;
- * false where the buffers acquit those stages (the pattern only). */
-bool image_defects(sbuf *o, const ras_image *expected, const ras_image *got, bool causes) {
+/* What a defect's line may say it comes from (defect_voice in
+ * grade_images.h). */
+static const char *seam_cause(defect_voice v) {
+    switch (v) {
+    case DEFECT_RASTER:
+        return ": the background shows through a shared edge (a coverage rule that drops edge "
+               "samples, or a resolve that mixes in uncovered or integer-rounded samples)";
+    case DEFECT_SHADING:
+        return ": the buffers up to the rasterizer match the reference's, so it is the colour "
+               "your shader returned there (shading), not coverage";
+    default: return "";
+    }
+}
+
+static const char *speckle_cause(defect_voice v) {
+    switch (v) {
+    case DEFECT_RASTER:
+        return ": back faces winning the depth test (depth or barycentric precision: subtract a "
+               "vertex before the edge functions; perspective-correct depth) or a NaN in some "
+               "pixels";
+    case DEFECT_SHADING:
+        return ": the buffers up to the rasterizer match the reference's, so it is the colour "
+               "your shader returned in those pixels (a NaN, or a term that jumps: a missing "
+               "max(0, ...), a vector not normalised)";
+    default: return "";
+    }
+}
+
+static const char *line_cause(defect_voice v, bool column) {
+    switch (v) {
+    case DEFECT_RASTER:
+        return column ? ": a column skipped or written twice (a loop bound, < against <=, or an "
+                        "index off by one)"
+                      : ": a row skipped or written twice (a loop bound, < against <=, or an "
+                        "index off by one)";
+    case DEFECT_SHADING:
+        return ": the buffers up to the rasterizer match the reference's, so it is the colour "
+               "your shader returned along it";
+    case DEFECT_WIREFRAME:
+        return ": an edge of the wireframe runs along it in one picture and not in the other "
+               "(the vertices land elsewhere: the matrices)";
+    default: return "";
+    }
+}
+
+/* `voice`: which causes each defect's line may name (grade_images.h). A
+ * wireframe is lines on a background: it has no surfaces to meet in a seam,
+ * no smooth area for speckle and no depth test, so only a wrong row or
+ * column is looked for. */
+bool image_defects(sbuf *o, const ras_image *expected, const ras_image *got, defect_voice voice) {
     int w = expected->width, h = expected->height;
     if (got->width != w || got->height != h || w < 3 || h < 3) return false;
+    bool surfaces = voice != DEFECT_WIREFRAME;
+    const char *lead = voice == DEFECT_RASTER ? "likely mistake: " : "the picture shows ";
     unsigned char *bad = calloc((size_t)w * h, 1);
     int *row_bad = calloc((size_t)h, sizeof *row_bad),
         *col_bad = calloc((size_t)w, sizeof *col_bad);
@@ -179,7 +230,7 @@ bool image_defects(sbuf *o, const ras_image *expected, const ras_image *got, boo
                 col_bad[x]++;
             }
     int seams = 0, speckles = 0, sx = -1, sy = -1, px = -1, py = -1;
-    for (int y = 1; y < h - 1; y++)
+    for (int y = 1; y < h - 1 && surfaces; y++)
         for (int x = 1; x < w - 1; x++) {
             if (!bad[(size_t)y * w + x]) continue;
             double lo = 1e9, hi = -1e9;
@@ -207,25 +258,21 @@ bool image_defects(sbuf *o, const ras_image *expected, const ras_image *got, boo
         }
     bool found = false;
     if (seams >= SEAM_MIN) {
+        /* "seam" names a coverage or resolve mistake: only where those can be */
         sb_printf(o,
-                  "%sa dark seam: %d pixels where two surfaces meet are darker than both in "
-                  "the reference (first at (%d,%d))%s\n",
-                  causes ? "likely mistake: " : "the picture shows ", seams, sx, sy,
-                  causes ? ": the background shows through a shared edge (a coverage rule that "
-                           "drops edge samples, or a resolve that mixes in uncovered or "
-                           "integer-rounded samples)"
-                         : "");
+                  voice == DEFECT_SHADING
+                      ? "%s%d pixels where two surfaces meet are darker than both in the "
+                        "reference (first at (%d,%d))%s\n"
+                      : "%sa dark seam: %d pixels where two surfaces meet are darker than both in "
+                        "the reference (first at (%d,%d))%s\n",
+                  lead, seams, sx, sy, seam_cause(voice));
         found = true;
     }
     if (speckles >= SPECKLE_MIN) {
         sb_printf(o,
                   "%sspeckle: %d isolated pixels inside smooth areas are wrong (first at "
                   "(%d,%d))%s\n",
-                  causes ? "likely mistake: " : "the picture shows ", speckles, px, py,
-                  causes ? ": back faces winning the depth test (depth or barycentric precision: "
-                           "subtract a vertex before the edge functions; perspective-correct "
-                           "depth) or a NaN in some pixels"
-                         : "");
+                  lead, speckles, px, py, speckle_cause(voice));
         found = true;
     }
     for (int pass = 0; pass < 2; pass++) {
@@ -236,15 +283,12 @@ bool image_defects(sbuf *o, const ras_image *expected, const ras_image *got, boo
             if (i > 0 && line[i - 1] > beside) beside = line[i - 1];
             if (i < n - 1 && line[i + 1] > beside) beside = line[i + 1];
             if (line[i] >= LINE_MIN && line[i] >= 4 * (beside + 1)) {
-                sb_printf(o,
-                          "%s%s %d of the image is wrong along %d pixels while the %ss "
-                          "beside it match%s%s%s\n",
-                          causes ? "likely mistake: " : "the picture shows: ",
-                          pass ? "column" : "row", i, line[i], pass ? "column" : "row",
-                          causes ? ": a " : "", causes ? (pass ? "column" : "row") : "",
-                          causes ? " skipped or written twice (a loop bound, < against <=, or an "
-                                   "index off by one)"
-                                 : "");
+                sb_printf(
+                    o,
+                    "%s%s %d of the image is wrong along %d pixels while the %ss "
+                    "beside it match%s\n",
+                    voice == DEFECT_RASTER ? lead : "the picture shows: ", pass ? "column" : "row",
+                    i, line[i], pass ? "column" : "row", line_cause(voice, pass));
                 found = true;
                 break;
             }
@@ -254,6 +298,11 @@ bool image_defects(sbuf *o, const ras_image *expected, const ras_image *got, boo
     free(row_bad);
     free(col_bad);
     return found;
+}
+
+bool image_is_wireframe(const cJSON *img) {
+    const cJSON *c = cJSON_GetObjectItemCaseSensitive(img, "comparison");
+    return cJSON_IsString(c) && !strcmp(c->valuestring, "wireframe");
 }
 
 /* ---------------------------------------------------------------- the picture and its reference */
@@ -500,7 +549,54 @@ typedef struct findings {
     sbuf defects; /* what the picture shows (image_defects, causes named) */
     sbuf bufs;    /* what the buffers say (buffer_evidence) */
     evidence ev;
+    /* a whole-chain run: its picture is, up to the rubric's comparison, the
+     * one the assignment's own-code run drew and passed (same_as_own_picture) */
+    bool as_own;
 } findings;
+
+/* Where a passed own-code run's picture is kept for the whole-chain run of
+ * the same image, graded right after it (judge_pictures): in the work
+ * folder, which no sandboxed run can write; "" without one. `id`: the
+ * assignment that owns the image. */
+static void own_picture_path(const grader *g, const char *id, const char *name, char *buf,
+                             size_t size) {
+    if (g->work)
+        fmt(buf, size, "%s/%s-%s.own-passed.png", g->work, id, name);
+    else
+        buf[0] = '\0';
+}
+
+/* A sealed run's picture: kept when it passed, removed otherwise (so that a
+ * whole-chain run never meets one a previous image or grading left). */
+static void keep_own_picture(const picture *p, const ras_image *got, bool passed) {
+    char path[4400];
+    own_picture_path(p->g, p->reldir, p->name, path, sizeof path);
+    if (!*path) return;
+    unlink(path);
+    ras_error err = {{0}};
+    if (passed && got) ras_image_save(got, path, &err);
+}
+
+/* Whether a whole-chain picture is the own-code run's passed picture up to
+ * what the rubric's comparison allows, with no defect between them: then
+ * the earlier assignments' code changed nothing that shows (a float style's
+ * few pixels aside), and what differs from the reference is the
+ * assignment's own code, judged (and passed) on its own-code run. */
+static bool same_as_own_picture(const picture *p, const ras_image *got) {
+    char path[4400];
+    own_picture_path(p->g, p->reldir, p->name, path, sizeof path);
+    if (!p->whole || !*path || !file_exists(path)) return false;
+    ras_error err = {{0}};
+    ras_image *own = ras_image_load(path, &err);
+    ras_compare_result r;
+    bool same = own && own->width == got->width && own->height == got->height &&
+                ras_compare_images(own, got, &p->opt, &r, &err) && r.pass;
+    sbuf ignored = {0};
+    if (same && image_defects(&ignored, own, got, DEFECT_PATTERN)) same = false;
+    free(ignored.s);
+    ras_image_destroy(own);
+    return same;
+}
 
 /* The buffers' evidence (not for a stub's placeholder picture, which says
  * enough; at most EVIDENCE_MAX per grading: each costs two more renders),
@@ -513,7 +609,10 @@ static void picture_findings(picture *p, ras_compare_result *r, const ras_image 
                              const ras_image *expected, bool ref_raster, findings *f) {
     const grader *g = p->g;
     f->flat = is_flat(got) && !is_flat(expected);
-    bool defect = !f->flat && image_defects(&f->defects, expected, got, true);
+    bool defect =
+        !f->flat && image_defects(&f->defects, expected, got,
+                                  image_is_wireframe(p->img) ? DEFECT_WIREFRAME : DEFECT_RASTER);
+    f->as_own = same_as_own_picture(p, got);
     memset(&f->ev, 0, sizeof f->ev);
     if ((!r->pass || defect) && p->rr.kind == RUN_EXITED && !p->todo) {
         if (g->evidence_runs >= EVIDENCE_MAX || getenv("RAS_GRADE_NO_BUFFERS")) {
@@ -524,6 +623,13 @@ static void picture_findings(picture *p, ras_compare_result *r, const ras_image 
                             p->sealed ? p->j->extra_ro : NULL, ref_raster, &f->ev);
         }
     }
+    /* a blank picture without buffers still says why from its counters
+     * (one more render, within the same budget) */
+    if (f->flat && (f->ev.kind == EVIDENCE_BUDGET || f->ev.kind == EVIDENCE_NO_REFERENCE) &&
+        g->evidence_runs < EVIDENCE_MAX) {
+        ((grader *)g)->evidence_runs++;
+        blank_counters(g, p->img, p->j, p->sealed ? p->j->extra_ro : NULL, &f->ev);
+    }
     const evidence *ev = &f->ev;
     if (ev->kind == EVIDENCE_WITHHELD && r->pass) {
         r->pass = false;
@@ -532,6 +638,21 @@ static void picture_findings(picture *p, ras_compare_result *r, const ras_image 
         return;
     }
     if (!(r->pass && defect)) return;
+    if (f->as_own) {
+        /* already judged: the own-code run drew this very picture and its
+         * evidence cleared it (or it showed nothing); the integration item
+         * measures what the earlier assignments' code adds, here nothing */
+        sb_printf(&p->o,
+                  "(the picture shows a defect, but your whole chain draws the picture your %s "
+                  "code drew with the reference of the earlier assignments, which passed (the "
+                  "two match as this image's comparison asks, with no defect between them): "
+                  "your earlier assignments add nothing that shows, and what differs is your "
+                  "%s code's, judged in %s: within the metric's budget, not charged)\n",
+                  p->reldir, p->reldir, p->reldir);
+        free(f->defects.s);
+        f->defects = (sbuf){0};
+        return;
+    }
     bool placed = evidence_ran(ev) && *ev->stage && strcmp(ev->stage, "colour") &&
                   (p->whole || (ev->owner && !strcmp(ev->owner, p->a->id))) &&
                   /* the shader's own colours are judged by the metric alone */
@@ -570,9 +691,10 @@ static void picture_findings(picture *p, ras_compare_result *r, const ras_image 
 }
 
 /* A failed picture's first likely mistake: nothing drawn, or the first
- * buffer that differs. */
-static void picture_first_cause(picture *p, const findings *f) {
+ * buffer that differs; whether it said one. */
+static bool picture_first_cause(picture *p, const findings *f) {
     const evidence *ev = &f->ev;
+    size_t before = p->o.len;
     if (f->flat)
         sb_printf(&p->o, "likely mistake: nothing was drawn: your image is one flat colour%s%s\n",
                   *ev->why_blank ? ": "
@@ -597,29 +719,59 @@ static void picture_first_cause(picture *p, const findings *f) {
             }
         }
     }
+    return p->o.len > before;
+}
+
+/* Which causes the picture's defects may name: none of a stage the program
+ * lacks (a wireframe has no surfaces and no depth test), the rasterizer's
+ * only where that is the student's and the buffers do not acquit it, the
+ * shader's where the buffers up to the rasterizer match the reference's. */
+static defect_voice picture_voice(const picture *p, const findings *f, bool ref_raster) {
+    const evidence *ev = &f->ev;
+    if (image_is_wireframe(p->img)) return DEFECT_WIREFRAME;
+    if (!ref_raster && (!evidence_ran(ev) || ev->rasterizer)) return DEFECT_RASTER;
+    bool before_shading = !strcmp(ev->stage, "vertices") || !strcmp(ev->stage, "coverage") ||
+                          !strcmp(ev->stage, "depth") || !strcmp(ev->stage, "overdraw");
+    if (evidence_ran(ev) && ev->owner && !strcmp(ev->owner, "hw3") && !before_shading)
+        return DEFECT_SHADING;
+    return DEFECT_PATTERN;
 }
 
 /* A failed picture's message: 1. nothing drawn; 2. the first buffer that
- * differs; 3. what the picture shows, where the buffers allow that cause;
- * then the coverage around the worst pixel and what the image checks. */
+ * differs; 3. a finding that explains the whole picture (upside down,
+ * scaled, stretched) — and then not the local defects it makes; else what
+ * the picture shows, with the causes its stages allow; then its
+ * brightness, the coverage around the worst pixel and what the image
+ * checks. */
 static void picture_failure(picture *p, const ras_compare_result *r, const ras_image *got,
                             const ras_image *expected, bool ref_raster, const findings *f) {
-    picture_first_cause(p, f);
+    bool told = picture_first_cause(p, f);
     sb_add(&p->o, sb_str(&f->bufs));
-    /* rasterizer and resolve causes only where those stages are
-     * the student's and the buffers do not acquit them */
-    bool raster_causes = !ref_raster && (!evidence_ran(&f->ev) || f->ev.rasterizer);
-    if (!f->flat && raster_causes)
-        sb_add(&p->o, sb_str(&f->defects));
-    else if (!f->flat && f->defects.len) {
-        /* the pattern only: the buffers acquit the rasterizer */
-        sbuf plain = {0};
-        image_defects(&plain, expected, got, false);
-        sb_add(&p->o, sb_str(&plain));
-        free(plain.s);
+    defect_voice voice = picture_voice(p, f, ref_raster);
+    if (!f->flat) {
+        sbuf whole = {0}, notes = {0};
+        image_signatures(&whole, &notes, expected, got, &p->opt, p->j->args, &f->ev,
+                         voice == DEFECT_RASTER);
+        /* a wireframe is its vertices joined by lines: what else can move them */
+        if (!told && !whole.len && voice == DEFECT_WIREFRAME)
+            sb_add(&p->o, "likely mistake: the lines are drawn elsewhere than the reference's: "
+                          "your vertices land in other places, so one of your matrices is off "
+                          "(the model matrix's rotation, its direction or its axis; the "
+                          "projection): the failing tests above say which\n");
+        if (whole.len)
+            sb_add(&p->o, sb_str(&whole));
+        else if (f->defects.len && voice == DEFECT_RASTER)
+            sb_add(&p->o, sb_str(&f->defects));
+        else if (f->defects.len) {
+            sbuf told = {0};
+            image_defects(&told, expected, got, voice);
+            sb_add(&p->o, sb_str(&told));
+            free(told.s);
+        }
+        sb_add(&p->o, sb_str(&notes));
+        free(whole.s);
+        free(notes.s);
     }
-    if (!f->flat)
-        image_signatures(&p->o, expected, got, &p->opt, p->j->args, &f->ev, raster_causes);
     if (p->kind == RAS_COMPARE_EXACT || p->kind == RAS_COMPARE_EDGE_TOLERANT) {
         char mask[2048];
         if (ras_compare_ascii_mask(expected, got, (vec3s){{0, 0, 0}}, r->worst_col, r->worst_row, 8,
@@ -733,6 +885,7 @@ bool grade_image(const grader *g, assignment_result *a, const cJSON *img, const 
         whole ? reldir : p.name, p.name);
     it->name = xstrdup(label);
     it->max_score = num_or(img, "points", g->default_points);
+    if (sealed) keep_own_picture(&p, NULL, false); /* none from an earlier grading */
     if (!picture_reference(&p)) return false;
     picture_intro(&p);
     ras_image *got = picture_run(&p, crash_hint), *expected = NULL;
@@ -744,6 +897,7 @@ bool grade_image(const grader *g, assignment_result *a, const cJSON *img, const 
         it->status = xstrdup("ERROR");
         sb_printf(&p.o, "could not read the reference: %s\n", p.err.msg);
     }
+    if (sealed) keep_own_picture(&p, got, it->passed && !p.todo);
     if (it->passed && p.todo)
         sb_add(&p.o,
                "(matches, but the program printed a TODO notice, so no points: a stub it "

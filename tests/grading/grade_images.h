@@ -25,8 +25,19 @@ bool image_options(const grader *g, const cJSON *img, ras_compare_kind *kind,
  * `taken`, removed again): a regular PNG of the reference's size, or NULL */
 ras_image *load_student_image(const char *path, const char *taken, const char *ref_path,
                               ras_error *err);
+/* Which causes a defect's line may name, by what is known of the stages
+ * that drew the picture. */
+typedef enum defect_voice {
+    DEFECT_PATTERN,   /* the pattern only: the buffers acquit the rasterizer, or
+                       * the run's rasterizer is the reference's */
+    DEFECT_RASTER,    /* the rasterizer or resolve (the student's, not acquitted) */
+    DEFECT_SHADING,   /* the buffers up to the rasterizer match: the shader's colours */
+    DEFECT_WIREFRAME, /* lines only: no surfaces, no depth test (hw1) */
+} defect_voice;
 /* a dark seam, a wrong line, speckle: one line each into o; whether any */
-bool image_defects(sbuf *o, const ras_image *expected, const ras_image *got, bool causes);
+bool image_defects(sbuf *o, const ras_image *expected, const ras_image *got, defect_voice voice);
+/* whether img is judged as a wireframe (a program with no depth test) */
+bool image_is_wireframe(const cJSON *img);
 /* where a variant's reference, rendered at grading time, is kept */
 void variant_reference_path(const grader *g, const char *dir, const char *id, const char *name,
                             char *buf, size_t size);

@@ -21,6 +21,7 @@
  *               translation, an identity view and a projection that halves x
  *               and sets w = 2: world, eye, clip, NDC and screen by hand
  *   errors      --dump on a file says it expects a folder
+ *   legend      one value is said as one value, a range as its two ends
  */
 #include <setjmp.h> /* cmocka needs these before cmocka.h */
 #include <stdarg.h>
@@ -504,6 +505,34 @@ static void test_dump_dir_must_be_a_folder(void **state) {
     remove_dir(dir);
 }
 
+/* A legend names a range only where there is one: a difference buffer whose
+ * every drawn entry is 1 said "1 (blue) .. 1 (red)", two colours its picture
+ * never shows. */
+static void test_dump_legend_one_value(void **state) {
+    (void)state;
+    float one[4] = {INFINITY, 1, 1, INFINITY}, two[4] = {INFINITY, 1, 3, INFINITY};
+    ras_dump_buffer b = {.name = "difference",
+                         .what = "",
+                         .units = "",
+                         .width = 2,
+                         .height = 2,
+                         .samples = 1,
+                         .channels = 1,
+                         .data = one,
+                         .style = RAS_DUMP_SCALAR,
+                         .empty = INFINITY,
+                         .has_empty = true};
+    uint8_t rgb[2 * 2 * 3];
+    char text[160];
+    ras_dump_paint(&b, rgb, text, sizeof text);
+    CHECK(strstr(text, "1 wherever drawn (one value") && !strstr(text, "(blue)"),
+          "every drawn entry 1: expected the legend to say one value, got '%s'", text);
+    b.data = two;
+    ras_dump_paint(&b, rgb, text, sizeof text);
+    CHECK(strstr(text, "1 (blue) .. 3 (red)"),
+          "entries 1 and 3: expected the legend '1 (blue) .. 3 (red)', got '%s'", text);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_dump_depth_exact_and_overdraw),
@@ -514,6 +543,7 @@ int main(void) {
         cmocka_unit_test(test_dump_compare_patterns),
         cmocka_unit_test(test_dump_vertices_hand_worked),
         cmocka_unit_test(test_dump_dir_must_be_a_folder),
+        cmocka_unit_test(test_dump_legend_one_value),
     };
     return RAS_RUN_TESTS("dump", tests, NULL, NULL);
 }
