@@ -648,6 +648,121 @@ static bool check_arguments(ras_app *app, ras_error *err) {
     return true;
 }
 
+/* ---- an output never replaces an input ------------------------------------ */
+
+/* One file the run reads: `what` names it for the message. */
+typedef struct run_input {
+    char what[96];
+    const char *path;
+} run_input;
+
+/* The k-th file this run reads (k from 0): the scene file, the reference,
+ * then each object's model, texture and height map (--model, --texture and
+ * --height are the built-in model scene's). False past the last. Entries
+ * with no file have path NULL. */
+static bool input_at(const ras_app *app, const char *ref_path, int k, run_input *in) {
+    const ras_cli *cli = &app->cli;
+    in->path = NULL;
+    if (k == 0) {
+        snprintf(in->what, sizeof in->what, "the --scene file");
+        in->path = cli->scene;
+        return true;
+    }
+    if (k == 1) {
+        snprintf(in->what, sizeof in->what, "the reference image --compare reads");
+        in->path = cli->compare && ref_path[0] ? ref_path : NULL;
+        return true;
+    }
+    int i = (k - 2) / 3, part = (k - 2) % 3;
+    if (!app->scene || i >= app->scene->object_count) return false;
+    const ras_scene_object *o = &app->scene->objects[i];
+    static const char *const flag[] = {"--model", "--texture", "--height"};
+    static const char *const noun[] = {"model", "texture", "height map"};
+    if (cli->model)
+        snprintf(in->what, sizeof in->what, "the %s file", flag[part]);
+    else
+        snprintf(in->what, sizeof in->what, "the %s of object %d of the scene", noun[part], i);
+    const ras_scene_map *map = part == 1 ? &o->material.texture : &o->material.height_map;
+    if (part == 0) in->path = o->shape == RAS_SHAPE_MODEL ? o->params.model_path : NULL;
+    else in->path = map->kind == RAS_MAP_FILE ? map->path : NULL;
+    return true;
+}
+
+/* The input `out_st` (an existing file, links followed) is, if any. */
+static bool input_is(const ras_app *app, const char *ref_path, const struct stat *out_st,
+                     run_input *in) {
+    struct stat st;
+    for (int k = 0; input_at(app, ref_path, k, in); k++)
+        if (in->path && stat(in->path, &st) == 0 && st.st_dev == out_st->st_dev &&
+            st.st_ino == out_st->st_ino)
+            return true;
+    return false;
+}
+
+/* The dump writes .png, .pfm and .json files into its folder (ras_dump.c's
+ * own rule for what is its): an input of those kinds in that folder could
+ * be replaced by a buffer of the same name. */
+static bool dump_could_replace(const char *name) {
+    const char *dot = strrchr(name, '.');
+    return dot && (!strcmp(dot, ".png") || !strcmp(dot, ".pfm") || !strcmp(dot, ".json"));
+}
+
+/* The input inside the existing folder `dir_st` that the dump could replace. */
+static bool input_in_folder(const ras_app *app, const char *ref_path, const struct stat *dir_st,
+                            run_input *in) {
+    for (int k = 0; input_at(app, ref_path, k, in); k++) {
+        char *real = in->path ? realpath(in->path, NULL) : NULL;
+        char *slash = real ? strrchr(real, '/') : NULL;
+        bool inside = false;
+        if (slash && dump_could_replace(slash + 1)) {
+            slash[slash == real ? 1 : 0] = '\0'; /* its folder ("/" kept) */
+            struct stat st;
+            inside = stat(real, &st) == 0 && st.st_dev == dir_st->st_dev &&
+                     st.st_ino == dir_st->st_ino;
+        }
+        free(real);
+        if (inside) return true;
+    }
+    return false;
+}
+
+/* -o, the difference images --compare writes beside it, and --dump must not
+ * name (or reach through a link, a hard link or another spelling) a file the
+ * run reads: it would be gone after the frame. Checked once the scene has
+ * said which files it reads, before anything is drawn. */
+static bool check_outputs_spare_inputs(const ras_app *app, const char *ref_path,
+                                       ras_error *err) {
+    const ras_cli *cli = &app->cli;
+    run_input in;
+    struct stat st;
+    char files[3][RAS_IO_MAX_PATH + 16] = {"", "", ""};
+    const char *opt[3] = {"-o", "--compare's difference image", "--compare's worst-pixels image"};
+    if (cli->output) snprintf(files[0], sizeof files[0], "%s", cli->output);
+    if (cli->compare) {
+        char stem[RAS_CATALOGUE_NAME];
+        if (cli->reference || !ras_app_reference_name(app, stem, sizeof stem))
+            snprintf(stem, sizeof stem, "%s", app->hooks->program);
+        ras_cli_sibling_path(cli->output, stem, "diff", files[1], sizeof files[1]);
+        ras_cli_sibling_path(cli->output, stem, "worst", files[2], sizeof files[2]);
+    }
+    for (int f = 0; f < 3; f++)
+        if (files[f][0] && stat(files[f], &st) == 0 && input_is(app, ref_path, &st, &in))
+            return ras_error_set(err,
+                                 "%s '%s' is %s ('%s'): writing it would destroy an input of "
+                                 "this run; expected an output name that is none of its "
+                                 "inputs — write to another file",
+                                 opt[f], files[f], in.what, in.path);
+    const char *dump = g_dump_stage.active ? g_dump_stage.target : NULL;
+    if (dump && stat(dump, &st) == 0 && input_in_folder(app, ref_path, &st, &in))
+        return ras_error_set(err,
+                             "--dump '%s' holds %s ('%s'), and the dump writes its .png, .pfm "
+                             "and .json buffers into that folder, which could replace it; "
+                             "expected a dump folder apart from the inputs — dump into "
+                             "another folder",
+                             dump, in.what, in.path);
+    return true;
+}
+
 /* Everything before the first frame; false with err when the input is bad
  * (exit 2). */
 static bool set_up(ras_app *app, ras_image **expected, char *ref_path, size_t size,
@@ -672,7 +787,9 @@ static bool set_up(ras_app *app, ras_image **expected, char *ref_path, size_t si
     if (!ras_framebuffer_check_size(app->set.width, app->set.height,
                                     ras_app_settings_pattern(&app->set).count, err))
         return false;
-    return !app->cli.compare || (*expected = load_reference(app, ref_path, size, err));
+    if (app->cli.compare && !(*expected = load_reference(app, ref_path, size, err)))
+        return false;
+    return check_outputs_spare_inputs(app, ref_path, err);
 }
 
 /* A student program built before the student's last edit runs older code:

@@ -9,6 +9,7 @@
 #include "ras_png.h"
 
 #include <errno.h>    /* errno */
+#include <limits.h>   /* NAME_MAX */
 #include <stdio.h>    /* snprintf */
 #include <stdlib.h>   /* calloc, free */
 #include <string.h>   /* strrchr, strlen, strerror */
@@ -107,7 +108,25 @@ bool ras_image_check_output(const char *path, ras_error *err) {
                              "cannot write '%s': expected an image extension (.png, .jpg, "
                              ".bmp, .ppm or .tif), got '%s'; name the file e.g. '%.*s.png'",
                              path, ext, (int)(ext - path), path);
+    /* Found now, not after the frame is drawn: a name the file system
+     * cannot hold, and a link to nothing (the write would refuse it). */
+    for (const char *part = path; *part;) {
+        size_t n = strcspn(part, "/");
+        if (n > NAME_MAX)
+            return ras_error_set(err,
+                                 "cannot write '%.60s...': its name has a part of %zu bytes; "
+                                 "expected at most %d bytes between slashes — choose a "
+                                 "shorter name",
+                                 path, n, NAME_MAX);
+        part += n + (part[n] == '/');
+    }
     struct stat st;
+    if (lstat(path, &st) == 0 && S_ISLNK(st.st_mode) && stat(path, &st) != 0)
+        return ras_error_set(err,
+                             "cannot write '%s': it is a symbolic link to a file that does "
+                             "not exist (%s); expected a regular file or a new name — "
+                             "remove the link or write elsewhere",
+                             path, strerror(errno));
     if (stat(path, &st) == 0 && S_ISDIR(st.st_mode))
         return ras_error_set(err,
                              "cannot write '%s': it is a folder; expected a file name "

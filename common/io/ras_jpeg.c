@@ -9,6 +9,7 @@
 #include <string.h> /* memcmp, memcpy */
 
 #include <jpeglib.h>
+#include <jerror.h> /* JWRN_JPEG_EOF */
 
 /* libjpeg's error manager, extended: a longjmp back to the caller instead of
  * exit(), the message that ended the work, the warnings before it, and the
@@ -21,6 +22,8 @@ typedef struct {
     char warnings[512];
     size_t warnings_len;
     const ras_jpeg_limits *limits;
+    void (*default_emit)(j_common_ptr, int);
+    bool own_words; /* error is a whole sentence of ours, not libjpeg's */
 } jpeg_ctx;
 
 static void on_error(j_common_ptr cinfo) {
@@ -39,6 +42,22 @@ static void on_message(j_common_ptr cinfo) {
     size_t room = sizeof c->warnings - c->warnings_len;
     int n = snprintf(c->warnings + c->warnings_len, room, "%s\n", line);
     if (n > 0) c->warnings_len += (size_t)n < room ? (size_t)n : room - 1;
+}
+
+/* A file cut short is only a warning to libjpeg, which fills the rest of the
+ * picture with grey and goes on; a truncated PNG is refused, so this is too:
+ * a texture or a reference with half its pixels invented must not pass. */
+static void on_emit(j_common_ptr cinfo, int msg_level) {
+    jpeg_ctx *c = (jpeg_ctx *)cinfo->err;
+    if (msg_level < 0 && cinfo->err->msg_code == JWRN_JPEG_EOF) {
+        snprintf(c->error, sizeof c->error,
+                 "it is cut short: the file ends before its image data does (libjpeg: "
+                 "\"Premature end of JPEG file\"); expected a complete JPEG — copy or export "
+                 "the file again");
+        c->own_words = true;
+        longjmp(c->back, 1);
+    }
+    c->default_emit(cinfo, msg_level);
 }
 
 static bool past(const struct timespec *deadline) {
@@ -82,6 +101,8 @@ static void start(struct jpeg_decompress_struct *cinfo, jpeg_ctx *c, const uint8
     cinfo->err = jpeg_std_error(&c->pub);
     c->pub.error_exit = on_error;
     c->pub.output_message = on_message;
+    c->default_emit = c->pub.emit_message;
+    c->pub.emit_message = on_emit;
     jpeg_create_decompress(cinfo);
     jpeg_mem_src(cinfo, data, (unsigned long)len);
 }
@@ -173,7 +194,7 @@ uint8_t *ras_jpeg_decode_rgb8(const uint8_t *data, size_t len, const ras_jpeg_li
         free(row);
         if (err && err_size > 0)
             snprintf(err, (size_t)err_size, "%s%s",
-                     strstr(c.error, "scans") || strstr(c.error, "limit")
+                     c.own_words || strstr(c.error, "scans") || strstr(c.error, "limit")
                          ? ""
                          : "not a JPEG libjpeg can decode, or a damaged one: libjpeg says ",
                      c.error);
