@@ -101,6 +101,9 @@ typedef struct ras_dump_difference {
                          * not: its index; -1 when there is none */
     bool line_is_column;
     double max_abs;           /* largest difference where both have a value */
+    long finite_differ;       /* entries beyond the tolerance where both are finite */
+    long nonfinite_got;       /* entries NaN or inf in got, the reference's other */
+    long nonfinite_ref;       /* entries NaN or inf in the reference where got is finite */
     int first_col, first_row; /* first differing pixel (image col, row) */
     const char *pattern;      /* "in speckles", "along a row", "along a column",
                                * "where only one drew", "in regions" */

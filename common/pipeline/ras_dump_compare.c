@@ -197,6 +197,10 @@ bool ras_dump_compare(const char *ref_dir, const char *got_dir, const char *name
                         *b = got + ((size_t)row * w + x) * per;
             bool differs = false, one_empty = false, larger = false, signed_once = false;
             for (int k = 0; k < per; k++) {
+                /* Counted apart: a NaN or inf has no difference to report. */
+                bool same = a[k] == b[k] || (isnan(a[k]) && isnan(b[k]));
+                d->nonfinite_got += !same && !isfinite(b[k]);
+                d->nonfinite_ref += !same && !isfinite(a[k]) && isfinite(b[k]);
                 bool ea = isinf(a[k]) && a[k] > 0, eb = isinf(b[k]) && b[k] > 0;
                 if (ea != eb) {
                     one_empty = differs = true;
@@ -213,6 +217,7 @@ bool ras_dump_compare(const char *ref_dir, const char *got_dir, const char *name
                 if (diff > d->max_abs && isfinite(diff)) d->max_abs = diff;
                 if (diff > limit || !isfinite(diff)) {
                     differs = true;
+                    d->finite_differ += isfinite(a[k]) && isfinite(b[k]);
                     if (!signed_once) larger = b[k] > a[k], signed_once = true;
                 }
             }
@@ -242,10 +247,20 @@ void ras_dump_difference_text(const char *name, const ras_dump_difference *d, ch
         snprintf(where, sizeof where, " %d", d->line);
     else if (!strcmp(d->pattern, "in speckles"))
         snprintf(where, sizeof where, ": %ld isolated", d->isolated);
-    snprintf(buf, size,
-             "%s differs in %ld pixels (largest difference %.3g), %s%s; the first at (%d, %d)%s",
-             name, d->pixels_differ, d->max_abs, d->pattern, where, d->first_col, d->first_row,
-             d->drawn_in_one ? "" : "");
+    /* "largest difference 0" would hide what differs when it is NaN or inf
+     * (an all-NaN buffer): those are named, with their file. */
+    char how[200] = "", largest[48] = "";
+    if (d->nonfinite_got || d->nonfinite_ref)
+        snprintf(how, sizeof how, ": %ld non-finite values (NaN/inf) in %s%s.pfm where %s holds "
+                                  "other values%s",
+                 d->nonfinite_got ? d->nonfinite_got : d->nonfinite_ref,
+                 d->nonfinite_got ? "" : "the reference's ", name,
+                 d->nonfinite_got ? "the reference" : "the dump",
+                 d->nonfinite_got && d->nonfinite_ref ? " (and some the other way round)" : "");
+    if (d->finite_differ)
+        snprintf(largest, sizeof largest, " (largest difference %.3g)", d->max_abs);
+    snprintf(buf, size, "%s differs in %ld pixels%s%s, %s%s; the first at (%d, %d)", name,
+             d->pixels_differ, largest, how, d->pattern, where, d->first_col, d->first_row);
 }
 
 static cJSON *numbers(const float *v, int n) {
