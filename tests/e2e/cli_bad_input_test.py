@@ -715,6 +715,104 @@ if stray:
     failures.append(f"FAIL: temporary dump folders left behind: {stray}")
     print(failures[-1])
 
+# ---- an output never replaces an input (issue 42 B4), damaged inputs (B8) ----
+# -o, --compare's difference images and --dump are refused, exit 2 before any
+# drawing, when they are a file the run reads: by name, through a symbolic
+# link, a hard link or another spelling; each input must come out unchanged.
+NC = path("noclobber")
+os.makedirs(NC)
+def nc(name):
+    return os.path.join(NC, name)
+shutil.copyfile(REF, nc("tex.png"))
+shutil.copyfile(REF, nc("ref.png"))
+shutil.copyfile(OK_OBJ, nc("m.obj"))
+os.symlink("tex.png", nc("tex-link.png"))
+os.link(nc("tex.png"), nc("tex-hard.png"))
+os.link(nc("m.obj"), nc("m-hard.png"))
+os.link(nc("ref.png"), nc("ref-hard.png"))
+os.symlink("no-such-file.png", nc("dangling.png"))
+with open(nc("scene.json"), "w") as f:
+    f.write('{"shader": "texture", "objects": [{"model": "m.obj", "material": '
+            '{"texture": {"file": "tex.png"}}}]}')
+os.makedirs(nc("dump"))
+shutil.copyfile(REF, nc("dump/colour.png"))
+NC_INPUTS = [nc(n) for n in ("tex.png", "ref.png", "m.obj", "scene.json", "dump/colour.png")]
+NC_BYTES = {n: open(n, "rb").read() for n in NC_INPUTS}
+NC_CASES = [
+    (H3, ["--model", nc("m.obj"), "--texture", nc("tex.png"), "-o", nc("tex.png")],
+     "is the --texture file"),
+    (H3, ["--model", nc("m.obj"), "--texture", nc("tex.png"), "-o", nc("tex-link.png")],
+     "is the --texture file"),
+    (H3, ["--model", nc("m.obj"), "--texture", nc("tex.png"), "-o", nc("tex-hard.png")],
+     "is the --texture file"),
+    (H3, ["--model", nc("m.obj"), "--height", nc("tex.png"), "-o", nc("../noclobber/tex-hard.png")],
+     "is the --height file"),
+    (H3, ["--scene", nc("scene.json"), "-o", nc("tex-link.png")],
+     "is the texture of object 0 of the scene"),
+    (H3, ["--scene", nc("scene.json"), "-o", nc("m-hard.png")],
+     "is the model of object 0 of the scene"),
+    (H3, ["--model", nc("m.obj"), "--texture", nc("dump/colour.png"), "-o", nc("o1.png"),
+          "--dump", nc("dump")], "--dump '%s' holds the --texture file" % nc("dump")),
+    (H2, ["--compare", "--reference", nc("ref.png"), "--size", "16x16", "-o",
+          nc("ref-hard.png")], "is the reference image --compare reads"),
+    (H2, ["--size", "16x16", "-o", nc("dangling.png")],
+     "is a symbolic link to a file that does not exist"),
+    (H2, ["--size", "16x16", "-o", nc("x" * 300 + ".png")], "its name has a part of 304 bytes"),
+]
+for program, args, message in NC_CASES:
+    code, _, err = run(program, args)
+    what = f"{program} {' '.join(args)}"
+    problems = [] if code == 2 else [f"exit {code}, expected 2"]
+    if message not in err:
+        problems.append(f"stderr lacks {message!r}")
+    if "wrote" in err:
+        problems.append("it drew and wrote before refusing")
+    problems += [f"input {n} was changed" for n in NC_INPUTS if open(n, "rb").read() != NC_BYTES[n]]
+    if [d for d in os.listdir(NC) if d.startswith(".")]:
+        problems.append(f"left {[d for d in os.listdir(NC) if d.startswith('.')]}")
+    if problems:
+        failures.append(f"FAIL: {what}: {'; '.join(problems)}\n  stderr: {err.strip()[:600]}")
+        print(failures[-1])
+# The control: the same inputs with an output of its own are drawn.
+code, _, err = run(H3, ["--scene", nc("scene.json"), "-o", nc("new.png")])
+if code != 0 or not os.path.isfile(nc("new.png")):
+    failures.append(f"FAIL: the no-clobber control run did not draw (exit {code}): {err[:300]}")
+    print(failures[-1])
+
+# A JPEG cut short: libjpeg only warns ("Premature end of JPEG file") and fills
+# the rest with grey; refused like a truncated PNG, the file named, in every
+# path that reads images.
+CUT_JPG = write("cut.jpg", base[:len(base) // 2])
+for program, args in ((H3, ["--model", OK_OBJ, "--texture", CUT_JPG, "-o", path("cut-out.png")]),
+                      (H2, ["--compare", "--reference", CUT_JPG, "--size", "64x64", "-o",
+                            path("cut-out.png")]),
+                      (C, ["--metric", "exact", CUT_JPG, BASE_JPG]),
+                      (C, ["--metric", "exact", BASE_JPG, CUT_JPG])):
+    code, _, err = run(program, args)
+    if code != 2 or "cut.jpg': it is cut short" not in err or os.path.exists(path("cut-out.png")):
+        failures.append(f"FAIL: {program} {' '.join(args)}: exit {code}, expected 2 and "
+                        f"\"cut.jpg': it is cut short\"; stderr: {err.strip()[:400]}")
+        print(failures[-1])
+
+# --buffers: a depth buffer all NaN or all +inf is named as such, never
+# "differs ... (largest difference 0)".
+run(H2, ["--size", "32x24", "-o", path("nf-a.png"), "--dump", path("nf-ref")])
+for kind, value in (("nan", float("nan")), ("inf", float("inf"))):
+    got = path("nf-" + kind)
+    run(H2, ["--size", "32x24", "-o", path(f"nf-{kind}.png"), "--dump", got])
+    with open(os.path.join(got, "depth.pfm"), "rb") as f:
+        head = [f.readline() for _ in range(3)]
+        count = len(f.read()) // 4
+    with open(os.path.join(got, "depth.pfm"), "wb") as f:
+        f.write(b"".join(head) + struct.pack(("<" if float(head[2]) < 0 else ">") + "f" * count,
+                                             *([value] * count)))
+    code, out, err = run(C, ["--buffers", path("nf-ref"), got])
+    if code != 1 or "non-finite values (NaN/inf) in depth.pfm" not in out or \
+            "largest difference 0" in out:
+        failures.append(f"FAIL: --buffers with an all-{kind} depth: exit {code}, expected 1 and "
+                        f"'non-finite values (NaN/inf) in depth.pfm'; stdout: {out.strip()[:400]}")
+        print(failures[-1])
+
 def stats_output(target):
     """--stats with stdout closed or on /dev/full: exit non-zero, said on stderr."""
     env = dict(os.environ)
