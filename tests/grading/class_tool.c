@@ -38,6 +38,7 @@
 
 enum {
     TEXT_CAP = 400,           /* bytes of one quoted line */
+    MISTAKE_CAP = 2000,       /* bytes of a likely-mistake line: the grader's own diagnoses run to ~600 and are grouped by their whole text */
     RESULTS_LIMIT = 8 << 20,  /* a results.json larger than this is cut (and then unreadable) */
     SMALL_LIMIT = 64 << 10,   /* scores.csv, missing.txt, status */
     BINS = 10,                /* a histogram's bars */
@@ -122,7 +123,7 @@ static char *likely_mistake(const char *out) {
         if (!strncasecmp(q, "likely mistake: ", 16) && strncmp(line, "\xe2\x94\x82 ", 4)) {
             q += 16;
             char *raw = strndup(q, strcspn(q, "\n"));
-            char *safe = shown(raw);
+            char *safe = safe_text(raw, MISTAKE_CAP);
             free(raw);
             return safe;
         }
