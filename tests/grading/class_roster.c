@@ -10,6 +10,7 @@
  * each is listed (stderr and OUT/roster-problems.txt) and left out of the
  * gradebooks, never matched by a guess.
  */
+#include "class_view.h"
 #include "grade_base.h"
 
 #include <cjson/cJSON.h>
@@ -147,20 +148,11 @@ static bool writable(const cJSON *students, const cJSON *s, const char *name, sb
     return true;
 }
 
+/* OUT/FILE, written whole or not at all */
 static bool write_text(const char *out, const char *file, const char *text) {
-    char path[8192], tmp[8300];
+    char path[8192];
     fmt(path, sizeof path, "%s/%s", out, file);
-    fmt(tmp, sizeof tmp, "%s.XXXXXX", path);
-    int fd = mkstemp(tmp);
-    FILE *f = fd >= 0 ? fdopen(fd, "w") : NULL;
-    bool ok = f && fputs(text, f) >= 0;
-    ok = f && fclose(f) == 0 && ok;
-    if (ok) ok = chmod(tmp, 0644) == 0 && rename(tmp, path) == 0;
-    if (!ok) {
-        if (fd >= 0) unlink(tmp);
-        fprintf(stderr, "raster101-class: could not write %s\n", path);
-    }
-    return ok;
+    return class_write_whole(path, text);
 }
 
 static void gradebook_headers(sbuf *canvas, sbuf *moodle, const cJSON *asgs) {

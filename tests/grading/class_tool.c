@@ -22,8 +22,10 @@
  * Exit status: 0 done (roster: problems are listed, not failed), 2 bad
  * arguments or a file that cannot be read or written.
  */
+#include "class_view.h"
 #include "grade_base.h"
 #include "grade_text.h"
+#include "ras_io.h"
 
 #include <cjson/cJSON.h>
 #include <ctype.h>
@@ -37,8 +39,10 @@
 #include <unistd.h>
 
 enum {
-    TEXT_CAP = 400,           /* bytes of one quoted line */
-    MISTAKE_CAP = 2000,       /* bytes of a likely-mistake line: the grader's own diagnoses run to ~600 and are grouped by their whole text */
+    TEXT_CAP = 400, /* bytes of one quoted line */
+    /* bytes of a likely-mistake line: the grader's diagnoses run to ~600,
+     * and a mistake is grouped by its whole text */
+    MISTAKE_CAP = 2000,
     RESULTS_LIMIT = 8 << 20,  /* a results.json larger than this is cut (and then unreadable) */
     SMALL_LIMIT = 64 << 10,   /* scores.csv, missing.txt, status */
     BINS = 10,                /* a histogram's bars */
@@ -734,20 +738,12 @@ static char *render_page(const cJSON *root) {
 
 /* ---------------------------------------------------------------- files */
 
-/* path written whole or not at all (a temporary file beside it, renamed) */
-static bool write_whole(const char *path, const char *text) {
-    char tmp[8300];
-    fmt(tmp, sizeof tmp, "%s.XXXXXX", path);
-    int fd = mkstemp(tmp);
-    FILE *f = fd >= 0 ? fdopen(fd, "w") : NULL;
-    bool ok = f && fputs(text, f) >= 0;
-    ok = f && fclose(f) == 0 && ok;
-    if (ok) ok = chmod(tmp, 0644) == 0 && rename(tmp, path) == 0;
-    if (!ok) {
-        if (fd >= 0) unlink(tmp);
-        fprintf(stderr, "raster101-class: could not write %s\n", path);
-    }
-    return ok;
+bool class_write_whole(const char *path, const char *text) {
+    ras_error err = {{0}};
+    if (ras_io_write_atomic(path, "class view file", text, strlen(text), NULL, NULL, &err))
+        return true;
+    fprintf(stderr, "raster101-class: %s\n", err.msg);
+    return false;
 }
 
 static cJSON *read_json(const char *path) {
@@ -766,7 +762,7 @@ static int cmd_html(const char *json_path, const char *html_path) {
     cJSON *root = read_json(json_path);
     if (!root) return 2;
     char *page = render_page(root);
-    bool ok = write_whole(html_path, page);
+    bool ok = class_write_whole(html_path, page);
     free(page);
     cJSON_Delete(root);
     return ok ? 0 : 2;
@@ -778,9 +774,9 @@ static int cmd_view(const char *out) {
     char path[8192];
     char *json = cJSON_Print(root), *page = render_page(root);
     fmt(path, sizeof path, "%s/class.json", out);
-    bool ok = write_whole(path, json);
+    bool ok = class_write_whole(path, json);
     fmt(path, sizeof path, "%s/class.html", out);
-    ok = write_whole(path, page) && ok;
+    ok = class_write_whole(path, page) && ok;
     printf("raster101-class: %d students, %d named mistakes, %d needing attention: %s\n",
            cJSON_GetArraySize(cJSON_GetObjectItemCaseSensitive(root, "students")),
            cJSON_GetArraySize(cJSON_GetObjectItemCaseSensitive(root, "mistakes")),
@@ -790,8 +786,6 @@ static int cmd_view(const char *out) {
     cJSON_Delete(root);
     return ok ? 0 : 2;
 }
-
-int roster_main(const char *out, const char *roster_path); /* class_roster.c */
 
 int main(int argc, char **argv) {
     if (argc == 3 && !strcmp(argv[1], "view")) return cmd_view(argv[2]);
