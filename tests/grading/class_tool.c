@@ -314,21 +314,36 @@ static void add_unique_string(cJSON *array, const char *s) {
     cJSON_AddItemToArray(array, cJSON_CreateString(s));
 }
 
+/* The object of `array` whose `key` is `value`; *made when it is new (added
+ * with that key only, for the caller to fill in). */
+static cJSON *find_or_add(cJSON *array, const char *key, const char *value, bool *made) {
+    cJSON *o = find_by(array, key, value);
+    *made = !o;
+    if (o) return o;
+    o = cJSON_CreateObject();
+    cJSON_AddStringToObject(o, key, value);
+    cJSON_AddItemToArray(array, o);
+    return o;
+}
+
+/* Adds one to the number `key` of `o`. */
+static void count_one(cJSON *o, const char *key) {
+    cJSON *n = cJSON_GetObjectItemCaseSensitive(o, key);
+    cJSON_SetNumberValue(n, n->valuedouble + 1);
+}
+
 /* One assignment's score of one student, into the assignment's tally. */
 static void tally_assignment(klass *k, const char *id, double score, double max) {
-    cJSON *a = find_by(k->assignments, "id", id);
-    if (!a) {
-        a = cJSON_CreateObject();
-        cJSON_AddStringToObject(a, "id", id);
+    bool made;
+    cJSON *a = find_or_add(k->assignments, "id", id, &made);
+    if (made) {
         cJSON_AddNumberToObject(a, "max", max);
         cJSON_AddNumberToObject(a, "graded", 0);
         cJSON *h = cJSON_AddArrayToObject(a, "histogram");
         for (int i = 0; i < BINS; i++)
             cJSON_AddItemToArray(h, cJSON_CreateNumber(0));
-        cJSON_AddItemToArray(k->assignments, a);
     }
-    cJSON *g = cJSON_GetObjectItemCaseSensitive(a, "graded");
-    cJSON_SetNumberValue(g, g->valuedouble + 1);
+    count_one(a, "graded");
     cJSON *m = cJSON_GetObjectItemCaseSensitive(a, "max");
     if (max > m->valuedouble) cJSON_SetNumberValue(m, max);
     /* by the fraction of the points: a full score is the last bar */
@@ -339,19 +354,15 @@ static void tally_assignment(klass *k, const char *id, double score, double max)
 }
 
 static void tally_item(klass *k, const char *name, double max, bool passed) {
-    cJSON *it = find_by(k->items, "item", name);
-    if (!it) {
-        it = cJSON_CreateObject();
-        cJSON_AddStringToObject(it, "item", name);
+    bool made;
+    cJSON *it = find_or_add(k->items, "item", name, &made);
+    if (made) {
         cJSON_AddNumberToObject(it, "max", max);
         cJSON_AddNumberToObject(it, "graded", 0);
         cJSON_AddNumberToObject(it, "passed", 0);
-        cJSON_AddItemToArray(k->items, it);
     }
-    cJSON *g = cJSON_GetObjectItemCaseSensitive(it, "graded");
-    cJSON_SetNumberValue(g, g->valuedouble + 1);
-    cJSON *p = cJSON_GetObjectItemCaseSensitive(it, "passed");
-    if (passed) cJSON_SetNumberValue(p, p->valuedouble + 1);
+    count_one(it, "graded");
+    if (passed) count_one(it, "passed");
 }
 
 /* A failing item's named mistake, counted once per student (a student who
@@ -359,22 +370,19 @@ static void tally_item(klass *k, const char *name, double max, bool passed) {
 static void tally_mistake(klass *k, const char *raw_name, const char *name, const char *link,
                           const char *item, const char *line) {
     char *key = mistake_key(line);
-    cJSON *m = find_by(k->mistakes, "mistake", key);
-    if (!m) {
-        m = cJSON_CreateObject();
-        cJSON_AddStringToObject(m, "mistake", key);
+    bool made;
+    cJSON *m = find_or_add(k->mistakes, "mistake", key, &made);
+    if (made) {
         cJSON_AddStringToObject(m, "example", line);
         cJSON_AddNumberToObject(m, "students", 0);
         cJSON_AddArrayToObject(m, "who");
         cJSON_AddArrayToObject(m, "items");
-        cJSON_AddItemToArray(k->mistakes, m);
     }
     free(key);
     cJSON *who = cJSON_GetObjectItemCaseSensitive(m, "who");
     if (!find_by(who, "name", name)) {
         add_name(who, name, link);
-        cJSON *n = cJSON_GetObjectItemCaseSensitive(m, "students");
-        cJSON_SetNumberValue(n, n->valuedouble + 1);
+        count_one(m, "students");
     }
     add_unique_string(cJSON_GetObjectItemCaseSensitive(m, "items"), item);
     /* one picture: the first student's, or a later one's that has its
