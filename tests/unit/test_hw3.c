@@ -489,8 +489,9 @@ static const char *bp_diagnose(const bp_case *c, vec3s got, char *out, size_t si
     return out;
 }
 
-/* The case of a payload from base_payload (kd, ks, p, ambient grey). */
-static bp_case bp_case_of(const fragment_shader_payload *p, vec3s kd) {
+/* The case of a payload from base_payload (kd, ks, p, ambient grey), whose
+ * right colour the test worked by hand as `hand`. */
+static bp_case bp_case_of(const fragment_shader_payload *p, vec3s kd, vec3s hand) {
     bp_case c = {.kd = kd,
                  .ks = p->ks.x,
                  .pw = p->p,
@@ -503,14 +504,11 @@ static bp_case bp_case_of(const fragment_shader_payload *p, vec3s kd) {
         for (int k = 0; k < 3; k++)
             c.L[i][k] = p->lights[i].position.raw[k];
     }
-    return c;
-}
-
-/* The test's hand-worked colour agrees with bp_colour (a test-setup check). */
-static void bp_expect_setup(const bp_case *c, vec3s hand) {
-    CHECK(bp_near(bp_colour(c, 0), hand),
+    /* a test-setup check: the test's hand-worked colour agrees with bp_colour */
+    CHECK(bp_near(bp_colour(&c, 0), hand),
           "test setup: the hand-worked colour " FMT3 " and the test's formula " FMT3 " differ",
-          ARG3(hand), ARG3(bp_colour(c, 0)));
+          ARG3(hand), ARG3(bp_colour(&c, 0)));
+    return c;
 }
 
 /* The worked example: (n + 1) / 2. */
@@ -554,8 +552,7 @@ static void test_shader_blinn_phong_one_light(void **state) {
         return;
     }
     char hint[2048];
-    bp_case bc = bp_case_of(&p, p.color);
-    bp_expect_setup(&bc, want);
+    bp_case bc = bp_case_of(&p, p.color, want);
     fail_msg("Blinn-Phong, one light at (4,0,-7), I = 50, P = (0,0,-10), n = (0,0,1), "
              "kd = (0.5,0.25,0.1), ks = 0.3, p = 4, ka·Ia = 0.05: expected " FMT3 ", got " FMT3
              ". Likely mistake: %s",
@@ -599,8 +596,7 @@ static void test_shader_viewer_off_axis(void **state) {
     vec3s want = blinn_phong_double(p.color, P, n, L, 50, 0.3, 8, 0.05, origin);
     vec3s c = phong_fragment_shader(&p);
     char hint[2048];
-    bp_case bc = bp_case_of(&p, p.color);
-    bp_expect_setup(&bc, want);
+    bp_case bc = bp_case_of(&p, p.color, want);
     CHECK(near3(c, want, 1e-4f),
           "Blinn-Phong at the off-axis point P = (3, 0, -4), n = (0,0,1), one light at (6,0,-1), "
           "I = 50, kd = (0.5,0.25,0.1), ks = 0.3, p = 8: expected " FMT3 ", got " FMT3
@@ -621,8 +617,7 @@ static void test_shader_ambient_once_not_per_light(void **state) {
     p.light_count = 2;
     vec3s c = phong_fragment_shader(&p);
     char hint[2048];
-    bp_case bc = bp_case_of(&p, p.color);
-    bp_expect_setup(&bc, V3(0.05f, 0.05f, 0.05f));
+    bp_case bc = bp_case_of(&p, p.color, V3(0.05f, 0.05f, 0.05f));
     CHECK(near3(c, V3(0.05f, 0.05f, 0.05f), 1e-5f),
           "two grazing lights add nothing, so expected only the ambient (0.05, 0.05, 0.05), "
           "got " FMT3 ". Likely mistake: %s",
@@ -647,8 +642,7 @@ static void test_shader_blinn_phong_classic_numbers(void **state) {
     vec3s c = phong_fragment_shader(&p);
     vec3s want = V3(0.281689f, 0.239422f, 0.194024f);
     char hint[2048];
-    bp_case bc = bp_case_of(&p, p.color);
-    bp_expect_setup(&bc, want);
+    bp_case bc = bp_case_of(&p, p.color, want);
     CHECK(near3(c, want, 1e-4f),
           "Blinn-Phong with the GAMES101 lights and material: expected " FMT3 ", got " FMT3
           ". Likely mistake: %s",
@@ -671,8 +665,7 @@ static void test_shader_blinn_phong_light_behind(void **state) {
     vec3s c = phong_fragment_shader(&p);
     vec3s want = V3(0.05f, 0.05f, 0.05f);
     char hint[2048];
-    bp_case bc = bp_case_of(&p, p.color);
-    bp_expect_setup(&bc, want);
+    bp_case bc = bp_case_of(&p, p.color, want);
     CHECK(near3(c, want, 1e-4f),
           "Blinn-Phong with the light behind the surface (n = (0.6,0,0.8) at P = (0,0,-10), "
           "light at (-3,0,-14), n·l = -1, n·h = -0.316, I = 50, ks = 0.3, p = 2): expected "
@@ -708,8 +701,7 @@ static void test_shader_texture_kd_from_texture(void **state) {
     vec3s c = texture_fragment_shader(&p);
     vec3s want = V3(0.674f, 0.914f, 1.154f);
     char lighting[2048];
-    bp_case bc = bp_case_of(&p, V3(0.2f, 0.4f, 0.6f));
-    bp_expect_setup(&bc, want);
+    bp_case bc = bp_case_of(&p, V3(0.2f, 0.4f, 0.6f), want);
     const char *hint = lighting;
     if (near3(c, V3(0.434f, 0.434f, 0.434f), 1e-4f))
         hint = "the texture was not read: kd is still payload->color";
