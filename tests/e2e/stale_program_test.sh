@@ -14,6 +14,22 @@ set -uo pipefail
 bin=$1 src=$2 work=$3
 rm -rf "$work" && mkdir -p "$work"
 fail=0
+# says_stale NAME WHAT OLD NEW: what the copy dated 2000 said (OLD) holds
+# "note: WHAT was built before your last edit of SRC/...", what the copy
+# dated now said (NEW) no such note.
+says_stale() {
+  local name=$1 what=$2 old=$3 new=$4
+  if ! grep -q "$what was built before your last edit of $src/" <<<"$old"; then
+    echo "FAIL $name dated 2000: expected the note '$what was built before your last edit of ...', got:"
+    sed 's/^/       /' <<<"$old" | head -5
+    fail=1
+  elif grep -q "built before your last edit" <<<"$new"; then
+    echo "FAIL $name dated now: expected no note, got: $new"
+    fail=1
+  else
+    echo "ok   $name: $(grep -o "note: $what was built before your last edit of [^,]*" <<<"$old")"
+  fi
+}
 for prog in hw1_transform hw2_rasterize hw3_shading; do
   [[ -x $bin/$prog ]] || { echo "FAIL $prog: not built in $bin"; fail=1; continue; }
   cp "$bin/$prog" "$work/$prog"
@@ -22,16 +38,7 @@ for prog in hw1_transform hw2_rasterize hw3_shading; do
   old=$("$work/$prog" -o "$work/old.png" 2>&1 >/dev/null)
   touch "$work/$prog"
   new=$("$work/$prog" -o "$work/new.png" 2>&1 >/dev/null)
-  if ! grep -q "was built before your last edit of $src/" <<<"$old"; then
-    echo "FAIL $prog dated 2000: expected the note 'built before your last edit of ...', got:"
-    sed 's/^/       /' <<<"$old"
-    fail=1
-  elif grep -q "built before your last edit" <<<"$new"; then
-    echo "FAIL $prog dated now: expected no note, got: $new"
-    fail=1
-  else
-    echo "ok   $prog: $(grep -o 'note: this program was built before your last edit of [^,]*' <<<"$old")"
-  fi
+  says_stale "$prog" "this program" "$old" "$new"
   if [[ -x $bin/${prog}_ref ]]; then
     cp "$bin/${prog}_ref" "$work/${prog}_ref" && touch -d 2000-01-01 "$work/${prog}_ref"
     if "$work/${prog}_ref" -o "$work/ref.png" 2>&1 >/dev/null | grep -q "built before your last edit"; then
@@ -49,16 +56,7 @@ for hw in hw1 hw2 hw3; do
   old=$(RAS_TEST_FILTER=no_such_test "$work/test_${hw}_student" 2>&1)
   touch "$work/test_${hw}_student"
   new=$(RAS_TEST_FILTER=no_such_test "$work/test_${hw}_student" 2>&1)
-  if ! grep -q "test program was built before your last edit of $src/" <<<"$old"; then
-    echo "FAIL test_${hw}_student dated 2000: expected the note 'built before your last edit of ...', got:"
-    sed 's/^/       /' <<<"$old" | head -5
-    fail=1
-  elif grep -q "built before your last edit" <<<"$new"; then
-    echo "FAIL test_${hw}_student dated now: expected no note, got: $new"
-    fail=1
-  else
-    echo "ok   test_${hw}_student: $(grep -o 'note: this test program was built before your last edit of [^,]*' <<<"$old")"
-  fi
+  says_stale "test_${hw}_student" "this test program" "$old" "$new"
 done
 # The --programs list of a make -n plan, one name a line.
 programs_of() { grep -o -- '--programs "[^"]*"' <<<"$1" | head -1 | sed 's/--programs "//; s/"$//' | tr ' ' '\n'; }
