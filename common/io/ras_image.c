@@ -146,12 +146,7 @@ bool ras_image_check_output(const char *path, ras_error *err) {
     if (!ras_io_check_replace(path, "image", err)) return false;
     /* The folder the file goes into. */
     char dir[4096];
-    if (!slash)
-        snprintf(dir, sizeof dir, ".");
-    else if (slash == path)
-        snprintf(dir, sizeof dir, "/");
-    else
-        snprintf(dir, sizeof dir, "%.*s", (int)(slash - path), path);
+    ras_io_folder_of(path, dir, sizeof dir);
     if (stat(dir, &st) != 0)
         return ras_error_set(err,
                              "cannot write '%s': the folder '%s' does not exist; create it "

@@ -255,6 +255,13 @@ time_t ras_io_process_start(void) {
     return start;
 }
 
+void ras_io_folder_of(const char *path, char *dir, size_t size) {
+    const char *slash = strrchr(path, '/');
+    if (!slash) snprintf(dir, size, ".");
+    else if (slash == path) snprintf(dir, size, "/");
+    else snprintf(dir, size, "%.*s", (int)(slash - path), path);
+}
+
 /* Whether `name` is one of ras_io_write_atomic's temporaries: ".NAME-XXXXXX"
  * (six characters mkstemp chooses), NAME ending in an extension the programs
  * write, so no other dotfile ever matches. */
@@ -326,10 +333,7 @@ static bool write_atomic_locked(const char *path, const char *what, const void *
         /* Temporaries a kill -9 left in this folder (nothing could remove
          * them then): the next writer does. */
         char folder[PATH_MAX];
-        const char *slash = strrchr(target, '/');
-        if (!slash) snprintf(folder, sizeof folder, ".");
-        else if (slash == target) snprintf(folder, sizeof folder, "/");
-        else snprintf(folder, sizeof folder, "%.*s", (int)(slash - target), target);
+        ras_io_folder_of(target, folder, sizeof folder);
         ras_io_remove_stale_temporaries(folder);
     }
 
@@ -408,10 +412,7 @@ static bool write_atomic_locked(const char *path, const char *what, const void *
     signals_restore(&saved);
     /* The rename itself reaches the disk when the folder is synced. */
     char dir[PATH_MAX];
-    const char *slash = strrchr(target, '/');
-    if (!slash) snprintf(dir, sizeof dir, ".");
-    else if (slash == target) snprintf(dir, sizeof dir, "/");
-    else snprintf(dir, sizeof dir, "%.*s", (int)(slash - target), target);
+    ras_io_folder_of(target, dir, sizeof dir);
     int dfd = open(dir, O_RDONLY | O_DIRECTORY | O_CLOEXEC);
     if (dfd >= 0) {
         fsync(dfd);

@@ -87,6 +87,10 @@ typedef struct ras_io_report {
 FILE *ras_io_report_open(ras_io_report *r);
 bool ras_io_report_commit(ras_io_report *r, const char *path, ras_error *err);
 
+/* The folder of `path` ("." when it has none, "/" for a file at the root)
+ * into `dir`, cut to `size`. */
+void ras_io_folder_of(const char *path, char *dir, size_t size);
+
 /* Checks a file name given on the command line: not longer than
  * RAS_IO_MAX_PATH. `option` names it in the message ("--reference"). */
 bool ras_io_path_fits(const char *option, const char *path, ras_error *err);

@@ -16,7 +16,7 @@
 #include <sys/stat.h> /* stat: a glTF's external files */
 #include <unistd.h> /* read, close */
 
-#include "ras_io.h"     /* ras_io_read_file, ras_io_text_nesting */
+#include "ras_io.h"     /* ras_io_read_file, ras_io_text_nesting, ras_io_folder_of */
 #include "ras_memory.h" /* ras_memory_check */
 #include "ras_mesh_parts.h"
 
@@ -119,14 +119,6 @@ static bool gltf_depth(const cJSON *root, size_t *depth, bool *bad) {
     return ok;
 }
 
-/* The folder of `path` ("." when it has none), in `dir`. */
-static void folder_of(const char *path, char *dir, size_t size) {
-    const char *slash = strrchr(path, '/');
-    if (!slash) snprintf(dir, size, ".");
-    else if (slash == path) snprintf(dir, size, "/");
-    else snprintf(dir, size, "%.*s", (int)(slash - path), path);
-}
-
 /* Every external file a glTF names (buffers[].uri, images[].uri; arrays in
  * 2.0, objects in 1.0) must be a regular file inside the model's folder:
  * relative, without "..", no scheme, and still inside once links are
@@ -134,7 +126,7 @@ static void folder_of(const char *path, char *dir, size_t size) {
 static bool check_gltf_uris(const char *path, const cJSON *root, ras_error *err) {
     static const char *const lists[] = {"buffers", "images"};
     char dir[4096], real_dir[PATH_MAX];
-    folder_of(path, dir, sizeof dir);
+    ras_io_folder_of(path, dir, sizeof dir);
     if (!realpath(dir, real_dir)) return true; /* the model itself was just opened */
     size_t dir_len = strlen(real_dir);
     for (int l = 0; l < 2; l++) {

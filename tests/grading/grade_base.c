@@ -3,6 +3,8 @@
  */
 #include "grade_base.h"
 
+#include "ras_io.h" /* ras_io_folder_of */
+
 #include <dirent.h>
 #include <errno.h>
 #include <fcntl.h>
@@ -176,13 +178,8 @@ int sandbox_dir(const char *path, char *why, size_t n) {
 
 int sandbox_dir_of(const char *path, const char **name, char *why, size_t n) {
     char dir[4096];
+    ras_io_folder_of(path, dir, sizeof dir);
     const char *slash = strrchr(path, '/');
-    if (!slash)
-        fmt(dir, sizeof dir, ".");
-    else if (slash == path)
-        fmt(dir, sizeof dir, "/");
-    else
-        fmt(dir, sizeof dir, "%.*s", (int)(slash - path), path);
     *name = slash ? slash + 1 : path;
     return sandbox_dir(dir, why, n);
 }
