@@ -42,10 +42,19 @@ typedef struct ras_mesh {
  * - the import runs on a thread with a stack of up to RAS_MESH_IMPORT_STACK
  *   (a quarter of the memory budget, at least 16 MiB), for formats whose
  *   nesting is not scanned;
- * - memory: the file's size times RAS_MESH_IMPORT_BYTES_PER_FILE_BYTE must
- *   fit the memory budget (ras_memory.h) before the import starts; so must
- *   the glTF node walk (a cJSON tree, up to 40 bytes a byte), or the file is
- *   refused. */
+ * - memory: the file's size times RAS_MESH_IMPORT_BYTES_PER_FILE_BYTE, plus
+ *   an OBJ's .mtl files (their size the same way, and each material's
+ *   import), must fit the memory budget (ras_memory.h) before the import
+ *   starts; so must the glTF node walk (a cJSON tree, up to 40 bytes a
+ *   byte), or the file is refused. The import's process is held to the
+ *   budget as well (RLIMIT_AS: its address space so far plus the budget);
+ * - side files: every file the importer opens besides the model (an OBJ's
+ *   mtllib, a glTF's URIs) must be a regular file inside the model's folder;
+ *   an OBJ's mtllib outside it is refused with its line;
+ * - OBJ: a face's vt/vn index beyond what the file defines is refused (with
+ *   its line); at most RAS_MESH_MAX_OBJ_PARTS 'o' and 'usemtl' lines;
+ * - PLY: the header must be complete text ('end_header' within 64 KiB) of
+ *   the lines the format has, or the file is refused at once. */
 #define RAS_MESH_MAX_NESTING 10000
 #define RAS_MESH_MAX_SCAN_BYTES (256u << 20)
 #define RAS_MESH_IMPORT_STACK (256u << 20)
@@ -56,6 +65,14 @@ typedef struct ras_mesh {
 #define RAS_MESH_IMPORT_SECONDS_DEFAULT 60
 /* measured: 14 (a 40.8 MB OBJ: 570 MB), 19 (a 40 MB glTF of numbers: 761 MB) */
 #define RAS_MESH_IMPORT_BYTES_PER_FILE_BYTE 20.0
+/* Seconds all imports of one run may take together (a scene naming many
+ * models); RAS_MESH_IMPORT_TOTAL_SECONDS overrides it. A model named by
+ * several objects is imported once per run (by device and inode). */
+#define RAS_MESH_IMPORT_TOTAL_SECONDS_DEFAULT 120
+/* The most 'o' lines, and the most 'usemtl' lines, an OBJ may have: assimp's
+ * OBJ reader takes time quadratic in each (measured: 20,000 'o' 2 s, 100,000
+ * about a minute; 20,000 'usemtl' 4.5 s). */
+#define RAS_MESH_MAX_OBJ_PARTS 20000
 
 /* Loads any format assimp reads (OBJ, PLY, STL, glTF, ...), all meshes of the
  * file merged into one. Returns NULL and sets err for a missing file, a file

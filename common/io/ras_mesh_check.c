@@ -119,16 +119,35 @@ static bool gltf_depth(const cJSON *root, size_t *depth, bool *bad) {
     return ok;
 }
 
+/* Whether `name`, a file a model names (a glTF URI, an OBJ's mtllib), stays
+ * inside the model's folder `dir` (real_dir once links are resolved): a
+ * relative name without "..", '\\', '%' or a scheme, still inside once links
+ * are followed. *exists and *st say whether it is there and what it is. */
+static bool side_file_inside(const char *dir, const char *real_dir, const char *name,
+                             bool *exists, struct stat *st) {
+    size_t dir_len = strlen(real_dir), n = strlen(name);
+    const char *colon = strchr(name, ':'), *first_slash = strchr(name, '/');
+    bool outside = name[0] == '/' || name[0] == '\\' || (colon && (!first_slash || colon < first_slash)) ||
+                   !strcmp(name, "..") || !strncmp(name, "../", 3) || strstr(name, "/../") ||
+                   (n >= 3 && !strcmp(name + n - 3, "/..")) || strchr(name, '\\') ||
+                   strchr(name, '%');
+    char file[8192], real_file[PATH_MAX];
+    snprintf(file, sizeof file, "%s/%s", dir, name);
+    *exists = stat(file, st) == 0;
+    if (!outside && *exists)
+        outside = !realpath(file, real_file) || strncmp(real_file, real_dir, dir_len) ||
+                  (real_file[dir_len] != '/' && dir_len > 1);
+    return !outside;
+}
+
 /* Every external file a glTF names (buffers[].uri, images[].uri; arrays in
- * 2.0, objects in 1.0) must be a regular file inside the model's folder:
- * relative, without "..", no scheme, and still inside once links are
- * followed. Embedded data: URIs are not files. */
+ * 2.0, objects in 1.0) must be a regular file inside the model's folder
+ * (side_file_inside). Embedded data: URIs are not files. */
 static bool check_gltf_uris(const char *path, const cJSON *root, ras_error *err) {
     static const char *const lists[] = {"buffers", "images"};
     char dir[4096], real_dir[PATH_MAX];
     ras_io_folder_of(path, dir, sizeof dir);
     if (!realpath(dir, real_dir)) return true; /* the model itself was just opened */
-    size_t dir_len = strlen(real_dir);
     for (int l = 0; l < 2; l++) {
         const cJSON *list = cJSON_GetObjectItemCaseSensitive(root, lists[l]), *item;
         int k = 0;
@@ -137,19 +156,9 @@ static bool check_gltf_uris(const char *path, const cJSON *root, ras_error *err)
             int at = k++;
             if (!cJSON_IsString(uri) || !strncmp(uri->valuestring, "data:", 5)) continue;
             const char *u = uri->valuestring;
-            const char *colon = strchr(u, ':'), *first_slash = strchr(u, '/');
-            bool outside = u[0] == '/' || u[0] == '\\' || (colon && (!first_slash || colon < first_slash)) ||
-                           !strcmp(u, "..") || !strncmp(u, "../", 3) || strstr(u, "/../") ||
-                           (strlen(u) >= 3 && !strcmp(u + strlen(u) - 3, "/..")) || strchr(u, '\\') ||
-                           strchr(u, '%');
-            char file[8192], real_file[PATH_MAX];
-            snprintf(file, sizeof file, "%s/%s", dir, u);
             struct stat st;
-            bool exists = stat(file, &st) == 0;
-            if (!outside && exists)
-                outside = !realpath(file, real_file) || strncmp(real_file, real_dir, dir_len) ||
-                          (real_file[dir_len] != '/' && dir_len > 1);
-            if (outside)
+            bool exists;
+            if (!side_file_inside(dir, real_dir, u, &exists, &st))
                 return ras_error_set(err,
                                      "model '%s': %s[%d].uri '%.200s' points outside the model's "
                                      "folder; expected a file beside the model or in a folder "
@@ -553,3 +562,272 @@ bool ras_mesh_check_ply_lists(const char *path, ras_error *err) {
     return ok;
 }
 
+
+/* ------------------------------------------------------------------------ */
+/* A PLY's header: every line known, end_header present                      */
+
+/* The longest PLY header read: real ones are a few hundred bytes. */
+#define PLY_MAX_HEADER_BYTES (64u << 10)
+
+/* Whether a PLY header line (NUL-terminated, without its newline) is one of
+ * the kinds the format has, with a known type for a property. */
+static bool ply_header_line_known(const char *line) {
+    char w[32] = "", a[32] = "", b[32] = "", c[32] = "", d[32] = "";
+    int got = sscanf(line, "%31s %31s %31s %31s %31s", w, a, b, c, d);
+    if (got < 1) return true; /* a blank line */
+    if (!strcmp(w, "comment") || !strcmp(w, "obj_info")) return true;
+    if (!strcmp(w, "format"))
+        return got == 3 && (!strcmp(a, "ascii") || !strcmp(a, "binary_little_endian") ||
+                            !strcmp(a, "binary_big_endian"));
+    if (!strcmp(w, "element")) return got == 3;
+    if (!strcmp(w, "property") && !strcmp(a, "list"))
+        return got == 5 && ply_type_bytes(b) && ply_type_bytes(c);
+    if (!strcmp(w, "property")) return got == 3 && ply_type_bytes(a);
+    return !strcmp(w, "end_header") && got == 1;
+}
+
+/* assimp's PLY reader waits out the whole import limit (60 s) on a header
+ * cut short or with end_header misspelt: the header is read here first, and
+ * refused at once, naming the line, unless it is `ply`, a format line, then
+ * only the lines the format has, up to `end_header`. */
+bool ras_mesh_check_ply_header(const char *path, ras_error *err) {
+    char why[256];
+    int fd = ras_io_open_input(path, why, sizeof why);
+    if (fd < 0) return true; /* assimp reports it */
+    char *head = malloc(PLY_MAX_HEADER_BYTES + 1);
+    size_t n = 0;
+    while (head && n < PLY_MAX_HEADER_BYTES) {
+        ssize_t got = read(fd, head + n, PLY_MAX_HEADER_BYTES - n);
+        if (got <= 0) break;
+        n += (size_t)got;
+    }
+    close(fd);
+    if (!head) return ras_error_set(err, "out of memory reading the header of model '%s'", path);
+    bool ply = n >= 4 && !memcmp(head, "ply", 3) && (head[3] == '\n' || head[3] == '\r');
+    bool ok = true;
+    int line_no = 0;
+    for (size_t at = 0; ply && ok;) {
+        char *nl = memchr(head + at, '\n', n - at);
+        line_no++;
+        if (!nl) {
+            ok = ras_error_set(err,
+                               "model '%s': its PLY header ends at line %d without 'end_header' "
+                               "(within the first %u KiB); expected a complete header — the "
+                               "file is cut short or not a PLY file",
+                               path, line_no, PLY_MAX_HEADER_BYTES >> 10);
+            break;
+        }
+        *nl = '\0';
+        if (nl > head + at && nl[-1] == '\r') nl[-1] = '\0';
+        const char *line = head + at;
+        at = (size_t)(nl - head) + 1;
+        if (line_no == 1) continue; /* "ply" */
+        bool is_text = !memchr(line, '\0', (size_t)(nl - line)) || strlen(line) == 0;
+        for (const char *q = line; is_text && *q; q++) is_text = (*q >= 32 && *q < 127) || *q == '\t';
+        if (!is_text || !ply_header_line_known(line))
+            ok = ras_error_set(err,
+                               "model '%s': line %d of its PLY header, '%.60s', is not one of "
+                               "'format', 'element NAME COUNT', 'property TYPE NAME', 'property "
+                               "list TYPE TYPE NAME', 'comment', 'obj_info' or 'end_header'; "
+                               "expected a valid PLY header — the file is corrupt",
+                               path, line_no, is_text ? line : "(binary bytes)");
+        else if (line_no == 2 && strncmp(line, "format", 6))
+            ok = ras_error_set(err,
+                               "model '%s': line 2 of its PLY header is '%.60s'; expected "
+                               "'format ascii 1.0' (or binary_little_endian/binary_big_endian) "
+                               "— the file is corrupt",
+                               path, line);
+        else if (!strncmp(line, "end_header", 10))
+            break;
+    }
+    free(head);
+    return ok;
+}
+
+/* ------------------------------------------------------------------------ */
+/* OBJ: its parts, its indices and its material files                         */
+
+/* The OBJ keywords whose count assimp's reader pays for quadratically. */
+typedef struct obj_counts {
+    double vertices, uvs, normals, objects, material_switches;
+} obj_counts;
+
+/* Whether the text is an OBJ: by its name, or (whatever the name, as assimp
+ * tells it) by its first keyword. */
+static bool looks_like_obj(const char *path, const char *data, size_t len) {
+    char ext[16];
+    ras_mesh_file_extension(path, ext, sizeof ext);
+    if (!strcmp(ext, "obj")) return true;
+    if (memchr(data, '\0', len)) return false;
+    static const char *const first[] = {"v", "vt", "vn", "o", "g", "f", "s", "mtllib", "usemtl"};
+    for (size_t at = 0; at < len;) {
+        const char *line = data + at, *nl = memchr(line, '\n', len - at);
+        size_t n = nl ? (size_t)(nl - line) : len - at;
+        at += n + 1;
+        while (n && (*line == ' ' || *line == '\t' || *line == '\r')) line++, n--;
+        if (!n || *line == '#') continue;
+        for (size_t k = 0; k < sizeof first / sizeof *first; k++) {
+            size_t w = strlen(first[k]);
+            if (n > w && !strncmp(line, first[k], w) && (line[w] == ' ' || line[w] == '\t'))
+                return true;
+        }
+        return false;
+    }
+    return false;
+}
+
+/* An OBJ index (1-based, or negative: counted back from the last one so
+ * far) against the `have` elements defined before it: true when it names one. */
+static bool obj_index_ok(long index, double have) {
+    return index > 0 ? (double)index <= have : index < 0 && -(double)index <= have;
+}
+
+/* The corners of one `f` line: each v[/vt][/vn], the vt and vn checked
+ * against what the file has defined so far (assimp drops a bad one
+ * silently, and the face loses its texture coordinate or normal). The v
+ * index is assimp's to check. */
+static bool obj_face_ok(const char *path, const char *line, size_t n, int line_no,
+                        const obj_counts *c, ras_error *err) {
+    static const char *const kinds[] = {"vertex", "texture coordinate (vt)", "normal (vn)"};
+    const char *p = line + 1, *end = line + n;
+    while (p < end) {
+        while (p < end && (*p == ' ' || *p == '\t' || *p == '\r')) p++;
+        for (int slot = 0; p < end && !(*p == ' ' || *p == '\t' || *p == '\r'); slot++) {
+            char num[24];
+            size_t k = 0;
+            while (p < end && *p != '/' && !(*p == ' ' || *p == '\t' || *p == '\r')) {
+                if (k + 1 < sizeof num) num[k++] = *p;
+                p++;
+            }
+            num[k] = '\0';
+            if (p < end && *p == '/') p++;
+            if (slot == 0 || slot > 2 || k == 0) continue;
+            double have = slot == 1 ? c->uvs : c->normals;
+            long index = strtol(num, NULL, 10);
+            if (!obj_index_ok(index, have) && have == 0)
+                return ras_error_set(err,
+                                     "model '%s': line %d: a face uses %s index %s, but the "
+                                     "file defines none before it; expected a face without "
+                                     "one, or the %s lines first — the file is corrupt, "
+                                     "re-export it",
+                                     path, line_no, kinds[slot], num, slot == 1 ? "vt" : "vn");
+            if (!obj_index_ok(index, have))
+                return ras_error_set(err,
+                                     "model '%s': line %d: a face uses %s index %s, but the "
+                                     "file defines only %.0f before it; expected an index from "
+                                     "1 to %.0f (or -1 to -%.0f) — the file is corrupt, "
+                                     "re-export it",
+                                     path, line_no, kinds[slot], num, have, have, have);
+        }
+    }
+    return true;
+}
+
+/* Bytes of assimp's import per material of an OBJ's .mtl (measured: 100,000
+ * materials, 3.5 GB): each holds a dozen 1 KB texture names. */
+#define RAS_MESH_IMPORT_BYTES_PER_MATERIAL 36000.0
+
+/* One `mtllib` line: the file it names (the rest of the line, as assimp
+ * reads it) inside the model's folder, and its cost (its size and its
+ * materials) added to *side_bytes. */
+static bool obj_material_file(const char *path, const char *dir, const char *real_dir,
+                              const char *names, int line_no, double *side_bytes,
+                              ras_error *err) {
+    while (*names == ' ' || *names == '\t') names++;
+    char name_buf[1024];
+    size_t k = strlen(names);
+    while (k && (names[k - 1] == ' ' || names[k - 1] == '\t' || names[k - 1] == '\r')) k--;
+    if (k == 0 || k >= sizeof name_buf) return true; /* assimp ignores it, or cannot open it */
+    memcpy(name_buf, names, k);
+    name_buf[k] = '\0';
+    const char *name = name_buf;
+    struct stat st;
+    bool exists;
+    if (!side_file_inside(dir, real_dir, name, &exists, &st))
+        return ras_error_set(err,
+                             "model '%s': line %d: mtllib '%.200s' points outside the "
+                             "model's folder; expected a material file beside the model or "
+                             "in a folder under it (a relative name without '..', '%%' or a "
+                             "scheme)",
+                             path, line_no, name);
+    /* Missing, or not a regular file (which the importer's file access
+     * refuses to open): assimp warns and uses its default material. */
+    if (!exists || !S_ISREG(st.st_mode)) return true;
+    char file[8192];
+    snprintf(file, sizeof file, "%s/%s", dir, name);
+    size_t len = 0;
+    ras_error rerr = {{0}};
+    char *mtl = ras_io_read_file(file, "material file", RAS_MESH_MAX_SCAN_BYTES, &len, &rerr);
+    double materials = 0;
+    for (size_t at = 0; mtl && at < len;) {
+        const char *l = mtl + at, *nl = memchr(l, '\n', len - at);
+        at = nl ? (size_t)(nl - mtl) + 1 : len;
+        while (l < mtl + len && (*l == ' ' || *l == '\t')) l++;
+        if ((size_t)(mtl + len - l) > 7 && !strncmp(l, "newmtl", 6) && (l[6] == ' ' || l[6] == '\t'))
+            materials++;
+    }
+    free(mtl);
+    *side_bytes += (double)st.st_size * RAS_MESH_IMPORT_BYTES_PER_FILE_BYTE +
+                   materials * RAS_MESH_IMPORT_BYTES_PER_MATERIAL;
+    return true;
+}
+
+/* The counts of one OBJ line's keyword, and the checks of an `f` or `mtllib` line. */
+static bool obj_line(const char *path, const char *line, size_t n, int line_no,
+                     const char *dir, const char *real_dir, obj_counts *c, double *side_bytes,
+                     ras_error *err) {
+    while (n && (*line == ' ' || *line == '\t')) line++, n--;
+    size_t w = 0;
+    while (w < n && !(line[w] == ' ' || line[w] == '\t' || line[w] == '\r')) w++;
+    if (w == 1 && line[0] == 'v') c->vertices++;
+    else if (w == 2 && !strncmp(line, "vt", 2)) c->uvs++;
+    else if (w == 2 && !strncmp(line, "vn", 2)) c->normals++;
+    else if (w == 1 && line[0] == 'o') c->objects++;
+    else if (w == 6 && !strncmp(line, "usemtl", 6)) c->material_switches++;
+    else if (w == 1 && line[0] == 'f') return obj_face_ok(path, line, n, line_no, c, err);
+    else if (w == 6 && !strncmp(line, "mtllib", 6)) {
+        char names[1024];
+        size_t k = n - w < sizeof names - 1 ? n - w : sizeof names - 1;
+        memcpy(names, line + w, k);
+        names[k] = '\0';
+        return obj_material_file(path, dir, real_dir, names, line_no, side_bytes, err);
+    }
+    return true;
+}
+
+bool ras_mesh_check_obj(const char *path, double *side_bytes, ras_error *err) {
+    *side_bytes = 0;
+    size_t len = 0;
+    ras_error rerr = {{0}};
+    char *data = ras_io_read_file(path, "model", RAS_MESH_MAX_SCAN_BYTES, &len, &rerr);
+    if (!data) return true; /* too big to scan (the estimate refuses it), or unreadable */
+    if (!looks_like_obj(path, data, len)) {
+        free(data);
+        return true;
+    }
+    char dir[4096], real_dir[PATH_MAX];
+    ras_io_folder_of(path, dir, sizeof dir);
+    if (!realpath(dir, real_dir)) snprintf(real_dir, sizeof real_dir, "%s", dir);
+    obj_counts c = {0};
+    bool ok = true;
+    int line_no = 0;
+    for (size_t at = 0; ok && at < len;) {
+        const char *line = data + at, *nl = memchr(line, '\n', len - at);
+        size_t n = nl ? (size_t)(nl - line) : len - at;
+        at += n + 1;
+        line_no++;
+        ok = obj_line(path, line, n, line_no, dir, real_dir, &c, side_bytes, err);
+    }
+    free(data);
+    /* Each object and each material switch is a mesh of its own in assimp,
+     * as costly as a material (20,000 'usemtl' lines: 729 MB). */
+    *side_bytes += (c.objects + c.material_switches) * RAS_MESH_IMPORT_BYTES_PER_MATERIAL;
+    if (ok && (c.objects > RAS_MESH_MAX_OBJ_PARTS || c.material_switches > RAS_MESH_MAX_OBJ_PARTS))
+        ok = ras_error_set(err,
+                           "model '%s' has %.0f objects ('o' lines) and %.0f material switches "
+                           "('usemtl' lines); expected at most %d of each: the importer's time "
+                           "grows with the square of their number (100,000 take minutes) — "
+                           "merge the objects or materials, or convert the model to PLY or glTF",
+                           path, c.objects, c.material_switches, RAS_MESH_MAX_OBJ_PARTS);
+    return ok;
+}

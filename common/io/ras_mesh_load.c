@@ -27,8 +27,12 @@
 #include <stdio.h>  /* fdopen, fread, fseek, fclose, snprintf */
 #include <stdlib.h> /* calloc, malloc, free */
 #include <string.h> /* memcpy, strcmp, strrchr, strdup, strsignal */
+#include <signal.h>   /* SIGKILL */
+#include <sys/prctl.h> /* prctl, PR_SET_PDEATHSIG: the import's child ends with its parent */
+#include <sys/resource.h> /* setrlimit, RLIMIT_AS: the import's child held to the budget */
 #include <sys/stat.h> /* fstat */
-#include <unistd.h> /* close, write */
+#include <time.h>   /* clock_gettime: the run's total import time */
+#include <unistd.h> /* close, write, getppid, sysconf */
 
 #include "ras_io.h"     /* ras_io_open_input */
 #include "ras_job.h"    /* the import in a child process, or on its own thread, with a time limit */
@@ -258,12 +262,25 @@ static void io_flush(struct aiFile *f) { (void)f; }
  * name alone): the real path plus that suffix, opened as the real path. */
 typedef struct io_alias {
     const char *alias, *path;
+    char real_dir[PATH_MAX]; /* the model's folder, links resolved ("" when unknown) */
 } io_alias;
+
+/* Whether a file assimp asks for besides the model lies in the model's
+ * folder once links are resolved: ras_mesh_check.c refuses an OBJ's mtllib
+ * or a glTF's URI outside it with a sentence; this holds every other
+ * format's side files (and whatever name assimp builds) to the same. */
+static bool io_inside_model_folder(const io_alias *a, const char *path) {
+    char real[PATH_MAX];
+    if (!a->real_dir[0] || !realpath(path, real)) return false;
+    size_t n = strlen(a->real_dir);
+    return !strncmp(real, a->real_dir, n) && (real[n] == '/' || (n == 1 && real[0] == '/'));
+}
 
 static struct aiFile *io_open(struct aiFileIO *io, const char *path, const char *mode) {
     const io_alias *a = (const io_alias *)io->UserData;
-    if (a && path && !strcmp(path, a->alias)) path = a->path;
-    if (!mode || mode[0] != 'r') return NULL;
+    if (!path || !mode || mode[0] != 'r') return NULL;
+    if (!strcmp(path, a->alias)) path = a->path;
+    else if (strcmp(path, a->path) && !io_inside_model_folder(a, path)) return NULL;
     char why[256];
     int fd = ras_io_open_input(path, why, sizeof why);
     if (fd < 0) return NULL;
@@ -302,6 +319,7 @@ static bool load_assimp(const char *path, ras_error *err);
 typedef struct import_work {
     char *path;
     ras_error err;
+    pid_t parent; /* the process that forks the import's child */
 } import_work;
 
 /* The nesting check and the import, on the same thread: the check's cJSON
@@ -370,13 +388,73 @@ static bool write_all(int fd, const void *data, size_t n) {
     return true;
 }
 
-/* In the child: the import (on its large-stack thread; the parent keeps the
- * time), then its mesh or its error down the pipe. */
+#if defined(__SANITIZE_ADDRESS__)
+#define RAS_MESH_UNDER_ASAN 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define RAS_MESH_UNDER_ASAN 1
+#endif
+#endif
+
+/* Address space the child may add to what it has at the fork besides the
+ * budget and the import thread's stack: small mappings (the pipe's stdio,
+ * the locale). */
+#define IMPORT_SLACK (16.0 * 1024 * 1024)
+
+/* The child's address space held to what it has now (the parent's image)
+ * plus the import thread's stack and the memory budget: assimp reserves
+ * what a file asks (a .mtl of 100,000 materials took 3.5 GB) and its
+ * std::bad_alloc then fails the import instead of the machine. Not under
+ * AddressSanitizer, whose shadow memory is terabytes of address space. */
+static void import_hold_to_budget(void) {
+#ifndef RAS_MESH_UNDER_ASAN
+    FILE *f = fopen("/proc/self/statm", "r");
+    unsigned long pages = 0;
+    bool known = f && fscanf(f, "%lu", &pages) == 1;
+    if (f) fclose(f);
+    if (!known) return; /* no /proc: the up-front estimate alone holds it */
+    double now = (double)pages * (double)sysconf(_SC_PAGESIZE);
+#ifdef __GLIBC__
+    /* One malloc arena: a thread's own arena reserves 64 MiB of address
+     * space (128 MiB while it is aligned), which would count against the
+     * budget without holding anything. */
+    mallopt(M_ARENA_MAX, 1);
+#endif
+    double cap = now + (double)import_stack() + IMPORT_SLACK + (double)ras_memory_limit();
+    struct rlimit rl;
+    if (getrlimit(RLIMIT_AS, &rl) == 0 && (rl.rlim_max == RLIM_INFINITY || cap < (double)rl.rlim_max) &&
+        (rl.rlim_cur == RLIM_INFINITY || cap < (double)rl.rlim_cur)) {
+        rl.rlim_cur = (rlim_t)cap;
+        setrlimit(RLIMIT_AS, &rl);
+    }
+#endif
+}
+
+/* assimp's words for running out of memory, in the project's: the budget
+ * (RLIMIT_AS in this child) was reached. */
+static void import_say_out_of_memory(import_work *work) {
+    if (!strstr(work->err.msg, "bad_alloc") && !strstr(work->err.msg, "out of memory")) return;
+    ras_error_set(&work->err,
+                  "model '%s' needs more memory than the budget (%zu MiB, %s) while it is "
+                  "imported; expected a model that fits — use a smaller model, or raise the "
+                  "limit with --memory-limit MB (or RAS_MEMORY_LIMIT_MB)",
+                  work->path, ras_memory_limit() >> 20, ras_memory_limit_source());
+}
+
+/* In the child: held to the budget, ended with its parent whatever ends the
+ * parent (kill PID from an IDE or a grader: SIGKILL has no handler to
+ * clean up from), then the import (on its large-stack thread; the parent
+ * keeps the time), then its mesh or its error down the pipe. */
 static int import_child(void *arg, int fd) {
     import_work *work = arg;
+    /* getppid after the prctl: a parent that died before it would leave
+     * this child re-parented, and the death signal never sent. */
+    if (prctl(PR_SET_PDEATHSIG, SIGKILL) != 0 || getppid() != work->parent) return 3;
+    import_hold_to_budget();
     void *result = NULL;
     ras_job_run(import_thread, work, import_discard, import_stack(), 1e9, &result);
     ras_mesh *m = result;
+    if (!m) import_say_out_of_memory(work);
     import_header h = {m ? 'M' : 'E', m && m->has_uv, m && m->has_normals_from_file,
                        m ? m->vertex_count : 0, m ? m->triangle_count : 0};
     bool ok = write_all(fd, &h, sizeof h);
@@ -464,9 +542,11 @@ static ras_mesh *import_isolated(import_work *work, double limit, bool *isolated
     case RAS_JOB_CHILD_CRASHED:
         return ras_error_set(err,
                              "could not read model '%s': the model importer (assimp) crashed "
-                             "on it (signal %d, %s); expected a well-formed mesh file — check "
-                             "the file, or re-export it",
-                             path, sig, strsignal(sig)),
+                             "on it (signal %d, %s; its process is held to the memory budget "
+                             "of %zu MiB, which it may have reached); expected a well-formed "
+                             "mesh file that fits — check the file, re-export it, or raise "
+                             "--memory-limit",
+                             path, sig, strsignal(sig), ras_memory_limit() >> 20),
                NULL;
     case RAS_JOB_CHILD_DONE: break;
     }
@@ -475,6 +555,136 @@ static ras_mesh *import_isolated(import_work *work, double limit, bool *isolated
         ras_error_set(err, "could not read model '%s': the importer's process failed (exit %d)",
                       path, code);
     free(bytes);
+    return mesh;
+}
+
+/* ------------------------------------------------------------------------ */
+/* One run's imports: each file once, all of them within a total time        */
+
+/* A model already imported in this run, by the file's identity: a scene that
+ * names one model in 4,096 objects imported it 4,096 times, each in its own
+ * child (minutes). The copy kept here is counted in the memory budget. */
+typedef struct import_cached {
+    dev_t dev;
+    ino_t ino;
+    off_t size;
+    struct timespec mtime;
+    ras_mesh *mesh;
+} import_cached;
+
+static struct {
+    pthread_mutex_t lock;
+    import_cached *items;
+    size_t count, cap;
+    double seconds_used; /* wall-clock seconds the run's imports took so far */
+} g_imports = {PTHREAD_MUTEX_INITIALIZER, NULL, 0, 0, 0};
+
+static double mesh_bytes(const ras_mesh *m) {
+    return (double)m->vertex_count * (3 * sizeof(vec3s) + sizeof(vec2s)) +
+           (double)m->triangle_count * 3 * sizeof(unsigned);
+}
+
+/* A new mesh equal to `m` (NULL when out of memory). */
+static ras_mesh *mesh_copy(const ras_mesh *m) {
+    ras_mesh *c = ras_mesh_create(m->vertex_count, m->triangle_count);
+    if (!c) return NULL;
+    size_t v = m->vertex_count;
+    memcpy(c->positions, m->positions, v * sizeof *m->positions);
+    memcpy(c->normals, m->normals, v * sizeof *m->normals);
+    memcpy(c->uvs, m->uvs, v * sizeof *m->uvs);
+    memcpy(c->colors, m->colors, v * sizeof *m->colors);
+    memcpy(c->indices, m->indices, 3 * m->triangle_count * sizeof *m->indices);
+    c->has_uv = m->has_uv;
+    c->has_normals_from_file = m->has_normals_from_file;
+    return c;
+}
+
+static bool same_file(const import_cached *c, const struct stat *st) {
+    return c->dev == st->st_dev && c->ino == st->st_ino && c->size == st->st_size &&
+           c->mtime.tv_sec == st->st_mtim.tv_sec && c->mtime.tv_nsec == st->st_mtim.tv_nsec;
+}
+
+/* A copy of the run's earlier import of this file, or NULL. */
+static ras_mesh *cached_import(const struct stat *st) {
+    ras_mesh *copy = NULL;
+    pthread_mutex_lock(&g_imports.lock);
+    for (size_t i = 0; i < g_imports.count && !copy; i++)
+        if (same_file(&g_imports.items[i], st)) copy = mesh_copy(g_imports.items[i].mesh);
+    pthread_mutex_unlock(&g_imports.lock);
+    return copy;
+}
+
+/* Keeps a copy of `mesh` for the run's later uses of the same file, when the
+ * budget has room for it (else the file is imported again if named again). */
+static void remember_import(const struct stat *st, const ras_mesh *mesh) {
+    ras_error ignored = {{0}};
+    if (!ras_memory_check(mesh_bytes(mesh), "keeping an imported model", NULL, &ignored)) return;
+    pthread_mutex_lock(&g_imports.lock);
+    if (g_imports.count == g_imports.cap) {
+        size_t cap = g_imports.cap ? 2 * g_imports.cap : 8;
+        import_cached *grown = realloc(g_imports.items, cap * sizeof *grown);
+        if (grown) g_imports.items = grown, g_imports.cap = cap;
+    }
+    ras_mesh *copy = g_imports.count < g_imports.cap ? mesh_copy(mesh) : NULL;
+    if (copy) {
+        g_imports.items[g_imports.count++] =
+            (import_cached){st->st_dev, st->st_ino, st->st_size, st->st_mtim, copy};
+        ras_memory_commit(mesh_bytes(copy));
+    }
+    pthread_mutex_unlock(&g_imports.lock);
+}
+
+static double seconds_now(void) {
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + (double)t.tv_nsec * 1e-9;
+}
+
+/* The checks before assimp, with the memory estimate of the model and its
+ * side files; true when the file may be imported. */
+static bool import_allowed(const char *path, double file_bytes, ras_error *err) {
+    double side_bytes = 0;
+    if (!ras_mesh_check_declared_counts(path, file_bytes, err) || !ras_mesh_check_ply_lists(path, err) ||
+        !ras_mesh_check_ply_header(path, err) || !ras_mesh_check_obj(path, &side_bytes, err))
+        return false;
+    char what[1200];
+    if (side_bytes > 0)
+        snprintf(what, sizeof what, "importing model '%s' (%.1f MB) with its materials and objects",
+                 path, file_bytes / 1e6);
+    else
+        snprintf(what, sizeof what, "importing model '%s' (%.1f MB)", path, file_bytes / 1e6);
+    return ras_memory_check(file_bytes * RAS_MESH_IMPORT_BYTES_PER_FILE_BYTE + side_bytes, what,
+                            "use a smaller model", err);
+}
+
+/* The import proper, in a child process when one can be made, with at most
+ * `limit` seconds. */
+static ras_mesh *import_with_limit(const char *path, double limit, ras_error *err) {
+    if (!load_assimp(path, err)) return NULL; /* opened here: the child must not dlopen */
+    import_work *work = calloc(1, sizeof *work);
+    char *path_copy = work ? strdup(path) : NULL;
+    if (!work || !path_copy) {
+        free(work);
+        ras_error_set(err, "out of memory importing model '%s'", path);
+        return NULL;
+    }
+    work->path = path_copy;
+    work->parent = getpid();
+    bool isolated = false;
+    ras_mesh *mesh = import_isolated(work, limit, &isolated, err);
+    if (!isolated) { /* no child process could be made: the import runs in this one */
+        mesh = import_in_process(work, limit, err);
+        if (!work->path) return mesh; /* still running: its thread owns the work now */
+    }
+    free(work->path);
+    free(work);
+#ifdef __GLIBC__
+    /* The import's memory was freed in the thread's own malloc arena, where
+     * the renderer (on this thread) cannot reuse it: give it back, or the
+     * peak is the import plus the render (980 instead of 667 MB measured on
+     * a 40 MB OBJ). */
+    if (!isolated) malloc_trim(0);
+#endif
     return mesh;
 }
 
@@ -493,44 +703,49 @@ ras_mesh *ras_mesh_load(const char *path, ras_error *err) {
         return NULL;
     }
     struct stat st;
-    double file_bytes = fstat(probe, &st) == 0 ? (double)st.st_size : 0;
+    bool known = fstat(probe, &st) == 0;
     close(probe);
-    char what[1200];
-    snprintf(what, sizeof what, "importing model '%s' (%.1f MB)", path, file_bytes / 1e6);
-    if (!ras_memory_check(file_bytes * RAS_MESH_IMPORT_BYTES_PER_FILE_BYTE, what,
-                          "use a smaller model", err))
-        return NULL;
-    char ext[16];
-    ras_mesh_file_extension(path, ext, sizeof ext);
-    if (!ras_mesh_check_declared_counts(path, file_bytes, err) || !ras_mesh_check_ply_lists(path, err))
-        return NULL;
-    if (!load_assimp(path, err)) return NULL; /* opened here: the child must not dlopen */
-    import_work *work = calloc(1, sizeof *work);
-    char *path_copy = work ? strdup(path) : NULL;
-    if (!work || !path_copy) {
-        free(work);
-        ras_error_set(err, "out of memory importing model '%s'", path);
-        return NULL;
-    }
-    work->path = path_copy;
-    /* At most the import's time limit: assimp has importers that loop
-     * forever on some malformed files. */
+    double file_bytes = known ? (double)st.st_size : 0;
+    ras_mesh *mesh = known ? cached_import(&st) : NULL;
+    if (mesh) return mesh;
+    if (!import_allowed(path, file_bytes, err)) return NULL;
+    /* Each import at most its own limit (assimp has importers that loop
+     * forever on some malformed files), and all of a run's together at most
+     * the total: a scene naming many slow models ends, naming the one it
+     * was on. */
     double limit = ras_job_seconds("RAS_MESH_IMPORT_SECONDS", RAS_MESH_IMPORT_SECONDS_DEFAULT);
-    bool isolated = false;
-    ras_mesh *mesh = import_isolated(work, limit, &isolated, err);
-    if (!isolated) { /* no child process could be made: the import runs in this one */
-        mesh = import_in_process(work, limit, err);
-        if (!work->path) return mesh; /* still running: its thread owns the work now */
+    double total = ras_job_seconds("RAS_MESH_IMPORT_TOTAL_SECONDS", RAS_MESH_IMPORT_TOTAL_SECONDS_DEFAULT);
+    pthread_mutex_lock(&g_imports.lock);
+    double used = g_imports.seconds_used;
+    pthread_mutex_unlock(&g_imports.lock);
+    double left = total - used;
+    if (left < 0.001 || left < limit) {
+        if (left < 0.001)
+            return ras_error_set(err,
+                                 "the run's model imports took %.1f s together, the limit on all "
+                                 "of them (%g s), before '%s' could start; expected fewer or "
+                                 "smaller models — or raise RAS_MESH_IMPORT_TOTAL_SECONDS",
+                                 used, total, path),
+                   NULL;
+        limit = left;
     }
-    free(work->path);
-    free(work);
-#ifdef __GLIBC__
-    /* The import's memory was freed in the thread's own malloc arena, where
-     * the renderer (on this thread) cannot reuse it: give it back, or the
-     * peak is the import plus the render (980 instead of 667 MB measured on
-     * a 40 MB OBJ). */
-    if (!isolated) malloc_trim(0);
-#endif
+    double start = seconds_now();
+    ras_error inner = {{0}};
+    mesh = import_with_limit(path, limit, &inner);
+    double took = seconds_now() - start;
+    pthread_mutex_lock(&g_imports.lock);
+    g_imports.seconds_used += took;
+    pthread_mutex_unlock(&g_imports.lock);
+    if (!mesh && left < 0.001 + ras_job_seconds("RAS_MESH_IMPORT_SECONDS", RAS_MESH_IMPORT_SECONDS_DEFAULT) &&
+        took >= limit && strstr(inner.msg, "did not finish"))
+        ras_error_set(err,
+                      "importing '%s' ran past the limit on all of the run's model imports "
+                      "(%g s; the earlier imports took %.1f s of it); expected fewer or smaller "
+                      "models — or raise RAS_MESH_IMPORT_TOTAL_SECONDS",
+                      path, total, used);
+    else if (!mesh && err)
+        *err = inner;
+    if (mesh && known) remember_import(&st, mesh);
     return mesh;
 }
 
@@ -603,7 +818,10 @@ static ras_mesh *import_mesh(const char *path, const char *suffix, ras_error *er
                            aiProcess_SortByPType | aiProcess_ValidateDataStructure;
     char ext[16], alias[PATH_MAX + 8];
     ras_mesh_file_extension(path, ext, sizeof ext);
-    io_alias named = {path, path};
+    io_alias named = {path, path, ""};
+    char dir[4096];
+    ras_io_folder_of(path, dir, sizeof dir);
+    if (!realpath(dir, named.real_dir)) named.real_dir[0] = '\0';
     if (*suffix && strcmp(ext, suffix + 1) && strlen(path) < PATH_MAX) {
         snprintf(alias, sizeof alias, "%s%s", path, suffix);
         named.alias = alias;

@@ -38,5 +38,11 @@ void ras_mesh_file_extension(const char *path, char *ext, size_t size);
 bool ras_mesh_check_content(const char *path, const char **suffix, ras_error *err);
 bool ras_mesh_check_declared_counts(const char *path, double file_bytes, ras_error *err);
 bool ras_mesh_check_ply_lists(const char *path, ras_error *err);
+/* A PLY's header complete and made of known lines (true for any other file). */
+bool ras_mesh_check_ply_header(const char *path, ras_error *err);
+/* An OBJ (by name or content; true for any other file): its vt/vn indices,
+ * its 'o'/'usemtl' counts, its mtllib files inside the model's folder.
+ * *side_bytes is the estimated import cost of those material files. */
+bool ras_mesh_check_obj(const char *path, double *side_bytes, ras_error *err);
 
 #endif
