@@ -409,7 +409,7 @@ void ras_cli_help(unsigned accepted, const char *program, const char *usage, cha
     }
     ADD("Exit status: 0 done, 1 the render or writing failed, 2 bad options or input\n"
         "(nothing is written then).%s\n",
-        accepted & RAS_OPT_COMPARE ? " With --compare: 0 the images match, 1 they differ." : "");
+        accepted & RAS_OPT_COMPARE ? " With --compare: 0 the images match, 1 they differ, 2 they could not be compared." : "");
 #undef ADD
 }
 

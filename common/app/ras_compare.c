@@ -347,6 +347,14 @@ bool ras_compare_reference_fits(const ras_image *expected, const char *path, int
     return false;
 }
 
+double ras_compare_work_bytes(int width, int height) {
+    double n = (double)width * (double)height;
+    /* quantise: expected, got (3 bytes each), diff (1); mean_ssim: MAPS
+     * doubles and 3 bytes a row. The difference images come after SSIM's
+     * maps are freed, and need less (a 12-byte float pixel and its PNG). */
+    return 7.0 * n + 7.0 * sizeof(double) * n + 3.0 * height;
+}
+
 /* The measurements of `q` under `opt` (opt->kind is the kind q was made for). */
 static bool measure(const quantised *q, const ras_compare_options *opt, ras_compare_result *out,
                     ras_error *err) {

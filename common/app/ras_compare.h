@@ -120,6 +120,12 @@ typedef struct ras_compare_result {
 bool ras_compare_reference_fits(const ras_image *expected, const char *path, int width, int height,
                                 ras_error *err);
 
+/* The bytes a comparison of two width x height images holds at its peak
+ * (the 8-bit copies and difference map, 7 a pixel, with SSIM's seven
+ * double-precision maps, 56 a pixel: 4.2 GB at 8192x8192), so a program can
+ * count it in the budget before it draws anything. */
+double ras_compare_work_bytes(int width, int height);
+
 /* Compares `got` against `expected` under `opt` and fills `out`. Returns
  * false (err: "expected 700x700 (the reference), got 512x512 ...") when the
  * sizes differ or memory runs out; `out` then has pass false and no

@@ -1,0 +1,265 @@
+#!/usr/bin/env python3
+"""import_budget_test.py — every model import held to the budget and to a time (#42 B5),
+and --compare's reference and work counted in the run's one budget (B6).
+
+    import_budget_test.py BIN_DIR WORK_DIR
+
+Each case runs hw3_shading_ref (build/bin) on a hostile model or scene,
+generated here (no big file is committed), and checks:
+  - the exit status (2 and a located message for a refused file; 0 for a
+    legal one),
+  - a piece of the message on stderr,
+  - the process tree's peak resident memory (the program and its import
+    child, from wait4) within 1 GiB, and the wall time within 20 s;
+  - no AddressSanitizer / UBSan report.
+The cases (issue 42, B5):
+  - a 90-byte OBJ naming a .mtl of 100,000 materials (assimp: 3.5 GB): refused
+    up front by the estimate, also under --memory-limit 256;
+  - an OBJ switching material on each of 100,000 faces, and one of 100,000
+    'o' objects (assimp's OBJ reader is quadratic in both): refused at once;
+  - a scene naming one small OBJ in 4,096 objects: imported once, done;
+  - a PLY cut inside its header, or with end_header misspelt: refused at once
+    (assimp waited out its whole 60 s limit);
+  - mtllib outside the model's folder (.., an absolute path, a link): refused;
+  - out-of-range vt / vn indices: refused, naming the line;
+  - a run's imports together past RAS_MESH_IMPORT_TOTAL_SECONDS: an error
+    naming the file it was on;
+  - hw2_rasterize --compare at 8192x8192 (the largest legal size): refused up
+    front, exit 2, with the default budget and with --memory-limit 4096;
+  - the program killed (SIGTERM, SIGKILL) while its import child works: the
+    child is killed too (the test is the orphan's subreaper, so it sees how
+    the child ended: SIGKILL, from PR_SET_PDEATHSIG, not a later exit).
+Exit status 0 when every check passes; each failure is printed.
+"""
+import ctypes
+import json
+import os
+import resource
+import shutil
+import signal
+import struct
+import subprocess
+import sys
+import time
+import zlib
+
+BIN, WORK = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
+H3 = os.path.join(BIN, "hw3_shading_ref")
+SECONDS, PEAK_KB = 20, 1 << 20  # every case: 20 s, 1 GiB resident (the issue's bound)
+shutil.rmtree(WORK, ignore_errors=True)
+os.makedirs(WORK)
+failures = []
+
+
+def path(name):
+    return os.path.join(WORK, name)
+
+
+def write(name, data):
+    os.makedirs(os.path.dirname(path(name)), exist_ok=True)
+    with open(path(name), "w") as f:
+        f.write(data)
+    return path(name)
+
+
+def run(args, env_extra=None, timeout=SECONDS, program=H3):
+    """Runs `program`; (exit status, stderr, seconds, peak KB of the tree)."""
+    env = dict(os.environ)
+    for k in ("DISPLAY", "WAYLAND_DISPLAY", "RAS_MEMORY_LIMIT_MB", "RAS_MESH_IMPORT_SECONDS",
+              "RAS_MESH_IMPORT_TOTAL_SECONDS"):
+        env.pop(k, None)
+    env.update(env_extra or {})
+    start = time.monotonic()
+    p = subprocess.Popen([program] + args, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
+                         env=env, cwd=WORK)
+    try:
+        _, err = p.communicate(timeout=timeout)
+    except subprocess.TimeoutExpired:
+        p.kill()
+        p.communicate()
+        return "timeout", "", timeout, 0
+    # ru_maxrss of RUSAGE_CHILDREN: the largest of every process waited for
+    # so far, the import children (waited for by the program) included.
+    peak = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
+    return p.returncode, err.decode(errors="replace"), time.monotonic() - start, peak
+
+
+peak_before = 0
+
+
+def case(name, args, status, message, env=None, program=H3):
+    global peak_before
+    code, err, took, peak = run(args, env, program=program)
+    problems = []
+    if code != status:
+        problems.append(f"exit {code}, expected {status}")
+    if message not in err:
+        problems.append(f"stderr lacks {message!r}")
+    if took > SECONDS:
+        problems.append(f"took {took:.1f} s, expected at most {SECONDS} s")
+    # RUSAGE_CHILDREN only grows: a new maximum belongs to this case.
+    if peak > PEAK_KB and peak > peak_before:
+        problems.append(f"peak resident memory {peak >> 10} MiB, expected at most "
+                        f"{PEAK_KB >> 10} MiB")
+    peak_before = max(peak_before, peak)
+    if "Sanitizer" in err or "runtime error:" in err:
+        problems.append("sanitizer report")
+    if problems:
+        failures.append(f"FAIL: {name}: {'; '.join(problems)}\n  stderr: {err.strip()[:700]}")
+    else:
+        print(f"ok: {name}: exit {code} in {took:.1f} s")
+
+
+TRI = "v 0 0 0\nv 1 0 0\nv 0 1 0\n"
+OUT = ["--size", "32x32", "-o", path("out.png")]
+
+# ---- the memory estimate counts the .mtl ----
+write("mtl/big.mtl", "".join(f"newmtl m{i}\nKd 1 0 0\n" for i in range(100000)))
+BIG_MTL = write("mtl/m.obj", "mtllib big.mtl\n" + TRI + "usemtl m1\nf 1 2 3\n")
+case("a 90-byte OBJ with 100,000 materials", ["--model", BIG_MTL] + OUT, 2,
+     "with its materials and objects needs about")
+case("the same under --memory-limit 256", ["--model", BIG_MTL, "--memory-limit", "256"] + OUT, 2,
+     "over the memory limit of 256 MiB (set by --memory-limit)")
+SMALL_MTL = write("mtl/small.mtl", "newmtl red\nKd 1 0 0\n")
+case("an OBJ with a small .mtl", ["--model", write("mtl/ok.obj", "mtllib small.mtl\n" + TRI +
+                                                   "usemtl red\nf 1 2 3\n")] + OUT, 0, "wrote")
+
+# ---- assimp's OBJ reader is quadratic in objects and material switches ----
+case("100,000 'o' objects", ["--model", write("objects.obj", TRI + "".join(
+    f"o a{i}\nf 1 2 3\n" for i in range(100000)))] + OUT, 2,
+    "has 100000 objects ('o' lines) and 0 material switches")
+case("a material switch on each of 100,000 faces", ["--model", write("mtl/switch.obj",
+     "mtllib small.mtl\n" + TRI + "".join(f"usemtl m{i}\nf 1 2 3\n" for i in range(100000)))] + OUT,
+     2, "and 100000 material switches ('usemtl' lines); expected at most 20000")
+
+# ---- a model named by many objects is imported once ----
+write("tri.obj", TRI + "f 1 2 3\n")
+MANY = write("many.json", json.dumps({"objects": [{"model": "tri.obj"}] * 4096}))
+case("a scene naming one OBJ in 4,096 objects", ["--scene", MANY] + OUT, 0, "wrote")
+
+# ---- a PLY header cut short or misspelt: refused at once ----
+case("a PLY cut inside its header", ["--model", write("cut.ply",
+     "ply\nformat ascii 1.0\nelement vertex 3\nprop")] + OUT, 2,
+     "its PLY header ends at line 4 without 'end_header'")
+case("a PLY with end_header misspelt", ["--model", write("misspelt.ply",
+     "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nend_heder\n0\n1\n2\n")] + OUT, 2,
+     "line 5 of its PLY header, 'end_heder', is not one of")
+case("a PLY whose name says OBJ, cut inside its header", ["--model", write("cut_ply.obj",
+     "ply\nformat binary_little_endian 1.0\nelement face 1\nproperty list uchar")] + OUT, 2,
+     "its PLY header ends at line 4 without 'end_header'")
+
+# ---- mtllib stays in the model's folder ----
+os.symlink("/etc/passwd", path("mtl/link.mtl"))
+for k, name in enumerate(("../../../../../../etc/passwd", "/proc/self/environ", "link.mtl")):
+    case(f"mtllib {name}", ["--model", write(f"mtl/out{k}.obj", f"mtllib {name}\n" + TRI +
+                                             "f 1 2 3\n")] + OUT, 2,
+         f"line 1: mtllib '{name}' points outside the model's folder")
+
+# ---- texture coordinate and normal indices ----
+case("a vt index past the vt lines", ["--model", write("vt.obj", TRI + "vt 0 0\nf 1/1 2/2 3/1\n")]
+     + OUT, 2, "line 5: a face uses texture coordinate (vt) index 2, but the file defines only 1")
+case("a vn index with no vn lines", ["--model", write("vn.obj", TRI + "f 1//1 2//1 3//1\n")] + OUT,
+     2, "line 4: a face uses normal (vn) index 1, but the file defines none before it")
+case("a negative vt index past the start", ["--model", write("vt_neg.obj",
+     TRI + "vt 0 0\nvt 1 0\nf 1/-1 2/-2 3/-3\n")] + OUT, 2, "texture coordinate (vt) index -3")
+case("good vt/vn indices, relative and absolute", ["--model", write("vtvn_ok.obj",
+     TRI + "vt 0 0\nvt 1 0\nvt 0 1\nvn 0 0 1\nf 1/1/1 2/-2/-1 3/3/1\n")] + OUT, 0, "wrote")
+
+# ---- a slow import: past the run's total, and killed with its parent ----
+# 19,999 objects, each with its own material switch (under the limit of
+# 20,000 of each): several CPU seconds in assimp's quadratic OBJ reader.
+SLOW = write("slow.obj", "".join(f"o a{i}\nusemtl m{i}\nv {i} 0 0\nv 1 {i} 0\nv 0 1 {i}\n"
+                                 "f -3 -2 -1\n" for i in range(19999)))
+TOTAL = write("total.json", json.dumps({"objects": [{"model": "tri.obj"}, {"model": "slow.obj"}]}))
+case("a run's imports past RAS_MESH_IMPORT_TOTAL_SECONDS", ["--scene", TOTAL] + OUT, 2,
+     f"importing '{SLOW}' ran past the limit on all of the run's model imports (1 s",
+     env={"RAS_MESH_IMPORT_TOTAL_SECONDS": "1"})
+
+# ---- one budget for the run: --compare's reference and work counted up front (B6) ----
+# At the largest legal size an 8192x8192 --compare held 5.2 GB under the 2 GiB
+# default, and under a 4 GiB cap its "out of memory" was exit 1 ("differ").
+H2 = os.path.join(BIN, "hw2_rasterize_ref")
+
+
+def grey_png(name, side):
+    """A valid side x side grey RGB PNG, written here (a 65 KB file for 8192)."""
+    def chunk(kind, data):
+        return (struct.pack(">I", len(data)) + kind + data +
+                struct.pack(">I", zlib.crc32(kind + data) & 0xFFFFFFFF))
+    row = b"\0" + b"\x80" * (3 * side)
+    packer = zlib.compressobj(9)
+    idat = b"".join(packer.compress(row) for _ in range(side)) + packer.flush()
+    with open(path(name), "wb") as f:
+        f.write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", side, side, 8, 2, 0, 0, 0))
+                + chunk(b"IDAT", idat) + chunk(b"IEND", b""))
+    return path(name)
+
+
+REF8K = grey_png("ref8k.png", 8192)
+for limit in ([], ["--memory-limit", "4096"]):
+    case(f"--compare at 8192x8192 {' '.join(limit) or 'with the default budget'}",
+         ["--compare", "--reference", REF8K, "--size", "8192x8192"] + limit +
+         ["-o", path("cmp8k.png")], 2,
+         "(a 8192x8192 reference and the comparison's work) needs about", program=H2)
+
+PR_SET_CHILD_SUBREAPER = 36
+
+
+def children_of(pid):
+    try:
+        with open(f"/proc/{pid}/task/{pid}/children") as f:
+            return [int(c) for c in f.read().split()]
+    except OSError:
+        return []
+
+
+def killed_mid_import(sig):
+    """Kills the program with `sig` while its import child works; the child
+    must end by SIGKILL (its parent-death signal). This process is the
+    subreaper, so the orphan comes to it and its end is seen exactly."""
+    p = subprocess.Popen([H3, "--model", SLOW] + OUT, stdout=subprocess.DEVNULL,
+                         stderr=subprocess.DEVNULL, cwd=WORK)
+    deadline = time.monotonic() + SECONDS
+    kids = []
+    while not kids and time.monotonic() < deadline and p.poll() is None:
+        time.sleep(0.05)
+        kids = children_of(p.pid)
+    if not kids:
+        p.kill()
+        p.wait()
+        return f"FAIL: killed by signal {sig}: no import child was seen"
+    time.sleep(0.3)  # the child is importing (the whole import takes seconds)
+    os.kill(p.pid, sig)
+    p.wait()
+    problems = []
+    for kid in kids:
+        try:
+            _, status = os.waitpid(kid, 0)  # ours once orphaned: we are the subreaper
+        except ChildProcessError:
+            problems.append(f"the import child {kid} did not come to the subreaper")
+            continue
+        if not (os.WIFSIGNALED(status) and os.WTERMSIG(status) == signal.SIGKILL):
+            how = (f"exit {os.WEXITSTATUS(status)}" if os.WIFEXITED(status)
+                   else f"signal {os.WTERMSIG(status)}")
+            problems.append(f"the import child {kid} outlived its parent and ended by {how}, "
+                            "expected SIGKILL the moment the parent died")
+    if problems:
+        return f"FAIL: program killed by signal {sig} mid-import: {'; '.join(problems)}"
+    print(f"ok: program killed by signal {sig} mid-import: its import child was killed with it")
+    return None
+
+
+libc = ctypes.CDLL(None, use_errno=True)
+if libc.prctl(PR_SET_CHILD_SUBREAPER, 1, 0, 0, 0) != 0:
+    failures.append("FAIL: could not become a subreaper (prctl), so the import child's end "
+                    "cannot be seen")
+else:
+    for sig in (signal.SIGTERM, signal.SIGKILL):
+        result = killed_mid_import(sig)
+        if result:
+            failures.append(result)
+
+for f in failures:
+    print(f)
+print(f"{len(failures)} failed")
+sys.exit(1 if failures else 0)
