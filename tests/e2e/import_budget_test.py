@@ -70,12 +70,14 @@ def run(args, env_extra=None, timeout=SECONDS, program=H3):
         env.pop(k, None)
     env.update(env_extra or {})
     start = time.monotonic()
+    # A process group of its own: a late case is ended whole, an import
+    # child that outlived the program included (it holds stderr open).
     p = subprocess.Popen([program] + args, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
-                         env=env, cwd=WORK)
+                         env=env, cwd=WORK, start_new_session=True)
     try:
         _, err = p.communicate(timeout=timeout)
     except subprocess.TimeoutExpired:
-        p.kill()
+        os.killpg(p.pid, signal.SIGKILL)
         p.communicate()
         return "timeout", "", timeout, 0
     # ru_maxrss of RUSAGE_CHILDREN: the largest of every process waited for
@@ -218,7 +220,7 @@ def killed_mid_import(sig):
     must end by SIGKILL (its parent-death signal). This process is the
     subreaper, so the orphan comes to it and its end is seen exactly."""
     p = subprocess.Popen([H3, "--model", SLOW] + OUT, stdout=subprocess.DEVNULL,
-                         stderr=subprocess.DEVNULL, cwd=WORK)
+                         stderr=subprocess.DEVNULL, cwd=WORK, start_new_session=True)
     deadline = time.monotonic() + SECONDS
     kids = []
     while not kids and time.monotonic() < deadline and p.poll() is None:
@@ -233,10 +235,21 @@ def killed_mid_import(sig):
     p.wait()
     problems = []
     for kid in kids:
+        # Ours once orphaned (we are the subreaper). SIGKILL is immediate;
+        # 5 s is for a busy machine.
+        status, waited = None, time.monotonic() + 5
         try:
-            _, status = os.waitpid(kid, 0)  # ours once orphaned: we are the subreaper
+            while status is None and time.monotonic() < waited:
+                pid, st = os.waitpid(kid, os.WNOHANG)
+                status = st if pid == kid else None
+                time.sleep(0.02)
         except ChildProcessError:
             problems.append(f"the import child {kid} did not come to the subreaper")
+            continue
+        if status is None:
+            os.kill(kid, signal.SIGKILL)
+            os.waitpid(kid, 0)
+            problems.append(f"the import child {kid} was still running 5 s after its parent died")
             continue
         if not (os.WIFSIGNALED(status) and os.WTERMSIG(status) == signal.SIGKILL):
             how = (f"exit {os.WEXITSTATUS(status)}" if os.WIFEXITED(status)
