@@ -65,9 +65,10 @@ typedef struct ras_mesh {
 #define RAS_MESH_IMPORT_SECONDS_DEFAULT 60
 /* measured: 14 (a 40.8 MB OBJ: 570 MB), 19 (a 40 MB glTF of numbers: 761 MB) */
 #define RAS_MESH_IMPORT_BYTES_PER_FILE_BYTE 20.0
-/* Seconds all imports of one run may take together (a scene naming many
- * models); RAS_MESH_IMPORT_TOTAL_SECONDS overrides it. A model named by
- * several objects is imported once per run (by device and inode). */
+/* Seconds all imports of one scene may take together (a batch:
+ * ras_mesh_imports_begin); RAS_MESH_IMPORT_TOTAL_SECONDS overrides it. A
+ * model named by several objects is imported once in the batch (by device,
+ * inode, size and times). */
 #define RAS_MESH_IMPORT_TOTAL_SECONDS_DEFAULT 120
 /* The most 'o' lines, and the most 'usemtl' lines, an OBJ may have: assimp's
  * OBJ reader takes time quadratic in each (measured: 20,000 'o' 2 s, 100,000
@@ -78,6 +79,14 @@ typedef struct ras_mesh {
  * file merged into one. Returns NULL and sets err for a missing file, a file
  * assimp cannot parse, out-of-range indices, or a file with no triangles. */
 ras_mesh *ras_mesh_load(const char *path, ras_error *err);
+
+/* A batch of loads (a scene's objects), between begin and end: a file named
+ * again is imported once (a copy of the first import is returned), and all
+ * the batch's imports together have RAS_MESH_IMPORT_TOTAL_SECONDS. Outside
+ * a batch each load is on its own (the fuzzer, the unit tests). begin also
+ * ends a batch left open; end frees the kept copies. */
+void ras_mesh_imports_begin(void);
+void ras_mesh_imports_end(void);
 
 /* An empty mesh with room for the given counts (zeroed); NULL on overflow/OOM. */
 ras_mesh *ras_mesh_create(size_t vertex_count, size_t triangle_count);

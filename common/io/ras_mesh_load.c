@@ -559,25 +559,27 @@ static ras_mesh *import_isolated(import_work *work, double limit, bool *isolated
 }
 
 /* ------------------------------------------------------------------------ */
-/* One run's imports: each file once, all of them within a total time        */
+/* A scene's imports: each file once, all of them within a total time      */
 
-/* A model already imported in this run, by the file's identity: a scene that
- * names one model in 4,096 objects imported it 4,096 times, each in its own
- * child (minutes). The copy kept here is counted in the memory budget. */
+/* A model already imported in this batch (a scene's objects), by the file's
+ * identity: a scene that names one model in 4,096 objects imported it 4,096
+ * times, each in its own child (minutes). The copy kept here is counted in
+ * the memory budget until the batch ends. */
 typedef struct import_cached {
     dev_t dev;
     ino_t ino;
     off_t size;
-    struct timespec mtime;
+    struct timespec mtime, ctime;
     ras_mesh *mesh;
 } import_cached;
 
 static struct {
     pthread_mutex_t lock;
+    bool active; /* between ras_mesh_imports_begin and _end */
     import_cached *items;
     size_t count, cap;
-    double seconds_used; /* wall-clock seconds the run's imports took so far */
-} g_imports = {PTHREAD_MUTEX_INITIALIZER, NULL, 0, 0, 0};
+    double seconds_used; /* wall-clock seconds the batch's imports took so far */
+} g_imports = {PTHREAD_MUTEX_INITIALIZER, false, NULL, 0, 0, 0};
 
 static double mesh_bytes(const ras_mesh *m) {
     return (double)m->vertex_count * (3 * sizeof(vec3s) + sizeof(vec2s)) +
@@ -599,16 +601,46 @@ static ras_mesh *mesh_copy(const ras_mesh *m) {
     return c;
 }
 
-static bool same_file(const import_cached *c, const struct stat *st) {
-    return c->dev == st->st_dev && c->ino == st->st_ino && c->size == st->st_size &&
-           c->mtime.tv_sec == st->st_mtim.tv_sec && c->mtime.tv_nsec == st->st_mtim.tv_nsec;
+static bool same_time(struct timespec a, struct timespec b) {
+    return a.tv_sec == b.tv_sec && a.tv_nsec == b.tv_nsec;
 }
 
-/* A copy of the run's earlier import of this file, or NULL. */
+static bool same_file(const import_cached *c, const struct stat *st) {
+    return c->dev == st->st_dev && c->ino == st->st_ino && c->size == st->st_size &&
+           same_time(c->mtime, st->st_mtim) && same_time(c->ctime, st->st_ctim);
+}
+
+/* Drops every kept import and its share of the budget, and restarts the
+ * batch's clock. Called with the lock held. */
+static void imports_reset(bool active) {
+    for (size_t i = 0; i < g_imports.count; i++) {
+        ras_memory_release(mesh_bytes(g_imports.items[i].mesh));
+        ras_mesh_destroy(g_imports.items[i].mesh);
+    }
+    free(g_imports.items);
+    g_imports.items = NULL;
+    g_imports.count = g_imports.cap = 0;
+    g_imports.seconds_used = 0;
+    g_imports.active = active;
+}
+
+void ras_mesh_imports_begin(void) {
+    pthread_mutex_lock(&g_imports.lock);
+    imports_reset(true);
+    pthread_mutex_unlock(&g_imports.lock);
+}
+
+void ras_mesh_imports_end(void) {
+    pthread_mutex_lock(&g_imports.lock);
+    imports_reset(false);
+    pthread_mutex_unlock(&g_imports.lock);
+}
+
+/* A copy of the batch's earlier import of this file, or NULL. */
 static ras_mesh *cached_import(const struct stat *st) {
     ras_mesh *copy = NULL;
     pthread_mutex_lock(&g_imports.lock);
-    for (size_t i = 0; i < g_imports.count && !copy; i++)
+    for (size_t i = 0; g_imports.active && i < g_imports.count && !copy; i++)
         if (same_file(&g_imports.items[i], st)) copy = mesh_copy(g_imports.items[i].mesh);
     pthread_mutex_unlock(&g_imports.lock);
     return copy;
@@ -620,15 +652,15 @@ static void remember_import(const struct stat *st, const ras_mesh *mesh) {
     ras_error ignored = {{0}};
     if (!ras_memory_check(mesh_bytes(mesh), "keeping an imported model", NULL, &ignored)) return;
     pthread_mutex_lock(&g_imports.lock);
-    if (g_imports.count == g_imports.cap) {
+    if (g_imports.active && g_imports.count == g_imports.cap) {
         size_t cap = g_imports.cap ? 2 * g_imports.cap : 8;
         import_cached *grown = realloc(g_imports.items, cap * sizeof *grown);
         if (grown) g_imports.items = grown, g_imports.cap = cap;
     }
-    ras_mesh *copy = g_imports.count < g_imports.cap ? mesh_copy(mesh) : NULL;
+    ras_mesh *copy = g_imports.active && g_imports.count < g_imports.cap ? mesh_copy(mesh) : NULL;
     if (copy) {
         g_imports.items[g_imports.count++] =
-            (import_cached){st->st_dev, st->st_ino, st->st_size, st->st_mtim, copy};
+            (import_cached){st->st_dev, st->st_ino, st->st_size, st->st_mtim, st->st_ctim, copy};
         ras_memory_commit(mesh_bytes(copy));
     }
     pthread_mutex_unlock(&g_imports.lock);
@@ -716,19 +748,19 @@ ras_mesh *ras_mesh_load(const char *path, ras_error *err) {
     double limit = ras_job_seconds("RAS_MESH_IMPORT_SECONDS", RAS_MESH_IMPORT_SECONDS_DEFAULT);
     double total = ras_job_seconds("RAS_MESH_IMPORT_TOTAL_SECONDS", RAS_MESH_IMPORT_TOTAL_SECONDS_DEFAULT);
     pthread_mutex_lock(&g_imports.lock);
+    bool batch = g_imports.active;
     double used = g_imports.seconds_used;
     pthread_mutex_unlock(&g_imports.lock);
-    double left = total - used;
-    if (left < 0.001 || left < limit) {
-        if (left < 0.001)
-            return ras_error_set(err,
-                                 "the run's model imports took %.1f s together, the limit on all "
-                                 "of them (%g s), before '%s' could start; expected fewer or "
-                                 "smaller models — or raise RAS_MESH_IMPORT_TOTAL_SECONDS",
-                                 used, total, path),
-                   NULL;
-        limit = left;
-    }
+    double left = batch ? total - used : limit;
+    if (left < 0.001)
+        return ras_error_set(err,
+                             "the scene's model imports took %.1f s together, the limit on all "
+                             "of them (%g s), before '%s' could start; expected fewer or "
+                             "smaller models — or raise RAS_MESH_IMPORT_TOTAL_SECONDS",
+                             used, total, path),
+               NULL;
+    bool total_binds = left < limit; /* the batch's remainder, not the file's own limit */
+    if (total_binds) limit = left;
     double start = seconds_now();
     ras_error inner = {{0}};
     mesh = import_with_limit(path, limit, &inner);
@@ -736,16 +768,15 @@ ras_mesh *ras_mesh_load(const char *path, ras_error *err) {
     pthread_mutex_lock(&g_imports.lock);
     g_imports.seconds_used += took;
     pthread_mutex_unlock(&g_imports.lock);
-    if (!mesh && left < 0.001 + ras_job_seconds("RAS_MESH_IMPORT_SECONDS", RAS_MESH_IMPORT_SECONDS_DEFAULT) &&
-        took >= limit && strstr(inner.msg, "did not finish"))
+    if (!mesh && total_binds && took >= limit && strstr(inner.msg, "did not finish"))
         ras_error_set(err,
-                      "importing '%s' ran past the limit on all of the run's model imports "
+                      "importing '%s' ran past the limit on all of the scene's model imports "
                       "(%g s; the earlier imports took %.1f s of it); expected fewer or smaller "
                       "models — or raise RAS_MESH_IMPORT_TOTAL_SECONDS",
                       path, total, used);
     else if (!mesh && err)
         *err = inner;
-    if (mesh && known) remember_import(&st, mesh);
+    if (mesh && known && batch) remember_import(&st, mesh);
     return mesh;
 }
 

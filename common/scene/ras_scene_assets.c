@@ -257,12 +257,21 @@ static ras_scene_assets *load_assets(const ras_scene *s, bool maps, ras_error *e
     return a;
 }
 
+/* The scene's models as one batch: each file imported once, all of them
+ * within one time limit (ras_mesh.h). */
+static ras_scene_assets *load_assets_batch(const ras_scene *s, bool maps, ras_error *err) {
+    ras_mesh_imports_begin();
+    ras_scene_assets *a = load_assets(s, maps, err);
+    ras_mesh_imports_end();
+    return a;
+}
+
 ras_scene_assets *ras_scene_load_assets(const ras_scene *s, ras_error *err) {
-    return load_assets(s, true, err);
+    return load_assets_batch(s, true, err);
 }
 
 ras_scene_assets *ras_scene_load_meshes(const ras_scene *s, ras_error *err) {
-    return load_assets(s, false, err);
+    return load_assets_batch(s, false, err);
 }
 
 void ras_scene_assets_destroy(ras_scene_assets *a) {

@@ -22,7 +22,7 @@ The cases (issue 42, B5):
     (assimp waited out its whole 60 s limit);
   - mtllib outside the model's folder (.., an absolute path, a link): refused;
   - out-of-range vt / vn indices: refused, naming the line;
-  - a run's imports together past RAS_MESH_IMPORT_TOTAL_SECONDS: an error
+  - a scene's imports together past RAS_MESH_IMPORT_TOTAL_SECONDS: an error
     naming the file it was on;
   - hw2_rasterize --compare at 8192x8192 (the largest legal size): refused up
     front, exit 2, with the default budget and with --memory-limit 4096;
@@ -173,8 +173,8 @@ case("good vt/vn indices, relative and absolute", ["--model", write("vtvn_ok.obj
 SLOW = write("slow.obj", "".join(f"o a{i}\nusemtl m{i}\nv {i} 0 0\nv 1 {i} 0\nv 0 1 {i}\n"
                                  "f -3 -2 -1\n" for i in range(19999)))
 TOTAL = write("total.json", json.dumps({"objects": [{"model": "tri.obj"}, {"model": "slow.obj"}]}))
-case("a run's imports past RAS_MESH_IMPORT_TOTAL_SECONDS", ["--scene", TOTAL] + OUT, 2,
-     f"importing '{SLOW}' ran past the limit on all of the run's model imports (1 s",
+case("a scene's imports past RAS_MESH_IMPORT_TOTAL_SECONDS", ["--scene", TOTAL] + OUT, 2,
+     f"importing '{SLOW}' ran past the limit on all of the scene's model imports (1 s",
      env={"RAS_MESH_IMPORT_TOTAL_SECONDS": "1"})
 
 # ---- one budget for the run: --compare's reference and work counted up front (B6) ----
