@@ -13,6 +13,9 @@ generated here (no big file is committed), and checks:
     child, from wait4) within 1 GiB, and the wall time within 20 s;
   - no AddressSanitizer / UBSan report.
 The cases (issue 42, B5):
+  - 100,000 'g' groups (the estimate lets them through, assimp takes 342 MB)
+    under --memory-limit 256: stopped by the import child's RLIMIT_AS (not
+    under ASan);
   - a 90-byte OBJ naming a .mtl of 100,000 materials (assimp: 3.5 GB): refused
     up front by the estimate, also under --memory-limit 256;
   - an OBJ switching material on each of 100,000 faces, and one of 100,000
@@ -44,6 +47,18 @@ import time
 import zlib
 
 BIN, WORK = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
+
+
+def sanitized():
+    """Whether the programs were built with ASan (they link libasan)."""
+    try:
+        with open(os.path.join(BIN, "hw3_shading_ref"), "rb") as f:
+            return b"libasan" in f.read()
+    except OSError:
+        return False
+
+
+SANITIZED = sanitized()
 H3 = os.path.join(BIN, "hw3_shading_ref")
 SECONDS, PEAK_KB = 20, 1 << 20  # every case: 20 s, 1 GiB resident (the issue's bound)
 shutil.rmtree(WORK, ignore_errors=True)
@@ -125,6 +140,15 @@ case("the same under --memory-limit 256", ["--model", BIG_MTL, "--memory-limit",
 SMALL_MTL = write("mtl/small.mtl", "newmtl red\nKd 1 0 0\n")
 case("an OBJ with a small .mtl", ["--model", write("mtl/ok.obj", "mtllib small.mtl\n" + TRI +
                                                    "usemtl red\nf 1 2 3\n")] + OUT, 0, "wrote")
+
+# ---- the import's child held to the budget (RLIMIT_AS), past what the estimate sees ----
+# 100,000 'g' groups in 1.7 MB: the estimate (20 bytes a byte: 34 MB) lets it
+# through, assimp takes 342 MB (a mesh a group); under --memory-limit 256 the
+# child's address-space limit stops it. Not under ASan (no RLIMIT_AS there).
+if not SANITIZED:
+    case("100,000 'g' groups under --memory-limit 256", ["--model", write("groups.obj", TRI + "".join(
+        f"g a{i}\nf 1 2 3\n" for i in range(100000))), "--memory-limit", "256"] + OUT, 2,
+        "needs more memory than the budget (256 MiB, set by --memory-limit) while it is imported")
 
 # ---- assimp's OBJ reader is quadratic in objects and material switches ----
 case("100,000 'o' objects", ["--model", write("objects.obj", TRI + "".join(
