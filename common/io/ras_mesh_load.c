@@ -31,7 +31,7 @@
 #include <sys/prctl.h> /* prctl, PR_SET_PDEATHSIG: the import's child ends with its parent */
 #include <sys/resource.h> /* setrlimit, RLIMIT_AS: the import's child held to the budget */
 #include <sys/stat.h> /* fstat */
-#include <time.h>   /* clock_gettime: the run's total import time */
+#include <time.h>   /* clock_gettime: a scene's total import time */
 #include <unistd.h> /* close, write, getppid, sysconf */
 
 #include "ras_io.h"     /* ras_io_open_input */
