@@ -625,12 +625,14 @@ case(H3, ["--model", write("list_ok.ply", PLY_HEAD % ("ascii", "uchar") +
                            "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"), "--size", "16x16", "-o", OUT], 0,
      "wrote", absent=(), present=(OUT,), hard=True)
 
-# assimp's own words come last, after the project's (file, what was expected).
-for name, text in (("bad_index.obj", "v 0 0 0\nf 1 2 9\n"),
-                   ("bad.stl", "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0\n")):
+# assimp's own words come last, after the project's (file, the format it is,
+# what is wrong).
+for name, text, said in (("bad_index.obj", "v 0 0 0\nf 1 2 9\n",
+                          "it is an OBJ file, but a face names a vertex that does not exist"),
+                         ("bad.stl", "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0\n",
+                          "it is an STL file, but not a complete one the importer can read")):
     case(H3, ["--model", write(name, text), "-o", OUT], "nonzero",
-         f"could not read model '{path(name)}': it is not a complete mesh file in a format the "
-         "importer knows", hard=True, keep=REF)
+         f"could not read model '{path(name)}': {said}", hard=True, keep=REF)
 
 # ---- every output all or nothing, every failure said ----
 RO_OUT = write("readonly.png", open(REF, "rb").read())
@@ -698,6 +700,43 @@ case(C, ["--buffers", path("no-such-dump"), PFM_DIR], 2,
      absent=(), hard=True)
 case(C, ["--buffers", PFM_DIR, REF], 2, "--buffers: '%s' is not a folder" % REF, absent=(),
      hard=True)
+
+# ---- messages lead with the reason (issue 42 B9) -----------------------------
+# A failed import names the format the file is and what is wrong in the
+# project's words, assimp's text after it as detail.
+BAD_INDEX_OBJ = write("bad-index.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n")
+case(H3, ["--model", BAD_INDEX_OBJ, "-o", OUT], 2,
+     "it is an OBJ file, but a face names a vertex that does not exist")
+case(H3, ["--model", write("storage.stl", b"\0" * 80 + struct.pack("<I", 1000) + b"\0" * 50),
+          "-o", OUT], 2, "it is an STL file, but it is neither an ASCII STL")
+case(H3, ["--model", write("v1.glb", b"glTF" + struct.pack("<II", 1, 100) + b"\0" * 88), "-o", OUT],
+     2, "binary glTF (.glb) file of version 1, which the importer does not read")
+# A path so long that the message would not hold it: cut in its middle, the
+# reason after it whole.
+LONG_DIR = path("/".join(["d" * 200] * 4))
+os.makedirs(LONG_DIR)
+LONG_OBJ = os.path.join(LONG_DIR, "m" * 150 + ".obj")
+shutil.copyfile(BAD_INDEX_OBJ, LONG_OBJ)
+case(H3, ["--model", LONG_OBJ, "-o", OUT], 2,
+     "[...]" + "m" * 20)
+case(H3, ["--model", LONG_OBJ, "-o", OUT], 2,
+     "m.obj': it is an OBJ file, but a face names a vertex that does not exist; expected each "
+     "'f' index within 1..N (or -1..-N) of the vertices before it; fix the face lines, or "
+     "re-export the model [the importer said: OBJ: vertex index out of range]")
+# Scenes: UTF-16 named as such (with or without its byte-order mark), a NUL
+# escaped into a string refused, a URI where a file path goes refused.
+CUBE_TEXT = '{"objects": [{"shape": "cube"}]}'
+for enc in ("utf-16", "utf-16-le", "utf-16-be"):
+    case(H3, ["--scene", write(f"scene-{enc}.json", CUBE_TEXT.encode(enc)), "-o", OUT], 2,
+         "the scene is UTF-16")
+case(H3, ["--scene", write("nul-escape.json", '{"objects": [{"shape": "cube\\u0000sphere"}]}'),
+          "-o", OUT], 2, "nul-escape.json:1:29: expected a string without NUL characters")
+case(H3, ["--scene", write("uri-texture.json",
+                           '{"shader": "texture", "objects": [{"shape": "cube", "material": '
+                           '{"texture": {"file": "file://%s"}}}]}' % REF), "-o", OUT], 2,
+     'objects[0].material.texture.file: expected a file path')
+case(H3, ["--scene", write("uri-model.json", '{"objects": [{"model": "file://%s"}]}' % OK_OBJ),
+          "-o", OUT], 2, "got the URI")
 
 with concurrent.futures.ThreadPoolExecutor(max_workers=max(2, os.cpu_count() or 2)) as pool:
     for result in pool.map(check, cases):
