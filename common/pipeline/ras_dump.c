@@ -531,6 +531,21 @@ static bool check_one_frame(const char *dir, ras_error *err) {
         if (ok && strncmp(name, "vertices", 8)) ok = files_match_sidecar(dir, name, &f, err);
     }
     closedir(d);
+    /* a dump that names its frame writes a sidecar beside every buffer: an
+     * exact file without one is another frame's, left over */
+    for (int i = 0; ok && *first.frame && ras_dump_buffer_names[i]; i++) {
+        struct stat sb;
+        snprintf(path, sizeof path, "%s/%s.pfm", dir, ras_dump_buffer_names[i]);
+        bool pfm = stat(path, &sb) == 0;
+        snprintf(path, sizeof path, "%s/%s.json", dir, ras_dump_buffer_names[i]);
+        if (pfm && stat(path, &sb) != 0)
+            ok = ras_error_set(err,
+                               "--buffers: the folder '%s' holds files of two frames: %s.pfm has "
+                               "no %s.json beside it, though %s names frame '%s'; expected one "
+                               "--dump run's files — dump again into an empty folder",
+                               dir, ras_dump_buffer_names[i], ras_dump_buffer_names[i], first_name,
+                               first.frame);
+    }
     return ok;
 }
 

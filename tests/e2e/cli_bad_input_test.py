@@ -968,7 +968,10 @@ def buffers_refuse_two_frames():
     stale_pfm = path("dump-mixed-pfm")
     shutil.copytree(a, stale_pfm)
     shutil.copyfile(os.path.join(b, "depth.pfm"), os.path.join(stale_pfm, "depth.pfm"))
-    for got in (mixed, stale_pfm):
+    lone_pfm = path("dump-lone-pfm")
+    shutil.copytree(a, lone_pfm)
+    os.unlink(os.path.join(lone_pfm, "overdraw.json"))
+    for got in (mixed, stale_pfm, lone_pfm):
         for pair in ((a, got), (got, a)):
             code, out, err = run(C, ["--buffers", *pair])
             if code != 2 or "holds files of two frames" not in err:
