@@ -682,6 +682,7 @@ enum { PARENT_LOCK_SECONDS = 30 };
  * its stage and to commit, so that no two commits interleave their files and
  * no sweep sees a stage before its owner has locked it. */
 static bool lock_parent(ras_dump_stage *st, ras_error *err) {
+    if (st->parent_fd < 0) return true;
     for (int waited = 0; flock(st->parent_fd, LOCK_EX | LOCK_NB) != 0; waited++) {
         if (errno != EWOULDBLOCK && errno != EINTR) return true; /* no locks here: go on */
         if (waited >= PARENT_LOCK_SECONDS * 10)
@@ -695,7 +696,9 @@ static bool lock_parent(ras_dump_stage *st, ras_error *err) {
     return true;
 }
 
-static void unlock_parent(ras_dump_stage *st) { flock(st->parent_fd, LOCK_UN); }
+static void unlock_parent(ras_dump_stage *st) {
+    if (st->parent_fd >= 0) flock(st->parent_fd, LOCK_UN);
+}
 
 static void close_stage_fds(ras_dump_stage *st) {
     if (!st->begun) return; /* a stage never begun holds no fds (0 is stdin) */
@@ -751,7 +754,9 @@ bool ras_dump_stage_begin(ras_dump_stage *st, const char *dir, ras_error *err) {
     char parent[1100];
     ras_io_folder_of(st->target, parent, sizeof parent);
     st->parent_fd = open(parent, O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-    if (st->parent_fd < 0)
+    /* a parent we may write but not list (mode 0333) gets no lock and no
+     * sweep: the dump itself still works */
+    if (st->parent_fd < 0 && errno != EACCES)
         return ras_error_set(err,
                              "--dump could not create the folder '%s' (cannot open its parent "
                              "folder '%s': %s): create the parent, or choose another path",
@@ -760,7 +765,7 @@ bool ras_dump_stage_begin(ras_dump_stage *st, const char *dir, ras_error *err) {
         close_stage_fds(st);
         return false;
     }
-    remove_stale_stages(st->parent_fd, base);
+    if (st->parent_fd >= 0) remove_stale_stages(st->parent_fd, base);
     bool ok = make_stage(st, parent, base, err);
     unlock_parent(st);
     if (!ok) ras_dump_stage_abort(st);
@@ -838,7 +843,7 @@ static bool commit_new(ras_dump_stage *st, ras_error *err) {
     if (fchmod(st->temp_fd, 0777 & ~mask) != 0 || rename(st->temp, st->target) != 0)
         return ras_error_set(err, "--dump could not create the folder '%s' (%s)", st->target,
                              strerror(errno));
-    fsync(st->parent_fd);
+    if (st->parent_fd >= 0) fsync(st->parent_fd);
     st->active = false;
     return true;
 }
