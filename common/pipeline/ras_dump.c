@@ -13,6 +13,7 @@
 #include <dirent.h> /* opendir: the staged dump folder */
 #include <fcntl.h>  /* open, renameat */
 #include <errno.h>
+#include <limits.h> /* NAME_MAX */
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -738,6 +739,20 @@ bool ras_dump_stage_begin(ras_dump_stage *st, const char *dir, ras_error *err) {
     snprintf(st->target, sizeof st->target, "%.*s", (int)n, dir);
     struct stat sb;
     st->existed = stat(st->target, &sb) == 0;
+    if (!st->existed && lstat(st->target, &sb) == 0 && S_ISLNK(sb.st_mode))
+        return ras_error_set(err,
+                             "--dump: '%s' is a symbolic link to something that does not exist; "
+                             "expected a folder or a new name — create the folder it points to, "
+                             "or choose another path (checked before rendering)",
+                             dir);
+    const char *last = strrchr(st->target, '/');
+    last = last ? last + 1 : st->target;
+    if (strlen(last) > NAME_MAX)
+        return ras_error_set(err,
+                             "--dump: the folder's name '%.40s...' is %zu bytes; expected at most "
+                             "%d (the file system's limit for one name) — choose a shorter name "
+                             "(checked before rendering)",
+                             last, strlen(last), NAME_MAX);
     if (st->existed && !S_ISDIR(sb.st_mode))
         return ras_error_set(err,
                              "--dump expects a folder; '%s' exists and is not one: choose "

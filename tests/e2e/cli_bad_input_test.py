@@ -1049,7 +1049,21 @@ def dumps_at_once():
                             f"{code} {err.strip()[:200]!r}, stages {stages_of(WORK, 'dump-race')}")
     return problems
 
-DUMP_CHECKS = [dump_folder_mode, dump_replaces_the_set, buffers_refuse_two_frames, dumps_at_once]
+def dump_names_before_rendering():
+    """A --dump name the file system cannot hold (a 300-byte part) or a link to
+    nothing is refused before any drawing, exit 2, -o not written."""
+    problems = []
+    os.symlink("no-such-folder", path("dump-dangling"))
+    for name, said in (("y" * 300, "is 300 bytes; expected at most 255"),
+                       ("dump-dangling", "is a symbolic link to something that does not exist")):
+        out = path("dump-name.png")
+        p = dump_run(["--size", "16x16", "-o", out, "--dump", path(name)])
+        if p.returncode != 2 or said not in p.stderr or os.path.exists(out):
+            problems.append(f"--dump {name[:40]}: exit {p.returncode}, expected 2 and {said!r} "
+                            f"before -o was written; stderr {p.stderr.strip()[:300]!r}")
+    return problems
+
+DUMP_CHECKS = [dump_names_before_rendering, dump_folder_mode, dump_replaces_the_set, buffers_refuse_two_frames, dumps_at_once]
 if shutil.which("strace") and shutil.which("pgrep") and not SANITIZED:
     DUMP_CHECKS.append(dump_signals)
 for check_dump in DUMP_CHECKS:
