@@ -13,6 +13,7 @@
 #include <strings.h>  /* strncasecmp */
 #include <time.h>     /* time_t */
 #include <sys/stat.h> /* fstat, lstat, umask, fchmod */
+#include <sys/syscall.h> /* SYS_getdents64: a folder listed inside a handler */
 #include <unistd.h>   /* read, write, close, fsync, unlink */
 
 static const char *file_type_name(mode_t mode) {
@@ -126,12 +127,42 @@ bool ras_io_path_fits(const char *option, const char *path, ras_error *err) {
 static char g_tmp[PATH_MAX];
 static volatile sig_atomic_t g_tmp_live;
 static pthread_mutex_t g_write_lock = PTHREAD_MUTEX_INITIALIZER;
+/* The temporary folder a --dump is staged in, for the same handler: a
+ * SIGTERM mid-dump must not leave it behind (ras_io_temp_folder_create). */
+static char g_tmp_dir[PATH_MAX];
+static volatile sig_atomic_t g_tmp_dir_live;
 
 static const int cleanup_signals[] = {SIGINT, SIGTERM, SIGHUP};
 #define N_CLEANUP_SIGNALS (sizeof cleanup_signals / sizeof *cleanup_signals)
 
+/* The entries of the flat folder `dir`, then the folder, removed with
+ * system calls only (opendir and readdir may allocate: not in a handler). */
+static void remove_flat_folder_signal_safe(const char *dir) {
+    int fd = open(dir, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
+    if (fd >= 0) {
+        char buf[4096] __attribute__((aligned(8)));
+        long n;
+        while ((n = syscall(SYS_getdents64, fd, buf, sizeof buf)) > 0)
+            for (long at = 0; at < n;) {
+                const struct getdents_entry {
+                    unsigned long long ino;
+                    long long off;
+                    unsigned short reclen;
+                    unsigned char type;
+                    char name[];
+                } *e = (const void *)(buf + at);
+                if (strcmp(e->name, ".") && strcmp(e->name, ".."))
+                    unlinkat(fd, e->name, 0);
+                at += e->reclen;
+            }
+        close(fd);
+    }
+    rmdir(dir);
+}
+
 static void on_fatal_signal(int sig) {
     if (g_tmp_live) unlink(g_tmp); /* async-signal-safe */
+    if (g_tmp_dir_live) remove_flat_folder_signal_safe(g_tmp_dir);
     signal(sig, SIG_DFL);
     raise(sig); /* die as we would have, with the signal's exit status */
 }
@@ -160,6 +191,45 @@ static void signals_restore(const saved_signals *s) {
     for (size_t i = 0; i < N_CLEANUP_SIGNALS; i++)
         sigaction(cleanup_signals[i], &s->old[i], NULL);
     sigaction(SIGXFSZ, &s->old_xfsz, NULL);
+}
+
+/* The handlers installed while a temporary folder is held: outside any one
+ * write, which installs (and then restores) the same handler over them. */
+static saved_signals g_folder_saved;
+
+bool ras_io_temp_folder_create(char *templ) {
+    if (g_tmp_dir_live || strlen(templ) >= sizeof g_tmp_dir) {
+        errno = EBUSY;
+        return false;
+    }
+    signals_install(&g_folder_saved);
+    sigset_t all, old_mask;
+    sigfillset(&all);
+    /* Blocked while the folder is made and marked live, as for a file. */
+    sigprocmask(SIG_BLOCK, &all, &old_mask);
+    bool made = mkdtemp(templ) != NULL;
+    int e = errno;
+    if (made) {
+        memcpy(g_tmp_dir, templ, strlen(templ) + 1);
+        g_tmp_dir_live = 1;
+    }
+    sigprocmask(SIG_SETMASK, &old_mask, NULL);
+    if (!made) signals_restore(&g_folder_saved);
+    errno = e;
+    return made;
+}
+
+void ras_io_temp_folder_release(void) {
+    if (!g_tmp_dir_live) return;
+    g_tmp_dir_live = 0;
+    signals_restore(&g_folder_saved);
+}
+
+void ras_io_cleanup_signals_block(sigset_t *old) {
+    sigset_t set;
+    sigemptyset(&set);
+    for (size_t i = 0; i < N_CLEANUP_SIGNALS; i++) sigaddset(&set, cleanup_signals[i]);
+    sigprocmask(SIG_BLOCK, &set, old);
 }
 
 static bool write_full(int fd, const void *data, size_t len) {

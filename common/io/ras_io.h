@@ -29,6 +29,7 @@
 #include "ras_error.h"
 
 #include <stddef.h> /* size_t */
+#include <signal.h> /* sigset_t */
 #include <stdio.h>  /* FILE */
 #include <time.h>   /* time_t */
 
@@ -74,6 +75,18 @@ int ras_io_remove_stale_temporaries(const char *dir);
 /* When this process started (seconds since the epoch, from /proc), 0 when
  * unknown: what "left before this run" is measured against. */
 time_t ras_io_process_start(void);
+
+/* A temporary folder (templ ends in XXXXXX, as for mkdtemp) that a
+ * SIGINT, SIGTERM or SIGHUP removes, with the files in it (it must stay
+ * flat), before the process dies of the signal: held from its creation until
+ * ras_io_temp_folder_release (one at a time; false with errno set when it
+ * cannot be made). Renaming it into place and then releasing it is the
+ * caller's commit. */
+bool ras_io_temp_folder_create(char *templ);
+void ras_io_temp_folder_release(void);
+/* SIGINT, SIGTERM and SIGHUP held back (the old mask into *old, for
+ * sigprocmask(SIG_SETMASK, old, NULL)) while a step must not be cut. */
+void ras_io_cleanup_signals_block(sigset_t *old);
 
 /* A text report (CSV, Markdown) written with stdio into memory, then to its
  * file with ras_io_write_atomic: ras_io_report_open gives the FILE* to

@@ -12,6 +12,7 @@
  * aiFileIO, which reads regular files only.
  */
 #include "ras_mesh.h"
+#include "ras_mesh_words.h" /* the import failure in the project's words */
 
 #include <assimp/cfileio.h>     /* aiFileIO, aiFile */
 #include <assimp/cimport.h>     /* aiImportFileEx, aiReleaseImport, aiGetErrorString */
@@ -863,12 +864,7 @@ static ras_mesh *import_mesh(const char *path, const char *suffix, ras_error *er
         /* assimp's own text names its internals ("OBJ: Invalid face indice",
          * "Unable to open file"): the project's sentence comes first, with
          * the file and what was expected, and assimp's words last, as detail. */
-        const char *why = g_assimp.get_error_string();
-        ras_error_set(err,
-                      "could not read model '%s': it is not a complete mesh file in a format the "
-                      "importer knows (expected OBJ, PLY, STL, glTF, OFF, COLLADA, ...) — check "
-                      "the file, or re-export it [the importer said: %.300s]",
-                      path, why && *why ? why : "nothing");
+        ras_mesh_import_failure(err, path, g_assimp.get_error_string());
         return NULL;
     }
     if ((scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) || !scene->mRootNode) {

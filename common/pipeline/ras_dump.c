@@ -13,14 +13,20 @@
 #include <dirent.h> /* opendir: the staged dump folder */
 #include <fcntl.h>  /* open, renameat */
 #include <errno.h>
+#include <limits.h> /* NAME_MAX */
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <signal.h>   /* sigprocmask: a commit is not cut */
+#include <sys/file.h> /* flock: one commit at a time, live stages */
 #include <sys/stat.h>
+#include <time.h>     /* clock_gettime, nanosleep */
 #include <unistd.h> /* close */
 #include <zlib.h>   /* the reference buffers ship as .pfm.gz */
+
+static bool is_dump_file(const char *name);
 
 /* Rows under the picture for the legend. */
 enum { LEGEND_ROWS = 34 };
@@ -286,6 +292,7 @@ bool ras_dump_write_json_file(const char *path, const char *what, cJSON *j, ras_
 static bool write_json(const char *path, const ras_dump_buffer *b, const ras_dump_stats *s, ras_error *err) {
     cJSON *j = cJSON_CreateObject();
     cJSON_AddStringToObject(j, "buffer", b->name);
+    cJSON_AddStringToObject(j, "frame", ras_dump_frame_id());
     cJSON_AddStringToObject(j, "what", b->what);
     cJSON_AddStringToObject(j, "units", b->units);
     cJSON_AddNumberToObject(j, "width", b->width);
@@ -411,6 +418,138 @@ float *ras_dump_read_pfm(const char *path, int *width, int *height, int *channel
     return f;
 }
 
+/* What a sidecar (NAME.json) says of its frame: the frame's name ("" when
+ * it names none: dumps made before frames were named, and the shipped
+ * reference buffers) and the buffer's size (all 0 for a vertex dump). */
+typedef struct sidecar_facts {
+    char frame[64];
+    int width, height, samples, channels;
+} sidecar_facts;
+
+static int json_int(const cJSON *j, const char *key) {
+    const cJSON *v = cJSON_GetObjectItemCaseSensitive(j, key);
+    return cJSON_IsNumber(v) && v->valuedouble >= 0 && v->valuedouble <= 1 << 24 ? v->valueint : 0;
+}
+
+static bool read_sidecar(const char *path, sidecar_facts *f, ras_error *err) {
+    size_t len = 0;
+    char *text = ras_io_read_file(path, "buffer description", (size_t)16 << 20, &len, err);
+    if (!text) return false;
+    cJSON *j = cJSON_ParseWithLength(text, len);
+    free(text);
+    if (!j)
+        return ras_error_set(err, "--buffers: '%s' is not JSON; expected the description a "
+                                  "--dump writes — dump again", path);
+    const cJSON *frame = cJSON_GetObjectItemCaseSensitive(j, "frame");
+    snprintf(f->frame, sizeof f->frame, "%s", cJSON_IsString(frame) ? frame->valuestring : "");
+    f->width = json_int(j, "width"), f->height = json_int(j, "height");
+    f->samples = json_int(j, "samples"), f->channels = json_int(j, "channels");
+    cJSON_Delete(j);
+    return true;
+}
+
+/* The width, height and channels a file's first bytes say: a PFM's header,
+ * a PNG's IHDR (channels 0); false when the file is absent or not that. */
+static bool file_size_says(const char *path, bool png, int *w, int *h, int *ch) {
+    char why[256];
+    int fd = ras_io_open_input(path, why, sizeof why);
+    if (fd < 0) return false;
+    uint8_t head[64] = {0};
+    ssize_t got = read(fd, head, sizeof head - 1);
+    close(fd);
+    if (png) {
+        if (got < 24 || memcmp(head, "\x89PNG\r\n\x1a\n", 8) || memcmp(head + 12, "IHDR", 4))
+            return false;
+        *w = (int)((uint32_t)head[16] << 24 | head[17] << 16 | head[18] << 8 | head[19]);
+        *h = (int)((uint32_t)head[20] << 24 | head[21] << 16 | head[22] << 8 | head[23]);
+        *ch = 0;
+        return true;
+    }
+    return got > 3 && head[0] == 'P' && (head[1] == 'F' || head[1] == 'f') &&
+           sscanf((const char *)head + 2, "%d %d", w, h) == 2 && (*ch = head[1] == 'F' ? 3 : 1);
+}
+
+/* Buffer `name`'s exact file and picture, checked against its sidecar: a
+ * stale .pfm beside a newer .json is two frames as surely as two frame
+ * names are. */
+static bool files_match_sidecar(const char *dir, const char *name, const sidecar_facts *f,
+                                ras_error *err) {
+    char path[RAS_IO_MAX_PATH + 64];
+    int w, h, ch;
+    snprintf(path, sizeof path, "%s/%s.pfm", dir, name);
+    if (file_size_says(path, false, &w, &h, &ch) &&
+        (w != f->width * f->samples || h != f->height || ch != f->channels))
+        return ras_error_set(err,
+                             "--buffers: the folder '%s' holds files of two frames: %s.pfm is "
+                             "%dx%d with %d channel(s), but %s.json describes %dx%d (x%d samples) "
+                             "with %d; expected one --dump run's files — dump again into an "
+                             "empty folder",
+                             dir, name, w, h, ch, name, f->width, f->height, f->samples,
+                             f->channels);
+    snprintf(path, sizeof path, "%s/%s.png", dir, name);
+    if (file_size_says(path, true, &w, &h, &ch) &&
+        (w != f->width || h != f->height + LEGEND_ROWS))
+        return ras_error_set(err,
+                             "--buffers: the folder '%s' holds files of two frames: %s.png is "
+                             "%dx%d, but %s.json describes a %dx%d frame (the picture is %d rows "
+                             "taller, for its legend); expected one --dump run's files — dump "
+                             "again into an empty folder",
+                             dir, name, w, h, name, f->width, f->height, LEGEND_ROWS);
+    return true;
+}
+
+/* Every description in `dir` names the same frame, and each buffer's files
+ * have the size its description gives. */
+static bool check_one_frame(const char *dir, ras_error *err) {
+    DIR *d = opendir(dir);
+    if (!d) return true; /* the files' own reads will say why */
+    sidecar_facts first, f;
+    memset(&first, 0, sizeof first);
+    char first_name[300] = "", path[RAS_IO_MAX_PATH + 300];
+    bool ok = true;
+    struct dirent *e;
+    while (ok && (e = readdir(d)) != NULL) {
+        size_t n = strlen(e->d_name);
+        if (!is_dump_file(e->d_name) || n < 5 || strcmp(e->d_name + n - 5, ".json")) continue;
+        snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
+        memset(&f, 0, sizeof f);
+        ok = read_sidecar(path, &f, err);
+        if (!ok) break;
+        if (!*first_name) {
+            first = f;
+            snprintf(first_name, sizeof first_name, "%s", e->d_name);
+        } else if (strcmp(first.frame, f.frame)) {
+            ok = ras_error_set(err,
+                               "--buffers: the folder '%s' holds files of two frames: %s is of "
+                               "frame '%s', %s of frame '%s' (an older dump's files beside a "
+                               "newer one's); expected one --dump run's files — dump again "
+                               "into an empty folder",
+                               dir, first_name, *first.frame ? first.frame : "(none named)",
+                               e->d_name, *f.frame ? f.frame : "(none named)");
+        }
+        char name[300];
+        snprintf(name, sizeof name, "%.*s", (int)(n - 5), e->d_name);
+        if (ok && strncmp(name, "vertices", 8)) ok = files_match_sidecar(dir, name, &f, err);
+    }
+    closedir(d);
+    /* a dump that names its frame writes a sidecar beside every buffer: an
+     * exact file without one is another frame's, left over */
+    for (int i = 0; ok && *first.frame && ras_dump_buffer_names[i]; i++) {
+        struct stat sb;
+        snprintf(path, sizeof path, "%s/%s.pfm", dir, ras_dump_buffer_names[i]);
+        bool pfm = stat(path, &sb) == 0;
+        snprintf(path, sizeof path, "%s/%s.json", dir, ras_dump_buffer_names[i]);
+        if (pfm && stat(path, &sb) != 0)
+            ok = ras_error_set(err,
+                               "--buffers: the folder '%s' holds files of two frames: %s.pfm has "
+                               "no %s.json beside it, though %s names frame '%s'; expected one "
+                               "--dump run's files — dump again into an empty folder",
+                               dir, ras_dump_buffer_names[i], ras_dump_buffer_names[i], first_name,
+                               first.frame);
+    }
+    return ok;
+}
+
 bool ras_dump_check_input_dir(const char *dir, ras_error *err) {
     struct stat st;
     if (stat(dir, &st) != 0)
@@ -423,7 +562,7 @@ bool ras_dump_check_input_dir(const char *dir, ras_error *err) {
                              "--buffers: '%s' is not a folder; expected the folder of a --dump "
                              "run",
                              dir);
-    return true;
+    return check_one_frame(dir, err);
 }
 
 bool ras_dump_prepare_dir(const char *dir, ras_error *err) {
@@ -443,47 +582,177 @@ bool ras_dump_prepare_dir(const char *dir, ras_error *err) {
                          dir, strerror(errno));
 }
 
-/* Staging folders of this DIR (".BASE-XXXXXX") that a kill -9 left, from
- * before this run began: their buffer files and then the folder removed
- * (a folder holding anything else is left alone). */
-static void remove_stale_stages(const char *parent, const char *base) {
-    time_t start = ras_io_process_start();
-    DIR *d = start ? opendir(parent) : NULL;
-    struct dirent *e;
-    size_t bl = strlen(base);
-    while (d && (e = readdir(d)) != NULL) {
-        const char *n = e->d_name;
-        size_t nl = strlen(n);
-        if (nl != bl + 8 || n[0] != '.' || strncmp(n + 1, base, bl) || n[bl + 1] != '-') continue;
-        struct stat sb;
-        if (fstatat(dirfd(d), n, &sb, AT_SYMLINK_NOFOLLOW) != 0 || !S_ISDIR(sb.st_mode) ||
-            sb.st_uid != geteuid() || sb.st_mtime >= start - 1)
-            continue;
-        int fd = openat(dirfd(d), n, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
-        DIR *in = fd >= 0 ? fdopendir(fd) : NULL;
-        struct dirent *f;
-        while (in && (f = readdir(in)) != NULL) {
-            size_t fl = strlen(f->d_name);
-            bool ours = (fl > 4 && (!strcmp(f->d_name + fl - 4, ".pfm") ||
-                                    !strcmp(f->d_name + fl - 4, ".png"))) ||
-                        (fl > 5 && !strcmp(f->d_name + fl - 5, ".json"));
-            if (ours) unlinkat(dirfd(in), f->d_name, 0);
-        }
-        if (in) closedir(in);
-        else if (fd >= 0) close(fd);
-        unlinkat(dirfd(d), n, AT_REMOVEDIR); /* fails, harmlessly, when not empty */
+/* ---- one frame per folder ------------------------------------------------ */
+
+/* This frame's name, written into every sidecar so that --buffers can tell
+ * files of two frames apart: the process and the moment it began its dump
+ * (no two runs on one machine share both). */
+static char g_frame_id[64];
+
+static void new_frame_id(void) {
+    struct timespec t;
+    clock_gettime(CLOCK_REALTIME, &t);
+    snprintf(g_frame_id, sizeof g_frame_id, "%ld-%lld.%09ld", (long)getpid(), (long long)t.tv_sec,
+             t.tv_nsec);
+}
+
+const char *ras_dump_frame_id(void) {
+    if (!*g_frame_id) new_frame_id();
+    return g_frame_id;
+}
+
+/* Whether `name` is a file a dump writes: BUFFER.pfm/.png/.json for the
+ * pipeline's buffers, vertices.json and vertices_N.json for hw1's. These are
+ * the names a new frame replaces as a set; nothing else in DIR is touched. */
+static bool is_dump_file(const char *name) {
+    static const char *const exts[] = {".pfm", ".png", ".json"};
+    for (int i = 0; ras_dump_buffer_names[i]; i++) {
+        size_t bl = strlen(ras_dump_buffer_names[i]);
+        if (strncmp(name, ras_dump_buffer_names[i], bl)) continue;
+        for (size_t e = 0; e < sizeof exts / sizeof *exts; e++)
+            if (!strcmp(name + bl, exts[e])) return true;
     }
+    if (!strcmp(name, "vertices.json")) return true;
+    if (strncmp(name, "vertices_", 9)) return false;
+    const char *p = name + 9;
+    if (*p < '1' || *p > '9') return false;
+    while (*p >= '0' && *p <= '9') p++;
+    return !strcmp(p, ".json");
+}
+
+/* Whether `name` is ras_io_write_atomic's temporary for a dump file
+ * (".FILE-XXXXXX"), which a kill -9 mid-write leaves in the stage. */
+static bool is_dump_temporary(const char *name) {
+    size_t n = strlen(name);
+    if (n < 9 || name[0] != '.' || name[n - 7] != '-') return false;
+    char file[300];
+    if (n - 8 >= sizeof file) return false;
+    memcpy(file, name + 1, n - 8);
+    file[n - 8] = '\0';
+    return is_dump_file(file);
+}
+
+/* Whether `name` is a stage folder's name for target `base`:
+ * ".BASE-XXXXXX", as ras_dump_stage_begin makes it. */
+static bool is_stage_name(const char *name, const char *base) {
+    size_t bl = strlen(base) > 200 ? 200 : strlen(base), nl = strlen(name);
+    return nl == bl + 8 && name[0] == '.' && !strncmp(name + 1, base, bl) && name[bl + 1] == '-';
+}
+
+/* A stage folder whose owner is gone: every dump holds an exclusive flock on
+ * its stage from creation to commit, and the kernel drops it when the owner
+ * dies however it dies (kill -9 included), so a lock we can take means the
+ * folder is a leftover. Only our own dump files and their temporaries are
+ * removed from it, then the folder (which stays if anything else is there). */
+static void sweep_if_dead(int parent_fd, const char *name) {
+    struct stat sb;
+    if (fstatat(parent_fd, name, &sb, AT_SYMLINK_NOFOLLOW) != 0 || !S_ISDIR(sb.st_mode) ||
+        sb.st_uid != geteuid())
+        return;
+    int fd = openat(parent_fd, name, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
+    if (fd < 0) return;
+    if (flock(fd, LOCK_EX | LOCK_NB) != 0) { /* its dump is still running */
+        close(fd);
+        return;
+    }
+    DIR *in = fdopendir(fd);
+    struct dirent *f;
+    while (in && (f = readdir(in)) != NULL)
+        if (is_dump_file(f->d_name) || is_dump_temporary(f->d_name))
+            unlinkat(dirfd(in), f->d_name, 0);
+    if (in) closedir(in); /* and the lock with it */
+    else close(fd);
+    unlinkat(parent_fd, name, AT_REMOVEDIR); /* fails, harmlessly, when not empty */
+}
+
+static void remove_stale_stages(int parent_fd, const char *base) {
+    int fd = openat(parent_fd, ".", O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    DIR *d = fd >= 0 ? fdopendir(fd) : NULL;
+    if (!d && fd >= 0) close(fd);
+    struct dirent *e;
+    while (d && (e = readdir(d)) != NULL)
+        if (is_stage_name(e->d_name, base)) sweep_if_dead(parent_fd, e->d_name);
     if (d) closedir(d);
+}
+
+/* How long a dump waits for another dump's step in the same parent folder
+ * (a sweep, a folder made, a commit: each a few renames) before giving up. */
+enum { PARENT_LOCK_SECONDS = 30 };
+
+/* The parent folder's lock: every dump into it takes it to sweep, to make
+ * its stage and to commit, so that no two commits interleave their files and
+ * no sweep sees a stage before its owner has locked it. */
+static bool lock_parent(ras_dump_stage *st, ras_error *err) {
+    if (st->parent_fd < 0) return true;
+    for (int waited = 0; flock(st->parent_fd, LOCK_EX | LOCK_NB) != 0; waited++) {
+        if (errno != EWOULDBLOCK && errno != EINTR) return true; /* no locks here: go on */
+        if (waited >= PARENT_LOCK_SECONDS * 10)
+            return ras_error_set(err,
+                                 "--dump: another dump into '%s' has held its folder's lock for "
+                                 "%d s; expected it to finish its commit within that — wait for "
+                                 "it, or dump elsewhere",
+                                 st->target, PARENT_LOCK_SECONDS);
+        nanosleep(&(struct timespec){0, 100 * 1000 * 1000}, NULL);
+    }
+    return true;
+}
+
+static void unlock_parent(ras_dump_stage *st) {
+    if (st->parent_fd >= 0) flock(st->parent_fd, LOCK_UN);
+}
+
+static void close_stage_fds(ras_dump_stage *st) {
+    if (!st->begun) return; /* a stage never begun holds no fds (0 is stdin) */
+    if (st->temp_fd >= 0) close(st->temp_fd);
+    if (st->parent_fd >= 0) close(st->parent_fd);
+    st->temp_fd = st->parent_fd = -1;
+}
+
+/* The stage folder made beside the target, removed by the cleanup signals
+ * (ras_io_temp_folder_create) and locked as its owner's (sweep_if_dead). */
+static bool make_stage(ras_dump_stage *st, const char *parent, const char *base, ras_error *err) {
+    (void)snprintf(st->temp, sizeof st->temp, "%s/.%.200s-XXXXXX", parent, base);
+    if (!ras_io_temp_folder_create(st->temp))
+        return ras_error_set(err,
+                             "--dump could not create the folder '%s' (%s creating a temporary "
+                             "folder in '%s'): create it, or choose a folder you can write",
+                             st->target, strerror(errno), parent);
+    st->active = true;
+    st->temp_fd = open(st->temp, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
+    if (st->temp_fd < 0 || flock(st->temp_fd, LOCK_EX | LOCK_NB) != 0) {
+        /* unlocked, a sweep would take it for a leftover; a file system
+         * without flock has no sweeps either */
+        if (st->temp_fd >= 0 && errno != ENOLCK && errno != EINVAL && errno != EOPNOTSUPP)
+            return ras_error_set(err, "--dump: could not lock the temporary folder in '%s' (%s)",
+                                 parent, strerror(errno));
+    }
+    return true;
 }
 
 bool ras_dump_stage_begin(ras_dump_stage *st, const char *dir, ras_error *err) {
     memset(st, 0, sizeof *st);
+    st->parent_fd = st->temp_fd = -1;
+    st->begun = true;
     if (!ras_io_path_fits("--dump", dir, err)) return false;
     size_t n = strlen(dir);
     while (n > 1 && dir[n - 1] == '/') n--; /* "out/" is the folder "out" */
     snprintf(st->target, sizeof st->target, "%.*s", (int)n, dir);
     struct stat sb;
     st->existed = stat(st->target, &sb) == 0;
+    if (!st->existed && lstat(st->target, &sb) == 0 && S_ISLNK(sb.st_mode))
+        return ras_error_set(err,
+                             "--dump: '%s' is a symbolic link to something that does not exist; "
+                             "expected a folder or a new name — create the folder it points to, "
+                             "or choose another path (checked before rendering)",
+                             dir);
+    const char *last = strrchr(st->target, '/');
+    last = last ? last + 1 : st->target;
+    if (strlen(last) > NAME_MAX)
+        return ras_error_set(err,
+                             "--dump: the folder's name '%.40s...' is %zu bytes; expected at most "
+                             "%d (the file system's limit for one name) — choose a shorter name "
+                             "(checked before rendering)",
+                             last, strlen(last), NAME_MAX);
     if (st->existed && !S_ISDIR(sb.st_mode))
         return ras_error_set(err,
                              "--dump expects a folder; '%s' exists and is not one: choose "
@@ -498,71 +767,131 @@ bool ras_dump_stage_begin(ras_dump_stage *st, const char *dir, ras_error *err) {
     const char *slash = strrchr(st->target, '/');
     const char *base = slash ? slash + 1 : st->target;
     char parent[1100];
-    if (!slash) snprintf(parent, sizeof parent, ".");
-    else if (slash == st->target) snprintf(parent, sizeof parent, "/");
-    else snprintf(parent, sizeof parent, "%.*s", (int)(slash - st->target), st->target);
-    remove_stale_stages(parent, base);
-    (void)snprintf(st->temp, sizeof st->temp, "%s/.%.200s-XXXXXX", parent, base);
-    if (!mkdtemp(st->temp))
+    ras_io_folder_of(st->target, parent, sizeof parent);
+    st->parent_fd = open(parent, O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    /* a parent we may write but not list (mode 0333) gets no lock and no
+     * sweep: the dump itself still works */
+    if (st->parent_fd < 0 && errno != EACCES)
         return ras_error_set(err,
-                             "--dump could not create the folder '%s' (%s creating a temporary "
-                             "folder in '%s'): create it, or choose a folder you can write",
-                             dir, strerror(errno), parent);
-    st->active = true;
-    return true;
+                             "--dump could not create the folder '%s' (cannot open its parent "
+                             "folder '%s': %s): create the parent, or choose another path",
+                             dir, parent, strerror(errno));
+    if (!lock_parent(st, err)) {
+        close_stage_fds(st);
+        return false;
+    }
+    if (st->parent_fd >= 0) remove_stale_stages(st->parent_fd, base);
+    bool ok = make_stage(st, parent, base, err);
+    unlock_parent(st);
+    if (!ok) ras_dump_stage_abort(st);
+    new_frame_id();
+    return ok;
+}
+
+/* The dump files in `target` that the new frame (in `stage`) does not have:
+ * removed, so that the folder holds one frame's set and never an older
+ * frame's coverage beside a newer frame's depth. */
+static bool remove_stale_files(int target_fd, int stage_fd, const char *target, ras_error *err) {
+    int fd = openat(target_fd, ".", O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    DIR *d = fd >= 0 ? fdopendir(fd) : NULL;
+    if (!d) {
+        if (fd >= 0) close(fd);
+        return ras_error_set(err, "--dump: could not list '%s' (%s)", target, strerror(errno));
+    }
+    bool ok = true;
+    struct dirent *e;
+    struct stat sb;
+    while (ok && (e = readdir(d)) != NULL) {
+        if (!is_dump_file(e->d_name) || fstatat(stage_fd, e->d_name, &sb, AT_SYMLINK_NOFOLLOW) == 0)
+            continue;
+        if (fstatat(target_fd, e->d_name, &sb, AT_SYMLINK_NOFOLLOW) != 0 || S_ISDIR(sb.st_mode))
+            continue; /* a folder of that name is not a file of ours */
+        if (unlinkat(target_fd, e->d_name, 0) != 0 && errno != ENOENT)
+            ok = ras_error_set(err,
+                               "--dump: could not remove the older frame's '%s' from '%s' (%s); "
+                               "expected to replace the whole frame — check the folder's "
+                               "permissions",
+                               e->d_name, target, strerror(errno));
+    }
+    closedir(d);
+    return ok;
 }
 
 /* Every entry of folder `from` renamed into `to` (same file system). */
-static bool move_entries(const char *from, const char *to, ras_error *err) {
-    DIR *d = opendir(from);
-    int tfd = open(to, O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-    bool ok = d && tfd >= 0;
+static bool move_entries(int from_fd, int to_fd, const char *to, ras_error *err) {
+    int fd = openat(from_fd, ".", O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    DIR *d = fd >= 0 ? fdopendir(fd) : NULL;
+    if (!d) {
+        if (fd >= 0) close(fd);
+        return ras_error_set(err, "--dump: could not list the temporary folder (%s)",
+                             strerror(errno));
+    }
+    bool ok = true;
     struct dirent *e;
     while (ok && (e = readdir(d)) != NULL) {
         if (!strcmp(e->d_name, ".") || !strcmp(e->d_name, "..")) continue;
-        if (renameat(dirfd(d), e->d_name, tfd, e->d_name) != 0)
+        if (renameat(from_fd, e->d_name, to_fd, e->d_name) != 0)
             ok = ras_error_set(err, "--dump: could not move '%s' into '%s' (%s)", e->d_name, to,
                                strerror(errno));
     }
-    if (!d || tfd < 0) ras_error_set(err, "--dump: could not open '%s' (%s)", d ? to : from,
-                                     strerror(errno));
-    if (tfd >= 0) {
-        fsync(tfd);
-        close(tfd);
-    }
-    if (d) closedir(d);
+    closedir(d);
+    fsync(to_fd);
     return ok;
+}
+
+/* Into an existing DIR: the old frame's files out, the new frame's in. */
+static bool commit_into(ras_dump_stage *st, ras_error *err) {
+    int tfd = open(st->target, O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (tfd < 0)
+        return ras_error_set(err, "--dump: could not open '%s' (%s)", st->target, strerror(errno));
+    bool ok = remove_stale_files(tfd, st->temp_fd, st->target, err) &&
+              move_entries(st->temp_fd, tfd, st->target, err);
+    close(tfd);
+    return ok;
+}
+
+/* A new DIR: the stage renamed, with the mode a plain mkdir would give it
+ * (mkdtemp's 0700 would shut out the TA reading it). */
+static bool commit_new(ras_dump_stage *st, ras_error *err) {
+    mode_t mask = umask(0);
+    umask(mask);
+    if (fchmod(st->temp_fd, 0777 & ~mask) != 0 || rename(st->temp, st->target) != 0)
+        return ras_error_set(err, "--dump could not create the folder '%s' (%s)", st->target,
+                             strerror(errno));
+    if (st->parent_fd >= 0) fsync(st->parent_fd);
+    st->active = false;
+    return true;
 }
 
 bool ras_dump_stage_commit(ras_dump_stage *st, ras_error *err) {
     if (!st->active) return true;
-    bool ok;
-    if (!st->existed && rename(st->temp, st->target) == 0) {
-        ok = true;
-    } else {
-        if (!st->existed && mkdir(st->target, 0777) != 0 && errno != EEXIST) {
-            ras_error_set(err, "--dump could not create the folder '%s' (%s)", st->target,
-                          strerror(errno));
-            ras_dump_stage_abort(st);
-            return false;
-        }
-        ok = move_entries(st->temp, st->target, err);
-        ras_dump_stage_abort(st); /* what is left of the temporary folder */
-        return ok;
-    }
-    st->active = false;
+    if (st->temp_fd < 0 && (st->temp_fd = open(st->temp, O_RDONLY | O_DIRECTORY | O_CLOEXEC)) < 0)
+        return ras_error_set(err, "--dump: could not open the temporary folder (%s)",
+                             strerror(errno));
+    if (!lock_parent(st, err)) return false;
+    /* a signal now would leave half a set: it waits for the commit */
+    sigset_t old;
+    ras_io_cleanup_signals_block(&old);
+    struct stat sb;
+    bool ok = lstat(st->target, &sb) == 0 ? commit_into(st, err) : commit_new(st, err);
+    unlock_parent(st);
+    ras_dump_stage_abort(st); /* what is left of the temporary folder, and the fds */
+    sigprocmask(SIG_SETMASK, &old, NULL);
     return ok;
 }
 
 void ras_dump_stage_abort(ras_dump_stage *st) {
-    if (!st->active) return;
-    DIR *d = opendir(st->temp);
-    struct dirent *e;
-    while (d && (e = readdir(d)) != NULL)
-        if (strcmp(e->d_name, ".") && strcmp(e->d_name, "..")) unlinkat(dirfd(d), e->d_name, 0);
-    if (d) closedir(d);
-    rmdir(st->temp);
-    st->active = false;
+    if (st->active) {
+        DIR *d = opendir(st->temp);
+        struct dirent *e;
+        while (d && (e = readdir(d)) != NULL)
+            if (strcmp(e->d_name, ".") && strcmp(e->d_name, "..")) unlinkat(dirfd(d), e->d_name, 0);
+        if (d) closedir(d);
+        rmdir(st->temp);
+        st->active = false;
+    }
+    ras_io_temp_folder_release();
+    close_stage_fds(st);
 }
 
 /* Pipeline order (DESIGN.md, "a verdict follows the evidence"): which

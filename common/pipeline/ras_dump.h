@@ -78,8 +78,10 @@ float *ras_dump_read_pfm(const char *path, int *width, int *height, int *channel
  * NULL when out of memory. */
 uint8_t *ras_dump_encode_pfm(int width, int height, int channels, const float *data, size_t *len);
 
-/* A folder given to raster101-compare --buffers exists and is a folder:
- * false and err naming it otherwise (an error, not a mismatch). */
+/* A folder given to raster101-compare --buffers exists, is a folder, and
+ * holds one frame's files (every sidecar names the same frame, every
+ * buffer file has its sidecar's size): false and err naming it otherwise
+ * (an error, not a mismatch). */
 bool ras_dump_check_input_dir(const char *dir, ras_error *err);
 
 /* The buffers a dump may hold, in the order a frame makes them (NULL-ended):
@@ -157,15 +159,27 @@ bool ras_dump_prepare_dir(const char *dir, ras_error *err);
 /* --dump all or nothing: the buffers are written into a temporary folder
  * beside the target (DIR's folder/.NAME-XXXXXX), and moved into place only
  * when every one is written (ras_dump_stage_commit): a new DIR is the
- * temporary folder renamed; into an existing DIR each file is renamed over
- * its old copy (other files there are left alone). A failure removes the
- * temporary folder and leaves DIR as it was. ras_dump_stage_begin checks,
+ * temporary folder renamed (mode 0777 & ~umask, as mkdir makes it); into
+ * an existing DIR the older frame's dump files (buffer and vertex files of
+ * the known names) the new frame lacks are removed and each new file is
+ * renamed over its old copy (other files there are left alone). Commits
+ * into one parent folder take turns under a flock on it; a stage is locked
+ * by its owner while live, so the next dump there removes a stage whose
+ * lock it can take (its owner died, kill -9 included). SIGINT, SIGTERM and
+ * SIGHUP remove the stage before the process dies of them. A failure
+ * removes the temporary folder and leaves DIR as it was. ras_dump_stage_begin checks,
  * before any work, that DIR is (or can be) a folder this run may write. */
 typedef struct ras_dump_stage {
     char target[1100];
     char temp[1400]; /* where the buffers go until the commit */
-    bool active, existed;
+    bool active, existed, begun;
+    int parent_fd, temp_fd; /* the parent's lock; the stage's own, held while live */
 } ras_dump_stage;
+/* The frame's name every sidecar records ("frame"): a new one for each
+ * ras_dump_stage_begin. ras_dump_check_input_dir (what --buffers reads
+ * first) refuses a folder whose sidecars name two frames, or whose buffer
+ * files are not the size their sidecar says. */
+const char *ras_dump_frame_id(void);
 bool ras_dump_stage_begin(ras_dump_stage *stage, const char *dir, ras_error *err);
 bool ras_dump_stage_commit(ras_dump_stage *stage, ras_error *err);
 /* Removes the temporary folder and what is in it (nothing when committed). */

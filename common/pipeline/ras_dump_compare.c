@@ -274,6 +274,7 @@ bool ras_dump_vertices(const char *dir, const char *stem, const ras_mesh *mesh, 
                        mat4s view, mat4s projection, int width, int height, ras_error *err) {
     cJSON *j = cJSON_CreateObject();
     cJSON_AddStringToObject(j, "buffer", "vertices");
+    cJSON_AddStringToObject(j, "frame", ras_dump_frame_id());
     cJSON_AddStringToObject(
         j, "what",
         "each vertex at every step of the vertex stage: object -> world (model) -> eye (view) "

@@ -104,6 +104,48 @@ ras_scene *ras_scene_parse(const char *text, const char *name, const char *base_
     return parse_text(text, strlen(text), name ? name : "(scene)", base_dir ? base_dir : ".", err);
 }
 
+/* UTF-16 or UTF-32 (a byte-order mark, or a NUL beside every ASCII
+ * character: what Notepad and PowerShell save), and JSON's \u0000 escape
+ * inside a string (which would end the string there: "cube\u0000sphere" read
+ * as "cube"), refused with what to do; the NUL check after this one then
+ * speaks only of binary files. */
+static bool scene_text_is_utf8(const char *path, const char *text, size_t len, ras_error *err) {
+    const unsigned char *u = (const unsigned char *)text;
+    bool bom16 = len >= 2 && ((u[0] == 0xFF && u[1] == 0xFE) || (u[0] == 0xFE && u[1] == 0xFF));
+    bool bom32 = len >= 4 && ((u[0] == 0xFF && u[1] == 0xFE && !u[2] && !u[3]) ||
+                              (!u[0] && !u[1] && u[2] == 0xFE && u[3] == 0xFF));
+    /* without a mark: ASCII in UTF-16 puts a NUL in every other byte */
+    size_t pairs = len < 64 ? len / 2 : 32, le = 0, be = 0;
+    for (size_t i = 0; i < pairs; i++) {
+        le += u[2 * i] && !u[2 * i + 1];
+        be += !u[2 * i] && u[2 * i + 1];
+    }
+    bool wide = pairs >= 2 && (le == pairs || be == pairs);
+    if (bom16 || bom32 || wide)
+        return ras_error_set(err,
+                             "%s: the scene is %s (%s); expected UTF-8 JSON — save it as UTF-8 "
+                             "(in Notepad: Save As, Encoding UTF-8)",
+                             path, bom32 ? "UTF-32" : "UTF-16",
+                             bom16 || bom32 ? "it begins with a byte-order mark"
+                                            : "a NUL byte beside every character");
+    bool in_string = false;
+    for (size_t i = 0; i < len; i++) {
+        if (text[i] == '"') in_string = !in_string;
+        if (!in_string || text[i] != '\\') continue;
+        if (i + 5 < len && text[i + 1] == 'u' && !strncmp(text + i + 2, "0000", 4)) {
+            int line, col;
+            ras_scene_syntax_line_col(text, i, &line, &col);
+            return ras_error_set(err,
+                                 "%s:%d:%d: expected a string without NUL characters, got the "
+                                 "escape \\u0000 in one (everything after it would be lost: "
+                                 "\"cube\\u0000sphere\" reads as \"cube\"); remove it",
+                                 path, line, col);
+        }
+        i++; /* the escaped character, a quote included, is not the string's end */
+    }
+    return true;
+}
+
 ras_scene *ras_scene_load(const char *path, ras_error *err) {
     struct stat st;
     if (stat(path, &st) != 0)
@@ -150,6 +192,10 @@ ras_scene *ras_scene_load(const char *path, ras_error *err) {
                NULL;
     }
     text[len] = '\0';
+    if (!scene_text_is_utf8(path, text, len, err)) {
+        free(text);
+        return NULL;
+    }
     const char *nul = memchr(text, '\0', len);
     if (nul) {
         int line, col;

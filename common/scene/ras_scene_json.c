@@ -432,9 +432,28 @@ static char *resolve(ras_json_ctx *c, const char *rel) {
     return d;
 }
 
+/* Whether s starts with a URI scheme ("file://", "http://"): such a name
+ * joined to the scene's folder would be a file no one meant. */
+static bool is_uri(const char *s) {
+    if (!((*s >= 'a' && *s <= 'z') || (*s >= 'A' && *s <= 'Z'))) return false;
+    size_t i = 1;
+    while ((s[i] >= 'a' && s[i] <= 'z') || (s[i] >= 'A' && s[i] <= 'Z') ||
+           (s[i] >= '0' && s[i] <= '9') || s[i] == '+' || s[i] == '-' || s[i] == '.')
+        i++;
+    return s[i] == ':' && s[i + 1] == '/' && s[i + 2] == '/';
+}
+
 bool ras_json_read_path(ras_json_ctx *c, const cJSON *v, const char *path, const char *what,
                         char **out) {
     if (!cJSON_IsString(v) || !v->valuestring[0]) return ras_json_fail_type(c, path, what, v);
+    if (is_uri(v->valuestring)) {
+        char q[96];
+        quote(v->valuestring, q, sizeof q);
+        return ras_json_fail(c, path,
+                             "expected %s (relative to the scene's folder, or absolute), got the "
+                             "URI %s; write the file's path itself (file:///a/b.png is /a/b.png)",
+                             what, q);
+    }
     *out = resolve(c, v->valuestring);
     return *out != NULL;
 }

@@ -625,12 +625,14 @@ case(H3, ["--model", write("list_ok.ply", PLY_HEAD % ("ascii", "uchar") +
                            "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"), "--size", "16x16", "-o", OUT], 0,
      "wrote", absent=(), present=(OUT,), hard=True)
 
-# assimp's own words come last, after the project's (file, what was expected).
-for name, text in (("bad_index.obj", "v 0 0 0\nf 1 2 9\n"),
-                   ("bad.stl", "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0\n")):
+# assimp's own words come last, after the project's (file, the format it is,
+# what is wrong).
+for name, text, said in (("bad_index.obj", "v 0 0 0\nf 1 2 9\n",
+                          "it is an OBJ file, but a face names a vertex that does not exist"),
+                         ("bad.stl", "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0\n",
+                          "it is an STL file, but not a complete one the importer can read")):
     case(H3, ["--model", write(name, text), "-o", OUT], "nonzero",
-         f"could not read model '{path(name)}': it is not a complete mesh file in a format the "
-         "importer knows", hard=True, keep=REF)
+         f"could not read model '{path(name)}': {said}", hard=True, keep=REF)
 
 # ---- every output all or nothing, every failure said ----
 RO_OUT = write("readonly.png", open(REF, "rb").read())
@@ -698,6 +700,43 @@ case(C, ["--buffers", path("no-such-dump"), PFM_DIR], 2,
      absent=(), hard=True)
 case(C, ["--buffers", PFM_DIR, REF], 2, "--buffers: '%s' is not a folder" % REF, absent=(),
      hard=True)
+
+# ---- messages lead with the reason (issue 42 B9) -----------------------------
+# A failed import names the format the file is and what is wrong in the
+# project's words, assimp's text after it as detail.
+BAD_INDEX_OBJ = write("bad-index.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n")
+case(H3, ["--model", BAD_INDEX_OBJ, "-o", OUT], 2,
+     "it is an OBJ file, but a face names a vertex that does not exist")
+case(H3, ["--model", write("storage.stl", b"\0" * 80 + struct.pack("<I", 1000) + b"\0" * 50),
+          "-o", OUT], 2, "it is an STL file, but it is neither an ASCII STL")
+case(H3, ["--model", write("v1.glb", b"glTF" + struct.pack("<II", 1, 100) + b"\0" * 88), "-o", OUT],
+     2, "binary glTF (.glb) file of version 1, which the importer does not read")
+# A path so long that the message would not hold it: cut in its middle, the
+# reason after it whole.
+LONG_DIR = path("/".join(["d" * 200] * 4))
+os.makedirs(LONG_DIR)
+LONG_OBJ = os.path.join(LONG_DIR, "m" * 150 + ".obj")
+shutil.copyfile(BAD_INDEX_OBJ, LONG_OBJ)
+case(H3, ["--model", LONG_OBJ, "-o", OUT], 2,
+     "[...]" + "m" * 20)
+case(H3, ["--model", LONG_OBJ, "-o", OUT], 2,
+     "m.obj': it is an OBJ file, but a face names a vertex that does not exist; expected each "
+     "'f' index within 1..N (or -1..-N) of the vertices before it; fix the face lines, or "
+     "re-export the model [the importer said: OBJ: vertex index out of range]")
+# Scenes: UTF-16 named as such (with or without its byte-order mark), a NUL
+# escaped into a string refused, a URI where a file path goes refused.
+CUBE_TEXT = '{"objects": [{"shape": "cube"}]}'
+for enc in ("utf-16", "utf-16-le", "utf-16-be"):
+    case(H3, ["--scene", write(f"scene-{enc}.json", CUBE_TEXT.encode(enc)), "-o", OUT], 2,
+         "the scene is UTF-16")
+case(H3, ["--scene", write("nul-escape.json", '{"objects": [{"shape": "cube\\u0000sphere"}]}'),
+          "-o", OUT], 2, "nul-escape.json:1:29: expected a string without NUL characters")
+case(H3, ["--scene", write("uri-texture.json",
+                           '{"shader": "texture", "objects": [{"shape": "cube", "material": '
+                           '{"texture": {"file": "file://%s"}}}]}' % REF), "-o", OUT], 2,
+     'objects[0].material.texture.file: expected a file path')
+case(H3, ["--scene", write("uri-model.json", '{"objects": [{"model": "file://%s"}]}' % OK_OBJ),
+          "-o", OUT], 2, "got the URI")
 
 with concurrent.futures.ThreadPoolExecutor(max_workers=max(2, os.cpu_count() or 2)) as pool:
     for result in pool.map(check, cases):
@@ -869,6 +908,169 @@ result = stale_temporaries()
 if result:
     failures.append(result)
     print(result)
+
+# ---- a dump is one frame, all or nothing (issue 42 B7) ----------------------
+def dump_env():
+    env = dict(os.environ)
+    env.pop("DISPLAY", None)
+    return env
+
+def dump_run(args, umask=None, **kw):
+    return subprocess.run([os.path.join(BIN, H2)] + args, capture_output=True, text=True,
+                          env=dump_env(), cwd=WORK, errors="replace",
+                          preexec_fn=(lambda: os.umask(umask)) if umask is not None else None, **kw)
+
+def stages_of(folder, name):
+    return glob.glob(os.path.join(glob.escape(folder), f".{name}-*"))
+
+def dump_folder_mode():
+    """A new dump folder has a plain mkdir's mode (0777 & ~umask), not mkdtemp's 0700."""
+    problems = []
+    for umask, want in ((0o022, 0o755), (0o002, 0o775)):
+        d = path(f"dump-mode-{umask:o}")
+        p = dump_run(["--size", "16x16", "-o", path(f"dump-mode-{umask:o}.png"), "--dump", d], umask)
+        got = os.stat(d).st_mode & 0o7777 if os.path.isdir(d) else None
+        if p.returncode != 0 or got != want:
+            problems.append(f"umask {umask:04o}: exit {p.returncode}, mode "
+                            f"{'none' if got is None else oct(got)}, expected {oct(want)}")
+    return problems
+
+def dump_replaces_the_set():
+    """A second frame into a folder replaces the first's files as a set: the
+    first frame's coverage and sample_colour (only --aa makes them) go, a file
+    that is not a dump file stays, and --buffers finds one frame."""
+    d = path("dump-set")
+    problems = []
+    dump_run(["--size", "24x16", "--aa", "ssaa", "--samples", "4", "-o", path("dump-set.png"),
+              "--dump", d])
+    open(os.path.join(d, "notes.txt"), "w").close()
+    p = dump_run(["--size", "20x12", "-o", path("dump-set.png"), "--dump", d])
+    left = sorted(n for n in os.listdir(d) if n.startswith(("coverage", "sample_colour")))
+    if p.returncode != 0 or left:
+        problems.append(f"the older frame's files stayed: {left} (exit {p.returncode})")
+    if not os.path.exists(os.path.join(d, "notes.txt")):
+        problems.append("notes.txt, not a dump file, was removed")
+    code, out, err = run(C, ["--buffers", d, d])
+    if code != 0:
+        problems.append(f"--buffers of the folder with itself: exit {code}: {err.strip()[:300]}")
+    return problems
+
+def buffers_refuse_two_frames():
+    """--buffers refuses a folder holding two frames' files (a sidecar of
+    another frame; a .pfm of another size than its sidecar says), exit 2."""
+    problems = []
+    a, b = path("dump-fa"), path("dump-fb")
+    dump_run(["--size", "24x16", "-o", path("dump-fa.png"), "--dump", a])
+    dump_run(["--size", "30x20", "-o", path("dump-fb.png"), "--dump", b])
+    mixed = path("dump-mixed-json")
+    shutil.copytree(a, mixed)
+    shutil.copyfile(os.path.join(b, "overdraw.json"), os.path.join(mixed, "overdraw.json"))
+    stale_pfm = path("dump-mixed-pfm")
+    shutil.copytree(a, stale_pfm)
+    shutil.copyfile(os.path.join(b, "depth.pfm"), os.path.join(stale_pfm, "depth.pfm"))
+    lone_pfm = path("dump-lone-pfm")
+    shutil.copytree(a, lone_pfm)
+    os.unlink(os.path.join(lone_pfm, "overdraw.json"))
+    for got in (mixed, stale_pfm, lone_pfm):
+        for pair in ((a, got), (got, a)):
+            code, out, err = run(C, ["--buffers", *pair])
+            if code != 2 or "holds files of two frames" not in err:
+                problems.append(f"--buffers {pair[0]} {pair[1]}: exit {code}, expected 2 and "
+                                f"'holds files of two frames'; stderr {err.strip()[:300]!r}")
+    return problems
+
+def dump_held_in_fsync(name, extra=()):
+    """hw2 dumping into WORK/NAME with each fsync held 3 s by strace, returned
+    once its stage folder holds a file: (strace process, the program's pid), or
+    None when the dump could not be caught in the act."""
+    import time
+    p = subprocess.Popen(["strace", "-f", "-o", os.devnull, "-e", "trace=fsync", "-e",
+                          "inject=fsync:delay_exit=3000000", os.path.join(BIN, H2), "--size",
+                          "64x48", "-o", path(name + ".png"), "--dump", path(name), *extra],
+                         stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=dump_env(),
+                         cwd=WORK)
+    deadline = time.time() + 15
+    while time.time() < deadline and p.poll() is None:
+        time.sleep(0.05)
+        if any(os.listdir(s) for s in stages_of(WORK, name) if os.path.isdir(s)):
+            child = subprocess.run(["pgrep", "-P", str(p.pid)], capture_output=True,
+                                   text=True).stdout.split()
+            if child:
+                return p, int(child[0])
+    p.kill()
+    p.wait()
+    return None
+
+def dump_signals():
+    """SIGINT, SIGTERM, SIGHUP mid-dump: the process dies of the signal, the
+    stage folder is gone and DIR is not made. A kill -9 leaves the stage (no
+    handler runs) and the very next dump there removes it: its owner's lock is
+    free, whatever the clock says."""
+    import signal
+    problems = []
+    for sig in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP, signal.SIGKILL):
+        name = f"dump-sig{int(sig)}"
+        held = dump_held_in_fsync(name)
+        if not held:
+            return [f"SKIP: {sig.name}: the dump could not be caught in the act"]
+        p, pid = held
+        os.kill(pid, sig)
+        p.wait(timeout=20)
+        left = stages_of(WORK, name)
+        if sig != signal.SIGKILL:
+            if left or os.path.exists(path(name)):
+                problems.append(f"{sig.name} mid-dump left {left or path(name)}")
+            continue
+        if not left:
+            return [f"SKIP: kill -9 left no stage to sweep"]
+        q = dump_run(["--size", "16x16", "-o", path(name + ".png"), "--dump", path(name)])
+        if q.returncode != 0 or stages_of(WORK, name):
+            problems.append(f"the stage a kill -9 left was not swept by the next dump there: "
+                            f"{stages_of(WORK, name)} (exit {q.returncode}: {q.stderr.strip()[:200]})")
+    return problems
+
+def dumps_at_once():
+    """Two dumps of different sizes into one folder at the same time, six
+    times: each time the folder holds one frame (--buffers of it with itself
+    passes, every sidecar names one frame) and no stage is left."""
+    import json as _json
+    problems = []
+    d = path("dump-race")
+    for r in range(6):
+        ps = [subprocess.Popen([os.path.join(BIN, H2), "--size", size, "--aa", "ssaa", "-o",
+                                path(f"dump-race{size}.png"), "--dump", d], env=dump_env(), cwd=WORK,
+                               stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+              for size in ("160x120", "200x150")]
+        codes = [p.wait(timeout=120) for p in ps]
+        frames = {_json.load(open(f)).get("frame") for f in glob.glob(os.path.join(d, "*.json"))}
+        code, _, err = run(C, ["--buffers", d, d])
+        if codes != [0, 0] or len(frames) != 1 or code != 0 or stages_of(WORK, "dump-race"):
+            problems.append(f"round {r}: exits {codes}, {len(frames)} frames, --buffers exit "
+                            f"{code} {err.strip()[:200]!r}, stages {stages_of(WORK, 'dump-race')}")
+    return problems
+
+def dump_names_before_rendering():
+    """A --dump name the file system cannot hold (a 300-byte part) or a link to
+    nothing is refused before any drawing, exit 2, -o not written."""
+    problems = []
+    os.symlink("no-such-folder", path("dump-dangling"))
+    for name, said in (("y" * 300, "is 300 bytes; expected at most 255"),
+                       ("dump-dangling", "is a symbolic link to something that does not exist")):
+        out = path("dump-name.png")
+        p = dump_run(["--size", "16x16", "-o", out, "--dump", path(name)])
+        if p.returncode != 2 or said not in p.stderr or os.path.exists(out):
+            problems.append(f"--dump {name[:40]}: exit {p.returncode}, expected 2 and {said!r} "
+                            f"before -o was written; stderr {p.stderr.strip()[:300]!r}")
+    return problems
+
+DUMP_CHECKS = [dump_names_before_rendering, dump_folder_mode, dump_replaces_the_set, buffers_refuse_two_frames, dumps_at_once]
+if shutil.which("strace") and shutil.which("pgrep") and not SANITIZED:
+    DUMP_CHECKS.append(dump_signals)
+for check_dump in DUMP_CHECKS:
+    for problem in check_dump():
+        print(f"{'' if problem.startswith('SKIP') else 'FAIL: '}{check_dump.__name__}: {problem}")
+        if not problem.startswith("SKIP"):
+            failures.append(f"FAIL: {check_dump.__name__}: {problem}")
 
 def signal_during_write(sig):
     """SIGINT/SIGTERM while the temporary file exists (the write held in fsync

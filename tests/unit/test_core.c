@@ -76,6 +76,32 @@ static void test_math_products_fixed_rounding_order(void **state) {
 }
 
 /* Ordered grids sit at ((i+0.5)/n, (j+0.5)/n); standard 4x is D3D's table read y-up. */
+/* A message longer than ras_error holds loses the middle of its longest
+ * word (the path), never the reason after it; short messages are untouched. */
+static void test_error_long_path_cut_in_the_middle(void **state) {
+    (void)state;
+    char path[1201];
+    memset(path, 'p', sizeof path - 1);
+    path[0] = '/';
+    memcpy(path + sizeof path - 7, "/m.obj", 7);
+    ras_error err;
+    ras_error_set(&err, "could not read model '%s': it is an OBJ file, but %s", path,
+                  "a face names a vertex that does not exist");
+    size_t n = strlen(err.msg);
+    assert_true(n < sizeof err.msg);
+    assert_non_null(strstr(err.msg, "could not read model '/ppp"));
+    assert_non_null(strstr(err.msg, "[...]"));
+    assert_non_null(strstr(err.msg, "/m.obj': it is an OBJ file, but a face names a vertex that "
+                                    "does not exist"));
+    ras_error_set(&err, "short '%s' stays", "x");
+    assert_string_equal(err.msg, "short 'x' stays");
+    /* no long word at all: only then is the end cut */
+    char words[3000] = "";
+    for (int i = 0; i < 500; i++) strcat(words, "ab ");
+    ras_error_set(&err, "%s", words);
+    assert_int_equal(strlen(err.msg), sizeof err.msg - 1);
+}
+
 static void test_sample_patterns_positions(void **state) {
     (void)state;
     ras_sample_pattern p;
@@ -549,6 +575,7 @@ int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_math_rows_constructor_is_row_major),
         cmocka_unit_test(test_math_nan_never_near),
+        cmocka_unit_test(test_error_long_path_cut_in_the_middle),
         cmocka_unit_test(test_math_products_fixed_rounding_order),
         cmocka_unit_test(test_sample_patterns_positions),
         cmocka_unit_test(test_framebuffer_index_math),
