@@ -331,8 +331,10 @@ static int run_headless(ras_app *app, const ras_image *expected, const char *ref
             (app->hooks->dump && !app->hooks->dump(app, app->cli.dump, &err)) ||
             !ras_dump_stage_commit(&g_dump_stage, &err)) {
             dump_words(&err);
-            fprintf(stderr, "%s: --dump: %s; '%s' and the output were left as they were\n",
-                    app->hooks->program, err.msg, g_dump_stage.target);
+            /* The stage's own messages already begin with "--dump". */
+            const char *tag = strncmp(err.msg, "--dump", 6) == 0 ? "" : "--dump: ";
+            fprintf(stderr, "%s: %s%s; '%s' and the output were left as they were\n",
+                    app->hooks->program, tag, err.msg, g_dump_stage.target);
             ras_dump_stage_abort(&g_dump_stage);
             return 1;
         }
