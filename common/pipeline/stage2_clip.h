@@ -44,9 +44,25 @@ typedef enum ras_clip_result {
  * many triangles over shared vertices can code each vertex once. */
 unsigned ras_clip_outcode(vec4s p_clip);
 
-/* Clips one triangle; writes the convex polygon to out and its size to *count. */
+/* The same decided on the vertex's exact position (p_exact, or p_clip
+ * widened when the vertex has none) in double, with plane 2 the far test
+ * w <= z_far when z_far > 0 (the camera's far distance; w is the view
+ * depth) and z >= -w otherwise. This is the classification
+ * ras_clip_triangle_far clips by. */
+unsigned ras_clip_vertex_outcode(const ras_clip_vertex *v, double z_far);
+
+/* Clips one triangle; writes the convex polygon to out and its size to *count.
+ * No far distance: plane 2 is z >= -w. */
 ras_clip_result ras_clip_triangle(const ras_clip_vertex *a, const ras_clip_vertex *b,
                                   const ras_clip_vertex *c,
                                   ras_clip_vertex out[RAS_CLIP_MAX_VERTICES], int *count);
+
+/* The same with the far plane at w = z_far (> 0; 0: z >= -w), every plane
+ * decided and every cut made on the exact positions in double (issue #42:
+ * the far plane at near / far = 1e-7, edge-on triangles 1e-9 from the
+ * eye). The contract below holds for p_clip, plus w <= z_far. */
+ras_clip_result ras_clip_triangle_far(const ras_clip_vertex *a, const ras_clip_vertex *b,
+                                      const ras_clip_vertex *c, double z_far,
+                                      ras_clip_vertex out[RAS_CLIP_MAX_VERTICES], int *count);
 
 #endif
