@@ -327,6 +327,108 @@ static void test_fast_path_extreme_cameras(void **state) {
     assets = kept_assets;
 }
 
+/* Issue #42, B1: nothing beyond the far plane is drawn at any legal near
+ * and far. A triangle across the view axis at distance × far (eye at the
+ * origin, looking down -z, a scale of far on corners at ±distance) for near
+ * 1e-3..1, far up to 1e6 (the largest a scene takes) and distance 1.01..3:
+ * no sample covered, by the teaching pipeline and the fast renderer, and
+ * the same triangle at 0.99 × far covers the frame's middle (the camera
+ * sees it; a far plane put too near would fail there). The float far test
+ * (z >= -w on the float projection) drew 26% of the frame at near 0.1,
+ * far 1e6, distance 1.2. Then legal values whose product leaves the far
+ * range: translate 1e6, scale 1e6, corners at 1e6 (a triangle 1e12 away). */
+static ras_scene *far_sweep_scene(double near, double far, double m, const char *transform) {
+    char json[1024], name[96];
+    snprintf(json, sizeof json,
+             "{\"image\": {\"width\": 64, \"height\": 48},"
+             " \"camera\": {\"eye\": [0, 0, 0], \"fov_deg\": 45, \"near\": %.9g, \"far\": %.9g},"
+             " \"objects\": [{\"shape\": \"triangle\", \"vertices\": [[%.9g, %.9g, %.9g],"
+             " [%.9g, %.9g, %.9g], [0, %.9g, %.9g]], \"transform\": %s}]}",
+             near, far, -m, -m, -m, m, -m, -m, m, -m, transform);
+    snprintf(name, sizeof name, "near %g far %g at %g x far", near, far, m);
+    ras_error err = {{0}};
+    ras_scene *s = ras_scene_parse(json, name, NULL, &err);
+    if (!s) fail_msg("test setup: %s: %s", name, err.msg);
+    return s;
+}
+
+/* Samples covered by the teaching pipeline and by the fast renderer (one
+ * and two threads), which must agree. */
+static uint64_t far_sweep_covered(ras_scene *s, const char *what) {
+    ras_scene *kept_scene = scene;
+    ras_scene_assets *kept_assets = assets;
+    ras_error err = {{0}};
+    scene = s;
+    assets = ras_scene_load_assets(s, &err);
+    if (!assets) {
+        scene = kept_scene, assets = kept_assets;
+        fail_msg("test setup: %s: %s", what, err.msg);
+    }
+    hw3_render_options opt = hw3_render_defaults(); /* the normal shader, no AA */
+    ras_counters kt, kf1, kf2;
+    render(opt, true, 1, teaching_img, &kt, NULL);
+    render(opt, false, 1, fast_img, &kf1, NULL);
+    bool same1 = !memcmp(teaching_img->pixels, fast_img->pixels,
+                         (size_t)s->width * s->height * sizeof *fast_img->pixels);
+    render(opt, false, 2, fast_img, &kf2, NULL);
+    bool same2 = !memcmp(teaching_img->pixels, fast_img->pixels,
+                         (size_t)s->width * s->height * sizeof *fast_img->pixels);
+    ras_scene_assets_destroy(assets);
+    scene = kept_scene, assets = kept_assets;
+    if (!same1 || !same2 || kt.samples_covered != kf1.samples_covered ||
+        kt.samples_covered != kf2.samples_covered)
+        fail_msg("%s: the fast renderer drew other pixels than the teaching pipeline (%llu, "
+                 "%llu and %llu samples covered); expected the same picture",
+                 what, (unsigned long long)kt.samples_covered,
+                 (unsigned long long)kf1.samples_covered, (unsigned long long)kf2.samples_covered);
+    return kt.samples_covered;
+}
+
+static void test_fast_path_far_plane_sweep(void **state) {
+    (void)state;
+    const double nears[] = {1e-3, 1e-2, 0.1, 1}, fars[] = {1e2, 1e4, 1e5, 1e6};
+    const double beyond[] = {1.01, 1.1, 1.2, 1.5, 2, 3};
+    long cases = 0, drawn_beyond = 0;
+    char first[160] = "";
+    for (size_t i = 0; i < sizeof nears / sizeof *nears; i++)
+        for (size_t j = 0; j < sizeof fars / sizeof *fars; j++) {
+            char transform[64], what[128];
+            snprintf(transform, sizeof transform, "{\"scale\": %.9g}", fars[j]);
+            snprintf(what, sizeof what, "near %g, far %g, at 0.99 x far", nears[i], fars[j]);
+            ras_scene *s = far_sweep_scene(nears[i], fars[j], 0.99, transform);
+            uint64_t inside = far_sweep_covered(s, what);
+            ras_scene_destroy(s);
+            if (inside < 64 * 48 / 4)
+                fail_msg("%s: %llu of %d samples covered; expected the triangle in front of "
+                         "the far plane drawn across the frame's middle",
+                         what, (unsigned long long)inside, 64 * 48);
+            for (size_t k = 0; k < sizeof beyond / sizeof *beyond; k++) {
+                snprintf(what, sizeof what, "near %g, far %g, at %g x far", nears[i], fars[j],
+                         beyond[k]);
+                s = far_sweep_scene(nears[i], fars[j], beyond[k], transform);
+                uint64_t n = far_sweep_covered(s, what);
+                ras_scene_destroy(s);
+                cases++;
+                if (n && !drawn_beyond++)
+                    snprintf(first, sizeof first, "%s: %llu samples", what,
+                             (unsigned long long)n);
+            }
+        }
+    /* the products of legal values: 1e6 + 1e6 * 1e6 away */
+    ras_scene *s = far_sweep_scene(0.1, 1e6, 1e6, "{\"translate\": [0, 0, -1e6], \"scale\": 1e6}");
+    uint64_t n = far_sweep_covered(s, "translate 1e6, scale 1e6, corners at 1e6, far 1e6");
+    ras_scene_destroy(s);
+    cases++;
+    if (n && !drawn_beyond++)
+        snprintf(first, sizeof first, "translate 1e6, scale 1e6, corners at 1e6: %llu samples",
+                 (unsigned long long)n);
+    printf("far plane sweep: %ld triangles beyond far, %ld drawn\n", cases, drawn_beyond);
+    if (drawn_beyond)
+        fail_msg("%ld of %ld triangles beyond the far plane were drawn; first: %s. Expected "
+                 "nothing beyond far (stage2_clip.c: the far test w <= z_far in double)",
+                 drawn_beyond, cases, first);
+}
+
 /* The fast renderer declines what hw3 refuses (flat, an out-of-range shader)
  * rather than drawing it: -1 hands the frame back to hw3_render, which says
  * why (test_scene_stages' test_flat_shader_refused checks the message). */
@@ -350,6 +452,7 @@ int main(void) {
         cmocka_unit_test(test_fast_path_clipping_affine),
         cmocka_unit_test(test_fast_path_clamp_coloured_light_no_light),
         cmocka_unit_test(test_fast_path_extreme_cameras),
+        cmocka_unit_test(test_fast_path_far_plane_sweep),
         cmocka_unit_test(test_fast_path_declines_flat),
     };
     return RAS_RUN_TESTS("fast_path", tests, group_setup, group_teardown);
