@@ -55,26 +55,27 @@ static void position_exact(const dmat4 *mvp, vec3s p, double out[4]) {
  * of its size, and an edge-on triangle's plane moves by that much. */
 #define FLOAT_CHAIN_TOLERANCE 0x1p-21
 
-void ras_clip_set_position(ras_clip_vertex *v, vec4s float_chain, const double product[4]) {
+bool ras_float_chain_accurate(const float chain[4], const double product[4]) {
     double scale = 0, err = 0;
     for (int j = 0; j < 4; j++) {
         scale = fmax(scale, fabs(product[j]));
-        err = fmax(err, fabs((double)float_chain.raw[j] - product[j]));
+        err = fmax(err, fabs((double)chain[j] - product[j]));
     }
+    return err <= FLOAT_CHAIN_TOLERANCE * scale; /* NaN: false */
+}
+
+void ras_clip_set_position(ras_clip_vertex *v, vec4s float_chain, const double product[4]) {
     v->exact = true;
-    /* Kept where it is accurate: it drew the reference pictures, and moving
-     * every vertex (or every cut corner) by its last bit moves their
-     * perspective-correct shading by 1/255 in a few pixels. Not kept where
-     * it cancelled, or when it is not finite (err is NaN: the test fails). */
-    if (err <= FLOAT_CHAIN_TOLERANCE * scale) {
+    for (int j = 0; j < 4; j++) v->p_exact[j] = product[j];
+    /* The float chain is kept where it is accurate: it drew the reference
+     * pictures, and moving every vertex by its last bit moves their
+     * perspective-correct shading by 1/255 in a few pixels. Not where it
+     * cancelled, nor when it is not finite. */
+    if (ras_float_chain_accurate(float_chain.raw, product)) {
         v->p_clip = float_chain;
-        for (int j = 0; j < 4; j++) v->p_exact[j] = float_chain.raw[j];
         return;
     }
-    for (int j = 0; j < 4; j++) {
-        v->p_exact[j] = product[j];
-        v->p_clip.raw[j] = (float)product[j];
-    }
+    for (int j = 0; j < 4; j++) v->p_clip.raw[j] = (float)product[j];
 }
 
 void ras_vertex_transform(const ras_mesh *mesh, mat4s model, mat4s view, mat4s projection,

@@ -54,23 +54,21 @@ static inline bool inside_d(int k, const ras_clip_vertex *v, double z_far) {
     return plane_distance_d(k, v->p_exact, z_far) >= 0;
 }
 
-/* The point where the edge from `in` (inside plane k) to `out` (outside)
- * crosses plane k, from the exact positions and kept exact (in double) for
- * the later planes, then put exactly on the plane: the coordinate the plane
- * constrains is set from the others (w = ε or z_far, z = ±w, x or y = ±G·w),
- * in double and in its float rounding (exact there too, G being a power of
- * two), so the plane equation holds with no rounding left. The attributes
- * are interpolated in float with the same t (exact in clip space up to
- * rounding; nothing downstream depends on them being on a plane). */
-static ras_clip_vertex cut_vertex(const ras_clip_vertex *in, const ras_clip_vertex *out, int k,
-                                  double z_far) {
-    const double *a = in->p_exact, *b = out->p_exact;
+/* t and the point at t on the edge a → b where it crosses plane k (a
+ * inside, b outside), in double; false when the distances do not straddle
+ * the plane (only the float chain's can fail to). */
+static bool cut_at(int k, const double a[4], const double b[4], double z_far, double *t,
+                   double d[4]) {
     double da = plane_distance_d(k, a, z_far), db = plane_distance_d(k, b, z_far);
-    /* da >= 0 > db, so t is in [0, 1) */
-    double t = da / (da - db);
-    ras_clip_vertex o;
-    double *d = o.p_exact;
-    for (int j = 0; j < 4; j++) d[j] = a[j] + t * (b[j] - a[j]);
+    if (!(da >= 0 && db < 0)) return false;
+    *t = da / (da - db); /* in [0, 1) */
+    for (int j = 0; j < 4; j++) d[j] = a[j] + *t * (b[j] - a[j]);
+    return true;
+}
+
+/* d put exactly on plane k: the coordinate the plane constrains set from
+ * the others (w = ε or z_far, z = ±w, x or y = ±G·w). */
+static void onto_plane_d(int k, double d[4], double z_far) {
     double G = RAS_CLIP_GUARD;
     switch (k) {
     case 0: d[3] = RAS_CLIP_W_EPSILON; break;
@@ -84,19 +82,56 @@ static ras_clip_vertex cut_vertex(const ras_clip_vertex *in, const ras_clip_vert
     case 5: d[1] = G * d[3]; break;
     default: d[1] = -G * d[3]; break;
     }
-    o.exact = true;
-    float p[4];
-    for (int j = 0; j < 4; j++) p[j] = (float)d[j];
-    switch (k) { /* the float rounding on the plane too */
+}
+
+/* The same in float, exact there too (G is a power of two, ε and z_far
+ * floats). */
+static void onto_plane_f(int k, float p[4], double z_far) {
+    switch (k) {
+    case 0: p[3] = RAS_CLIP_W_EPSILON; break;
     case 1: p[2] = p[3]; break;
-    case 2: if (!(z_far > 0)) p[2] = -p[3]; break;
+    case 2:
+        if (z_far > 0) p[3] = (float)z_far;
+        else p[2] = -p[3];
+        break;
     case 3: p[0] = RAS_CLIP_GUARD * p[3]; break;
     case 4: p[0] = -RAS_CLIP_GUARD * p[3]; break;
     case 5: p[1] = RAS_CLIP_GUARD * p[3]; break;
-    case 6: p[1] = -RAS_CLIP_GUARD * p[3]; break;
-    default: break; /* w = ε, w = z_far: floats already */
+    default: p[1] = -RAS_CLIP_GUARD * p[3]; break;
     }
-    float tf = (float)t;
+}
+
+/* The point where the edge from `in` (inside plane k) to `out` (outside)
+ * crosses plane k. Decided on the exact positions in double and kept exact
+ * for the later planes. Its float position is the cut of the corners'
+ * float positions (in double, as before the exact ones existed: it drew
+ * the reference pictures) where that lies within 8 ulps of the exact cut,
+ * else the exact cut rounded: a far corner's float rounding moves an
+ * edge-on triangle's cut near the eye by its whole size. Either is then
+ * put exactly on the plane. Both depend only on the edge, not on the
+ * direction it is walked, so a neighbour's shared edge is cut bit for bit
+ * alike. The attributes are interpolated in float (exact in clip space up
+ * to rounding; nothing downstream depends on them being on a plane), with the t of the position kept. */
+static ras_clip_vertex cut_vertex(const ras_clip_vertex *in, const ras_clip_vertex *out, int k,
+                                  double z_far) {
+    ras_clip_vertex o;
+    double t = 0;
+    if (!cut_at(k, in->p_exact, out->p_exact, z_far, &t, o.p_exact)) t = 0; /* not reached */
+    onto_plane_d(k, o.p_exact, z_far);
+    o.exact = true;
+    const double a[4] = {in->p_clip.x, in->p_clip.y, in->p_clip.z, in->p_clip.w};
+    const double b[4] = {out->p_clip.x, out->p_clip.y, out->p_clip.z, out->p_clip.w};
+    double tc, dc[4];
+    float p[4], chain[4];
+    bool keep = cut_at(k, a, b, z_far, &tc, dc);
+    if (keep) {
+        for (int j = 0; j < 4; j++) chain[j] = (float)dc[j];
+        onto_plane_f(k, chain, z_far);
+        keep = ras_float_chain_accurate(chain, o.p_exact);
+    }
+    for (int j = 0; j < 4; j++) p[j] = keep ? chain[j] : (float)o.p_exact[j];
+    if (!keep) onto_plane_f(k, p, z_far);
+    float tf = (float)(keep ? tc : t); /* the t of the position kept */
     o.p_clip = (vec4s){{p[0], p[1], p[2], p[3]}};
     o.color = glms_vec3_lerp(in->color, out->color, tf);
     o.normal = glms_vec3_lerp(in->normal, out->normal, tf);
