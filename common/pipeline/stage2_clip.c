@@ -165,11 +165,11 @@ unsigned ras_clip_outcode(vec4s p_clip) {
 }
 
 unsigned ras_clip_vertex_outcode(const ras_clip_vertex *v, double z_far) {
-    ras_clip_vertex e = *v;
-    make_exact(&e);
+    const double widened[4] = {v->p_clip.x, v->p_clip.y, v->p_clip.z, v->p_clip.w};
+    const double *p = v->exact ? v->p_exact : widened;
     unsigned mask = 0;
     for (int k = 0; k < PLANE_COUNT; k++)
-        if (!inside_d(k, &e, z_far)) mask |= 1u << k;
+        if (!(plane_distance_d(k, p, z_far) >= 0)) mask |= 1u << k;
     return mask;
 }
 
