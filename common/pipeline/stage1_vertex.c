@@ -20,7 +20,8 @@ typedef struct dmat4 {
 static dmat4 dmat4_of(mat4s a) {
     dmat4 d;
     for (int c = 0; c < 4; c++)
-        for (int r = 0; r < 4; r++) d.m[c][r] = a.raw[c][r];
+        for (int r = 0; r < 4; r++)
+            d.m[c][r] = a.raw[c][r];
     return d;
 }
 
@@ -38,7 +39,8 @@ static dmat4 dmat4_mul(const dmat4 *a, const dmat4 *b) {
  * where the float chain rounds every product and sum at 2^-24 and loses a
  * translation of 1e6 against an eye at 1e6 to 0.06. */
 static dmat4 mvp_exact(mat4s model, mat4s view, mat4s projection) {
-    dmat4 m = dmat4_of(model), v = dmat4_of(view), p = dmat4_of(ras_projection_normalize_w(projection));
+    dmat4 m = dmat4_of(model), v = dmat4_of(view),
+          p = dmat4_of(ras_projection_normalize_w(projection));
     dmat4 mv = dmat4_mul(&v, &m);
     return dmat4_mul(&p, &mv);
 }
@@ -66,7 +68,8 @@ bool ras_float_chain_accurate(const float chain[4], const double product[4]) {
 
 void ras_clip_set_position(ras_clip_vertex *v, vec4s float_chain, const double product[4]) {
     v->exact = true;
-    for (int j = 0; j < 4; j++) v->p_exact[j] = product[j];
+    for (int j = 0; j < 4; j++)
+        v->p_exact[j] = product[j];
     /* The float chain is kept where it is accurate: it drew the reference
      * pictures, and moving every vertex by its last bit moves their
      * perspective-correct shading by 1/255 in a few pixels. Not where it
@@ -75,7 +78,8 @@ void ras_clip_set_position(ras_clip_vertex *v, vec4s float_chain, const double p
         v->p_clip = float_chain;
         return;
     }
-    for (int j = 0; j < 4; j++) v->p_clip.raw[j] = (float)product[j];
+    for (int j = 0; j < 4; j++)
+        v->p_clip.raw[j] = (float)product[j];
 }
 
 void ras_vertex_transform(const ras_mesh *mesh, mat4s model, mat4s view, mat4s projection,
@@ -91,14 +95,13 @@ void ras_vertex_transform(const ras_mesh *mesh, mat4s model, mat4s view, mat4s p
         double product[4];
         position_exact(&mvp_d, mesh->positions[i], product);
         ras_clip_set_position(o, ras_mat4_mulv(mvp, p), product);
-        o->color = (varyings & RAS_VARYING_COLOR) && mesh->colors ? mesh->colors[i]
-                                                                  : (vec3s){{1, 1, 1}};
+        o->color =
+            (varyings & RAS_VARYING_COLOR) && mesh->colors ? mesh->colors[i] : (vec3s){{1, 1, 1}};
         o->normal = (varyings & RAS_VARYING_NORMAL) && mesh->normals
                         ? glms_vec3_normalize(glms_mat3_mulv(normal_matrix, mesh->normals[i]))
                         : (vec3s){{0, 0, 1}};
         o->uv = (varyings & RAS_VARYING_UV) && mesh->uvs ? mesh->uvs[i] : (vec2s){{0, 0}};
-        o->view_pos = (varyings & RAS_VARYING_VIEW_POS)
-                          ? glms_vec3(ras_mat4_mulv(model_view, p))
-                          : (vec3s){{0, 0, 0}};
+        o->view_pos = (varyings & RAS_VARYING_VIEW_POS) ? glms_vec3(ras_mat4_mulv(model_view, p))
+                                                        : (vec3s){{0, 0, 0}};
     }
 }

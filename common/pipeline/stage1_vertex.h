@@ -26,7 +26,7 @@ typedef struct ras_clip_vertex {
     double p_exact[4];
     bool exact;
     vec3s color;
-    vec3s normal;   /* view space */
+    vec3s normal; /* view space */
     vec2s uv;
     vec3s view_pos; /* view space */
 } ras_clip_vertex;

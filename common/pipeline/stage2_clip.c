@@ -111,12 +111,16 @@ static void onto_plane_f(int k, float p[4], double z_far) {
  * put exactly on the plane. Both depend only on the edge, not on the
  * direction it is walked, so a neighbour's shared edge is cut bit for bit
  * alike. The attributes are interpolated in float (exact in clip space up
- * to rounding; nothing downstream depends on them being on a plane), with the t of the position kept. */
+ * to rounding; nothing downstream depends on them being on a plane), with
+ * the t of the position kept. */
 static ras_clip_vertex cut_vertex(const ras_clip_vertex *in, const ras_clip_vertex *out, int k,
                                   double z_far) {
     ras_clip_vertex o;
     double t = 0;
-    if (!cut_at(k, in->p_exact, out->p_exact, z_far, &t, o.p_exact)) t = 0; /* not reached */
+    /* The caller's tests make the exact distances straddle the plane; were
+     * one NaN, the corner stays where `in` is. */
+    if (!cut_at(k, in->p_exact, out->p_exact, z_far, &t, o.p_exact))
+        memcpy(o.p_exact, in->p_exact, sizeof o.p_exact);
     onto_plane_d(k, o.p_exact, z_far);
     o.exact = true;
     const double a[4] = {in->p_clip.x, in->p_clip.y, in->p_clip.z, in->p_clip.w};

@@ -256,7 +256,8 @@ bool ras_json_read_float(ras_json_ctx *c, const cJSON *v, const char *path, ras_
         return ras_json_fail(c, path,
                              "expected a magnitude of at least %g (a float's smallest normal "
                              "number; a float holds this one %s), got %s",
-                             (double)FLT_MIN, f == 0 ? "as 0" : "as a denormal, with too few digits",
+                             (double)FLT_MIN,
+                             f == 0 ? "as 0" : "as a denormal, with too few digits",
                              describe_number(d, got, sizeof got));
     }
     *out = f;

@@ -400,7 +400,8 @@ static void test_pipeline_config_equal_by_fields(void **state) {
     memset(&b, 0xa5, sizeof b); /* other padding */
     ras_pipeline_config base = {.width = 8, .height = 6, .clear_color = {{0.1f, 0.2f, 0.3f}},
                                 .aa = RAS_AA_MSAA, .cull = RAS_CULL_BACK,
-                                .depth = RAS_DEPTH_INV_W, .z_near = 0.1f, .z_far = 50, .varyings = 3,
+                                .depth = RAS_DEPTH_INV_W, .z_near = 0.1f, .z_far = 50,
+                                .varyings = 3,
                                 .shade_user = &base, .dump = true,
                                 .step = true, .step_triangles = 5};
     assert_true(ras_sample_pattern_make(RAS_PATTERN_STANDARD, 4, &base.pattern, NULL));

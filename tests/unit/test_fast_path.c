@@ -479,11 +479,14 @@ static bool edge_ray_hits(const edge_scene *s, double sx, double sy) {
     return u >= 0 && v >= 0 && u + v <= 1 && dist >= s->near && dist <= s->far;
 }
 
-/* The four classes of issue #42 B2, each with the triangle's plane passing
- * 1e-9 (relative to its size) from the eye: 0 a corner inside near, 1 a
- * corner behind the eye, 2 two corners behind, 3 a spike (two corners
- * together far away, the third inside near). The far corners up to 1e6
- * from the origin, near 1e-3..1, far up to 1e6 (a quarter exactly 1e6). */
+/* The four classes of issue #42 B2, each with the triangle seen edge-on:
+ * its plane is put 1e-11 of its size from the eye, and the corners' float
+ * rounding (as a scene file gives them) then leaves it about that rounding
+ * away. 0 a corner inside near, 1 a corner behind
+ * the eye, 2 two corners behind, 3 a spike (two corners together far away,
+ * the third inside near). The eye within 1000 of the origin (where a float
+ * transform cancels), the far corners up to 1e6 from it, near 1e-3..1, far
+ * up to 1e6 (a quarter exactly 1e6). */
 static void edge_random_scene(uint64_t *g, int cls, edge_scene *s) {
     double eye[3];
     for (int i = 0; i < 3; i++) eye[i] = edge_uniform(g, -1000, 1000);
@@ -493,7 +496,7 @@ static void edge_random_scene(uint64_t *g, int cls, edge_scene *s) {
     s->near = (float)edge_log(g, -3, 0);
     s->far = edge_uniform(g, 0, 1) < 0.25 ? 1e6f : (float)fmin(1e6, s->near * edge_log(g, 2, 9));
     /* corners ahead of the eye (positive: in front), on a plane through
-     * eye + 1e-9 * size * normal */
+     * eye + 1e-11 * size * normal */
     double ahead[3], side[3][2];
     double far_at = fmin(edge_log(g, 0, 0) * s->far * edge_uniform(g, 0.05, 0.95), 9.8e5);
     for (int i = 0; i < 3; i++) ahead[i] = far_at * edge_uniform(g, 0.2, 1);
@@ -505,8 +508,9 @@ static void edge_random_scene(uint64_t *g, int cls, edge_scene *s) {
             side[i][j] = edge_uniform(g, -1, 1) * fmax(fabs(ahead[i]), 1e-3) *
                          (i == 0 ? edge_uniform(g, 0, 1) : 1);
     if (cls == 3) /* a spike: the far corners side by side */
-        for (int j = 0; j < 2; j++) side[2][j] = side[1][j] + edge_uniform(g, -1e-3, 1e-3) * ahead[1];
-    /* the plane through the three offsets, moved to pass 1e-9 of the
+        for (int j = 0; j < 2; j++)
+            side[2][j] = side[1][j] + edge_uniform(g, -1e-3, 1e-3) * ahead[1];
+    /* the plane through the three offsets, moved to pass 1e-11 of the
      * triangle's size from the eye: each corner shifted along its normal */
     double c[3][3];
     for (int i = 0; i < 3; i++) c[i][0] = side[i][0], c[i][1] = side[i][1], c[i][2] = -ahead[i];
