@@ -18,7 +18,7 @@
  */
 #include "fast_priv.h"
 
-#include "stage2_clip.h"  /* ras_clip_triangle, ras_clip_outcode */
+#include "stage2_clip.h"  /* ras_clip_triangle_far, ras_clip_vertex_outcode */
 #include "stage3_setup.h" /* ras_setup_triangle, ras_viewport */
 
 #include <math.h> /* isfinite */
@@ -108,7 +108,7 @@ static bool clip_vertex_finite(const ras_clip_vertex *v) {
 static bool setup_triangle(fast_tri_list *L, const ras_clip_vertex *a, const ras_clip_vertex *b,
                            const ras_clip_vertex *c, const unsigned char flags[3],
                            const unsigned char outcode[3], const vec4s *screen[3], int object,
-                           int width, int height, ras_counters *k) {
+                           int width, int height, double z_far, ras_counters *k) {
     k->triangles_in++;
     if (!(flags[0] & flags[1] & flags[2] & VERTEX_FINITE)) {
         k->triangles_rejected_nonfinite++;
@@ -123,7 +123,7 @@ static bool setup_triangle(fast_tri_list *L, const ras_clip_vertex *a, const ras
     if (outcode[0] & outcode[1] & outcode[2])
         cr = RAS_CLIP_OUTSIDE;
     else if (outcode[0] | outcode[1] | outcode[2])
-        cr = ras_clip_triangle(a, b, c, poly, &n);
+        cr = ras_clip_triangle_far(a, b, c, z_far, poly, &n);
     if (cr == RAS_CLIP_OUTSIDE) {
         k->triangles_clipped_away++;
         return true;
@@ -218,7 +218,8 @@ void fast_setup_vertices(fast_frame *fr, int c) {
                          fr->clip + first);
     for (size_t v = first; v < first + part.vertex_count; v++) {
         fr->screen[v] = ras_viewport(fr->clip[v].p_clip, fr->width, fr->height);
-        fr->voutcode[v] = (unsigned char)ras_clip_outcode(fr->clip[v].p_clip);
+        fr->voutcode[v] =
+            (unsigned char)ras_clip_vertex_outcode(&fr->clip[v], fr->scene->camera.z_far);
         fr->vflags[v] = (unsigned char)((clip_vertex_finite(&fr->clip[v]) ? VERTEX_FINITE : 0) |
                                         (ras_vec4_finite(fr->screen[v]) ? SCREEN_FINITE : 0));
     }
@@ -246,7 +247,7 @@ void fast_setup_triangles(fast_worker *w, int c) {
         const vec4s *screen[3] = {&fr->screen[base + idx[0]], &fr->screen[base + idx[1]],
                                   &fr->screen[base + idx[2]]};
         if (!setup_triangle(L, &clip[idx[0]], &clip[idx[1]], &clip[idx[2]], flags, outcode, screen,
-                            o, fr->width, fr->height, &w->ks)) {
+                            o, fr->width, fr->height, fr->scene->camera.z_far, &w->ks)) {
             atomic_store(&fr->failed, true);
             return;
         }

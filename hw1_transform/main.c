@@ -39,6 +39,7 @@ static bool configure(ras_app *app, ras_pipeline_config *cfg, ras_error *err) {
     *cfg = (ras_pipeline_config){.width = app->set.width,
                                  .height = app->set.height,
                                  .clear_color = app->scene->clear_color,
+                                 .z_far = app->scene->camera.z_far,
                                  .wireframe = true,
                                  .wire_color = {{1, 1, 1}}};
     return true;

@@ -62,6 +62,7 @@ static bool configure(ras_app *app, ras_pipeline_config *cfg, ras_error *err) {
                                  .pattern = ras_app_settings_pattern(set),
                                  .depth = set->depth,
                                  .z_near = s->camera.z_near,
+                                 .z_far = s->camera.z_far,
                                  .varyings = RAS_VARYING_COLOR,
                                  .rasterize = rasterize_triangle,
                                  .resolve = resolve_pixel,

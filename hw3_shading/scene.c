@@ -341,6 +341,7 @@ ras_pipeline_config hw3_frame_config(const ras_scene *scene, const hw3_render_op
                                  .cull = opt->cull,
                                  .depth = opt->depth,
                                  .z_near = scene->camera.z_near,
+                                 .z_far = scene->camera.z_far,
                                  .varyings = stage->varyings,
                                  .rasterize = rasterize_triangle,
                                  .resolve = resolve_pixel,

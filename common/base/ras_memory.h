@@ -42,7 +42,9 @@
  * RSS / triangle count on 2.1 M-triangle spheres and 1 M-triangle teapots is
  * 530-600 bytes (docs/robustness.md). */
 #define RAS_MEMORY_RENDER_BYTES_PER_TRIANGLE 600.0
-#define RAS_MEMORY_RENDER_BYTES_PER_VERTEX 64.0
+/* per vertex: the clip vertex (96 bytes since it carries its position in
+ * double, stage1_vertex.h) and the fast path's screen position and codes */
+#define RAS_MEMORY_RENDER_BYTES_PER_VERTEX 112.0
 
 /* The limit in bytes, and a few words saying where it comes from
  * ("the default, half of physical memory capped at 2 GiB", "--memory-limit",

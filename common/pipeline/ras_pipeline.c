@@ -63,6 +63,13 @@ ras_pipeline *ras_pipeline_create(const ras_pipeline_config *config, ras_error *
                       (double)cfg.z_near);
         return NULL;
     }
+    if (!(cfg.z_far >= 0 && isfinite(cfg.z_far))) {
+        ras_error_set(err,
+                      "config.z_far is the camera's far distance (> 0, finite) or 0 for "
+                      "none, got %g",
+                      (double)cfg.z_far);
+        return NULL;
+    }
     ras_pipeline *p = calloc(1, sizeof *p);
     if (!p) {
         ras_error_set(err, "out of memory creating the pipeline");
@@ -113,7 +120,8 @@ bool ras_pipeline_config_equal(const ras_pipeline_config *a, const ras_pipeline_
            a->wireframe == b->wireframe &&
            same_bits(&a->wire_color, &b->wire_color, sizeof a->wire_color) && a->aa == b->aa &&
            pattern && a->cull == b->cull && a->depth == b->depth &&
-           same_bits(&a->z_near, &b->z_near, sizeof a->z_near) && a->varyings == b->varyings &&
+           same_bits(&a->z_near, &b->z_near, sizeof a->z_near) &&
+           same_bits(&a->z_far, &b->z_far, sizeof a->z_far) && a->varyings == b->varyings &&
            a->rasterize == b->rasterize && a->resolve == b->resolve && a->shade == b->shade &&
            a->shade_user == b->shade_user && a->dump == b->dump && a->step == b->step &&
            a->step_triangles == b->step_triangles;
@@ -195,7 +203,7 @@ void ras_pipeline_draw_clip_triangle(ras_pipeline *p, const ras_clip_vertex *a,
     }
     ras_clip_vertex poly[RAS_CLIP_MAX_VERTICES];
     int n = 0;
-    ras_clip_result r = ras_clip_triangle(a, b, c, poly, &n);
+    ras_clip_result r = ras_clip_triangle_far(a, b, c, p->config.z_far, poly, &n);
     if (r == RAS_CLIP_OUTSIDE) {
         k->triangles_clipped_away++;
         return;

@@ -34,6 +34,11 @@ typedef struct ras_pipeline_config {
      * projection's near distance (> 0); RAS_DEPTH_Z01 ignores it. */
     ras_depth_format depth;
     float z_near;
+    /* The camera's far distance: > 0 clips the far plane at view depth
+     * w <= z_far, decided in double (stage2_clip.h); 0: at the projection's
+     * z >= -w, which a float matrix holds only while near / far is well
+     * above 1e-7. */
+    float z_far;
     unsigned varyings;  /* RAS_VARYING_* the shader reads */
     ras_rasterize_fn rasterize; /* required unless wireframe */
     ras_resolve_fn resolve;     /* required when the pattern has > 1 sample */

@@ -10,7 +10,8 @@
 #include "ras_scene_json.h"
 
 #include <ctype.h>   /* tolower */
-#include <math.h>    /* isfinite, floor */
+#include <float.h>   /* FLT_MIN */
+#include <math.h>    /* isfinite, floor, fabsf */
 #include <stdarg.h>  /* va_list */
 #include <stdio.h>   /* snprintf, vsnprintf */
 #include <stdlib.h>  /* malloc */
@@ -246,7 +247,20 @@ bool ras_json_read_float(ras_json_ctx *c, const cJSON *v, const char *path, ras_
                          float *out) {
     double d = 0; /* set by read_number when it returns true (gcc cannot see that) */
     if (!read_number(c, v, path, r, &d)) return false;
-    *out = (float)d;
+    float f = (float)d;
+    /* In range as a number, but a float (what the renderer computes with)
+     * holds it only as 0 or a denormal: every product with it is then 0 or
+     * loses its digits, and the picture is black with exit 0 (issue #42, B3). */
+    if (d != 0 && !(fabsf(f) >= FLT_MIN)) {
+        char got[128];
+        return ras_json_fail(c, path,
+                             "expected a magnitude of at least %g (a float's smallest normal "
+                             "number; a float holds this one %s), got %s",
+                             (double)FLT_MIN,
+                             f == 0 ? "as 0" : "as a denormal, with too few digits",
+                             describe_number(d, got, sizeof got));
+    }
+    *out = f;
     return true;
 }
 

@@ -16,6 +16,8 @@
 
 #include "ras_names.h" /* the option values' spellings */
 
+#include <float.h>  /* FLT_MIN */
+#include <math.h>   /* tanf */
 #include <stdio.h>  /* snprintf */
 #include <stdlib.h> /* calloc */
 #include <string.h> /* strcmp */
@@ -51,6 +53,40 @@ static bool parse_image(ras_json_ctx *c, const cJSON *v, ras_scene *s) {
         return false;
     return ras_json_opt_int(c, v, "image", "width", 1, RAS_SCENE_MAX_SIZE, &s->width) &&
            ras_json_opt_int(c, v, "image", "height", 1, RAS_SCENE_MAX_SIZE, &s->height);
+}
+
+/* The projection (hw1's get_projection_matrix) computes in float with
+ * tan(fov / 2), the frustum's half height at the near plane near ·
+ * tan(fov / 2) and its half width (that times the aspect, as narrow as
+ * 1 / RAS_SCENE_MAX_SIZE with --size), their reciprocals, and near · far.
+ * Each value is legal alone; one of these products of them that is 0 or a
+ * denormal in float makes the matrix 0 or infinite and the picture black,
+ * with exit 0 (issue #42, B3). */
+static bool projection_in_float(ras_json_ctx *c, const ras_scene_camera *cam) {
+    float tan_half = tanf(ras_deg_to_rad(cam->fov_deg) * 0.5f);
+    if (!(tan_half >= FLT_MIN))
+        return ras_json_fail(c, "camera.fov_deg",
+                             "expected a field of view whose half angle's tangent a float holds "
+                             "(tan(fov/2) at least %g), got %g degrees (tan(fov/2) = %g in "
+                             "float); use a wider field of view",
+                             (double)FLT_MIN, (double)cam->fov_deg, (double)tan_half);
+    float half_width = cam->z_near * tan_half / (float)RAS_SCENE_MAX_SIZE;
+    if (!(half_width >= FLT_MIN))
+        return ras_json_fail(c, "camera.near",
+                             "expected a near distance whose frustum half width near * "
+                             "tan(fov/2) / %d a float holds (at least %g), got near %g with "
+                             "fov %g degrees (%g); use a larger near or field of view",
+                             RAS_SCENE_MAX_SIZE, (double)FLT_MIN, (double)cam->z_near,
+                             (double)cam->fov_deg, (double)half_width);
+    float near_far = cam->z_near * cam->z_far;
+    if (!(near_far >= FLT_MIN))
+        return ras_json_fail(c, "camera.near",
+                             "expected near * far to be at least %g (a float's smallest normal "
+                             "number; the projection's depth row is made of it), got near %g * "
+                             "far %g = %g; use a larger near",
+                             (double)FLT_MIN, (double)cam->z_near, (double)cam->z_far,
+                             (double)near_far);
+    return true;
 }
 
 static bool parse_camera(ras_json_ctx *c, const cJSON *v, ras_scene_camera *cam) {
@@ -91,7 +127,7 @@ static bool parse_camera(ras_json_ctx *c, const cJSON *v, ras_scene_camera *cam)
     if (!(cam->z_near < cam->z_far))
         return ras_json_fail(c, "camera.far", "expected far > near (%g), got %g", cam->z_near,
                              cam->z_far);
-    return true;
+    return projection_in_float(c, cam);
 }
 
 static bool read_axis(ras_json_ctx *c, const cJSON *v, const char *path, vec3s *axis) {

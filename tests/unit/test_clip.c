@@ -287,7 +287,8 @@ static void random_scene(rng *g, scene *s) {
 }
 
 /* 300 000 random legal scenes: no emitted corner outside the contract, and
- * every corner's viewport position inside the rasterizer's exact range. */
+ * every corner's viewport position inside the rasterizer's exact range;
+ * every other scene clipped with its far distance (w <= far). */
 static void test_clip_contract_random_cameras(void **state) {
     (void)state;
     rng g = {0x27c11bULL};
@@ -305,14 +306,26 @@ static void test_clip_contract_random_cameras(void **state) {
             !ras_vec4_finite(v[2].p_clip))
             continue; /* the pipeline rejects it before clipping */
         int count = 0;
-        ras_clip_result r = ras_clip_triangle(&v[0], &v[1], &v[2], out, &count);
+        /* every other scene with the camera's far distance, as the pipeline
+         * clips (w <= far in double, stage2_clip.h) */
+        double far = n & 1 ? (double)(float)s.z_far : 0.0;
+        ras_clip_result r = ras_clip_triangle_far(&v[0], &v[1], &v[2], far, out, &count);
         if (r == RAS_CLIP_OUTSIDE) continue;
         split += r == RAS_CLIP_SPLIT;
         for (int i = 0; i < count; i++) {
             corners++;
             char why[96];
             if (out[i].p_clip.w < worst_w) worst_w = out[i].p_clip.w, worst = s;
-            if (!corner_in_contract(out[i].p_clip, why, sizeof why)) {
+            bool in_far = true;
+            if (far > 0 && !((double)out[i].p_clip.w <= far)) {
+                snprintf(why, sizeof why, "w = %.9g beyond far %.9g", (double)out[i].p_clip.w,
+                         far);
+                in_far = false;
+            }
+            /* with far, an untouched corner may lie between the float matrix's
+             * far plane and the true one (z < -w; stage2_clip.h) */
+            bool planes = far > 0 && r == RAS_CLIP_INSIDE;
+            if (!in_far || (!planes && !corner_in_contract(out[i].p_clip, why, sizeof why))) {
                 bad_w += !(out[i].p_clip.w >= RAS_CLIP_W_EPSILON);
                 if (!bad++)
                     snprintf(first, sizeof first,
@@ -342,7 +355,8 @@ static void test_clip_contract_random_cameras(void **state) {
                worst.tri[2][0], worst.tri[2][1], worst.tri[2][2]);
     CHECK(split > scenes / 10, "test setup: only %ld of %ld scenes were cut", split, scenes);
     CHECK(bad == 0 && out_of_range == 0,
-          "%ld corners outside the clipper's contract (w >= %g, inside all seven planes) and "
+          "%ld corners outside the clipper's contract (w >= %g, inside all seven planes, "
+          "w <= far when clipped with it) and "
           "%ld beyond the rasterizer's range; first: %s",
           bad, (double)RAS_CLIP_W_EPSILON, out_of_range, first);
 }

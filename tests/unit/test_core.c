@@ -426,7 +426,8 @@ static void test_pipeline_config_equal_by_fields(void **state) {
     memset(&b, 0xa5, sizeof b); /* other padding */
     ras_pipeline_config base = {.width = 8, .height = 6, .clear_color = {{0.1f, 0.2f, 0.3f}},
                                 .aa = RAS_AA_MSAA, .cull = RAS_CULL_BACK,
-                                .depth = RAS_DEPTH_INV_W, .z_near = 0.1f, .varyings = 3,
+                                .depth = RAS_DEPTH_INV_W, .z_near = 0.1f, .z_far = 50,
+                                .varyings = 3,
                                 .shade_user = &base, .dump = true,
                                 .step = true, .step_triangles = 5};
     assert_true(ras_sample_pattern_make(RAS_PATTERN_STANDARD, 4, &base.pattern, NULL));
@@ -437,7 +438,7 @@ static void test_pipeline_config_equal_by_fields(void **state) {
         c.pattern.kind = base.pattern.kind, c.pattern.count = base.pattern.count;                 \
         for (int k = 0; k < base.pattern.count; k++)                                              \
             c.pattern.offsets[k] = base.pattern.offsets[k];                                       \
-        c.cull = base.cull, c.depth = base.depth, c.z_near = base.z_near;                         \
+        c.cull = base.cull, c.depth = base.depth, c.z_near = base.z_near, c.z_far = base.z_far;   \
         c.varyings = base.varyings, c.rasterize = base.rasterize, c.resolve = base.resolve;       \
         c.shade = base.shade, c.shade_user = base.shade_user, c.dump = base.dump;                 \
         c.step = base.step, c.step_triangles = base.step_triangles;                               \
@@ -463,6 +464,7 @@ static void test_pipeline_config_equal_by_fields(void **state) {
     DIFFERS(c.aa = RAS_AA_SSAA);
     DIFFERS(c.pattern.kind = RAS_PATTERN_ORDERED);
     DIFFERS(c.pattern.count = 2);
+    DIFFERS(c.z_far = 51);
     DIFFERS(c.pattern.offsets[3].y += 0.125f);
     DIFFERS(c.cull = RAS_CULL_FRONT);
     DIFFERS(c.depth = RAS_DEPTH_Z01);

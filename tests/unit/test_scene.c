@@ -578,6 +578,31 @@ static void test_scene_out_of_range(void **state) {
     expect_error("{\"objects\": [{\"shape\": \"cube\", \"transform\": {\"rotate\": "
                  "{\"axis\": [0, 0, 0], \"deg\": 5}}}]}",
                  "objects[0].transform.rotate.axis: expected a non-zero axis", NULL);
+    /* issue #42, B3: legal as numbers, 0 or denormal in the float that uses them */
+    expect_error("{\"camera\": {\"fov_deg\": 1e-37}," ONE_CUBE "}",
+                 "scene.json: camera.fov_deg: expected a field of view whose half angle's "
+                 "tangent a float holds", "got 1e-37 degrees", NULL);
+    expect_error("{\"camera\": {\"near\": 1e-40}," ONE_CUBE "}",
+                 "scene.json: camera.near: expected a magnitude of at least 1.17549e-38",
+                 "as a denormal", "got 1e-40", NULL);
+    expect_error("{\"camera\": {\"near\": 1e-50}," ONE_CUBE "}", "camera.near:", "as 0",
+                 NULL);
+    expect_error("{\"objects\": [{\"shape\": \"cube\", \"transform\": {\"scale\": 1e-45}}]}",
+                 "objects[0].transform.scale: expected a magnitude of at least 1.17549e-38",
+                 "got 1e-45", NULL);
+    expect_error("{\"objects\": [{\"shape\": \"cube\", \"transform\": {\"scale\": "
+                 "[1, 1e-39, 1]}}]}",
+                 "objects[0].transform.scale[1]: expected a magnitude of at least", NULL);
+    expect_error("{\"objects\": [{\"shape\": \"triangle\", \"vertices\": [[0, 0, 0], "
+                 "[1, 0, 0], [0, -1e-42, 0]]}]}",
+                 "objects[0].vertices[2][1]: expected a magnitude of at least", NULL);
+    expect_error("{\"camera\": {\"near\": 1e-36, \"far\": 1}," ONE_CUBE "}",
+                 "scene.json: camera.near: expected a near distance whose frustum half width",
+                 "got near 1e-36 with fov 45 degrees", NULL);
+    expect_error("{\"camera\": {\"near\": 1e-25, \"far\": 1e-14, \"fov_deg\": 90}," ONE_CUBE
+                 "}",
+                 "scene.json: camera.near: expected near * far to be at least 1.17549e-38",
+                 NULL);
     expect_error("{\"camera\": {\"eye\": [0, 0, 5], \"look_at\": [0, 0, 5]}," ONE_CUBE "}",
                  "camera.look_at: expected a point other than the eye", NULL);
     expect_error(
