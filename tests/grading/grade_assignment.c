@@ -117,8 +117,10 @@ static void judge_pictures(grader *g, grading *gr, assignment_result *a, const c
         id);
     int i = 0;
     for (const cJSON *img = images ? images->child : NULL; img; img = img->next, i++) {
+        double t_img = now_s();
         bool own_passed =
             grade_image(g, a, img, dir, id, crash_hint, &b->runs[i], b->sealed[i], false);
+        profile(str_or(img, "name", "image"), "pic", t_img);
         if (b->has_own && !b->sealed[i]) {
             integration_not_run(g, gr, img, id, "FAIL", why);
             if (!a->note || !strstr(a->note, "could not be linked")) {
@@ -132,10 +134,12 @@ static void judge_pictures(grader *g, grading *gr, assignment_result *a, const c
             }
         }
         if (b->whole_at[i] < 0) continue;
+        double t_whole = now_s();
         bool whole_passed = grade_image(g, &gr->integration, img, dir, id,
                                         "a crash in one of your assignments (the "
                                         "attribution below says which)",
                                         &b->runs[b->whole_at[i]], false, true);
+        profile(str_or(img, "name", "image"), "pic+", t_whole);
         item *it = &gr->integration.items[gr->integration.n_items - 1];
         it->score = it->score > 0 ? gr->integration_points : 0;
         it->max_score = gr->integration_points;

@@ -118,6 +118,17 @@ run_result run_limited(char *const argv[], const char *const env[], const char *
     return r;
 }
 
+/* RAS_GRADE_PROFILE=1: one line per run of a batch, named by its log
+ * (a test chunk's worker or replay, a picture's render), with its own
+ * clock: where a batch's seconds go (tests/bench/bench-feedback). */
+static void profile_job(const job *j) {
+    const char *name = strrchr(j->out_path, '/');
+    name = name ? name + 1 : j->out_path;
+    char what[80];
+    fmt(what, sizeof what, "run %s", name);
+    profile_seconds(what, "job", j->rr.seconds);
+}
+
 /* Runs the jobs, `parallel` at a time, each through run_limited in a child
  * of the grader that hands back its run_result through a pipe. */
 void run_jobs(job *jobs, int n, int parallel) {
@@ -170,9 +181,11 @@ void run_jobs(job *jobs, int n, int parallel) {
             if (pids[i] == w) {
                 run_result rr;
                 if (read(fds[i], &rr, sizeof rr) == (ssize_t)sizeof rr) jobs[i].rr = rr;
+                profile_job(&jobs[i]);
                 if (jobs[i].then) {
                     jobs[i].then->rr = (run_result){RUN_NOT_STARTED, 0, 0};
                     if (read(fds[i], &rr, sizeof rr) == (ssize_t)sizeof rr) jobs[i].then->rr = rr;
+                    profile_job(jobs[i].then);
                 }
                 close(fds[i]);
                 pids[i] = 0;
