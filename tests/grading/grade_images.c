@@ -388,6 +388,28 @@ void variant_reference_path(const grader *g, const char *dir, const char *id, co
     fmt(buf, size, "%s/%s-%s.expected.png", g->work ? g->work : dir, id, name);
 }
 
+/* ---------------------------------------------------------------- speculation */
+
+/* A picture judged ahead, in a child of judge_pictures beside the others
+ * (images_speculate): it may compare, write its files and say its verdict,
+ * but not start anything the grading counts or numbers (the buffers'
+ * evidence, a blank picture's counters, the attribution's renders) nor
+ * remove what a judging done again would need (a sealed run's log): there it
+ * gives up, and the picture is judged again in order, in the grader itself. */
+static bool speculating, gave_up;
+
+void images_speculate(bool on) {
+    speculating = on;
+    gave_up = false;
+}
+
+bool images_gave_up(void) { return gave_up; }
+
+bool images_speculation_stops(void) {
+    if (speculating) gave_up = true;
+    return speculating;
+}
+
 /* ---------------------------------------------------------------- grading a picture */
 
 /* One picture being graded: what grade_image's steps share. */
@@ -536,6 +558,77 @@ static bool cached_reference_render(const grader *g, const char *program, const 
     return ok;
 }
 
+/* The reference renders that a batch's pictures will ask for and the cache
+ * lacks, each once, as jobs run beside the batch's sandboxed runs (trusted
+ * programs, run as reference_render runs them): the renders then share the
+ * cores with the student's runs instead of following one another while the
+ * pictures are judged. Each writes into the trusted work folder (logs/). */
+int reference_jobs(grader *g, const cJSON *images, const job *runs, int n_img, job *jobs,
+                   int max) {
+    int n = 0, i = 0;
+    for (const cJSON *img = images ? images->child : NULL; img && i < n_img && n < max;
+         img = img->next, i++) {
+        const char *ref_program = str_or(img, "reference_program", NULL);
+        if (!ref_program) continue;
+        job *j = &jobs[n];
+        memset(j, 0, sizeof *j);
+        fmt(j->store[0], sizeof j->store[0], "%s/bin/%s", g->build, ref_program);
+        if (!file_exists(j->store[0])) continue;
+        sbuf key = {0};
+        reference_key(g, j->store[0], runs[i].args, &key, j->store[1], sizeof j->store[1]);
+        char png[4300];
+        fmt(png, sizeof png, "%s.png", j->store[1]);
+        bool cached = false, twice = false;
+        struct stat st;
+        cached = lstat(png, &st) == 0 && S_ISREG(st.st_mode);
+        if (cached) {
+            char keyf[4300];
+            fmt(keyf, sizeof keyf, "%s.key", j->store[1]);
+            char *held = cache_read(keyf, 64 * 1024);
+            cached = held && !strcmp(held, sb_str(&key));
+            free(held);
+        }
+        for (int k = 0; k < n && !twice; k++)
+            twice = !strcmp(jobs[k].store[1], j->store[1]);
+        free(key.s);
+        if (cached || twice) continue;
+        char logs[4200];
+        fmt(logs, sizeof logs, "%s/logs", g->work ? g->work : g->out);
+        trusted_dir(logs);
+        fmt(j->store[2], sizeof j->store[2], "%s/reference-%d.png", logs, g->runs);
+        fmt(j->out_path, sizeof j->out_path, "%s/reference-%d.log", logs, g->runs++);
+        int a = 0;
+        j->argv[a++] = j->store[0];
+        for (const cJSON *v = runs[i].args ? runs[i].args->child : NULL; v && a < 110; v = v->next)
+            if (cJSON_IsString(v)) j->argv[a++] = v->valuestring;
+        j->argv[a++] = "-o";
+        j->argv[a++] = j->store[2];
+        j->argv[a] = NULL;
+        j->args = runs[i].args;
+        j->limit = g->render_limit;
+        j->mem_mb = g->mem_mb;
+        n++;
+    }
+    return n;
+}
+
+/* The batch's reference renders that succeeded, kept in the cache (from
+ * where the pictures' judging copies them); their files removed. */
+void reference_jobs_done(const grader *g, job *jobs, int n) {
+    for (int i = 0; i < n; i++) {
+        job *j = &jobs[i];
+        if (j->rr.kind == RUN_EXITED && j->rr.code == 0 && file_exists(j->store[2])) {
+            sbuf key = {0};
+            char entry[4200];
+            reference_key(g, j->store[0], j->args, &key, entry, sizeof entry);
+            reference_to_cache(g, entry, sb_str(&key), j->store[2]);
+            free(key.s);
+        }
+        unlink(j->store[2]);
+        unlink(j->out_path);
+    }
+}
+
 /* A variant's reference, rendered now by the trusted reference program with
  * the arguments chosen for this grading (or kept from an earlier grading's
  * same render, above), so no reference image of it exists for a submission
@@ -615,7 +708,9 @@ static ras_image *picture_run(picture *p, const char *crash_hint) {
         rr = (run_result){RUN_TIMEOUT, 0, rr.seconds};
     p->rr = rr;
     char *log = read_small_file(log_path, 16 * 1024);
-    if (p->sealed) unlink(log_path); /* what a sealed run printed is never kept */
+    /* what a sealed run printed is never kept (a judging ahead leaves it to
+     * the grader, which may judge the picture again) */
+    if (p->sealed && !speculating) unlink(log_path);
     /* (student_text writes the grader's folders as WORK, ...) */
     char *clean_raw = clean_output(log ? log : "");
     char *clean = student_text(clean_raw, 3000);
@@ -732,6 +827,8 @@ static void picture_findings(picture *p, ras_compare_result *r, const ras_image 
     if ((!r->pass || defect) && p->rr.kind == RUN_EXITED && !p->todo) {
         if (g->evidence_runs >= EVIDENCE_MAX || getenv("RAS_GRADE_NO_BUFFERS")) {
             f->ev.kind = EVIDENCE_BUDGET;
+        } else if (images_speculation_stops()) {
+            return;
         } else {
             ((grader *)g)->evidence_runs++;
             buffer_evidence(g, p->it, &f->bufs, p->img, p->dir, p->reldir, p->j,
@@ -742,6 +839,7 @@ static void picture_findings(picture *p, ras_compare_result *r, const ras_image 
      * (one more render, within the same budget) */
     if (f->flat && (f->ev.kind == EVIDENCE_BUDGET || f->ev.kind == EVIDENCE_NO_REFERENCE) &&
         g->evidence_runs < EVIDENCE_MAX) {
+        if (images_speculation_stops()) return;
         ((grader *)g)->evidence_runs++;
         blank_counters(g, p->img, p->j, p->sealed ? p->j->extra_ro : NULL, &f->ev);
     }
