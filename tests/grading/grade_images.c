@@ -563,7 +563,7 @@ static bool cached_reference_render(const grader *g, const char *program, const 
  * programs, run as reference_render runs them): the renders then share the
  * cores with the student's runs instead of following one another while the
  * pictures are judged. Each writes into the trusted work folder (logs/). */
-int reference_jobs(grader *g, const cJSON *images, const job *runs, int n_img, job *jobs,
+int reference_jobs(const grader *g, const cJSON *images, const job *runs, int n_img, job *jobs,
                    int max) {
     int n = 0, i = 0;
     for (const cJSON *img = images ? images->child : NULL; img && i < n_img && n < max;
@@ -595,8 +595,11 @@ int reference_jobs(grader *g, const cJSON *images, const job *runs, int n_img, j
         char logs[4200];
         fmt(logs, sizeof logs, "%s/logs", g->work ? g->work : g->out);
         trusted_dir(logs);
-        fmt(j->store[2], sizeof j->store[2], "%s/reference-%d.png", logs, g->runs);
-        fmt(j->out_path, sizeof j->out_path, "%s/reference-%d.log", logs, g->runs++);
+        /* named by the image, not numbered as the runs are: the run numbers
+         * (folders, uids) stay those of a grading without the cache */
+        const char *name = str_or(img, "name", "image");
+        fmt(j->store[2], sizeof j->store[2], "%s/reference-%s.png", logs, name);
+        fmt(j->out_path, sizeof j->out_path, "%s/reference-%s.log", logs, name);
         int a = 0;
         j->argv[a++] = j->store[0];
         for (const cJSON *v = runs[i].args ? runs[i].args->child : NULL; v && a < 110; v = v->next)

@@ -40,7 +40,7 @@ bool image_defects(sbuf *o, const ras_image *expected, const ras_image *got, def
 bool image_is_wireframe(const cJSON *img);
 /* the variants' reference renders a batch's pictures need and the cache
  * (BUILD/grade-cache/references) lacks, as jobs for the batch; how many */
-int reference_jobs(grader *g, const cJSON *images, const job *runs, int n_img, job *jobs, int max);
+int reference_jobs(const grader *g, const cJSON *images, const job *runs, int n_img, job *jobs, int max);
 /* after the batch: the renders that succeeded kept in the cache */
 void reference_jobs_done(const grader *g, job *jobs, int n);
 /* judging ahead (in a child, beside the others): grade_image then gives up
