@@ -10,8 +10,11 @@
 #include "grade_run.h"
 #include "grade_tests.h"
 
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 void grading_begin(grading *gr, const grader *g, int n_assignments) {
     memset(gr, 0, sizeof *gr);
@@ -42,6 +45,9 @@ typedef struct batch {
     bool *sealed;
     bool
         has_own; /* an own-code link was made for the assignment: each image with points needs it */
+    /* then refs[0, n_refs): the variants' reference renders the cache lacks */
+    job *refs;
+    int n_refs;
 } batch;
 
 /* The integration item of an image with points whose whole-chain check
@@ -75,7 +81,8 @@ static void batch_make(grader *g, const char *id, const cJSON *images, const tes
                        int n_tests, batch *b) {
     int n_img = cJSON_GetArraySize(images);
     b->n_tests = n_tests;
-    job *all = b->all = calloc((size_t)n_tests + 2 * (size_t)n_img + 1, sizeof *all);
+    /* the tests' chunks, two runs an image, and an image's reference render */
+    job *all = b->all = calloc((size_t)n_tests + 3 * (size_t)n_img + 1, sizeof *all);
     if (!all) abort();
     for (int c = 0; c < n_tests; c++)
         all[c] = tests->workers[c];
@@ -101,47 +108,233 @@ static void batch_make(grader *g, const char *id, const cJSON *images, const tes
         }
     }
     b->n_runs = n_runs;
+    b->refs = runs + n_runs;
+    b->n_refs = reference_jobs(g, images, runs, n_img, b->refs, n_img);
+}
+
+/* What every picture's judging shares. */
+typedef struct judging {
+    grader *g;
+    grading *gr;
+    assignment_result *a;
+    const char *dir, *crash_hint, *why;
+    const batch *b;
+} judging;
+
+/* Image i's verdict, and of its whole-chain run, attributed when it loses
+ * points. */
+static void judge_one(const judging *J, const cJSON *img, int i) {
+    grader *g = J->g;
+    grading *gr = J->gr;
+    assignment_result *a = J->a;
+    const batch *b = J->b;
+    const char *id = a->id;
+    double t_img = now_s();
+    bool own_passed =
+        grade_image(g, a, img, J->dir, id, J->crash_hint, &b->runs[i], b->sealed[i], false);
+    profile(str_or(img, "name", "image"), "pic", t_img);
+    if (b->has_own && !b->sealed[i]) {
+        integration_not_run(g, gr, img, id, "FAIL", J->why);
+        if (!a->note || !strstr(a->note, "could not be linked")) {
+            free(a->note);
+            sbuf n = {0};
+            sb_printf(&n,
+                      "%s: its pictures ran on your whole chain, and their "
+                      "whole-chain points score 0",
+                      J->why);
+            a->note = n.s;
+        }
+    }
+    if (b->whole_at[i] < 0) return;
+    double t_whole = now_s();
+    bool whole_passed = grade_image(g, &gr->integration, img, J->dir, id,
+                                    "a crash in one of your assignments (the "
+                                    "attribution below says which)",
+                                    &b->runs[b->whole_at[i]], false, true);
+    profile(str_or(img, "name", "image"), "pic+", t_whole);
+    item *it = &gr->integration.items[gr->integration.n_items - 1];
+    it->score = it->score > 0 ? gr->integration_points : 0;
+    it->max_score = gr->integration_points;
+    if ((!whole_passed || it->score < it->max_score) && !images_speculation_stops())
+        attribute_image(g, it, img, J->dir, id, &b->runs[i], own_passed, gr->as, gr->n);
+}
+
+/* ---------------------------------------------------------------- judging ahead */
+
+/* The pictures are judged ahead, up to --jobs at once, each in a child that
+ * writes its items to a file of the trusted work folder (logs/, 0700); the
+ * grader then takes them in the images' order, so the items, and every
+ * report made of them, are those of a judging one after another. A picture
+ * whose judging would start something the grading counts or numbers (the
+ * buffers' evidence, the attribution: a failure's) gives up ahead and is
+ * judged again there, in order, in the grader: a working submission's
+ * pictures, which need none, cost a share of the cores each. */
+static void put_str(FILE *f, const char *s) {
+    long long n = s ? (long long)strlen(s) : -1;
+    fwrite(&n, sizeof n, 1, f);
+    if (s) fwrite(s, 1, (size_t)n, f);
+}
+
+/* a string put_str wrote (NULL for none), *ok false on a short read */
+static char *get_str(FILE *f, bool *ok) {
+    long long n;
+    if (fread(&n, sizeof n, 1, f) != 1 || n < -1 || n > (64ll << 20)) return *ok = false, NULL;
+    if (n < 0) return NULL;
+    char *s = malloc((size_t)n + 1);
+    if (!s) abort();
+    if (fread(s, 1, (size_t)n, f) != (size_t)n) {
+        free(s);
+        return *ok = false, NULL;
+    }
+    s[n] = '\0';
+    return s;
+}
+
+static void put_item(FILE *f, const item *it) {
+    int flags[4] = {it->is_image, it->counted, it->passed, it->default_weight};
+    double sc[2] = {it->score, it->max_score};
+    fwrite(flags, sizeof flags, 1, f);
+    fwrite(sc, sizeof sc, 1, f);
+    fwrite(&it->where, sizeof it->where, 1, f); /* the rubric's, at the same address */
+    const char *strs[] = {it->name,     it->status,       it->reason,  it->output,   it->xml,
+                          it->img_expected, it->img_got, it->img_diff, it->img_crop,
+                          it->buf_name, it->buf_ref,      it->buf_got, it->buf_diff};
+    for (size_t k = 0; k < sizeof strs / sizeof *strs; k++)
+        put_str(f, strs[k]);
+}
+
+static bool get_item(FILE *f, item *it) {
+    int flags[4];
+    double sc[2];
+    memset(it, 0, sizeof *it);
+    if (fread(flags, sizeof flags, 1, f) != 1 || fread(sc, sizeof sc, 1, f) != 1 ||
+        fread(&it->where, sizeof it->where, 1, f) != 1)
+        return false;
+    it->is_image = flags[0], it->counted = flags[1], it->passed = flags[2];
+    it->default_weight = flags[3];
+    it->score = sc[0], it->max_score = sc[1];
+    bool ok = true;
+    char **strs[] = {&it->name,     &it->status,       &it->reason,  &it->output,   &it->xml,
+                     &it->img_expected, &it->img_got, &it->img_diff, &it->img_crop,
+                     &it->buf_name, &it->buf_ref,      &it->buf_got, &it->buf_diff};
+    for (size_t k = 0; k < sizeof strs / sizeof *strs; k++)
+        *strs[k] = get_str(f, &ok);
+    if (!ok) item_free(it);
+    return ok;
+}
+
+static void ahead_path(const judging *J, int i, char *buf, size_t size) {
+    fmt(buf, size, "%s/logs/ahead-%s-%d.items", J->g->work, J->a->id, i);
+}
+
+/* In the child: image i judged ahead, its items (and the note, when it set
+ * one) written for the grader; nothing written when it gave up. */
+static void judge_ahead(const judging *J, const cJSON *img, int i) {
+    int from_a = J->a->n_items, from_int = J->gr->integration.n_items;
+    const char *note = J->a->note;
+    images_speculate(true);
+    judge_one(J, img, i);
+    if (images_gave_up()) return;
+    char path[4400], tmp[4500];
+    ahead_path(J, i, path, sizeof path);
+    fmt(tmp, sizeof tmp, "%s.tmp", path);
+    FILE *f = fopen(tmp, "wb");
+    if (!f) return;
+    int counts[2] = {J->a->n_items - from_a, J->gr->integration.n_items - from_int};
+    fwrite(counts, sizeof counts, 1, f);
+    for (int k = from_a; k < J->a->n_items; k++)
+        put_item(f, &J->a->items[k]);
+    for (int k = from_int; k < J->gr->integration.n_items; k++)
+        put_item(f, &J->gr->integration.items[k]);
+    put_str(f, J->a->note != note ? J->a->note : NULL);
+    if (fclose(f) == 0) rename(tmp, path); /* whole, or not there */
+    unlink(tmp);
+}
+
+/* In the grader: image i's items as judged ahead, appended; false (nothing
+ * taken) when there are none to take. */
+static bool take_ahead(const judging *J, int i) {
+    char path[4400];
+    ahead_path(J, i, path, sizeof path);
+    FILE *f = fopen(path, "rb");
+    unlink(path);
+    if (!f) return false;
+    int counts[2];
+    bool ok = fread(counts, sizeof counts, 1, f) == 1 && counts[0] >= 0 && counts[0] <= 4 &&
+              counts[1] >= 0 && counts[1] <= 4;
+    item got[8];
+    int n = 0;
+    while (ok && n < counts[0] + counts[1])
+        if (get_item(f, &got[n]))
+            n++;
+        else
+            ok = false;
+    char *note = ok ? get_str(f, &ok) : NULL;
+    fclose(f);
+    if (!ok) {
+        for (int k = 0; k < n; k++)
+            item_free(&got[k]);
+        free(note);
+        return false;
+    }
+    for (int k = 0; k < n; k++)
+        *add_item(k < counts[0] ? J->a : &J->gr->integration) = got[k];
+    if (note) {
+        free(J->a->note);
+        J->a->note = note;
+    }
+    /* what the child left for a judging again: a sealed run's log goes now */
+    if (J->b->sealed[i]) unlink(J->b->runs[i].out_path);
+    return true;
+}
+
+/* Each picture judged ahead, --jobs at once (fork, wait). */
+static void judge_all_ahead(const judging *J, const cJSON *images, int n) {
+    pid_t *pids = calloc((size_t)n + 1, sizeof *pids);
+    if (!pids) abort();
+    int active = 0, i = 0;
+    for (const cJSON *img = images->child; img; img = img->next, i++) {
+        while (active >= J->g->jobs && wait(NULL) > 0)
+            active--;
+        fflush(stdout);
+        fflush(stderr);
+        pid_t pid = fork();
+        if (pid == 0) {
+            judge_ahead(J, img, i);
+            fflush(stderr);
+            _exit(0);
+        }
+        if (pid > 0) active++;
+        pids[i] = pid;
+    }
+    for (int k = 0; k < n; k++)
+        if (pids[k] > 0) waitpid(pids[k], NULL, 0);
+    free(pids);
 }
 
 /* Each picture's verdict, and of its whole-chain run, attributed when it
- * loses points. */
+ * loses points: judged ahead where it can be, taken in order. */
 static void judge_pictures(grader *g, grading *gr, assignment_result *a, const cJSON *asg,
                            const char *dir, const batch *b) {
-    const char *id = a->id;
     const cJSON *images = cJSON_GetObjectItemCaseSensitive(asg, "images");
-    const char *crash_hint = str_or(asg, "crash_hint", "look for an out-of-bounds access");
     char why[300];
     fmt(why, sizeof why,
         "your %s code could not be linked with the reference of the earlier assignments "
         "(the first lines of this report say why and what to do)",
-        id);
-    int i = 0;
-    for (const cJSON *img = images ? images->child : NULL; img; img = img->next, i++) {
-        bool own_passed =
-            grade_image(g, a, img, dir, id, crash_hint, &b->runs[i], b->sealed[i], false);
-        if (b->has_own && !b->sealed[i]) {
-            integration_not_run(g, gr, img, id, "FAIL", why);
-            if (!a->note || !strstr(a->note, "could not be linked")) {
-                free(a->note);
-                sbuf n = {0};
-                sb_printf(&n,
-                          "%s: its pictures ran on your whole chain, and their "
-                          "whole-chain points score 0",
-                          why);
-                a->note = n.s;
-            }
-        }
-        if (b->whole_at[i] < 0) continue;
-        bool whole_passed = grade_image(g, &gr->integration, img, dir, id,
-                                        "a crash in one of your assignments (the "
-                                        "attribution below says which)",
-                                        &b->runs[b->whole_at[i]], false, true);
-        item *it = &gr->integration.items[gr->integration.n_items - 1];
-        it->score = it->score > 0 ? gr->integration_points : 0;
-        it->max_score = gr->integration_points;
-        if (!whole_passed || it->score < it->max_score)
-            attribute_image(g, it, img, dir, id, &b->runs[i], own_passed, gr->as, gr->n);
+        a->id);
+    judging J = {g, gr, a, dir, str_or(asg, "crash_hint", "look for an out-of-bounds access"), why,
+                 b};
+    int n = cJSON_GetArraySize(images);
+    bool ahead = g->jobs > 1 && n > 1 && g->work && !getenv("RAS_GRADE_NO_AHEAD");
+    if (ahead) {
+        char logs[4200];
+        fmt(logs, sizeof logs, "%s/logs", g->work);
+        trusted_dir(logs);
+        judge_all_ahead(&J, images, n);
     }
+    int i = 0;
+    for (const cJSON *img = images ? images->child : NULL; img; img = img->next, i++)
+        if (!(ahead && take_ahead(&J, i))) judge_one(&J, img, i);
 }
 
 /* An assignment that is built: its tests and pictures run in one batch, then
@@ -160,7 +353,8 @@ static void run_and_judge(grader *g, grading *gr, assignment_result *a, const cJ
     batch b;
     batch_make(g, id, cJSON_GetObjectItemCaseSensitive(asg, "images"), &tests, n_tests, &b);
     double t_runs = now_s();
-    run_jobs(b.all, n_tests + b.n_runs, g->jobs);
+    run_jobs(b.all, n_tests + b.n_runs + b.n_refs, g->jobs);
+    reference_jobs_done(g, b.refs, b.n_refs);
     profile("tests and images: sandboxed runs", id, t_runs);
     if (has_tests) {
         for (int c = 0; c < n_tests; c++)

@@ -330,9 +330,11 @@ double now_s(void) {
 /* RAS_GRADE_PROFILE=1: where a grading's time goes, a line per phase on
  * stderr (docs/feedback.md quotes it). */
 void profile(const char *what, const char *id, double since) {
+    profile_seconds(what, id, now_s() - since);
+}
+
+void profile_seconds(const char *what, const char *id, double seconds) {
     static int on = -1;
     if (on < 0) on = getenv("RAS_GRADE_PROFILE") && *getenv("RAS_GRADE_PROFILE") == '1';
-    if (on)
-        fprintf(stderr, "raster101-grade: profile: %-4s %-28s %6.3f s\n", id, what,
-                now_s() - since);
+    if (on) fprintf(stderr, "raster101-grade: profile: %-4s %-28s %6.3f s\n", id, what, seconds);
 }

@@ -94,5 +94,7 @@ const char *str_or(const cJSON *obj, const char *key, const char *fallback);
 double now_s(void);
 /* RAS_GRADE_PROFILE=1: one line on stderr for a phase that began at `since` */
 void profile(const char *what, const char *id, double since);
+/* the same for a span measured elsewhere (a sandboxed run's own clock) */
+void profile_seconds(const char *what, const char *id, double seconds);
 
 #endif

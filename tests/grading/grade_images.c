@@ -11,6 +11,7 @@
 #include "grade_text.h"
 #include "ras_catalogue.h"
 
+#include <dirent.h>
 #include <errno.h>
 #include <fcntl.h>
 #include <math.h>
@@ -387,6 +388,28 @@ void variant_reference_path(const grader *g, const char *dir, const char *id, co
     fmt(buf, size, "%s/%s-%s.expected.png", g->work ? g->work : dir, id, name);
 }
 
+/* ---------------------------------------------------------------- speculation */
+
+/* A picture judged ahead, in a child of judge_pictures beside the others
+ * (images_speculate): it may compare, write its files and say its verdict,
+ * but not start anything the grading counts or numbers (the buffers'
+ * evidence, a blank picture's counters, the attribution's renders) nor
+ * remove what a judging done again would need (a sealed run's log): there it
+ * gives up, and the picture is judged again in order, in the grader itself. */
+static bool speculating, gave_up;
+
+void images_speculate(bool on) {
+    speculating = on;
+    gave_up = false;
+}
+
+bool images_gave_up(void) { return gave_up; }
+
+bool images_speculation_stops(void) {
+    if (speculating) gave_up = true;
+    return speculating;
+}
+
 /* ---------------------------------------------------------------- grading a picture */
 
 /* One picture being graded: what grade_image's steps share. */
@@ -419,9 +442,200 @@ static bool picture_skip(picture *p, const char *reason, char *output) {
     return false;
 }
 
+/* ---------------------------------------------------------------- the references' cache */
+
+/* A variant's reference depends only on the trusted reference program and
+ * the arguments drawn for it, so it is kept, per program and arguments, in
+ * the trusted build's folder (BUILD/grade-cache/references, 0700): never
+ * bound into a sandbox, never in OUT or the work folder, so no student
+ * program can read or plant one. A grading then renders only what no
+ * earlier grading of this build rendered (a regrade, the same student's
+ * next grading, a class's gradings with the course's draws). The key names
+ * the program by what any rebuild changes (device, inode, size, modification
+ * and change times to the nanosecond), the module it opens beside it
+ * (libraster101_cv.so) the same way, and the arguments one a line; an entry
+ * holds its whole key and serves only when that matches byte for byte (its
+ * file name is only the key's hash). */
+enum { REFERENCE_CACHE_MAX = 4096 }; /* entries; past it nothing more is kept */
+
+static void key_identity(sbuf *key, const char *path) {
+    struct stat st;
+    if (stat(path, &st) != 0) {
+        sb_printf(key, "%s absent\n", path);
+        return;
+    }
+    sb_printf(key, "%s %llu %llu %lld %lld.%09ld %lld.%09ld\n", path, (unsigned long long)st.st_dev,
+              (unsigned long long)st.st_ino, (long long)st.st_size, (long long)st.st_mtim.tv_sec,
+              st.st_mtim.tv_nsec, (long long)st.st_ctim.tv_sec, st.st_ctim.tv_nsec);
+}
+
+/* The entry's key text and its path without extension (FNV-1a of the key). */
+static void reference_key(const grader *g, const char *program, const cJSON *args, sbuf *key,
+                          char *entry, size_t size) {
+    char module[4200];
+    sb_add(key, "raster101 reference cache 1\n");
+    key_identity(key, program);
+    fmt(module, sizeof module, "%s/bin/libraster101_cv.so", g->build);
+    key_identity(key, module);
+    for (const cJSON *v = args ? args->child : NULL; v; v = v->next)
+        if (cJSON_IsString(v)) sb_printf(key, "arg %s\n", v->valuestring);
+    unsigned long long h = 1469598103934665603ull;
+    for (const char *c = sb_str(key); *c; c++)
+        h = (h ^ (unsigned char)*c) * 1099511628211ull;
+    fmt(entry, size, "%s/grade-cache/references/%016llx", g->build, h);
+}
+
+/* A regular file of the cache (never through a link), its contents. */
+static char *cache_read(const char *path, size_t cap) {
+    struct stat st;
+    if (lstat(path, &st) != 0 || !S_ISREG(st.st_mode)) return NULL;
+    return read_small_file(path, cap);
+}
+
+/* The cached reference for `key` copied to `to`; false on a miss. */
+static bool reference_from_cache(const char *entry, const char *key, const char *to) {
+    char path[4300];
+    fmt(path, sizeof path, "%s.key", entry);
+    char *held = cache_read(path, 64 * 1024);
+    bool same = held && !strcmp(held, key);
+    free(held);
+    fmt(path, sizeof path, "%s.png", entry);
+    struct stat st;
+    if (!same || lstat(path, &st) != 0 || !S_ISREG(st.st_mode)) return false;
+    if (copy_file(path, to)) return true;
+    unlink(to);
+    return false;
+}
+
+static bool cache_full(const char *dir) {
+    DIR *d = opendir(dir);
+    int n = 0;
+    for (struct dirent *e; d && (e = readdir(d)) != NULL && n < 2 * REFERENCE_CACHE_MAX;)
+        n++;
+    if (d) closedir(d);
+    return n >= 2 * REFERENCE_CACHE_MAX; /* a .png and a .key an entry */
+}
+
+/* `png` kept as the entry for `key`: each file written beside and renamed
+ * in, the picture first, so a key present names a whole picture (gradings
+ * of one build running at once write the same bytes). */
+static void reference_to_cache(const grader *g, const char *entry, const char *key,
+                               const char *png) {
+    char dir[4200], tmp[4400], path[4300];
+    fmt(dir, sizeof dir, "%s/grade-cache", g->build);
+    trusted_dir(dir);
+    fmt(dir, sizeof dir, "%s/grade-cache/references", g->build);
+    trusted_dir(dir);
+    if (cache_full(dir)) return;
+    fmt(tmp, sizeof tmp, "%s.png.%ld.tmp", entry, (long)getpid());
+    fmt(path, sizeof path, "%s.png", entry);
+    if (!copy_file(png, tmp) || rename(tmp, path) != 0) {
+        unlink(tmp);
+        return;
+    }
+    fmt(tmp, sizeof tmp, "%s.key.%ld.tmp", entry, (long)getpid());
+    fmt(path, sizeof path, "%s.key", entry);
+    FILE *f = fopen(tmp, "wb");
+    bool ok = f && fputs(key, f) >= 0;
+    if (f && fclose(f) != 0) ok = false;
+    if (!ok || rename(tmp, path) != 0) unlink(tmp);
+}
+
+/* The reference render for a variant, from the cache or rendered now (and
+ * then kept); whether `out_png` holds it. */
+static bool cached_reference_render(const grader *g, const char *program, const cJSON *args,
+                                    const char *out_png, const char *log) {
+    sbuf key = {0};
+    char entry[4200];
+    reference_key(g, program, args, &key, entry, sizeof entry);
+    bool ok = reference_from_cache(entry, sb_str(&key), out_png);
+    if (!ok) {
+        run_result rr = reference_render(g, program, args, out_png, NULL, log);
+        ok = rr.kind == RUN_EXITED && rr.code == 0 && file_exists(out_png);
+        if (ok) reference_to_cache(g, entry, sb_str(&key), out_png);
+    }
+    free(key.s);
+    return ok;
+}
+
+/* The reference renders that a batch's pictures will ask for and the cache
+ * lacks, each once, as jobs run beside the batch's sandboxed runs (trusted
+ * programs, run as reference_render runs them): the renders then share the
+ * cores with the student's runs instead of following one another while the
+ * pictures are judged. Each writes into the trusted work folder (logs/). */
+int reference_jobs(const grader *g, const cJSON *images, const job *runs, int n_img, job *jobs,
+                   int max) {
+    int n = 0, i = 0;
+    for (const cJSON *img = images ? images->child : NULL; img && i < n_img && n < max;
+         img = img->next, i++) {
+        const char *ref_program = str_or(img, "reference_program", NULL);
+        if (!ref_program) continue;
+        job *j = &jobs[n];
+        memset(j, 0, sizeof *j);
+        fmt(j->store[0], sizeof j->store[0], "%s/bin/%s", g->build, ref_program);
+        if (!file_exists(j->store[0])) continue;
+        sbuf key = {0};
+        reference_key(g, j->store[0], runs[i].args, &key, j->store[1], sizeof j->store[1]);
+        char png[4300];
+        fmt(png, sizeof png, "%s.png", j->store[1]);
+        bool cached = false, twice = false;
+        struct stat st;
+        cached = lstat(png, &st) == 0 && S_ISREG(st.st_mode);
+        if (cached) {
+            char keyf[4300];
+            fmt(keyf, sizeof keyf, "%s.key", j->store[1]);
+            char *held = cache_read(keyf, 64 * 1024);
+            cached = held && !strcmp(held, sb_str(&key));
+            free(held);
+        }
+        for (int k = 0; k < n && !twice; k++)
+            twice = !strcmp(jobs[k].store[1], j->store[1]);
+        free(key.s);
+        if (cached || twice) continue;
+        char logs[4200];
+        fmt(logs, sizeof logs, "%s/logs", g->work ? g->work : g->out);
+        trusted_dir(logs);
+        /* named by the image, not numbered as the runs are: the run numbers
+         * (folders, uids) stay those of a grading without the cache */
+        const char *name = str_or(img, "name", "image");
+        fmt(j->store[2], sizeof j->store[2], "%s/reference-%s.png", logs, name);
+        fmt(j->out_path, sizeof j->out_path, "%s/reference-%s.log", logs, name);
+        int a = 0;
+        j->argv[a++] = j->store[0];
+        for (const cJSON *v = runs[i].args ? runs[i].args->child : NULL; v && a < 110; v = v->next)
+            if (cJSON_IsString(v)) j->argv[a++] = v->valuestring;
+        j->argv[a++] = "-o";
+        j->argv[a++] = j->store[2];
+        j->argv[a] = NULL;
+        j->args = runs[i].args;
+        j->limit = g->render_limit;
+        j->mem_mb = g->mem_mb;
+        n++;
+    }
+    return n;
+}
+
+/* The batch's reference renders that succeeded, kept in the cache (from
+ * where the pictures' judging copies them); their files removed. */
+void reference_jobs_done(const grader *g, job *jobs, int n) {
+    for (int i = 0; i < n; i++) {
+        job *j = &jobs[i];
+        if (j->rr.kind == RUN_EXITED && j->rr.code == 0 && file_exists(j->store[2])) {
+            sbuf key = {0};
+            char entry[4200];
+            reference_key(g, j->store[0], j->args, &key, entry, sizeof entry);
+            reference_to_cache(g, entry, sb_str(&key), j->store[2]);
+            free(key.s);
+        }
+        unlink(j->store[2]);
+        unlink(j->out_path);
+    }
+}
+
 /* A variant's reference, rendered now by the trusted reference program with
- * the arguments chosen for this grading, so no reference image of it exists
- * for a submission to copy or carry; false when it could not be. */
+ * the arguments chosen for this grading (or kept from an earlier grading's
+ * same render, above), so no reference image of it exists for a submission
+ * to copy or carry; false when it could not be. */
 static bool variant_reference(picture *p) {
     char ref_prog_path[4096], ref_log[4300];
     fmt(ref_prog_path, sizeof ref_prog_path, "%s/bin/%s", p->g->build, p->ref_program);
@@ -431,11 +645,8 @@ static bool variant_reference(picture *p) {
     fmt(ref_log, sizeof ref_log, "%s.log", p->ref_path); /* the work folder's too */
     if (p->whole && file_exists(p->ref_path)) return true;
     unlink(p->ref_path);
-    run_result ref_rr =
-        file_exists(ref_prog_path)
-            ? reference_render(p->g, ref_prog_path, p->j->args, p->ref_path, NULL, ref_log)
-            : (run_result){RUN_NOT_STARTED, 0, 0};
-    return ref_rr.kind == RUN_EXITED && ref_rr.code == 0 && file_exists(p->ref_path);
+    return file_exists(ref_prog_path) &&
+           cached_reference_render(p->g, ref_prog_path, p->j->args, p->ref_path, ref_log);
 }
 
 /* p->ref_path, p->kind and p->opt: the reference and the comparison; false
@@ -500,7 +711,9 @@ static ras_image *picture_run(picture *p, const char *crash_hint) {
         rr = (run_result){RUN_TIMEOUT, 0, rr.seconds};
     p->rr = rr;
     char *log = read_small_file(log_path, 16 * 1024);
-    if (p->sealed) unlink(log_path); /* what a sealed run printed is never kept */
+    /* what a sealed run printed is never kept (a judging ahead leaves it to
+     * the grader, which may judge the picture again) */
+    if (p->sealed && !speculating) unlink(log_path);
     /* (student_text writes the grader's folders as WORK, ...) */
     char *clean_raw = clean_output(log ? log : "");
     char *clean = student_text(clean_raw, 3000);
@@ -617,6 +830,8 @@ static void picture_findings(picture *p, ras_compare_result *r, const ras_image 
     if ((!r->pass || defect) && p->rr.kind == RUN_EXITED && !p->todo) {
         if (g->evidence_runs >= EVIDENCE_MAX || getenv("RAS_GRADE_NO_BUFFERS")) {
             f->ev.kind = EVIDENCE_BUDGET;
+        } else if (images_speculation_stops()) {
+            return;
         } else {
             ((grader *)g)->evidence_runs++;
             buffer_evidence(g, p->it, &f->bufs, p->img, p->dir, p->reldir, p->j,
@@ -627,6 +842,7 @@ static void picture_findings(picture *p, ras_compare_result *r, const ras_image 
      * (one more render, within the same budget) */
     if (f->flat && (f->ev.kind == EVIDENCE_BUDGET || f->ev.kind == EVIDENCE_NO_REFERENCE) &&
         g->evidence_runs < EVIDENCE_MAX) {
+        if (images_speculation_stops()) return;
         ((grader *)g)->evidence_runs++;
         blank_counters(g, p->img, p->j, p->sealed ? p->j->extra_ro : NULL, &f->ev);
     }

@@ -38,6 +38,19 @@ typedef enum defect_voice {
 bool image_defects(sbuf *o, const ras_image *expected, const ras_image *got, defect_voice voice);
 /* whether img is judged as a wireframe (a program with no depth test) */
 bool image_is_wireframe(const cJSON *img);
+/* the variants' reference renders a batch's pictures need and the cache
+ * (BUILD/grade-cache/references) lacks, as jobs for the batch; how many */
+int reference_jobs(const grader *g, const cJSON *images, const job *runs, int n_img, job *jobs, int max);
+/* after the batch: the renders that succeeded kept in the cache */
+void reference_jobs_done(const grader *g, job *jobs, int n);
+/* judging ahead (in a child, beside the others): grade_image then gives up
+ * rather than start a counted run or remove a sealed run's log */
+void images_speculate(bool on);
+/* whether the picture judged ahead gave up (judge it again, in order) */
+bool images_gave_up(void);
+/* true, and the picture given up, when judging ahead: the caller was about
+ * to start something counted (the attribution's renders) */
+bool images_speculation_stops(void);
 /* where a variant's reference, rendered at grading time, is kept */
 void variant_reference_path(const grader *g, const char *dir, const char *id, const char *name,
                             char *buf, size_t size);
