@@ -32,15 +32,10 @@ import shutil
 import subprocess
 import sys
 
+import e2e_common
+
 BIN, WORK = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
-def sanitized():
-    """Whether the programs were built with ASan (they link libasan)."""
-    try:
-        with open(os.path.join(BIN, "hw1_transform_ref"), "rb") as f:
-            return b"libasan" in f.read()
-    except OSError:
-        return False
-SANITIZED = sanitized()
+SANITIZED = e2e_common.sanitized(BIN, "hw1_transform_ref")
 AS_CAP = 1 << 30  # the robustness cases' address-space cap, bytes
 shutil.rmtree(WORK, ignore_errors=True)
 os.makedirs(WORK)

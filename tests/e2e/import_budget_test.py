@@ -43,22 +43,15 @@ import signal
 import struct
 import subprocess
 import sys
+
+import e2e_common
 import time
 import zlib
 
 BIN, WORK = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
 
 
-def sanitized():
-    """Whether the programs were built with ASan (they link libasan)."""
-    try:
-        with open(os.path.join(BIN, "hw3_shading_ref"), "rb") as f:
-            return b"libasan" in f.read()
-    except OSError:
-        return False
-
-
-SANITIZED = sanitized()
+SANITIZED = e2e_common.sanitized(BIN, "hw3_shading_ref")
 H3 = os.path.join(BIN, "hw3_shading_ref")
 SECONDS, PEAK_KB = 20, 1 << 20  # every case: 20 s, 1 GiB resident (the issue's bound)
 shutil.rmtree(WORK, ignore_errors=True)
