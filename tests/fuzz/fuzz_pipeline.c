@@ -59,11 +59,17 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     size_t tris = size / (3 * vertex_bytes);
     if (tris > 64) tris = 64;
     for (size_t i = 0; i < tris; i++) {
-        ras_clip_vertex v[3];
+        ras_clip_vertex v[3] = {0};
         for (int k = 0; k < 3; k++) {
             float f[FLOATS_PER_VERTEX];
             memcpy(f, data + (3 * i + (size_t)k) * vertex_bytes, vertex_bytes);
             v[k].p_clip = (vec4s){{f[0], f[1], f[2], f[3]}};
+            /* Both ways a position reaches the clipper: the float one alone,
+             * or with its double product (stage1_vertex.h), here the float
+             * widened, as a vertex whose float chain was accurate. */
+            v[k].exact = (cfg_bits & 32) != 0;
+            for (int j = 0; j < 4; j++)
+                v[k].p_exact[j] = f[j];
             v[k].color = (vec3s){{f[4], f[5], f[6]}};
             v[k].normal = (vec3s){{f[7], f[8], f[9]}};
             v[k].uv = (vec2s){{f[10], f[11]}};
