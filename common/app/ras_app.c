@@ -11,15 +11,15 @@
 #include "ras_viewer.h"
 #include "ras_window.h"
 
-#include <assert.h> /* assert */
-#include <math.h>   /* fabsf, floorf, sqrtf */
-#include <stdio.h>  /* fprintf, printf, snprintf */
-#include <stdlib.h> /* malloc, free */
-#include <errno.h>  /* errno: --stats write errors */
-#include <fcntl.h>  /* fcntl: is stdout open */
-#include <string.h> /* strcmp, strerror */
+#include <assert.h>   /* assert */
+#include <math.h>     /* fabsf, floorf, sqrtf */
+#include <stdio.h>    /* fprintf, printf, snprintf */
+#include <stdlib.h>   /* malloc, free */
+#include <errno.h>    /* errno: --stats write errors */
+#include <fcntl.h>    /* fcntl: is stdout open */
+#include <string.h>   /* strcmp, strerror */
 #include <sys/stat.h> /* stat: a program older than its sources */
-#include <unistd.h> /* STDOUT_FILENO */
+#include <unistd.h>   /* STDOUT_FILENO */
 
 /* The --dump folder of this run, staged (ras_dump.h). */
 static ras_dump_stage g_dump_stage;
@@ -27,8 +27,10 @@ static ras_dump_stage g_dump_stage;
 /* ---- settings: one set of rules ------------------------------------------- */
 
 static ras_app_settings scene_settings(const ras_app_hooks *h, const ras_scene *sc) {
-    ras_app_settings s = {.samples = 4, .shader = RAS_SHADER_NORMAL,
-                          .filter = RAS_FILTER_BILINEAR, .axis = {{0, 0, 1}}};
+    ras_app_settings s = {.samples = 4,
+                          .shader = RAS_SHADER_NORMAL,
+                          .filter = RAS_FILTER_BILINEAR,
+                          .axis = {{0, 0, 1}}};
     if (!sc) return s;
     s.width = sc->width;
     s.height = sc->height;
@@ -58,14 +60,15 @@ bool ras_app_resolve(const ras_app_hooks *h, const ras_cli *cli, const ras_scene
     if (cli->filter_set) s.filter = (ras_scene_filter)cli->filter;
     if (cli->depth_set) s.depth = cli->depth;
     if (cli->aa_set && cli->aa == RAS_AA_NONE && cli->samples > 1)
-        return ras_error_set(err, "--aa none draws one sample per pixel, but --samples %d asks for "
-                                  "%d; drop --samples or use --aa msaa / --aa ssaa",
+        return ras_error_set(err,
+                             "--aa none draws one sample per pixel, but --samples %d asks for "
+                             "%d; drop --samples or use --aa msaa / --aa ssaa",
                              cli->samples, cli->samples);
     if (cli->aa_set) s.aa = cli->aa;
     if (cli->samples) s.samples = cli->samples;
     if (cli->pattern_set) s.pattern_kind = cli->pattern;
     if (cli->samples > 1 && !cli->aa_set && s.aa == RAS_AA_NONE)
-        s.aa = RAS_AA_MSAA; /* --samples N alone means MSAA */
+        s.aa = RAS_AA_MSAA;                             /* --samples N alone means MSAA */
     if (!(h->options & RAS_OPT_AA)) s.aa = RAS_AA_NONE; /* the program draws one sample */
     /* Ordered grids have no 2x or 8x: without --pattern, those counts take
      * the standard pattern. */
@@ -104,8 +107,8 @@ static bool same_picture(const ras_app_settings *a, const ras_app_settings *b) {
         vec3s d = glms_vec3_sub(glms_vec3_scale(a->axis, 1 / la), glms_vec3_scale(b->axis, 1 / lb));
         axes = glms_vec3_norm(d) < 1e-6f;
     }
-    return a->builtin_scene && b->builtin_scene && fabsf(turns) < 1e6f && turns == floorf(turns) && axes &&
-           a->aa == b->aa &&
+    return a->builtin_scene && b->builtin_scene && fabsf(turns) < 1e6f && turns == floorf(turns) &&
+           axes && a->aa == b->aa &&
            (a->aa == RAS_AA_NONE ||
             (a->samples == b->samples && a->pattern_kind == b->pattern_kind)) &&
            a->shader == b->shader && a->filter == b->filter && a->affine == b->affine;
@@ -133,7 +136,8 @@ static bool entry_settings(const ras_app *app, const ras_catalogue_entry *e,
                            ras_app_settings *out) {
     char *argv[RAS_CATALOGUE_MAX_ARGS + 1];
     argv[0] = (char *)app->hooks->program;
-    for (int i = 0; i < e->argc; i++) argv[i + 1] = (char *)e->args[i];
+    for (int i = 0; i < e->argc; i++)
+        argv[i + 1] = (char *)e->args[i];
     ras_cli cli;
     ras_error err = {{0}};
     return ras_cli_parse(e->argc + 1, argv, app->hooks->options, &cli, &err) == RAS_CLI_RUN &&
@@ -194,16 +198,20 @@ static ras_image *load_reference(const ras_app *app, char *path, size_t size, ra
     if (app->cli.reference) {
         snprintf(path, size, "%s", app->cli.reference);
     } else if (!app->set.builtin_scene) {
-        ras_error_set(err, "--compare with --%s needs --reference FILE (the reference images "
-                           "show the built-in scene)", app->cli.model ? "model" : "scene");
+        ras_error_set(err,
+                      "--compare with --%s needs --reference FILE (the reference images "
+                      "show the built-in scene)",
+                      app->cli.model ? "model" : "scene");
         return NULL;
     } else if (!catalogue(app, err)) {
         return NULL;
     } else if (!ras_app_reference_name(app, name, sizeof name)) {
         list_references(app, list, sizeof list);
-        ras_error_set(err, "no reference image for these settings; %s's references "
-                           "(%s/catalogue.json) are %s; use one of those settings, or pass "
-                           "--reference FILE for another", program, app->hooks->reference_dir, list);
+        ras_error_set(err,
+                      "no reference image for these settings; %s's references "
+                      "(%s/catalogue.json) are %s; use one of those settings, or pass "
+                      "--reference FILE for another",
+                      program, app->hooks->reference_dir, list);
         return NULL;
     } else {
         snprintf(path, size, "%s/%s.png", app->hooks->reference_dir, name);
@@ -265,23 +273,25 @@ static void save_beside(const ras_app *app, ras_image *img, const char *suffix, 
     if (app->cli.reference || !ras_app_reference_name(app, stem, sizeof stem))
         snprintf(stem, sizeof stem, "%s", app->hooks->program);
     ras_cli_sibling_path(app->cli.output, stem, suffix, path, sizeof path);
-    if (img && ras_image_save(img, path, err)) printf("  %s: %s\n", what, path);
-    else fprintf(stderr, "%s: no %s: %s\n", app->hooks->program, what, err->msg);
+    if (img && ras_image_save(img, path, err))
+        printf("  %s: %s\n", what, path);
+    else
+        fprintf(stderr, "%s: no %s: %s\n", app->hooks->program, what, err->msg);
     ras_image_destroy(img);
 }
 
 /* Returns the exit status: 0 match, 1 mismatch, 2 when the comparison could
  * not be made (out of memory): an error, never the verdict "they differ". */
-static int compare_with_reference(const ras_app *app, const ras_image *expected,
-                                  const char *path) {
+static int compare_with_reference(const ras_app *app, const ras_image *expected, const char *path) {
     ras_error err = {{0}};
     /* The catalogue's comparison for these settings: the grader judges the
      * same picture with the same table (ras_catalogue.h), so this verdict
      * and the grade agree. */
     const ras_catalogue *cat = catalogue(app, NULL);
     char name[RAS_CATALOGUE_NAME];
-    const ras_catalogue_entry *e =
-        cat && ras_app_reference_name(app, name, sizeof name) ? ras_catalogue_find(cat, name) : NULL;
+    const ras_catalogue_entry *e = cat && ras_app_reference_name(app, name, sizeof name)
+                                       ? ras_catalogue_find(cat, name)
+                                       : NULL;
     ras_compare_options opt = e ? e->compare : ras_compare_defaults(app->hooks->compare);
     if (e) printf("comparison %s (tests/reference/catalogue.json, as the grader)\n", e->comparison);
     ras_compare_result res;
@@ -292,8 +302,8 @@ static int compare_with_reference(const ras_app *app, const ras_image *expected,
         return 2;
     }
     printf("compare %s: %s\n", path, res.summary);
-    printf("  PSNR %.2f dB, SSIM %.4f, %ld pixels off by more than %d/255\n", res.psnr_db,
-           res.ssim, res.bad_pixels, opt.tolerance);
+    printf("  PSNR %.2f dB, SSIM %.4f, %ld pixels off by more than %d/255\n", res.psnr_db, res.ssim,
+           res.bad_pixels, opt.tolerance);
     save_beside(app, ras_comparison_heatmap(cmp, &err), "diff",
                 "difference image (black = same, blue..red = more different)", &err);
     if (!res.pass)
@@ -358,8 +368,9 @@ static int run_headless(ras_app *app, const ras_image *expected, const char *ref
         /* stdout closed, a full disk, a pipe gone: the JSON is lost, say so */
         errno = 0;
         if (puts(json) == EOF || fflush(stdout) != 0 || ferror(stdout)) {
-            fprintf(stderr, "%s: --stats: could not write the counters to standard output (%s); "
-                            "expected a writable stdout — redirect it to a file with room\n",
+            fprintf(stderr,
+                    "%s: --stats: could not write the counters to standard output (%s); "
+                    "expected a writable stdout — redirect it to a file with room\n",
                     app->hooks->program, errno ? strerror(errno) : "write error");
             return 1;
         }
@@ -379,15 +390,19 @@ static int next_count(ras_pattern_kind kind, int count) {
 
 /* m: AA mode, s: sample count, p: pattern. */
 static bool aa_key(ras_app_settings *s, int key) {
-    if (key == 'm') s->aa = s->aa == RAS_AA_NONE ? RAS_AA_MSAA
-                          : s->aa == RAS_AA_MSAA ? RAS_AA_SSAA
-                                                 : RAS_AA_NONE;
-    else if (key == 's' && s->aa == RAS_AA_NONE) s->aa = RAS_AA_MSAA;
-    else if (key == 's') s->samples = next_count(s->pattern_kind, s->samples);
+    if (key == 'm')
+        s->aa = s->aa == RAS_AA_NONE   ? RAS_AA_MSAA
+                : s->aa == RAS_AA_MSAA ? RAS_AA_SSAA
+                                       : RAS_AA_NONE;
+    else if (key == 's' && s->aa == RAS_AA_NONE)
+        s->aa = RAS_AA_MSAA;
+    else if (key == 's')
+        s->samples = next_count(s->pattern_kind, s->samples);
     else if (key == 'p')
-        s->pattern_kind = s->pattern_kind == RAS_PATTERN_ORDERED ? RAS_PATTERN_STANDARD
-                                                                 : RAS_PATTERN_ORDERED;
-    else return false;
+        s->pattern_kind =
+            s->pattern_kind == RAS_PATTERN_ORDERED ? RAS_PATTERN_STANDARD : RAS_PATTERN_ORDERED;
+    else
+        return false;
     ras_sample_pattern probe;
     if (!ras_sample_pattern_make(s->pattern_kind, s->samples, &probe, NULL))
         s->samples = 4; /* every pattern has 4 */
@@ -445,7 +460,8 @@ static bool step_key(ras_app *app, int key) {
         st->limit = st->limit > 0 ? st->limit - 1 : 0;
     } else if (st->on && key >= '0' && key <= '9') {
         long jump = 1;
-        for (int k = 1; k < key - '0'; k++) jump *= 10;
+        for (int k = 1; k < key - '0'; k++)
+            jump *= 10;
         st->limit = key == '0' ? 0 : st->limit + jump; /* clamped after the frame */
     } else if (key == 'b') {
         st->buffer = (ras_app_buffer)((st->buffer + 1) % RAS_APP_BUFFER_COUNT);
@@ -469,8 +485,8 @@ static ras_image *buffer_picture(const ras_app *app, char *legend, size_t size) 
     if (img) {
         ras_dump_paint(&b, rgb, legend, size);
         for (long i = 0, n = (long)b.width * b.height; i < n; i++)
-            img->pixels[i] = (vec3s){{rgb[3 * i] / 255.0f, rgb[3 * i + 1] / 255.0f,
-                                      rgb[3 * i + 2] / 255.0f}};
+            img->pixels[i] =
+                (vec3s){{rgb[3 * i] / 255.0f, rgb[3 * i + 1] / 255.0f, rgb[3 * i + 2] / 255.0f}};
     }
     free(rgb);
     free(owned);
@@ -483,12 +499,12 @@ static void step_status(const ras_app *app, char *buf, size_t size) {
     const ras_app_step *st = &app->step;
     const char *next = buffer_names[(st->buffer + 1) % RAS_APP_BUFFER_COUNT];
     if (st->on)
-        snprintf(buf, size, "STEP: triangle %ld of %ld   buffer: %s (b)\n"
-                            "n/space +1  - back 1  1-9 +1,10,100..  0 none  t off",
+        snprintf(buf, size,
+                 "STEP: triangle %ld of %ld   buffer: %s (b)\n"
+                 "n/space +1  - back 1  1-9 +1,10,100..  0 none  t off",
                  st->limit, st->total, buffer_names[st->buffer]);
     else
-        snprintf(buf, size, "buffer: %s (b: %s...)  t: step",
-                 buffer_names[st->buffer], next);
+        snprintf(buf, size, "buffer: %s (b: %s...)  t: step", buffer_names[st->buffer], next);
 }
 
 /* The keys the shell handles for the program; true when the frame changed. */
@@ -572,7 +588,8 @@ static int run_window(ras_app *app) {
         }
         if (redraw) {
             char status[1200];
-            ras_image *view = window_view(app, &viewer, mouse_col, mouse_row, status, sizeof status);
+            ras_image *view =
+                window_view(app, &viewer, mouse_col, mouse_row, status, sizeof status);
             ok = view ? ras_viewer_show(&viewer, view, status, &err)
                       : ras_error_set(&err, "out of memory");
             if (view != app->image) ras_image_destroy(view);
@@ -583,14 +600,15 @@ static int run_window(ras_app *app) {
             ras_window_close(title);
             break;
         }
-        if (ras_viewer_key(&viewer, key)) redraw = true;
-        else if (key >= 0 && shell_key(app, key)) dirty = true;
+        if (ras_viewer_key(&viewer, key))
+            redraw = true;
+        else if (key >= 0 && shell_key(app, key))
+            dirty = true;
         int col, row;
         if (ok && ras_window_mouse(title, &col, &row) && (col != mouse_col || row != mouse_row)) {
             if (app->hooks->mouse && app->hooks->mouse(app, col, row)) dirty = true;
             bool inspect = app->hooks->inspector || (app->hooks->step && app->step.on);
-            if (inspect && col >= 0 && row >= 0 && col < app->set.width &&
-                row < app->set.height)
+            if (inspect && col >= 0 && row >= 0 && col < app->set.width && row < app->set.height)
                 mouse_col = col, mouse_row = row, redraw = true;
         }
     }
@@ -627,11 +645,10 @@ static bool check_arguments(ras_app *app, ras_error *err) {
     const ras_app_hooks *h = app->hooks;
     int n = cli->positional_count, max = h->positional_shader ? 2 : 1;
     if (n > max || (n >= 1 && cli->output))
-        return ras_error_set(err, "unexpected argument '%s'; expected %s (e.g. %s %s)",
-                             cli->positional[n - 1],
-                             h->positional_shader ? "-o FILE, or OUTPUT.png [SHADER]"
-                                                  : "at most one output file",
-                             h->program, h->example);
+        return ras_error_set(
+            err, "unexpected argument '%s'; expected %s (e.g. %s %s)", cli->positional[n - 1],
+            h->positional_shader ? "-o FILE, or OUTPUT.png [SHADER]" : "at most one output file",
+            h->program, h->example);
     if (n == 2 && cli->shader_set)
         return ras_error_set(err, "the shader is given twice ('%s' and --shader %s); give one",
                              cli->positional[1], ras_name_of(&ras_names_shader, cli->shader));
@@ -639,10 +656,10 @@ static bool check_arguments(ras_app *app, ras_error *err) {
         cli->shader = ras_name_find(&ras_names_shader, cli->positional[1], RAS_SHADER_NORMAL);
         char list[96];
         if (cli->shader < 0)
-            return ras_error_set(err, "--shader expects %s; got '%s'",
-                                 ras_names_list(&ras_names_shader, RAS_SHADER_NORMAL, list,
-                                                sizeof list),
-                                 cli->positional[1]);
+            return ras_error_set(
+                err, "--shader expects %s; got '%s'",
+                ras_names_list(&ras_names_shader, RAS_SHADER_NORMAL, list, sizeof list),
+                cli->positional[1]);
         cli->shader_set = true;
     }
     if (n >= 1) cli->output = cli->positional[0];
@@ -660,16 +677,19 @@ static bool check_arguments(ras_app *app, ras_error *err) {
                                   "an open stdout — redirect it to a file (> stats.json)");
     if (cli->output && !ras_image_check_output(cli->output, err)) return false;
     if (cli->dump && !cli->output && !cli->compare)
-        return ras_error_set(err, "--dump DIR writes the buffers of one headless frame; add -o "
-                                  "FILE (e.g. %s %s --dump buffers)",
+        return ras_error_set(err,
+                             "--dump DIR writes the buffers of one headless frame; add -o "
+                             "FILE (e.g. %s %s --dump buffers)",
                              h->program, h->example);
     /* --dump: checked now, written into a temporary folder, moved into place
      * when every buffer is there (ras_dump_stage_*). */
     if (cli->dump && !ras_dump_stage_begin(&g_dump_stage, cli->dump, err)) return false;
     if (cli->dump) cli->dump = g_dump_stage.temp;
     if (!cli->output && !cli->compare && !ras_window_available())
-        return ras_error_set(err, "no display to open a window on (DISPLAY is not set); render "
-                                  "to a file instead, e.g. %s %s", h->program, h->example);
+        return ras_error_set(err,
+                             "no display to open a window on (DISPLAY is not set); render "
+                             "to a file instead, e.g. %s %s",
+                             h->program, h->example);
     return true;
 }
 
@@ -708,8 +728,10 @@ static bool input_at(const ras_app *app, const char *ref_path, int k, run_input 
     else
         snprintf(in->what, sizeof in->what, "the %s of object %d of the scene", noun[part], i);
     const ras_scene_map *map = part == 1 ? &o->material.texture : &o->material.height_map;
-    if (part == 0) in->path = o->shape == RAS_SHAPE_MODEL ? o->params.model_path : NULL;
-    else in->path = map->kind == RAS_MAP_FILE ? map->path : NULL;
+    if (part == 0)
+        in->path = o->shape == RAS_SHAPE_MODEL ? o->params.model_path : NULL;
+    else
+        in->path = map->kind == RAS_MAP_FILE ? map->path : NULL;
     return true;
 }
 
@@ -742,8 +764,8 @@ static bool input_in_folder(const ras_app *app, const char *ref_path, const stru
         if (slash && dump_could_replace(slash + 1)) {
             slash[slash == real ? 1 : 0] = '\0'; /* its folder ("/" kept) */
             struct stat st;
-            inside = stat(real, &st) == 0 && st.st_dev == dir_st->st_dev &&
-                     st.st_ino == dir_st->st_ino;
+            inside =
+                stat(real, &st) == 0 && st.st_dev == dir_st->st_dev && st.st_ino == dir_st->st_ino;
         }
         free(real);
         if (inside) return true;
@@ -755,8 +777,7 @@ static bool input_in_folder(const ras_app *app, const char *ref_path, const stru
  * name (or reach through a link, a hard link or another spelling) a file the
  * run reads: it would be gone after the frame. Checked once the scene has
  * said which files it reads, before anything is drawn. */
-static bool check_outputs_spare_inputs(const ras_app *app, const char *ref_path,
-                                       ras_error *err) {
+static bool check_outputs_spare_inputs(const ras_app *app, const char *ref_path, ras_error *err) {
     const ras_cli *cli = &app->cli;
     run_input in;
     struct stat st;
@@ -788,6 +809,22 @@ static bool check_outputs_spare_inputs(const ras_app *app, const char *ref_path,
     return true;
 }
 
+/* --dump's buffers for the frame the settings ask for, committed to the
+ * budget for the rest of the run (the process ends after its frame). */
+static bool reserve_dump(const ras_app *app, ras_error *err) {
+    double pixels = (double)app->set.width * app->set.height;
+    double samples = pixels * ras_app_settings_pattern(&app->set).count;
+    double bytes =
+        samples * RAS_MEMORY_DUMP_BYTES_PER_SAMPLE + pixels * RAS_MEMORY_DUMP_BYTES_PER_PIXEL;
+    char what[96];
+    snprintf(what, sizeof what, "--dump of a %dx%d frame with %d samples per pixel", app->set.width,
+             app->set.height, ras_app_settings_pattern(&app->set).count);
+    if (!ras_memory_check(bytes, what, "dump a smaller --size or fewer --samples", err))
+        return false;
+    ras_memory_commit(bytes);
+    return true;
+}
+
 /* Everything before the first frame; false with err when the input is bad
  * (exit 2). */
 static bool set_up(ras_app *app, ras_image **expected, char *ref_path, size_t size,
@@ -800,20 +837,21 @@ static bool set_up(ras_app *app, ras_image **expected, char *ref_path, size_t si
                                                            cli->height_map, cli->fit, err)
                             : ras_scene_load_or_builtin(cli->scene, h->scene, err);
     if (!app->scene) return false;
-    if (h->load_assets &&
-        !(app->assets = h->without_maps ? ras_scene_load_meshes(app->scene, err)
-                                        : ras_scene_load_assets(app->scene, err)))
+    if (h->load_assets && !(app->assets = h->without_maps ? ras_scene_load_meshes(app->scene, err)
+                                                          : ras_scene_load_assets(app->scene, err)))
         return false;
     if (!ras_app_resolve(h, &app->cli, app->scene, &app->set, err) ||
         (h->prepare && !h->prepare(app, err)))
         return false;
     /* Too big a frame, or a reference that cannot be compared with, are
-     * usage errors too: found before anything is drawn or written. */
+     * usage errors too: found before anything is drawn or written. The
+     * dump's buffers are held beside the frame: counted first, so the
+     * frame's check sees the sum. */
+    if (app->cli.dump && !reserve_dump(app, err)) return false;
     if (!ras_framebuffer_check_size(app->set.width, app->set.height,
                                     ras_app_settings_pattern(&app->set).count, err))
         return false;
-    if (app->cli.compare && !(*expected = load_reference(app, ref_path, size, err)))
-        return false;
+    if (app->cli.compare && !(*expected = load_reference(app, ref_path, size, err))) return false;
     return check_outputs_spare_inputs(app, ref_path, err);
 }
 
@@ -828,9 +866,10 @@ static void warn_if_stale(const ras_app_hooks *hooks) {
         char path[RAS_IO_MAX_PATH];
         snprintf(path, sizeof path, "%.*s", (int)n, p);
         if (stat(path, &src) == 0 && src.st_mtime > exe.st_mtime) {
-            fprintf(stderr, "%s: note: this program was built before your last edit of %s, so "
-                            "it runs your older code; run `make build` (make grade and make "
-                            "test build it too)\n",
+            fprintf(stderr,
+                    "%s: note: this program was built before your last edit of %s, so "
+                    "it runs your older code; run `make build` (make grade and make "
+                    "test build it too)\n",
                     hooks->program, path);
             return;
         }
@@ -840,7 +879,7 @@ static void warn_if_stale(const ras_app_hooks *hooks) {
 
 int ras_app_main(int argc, char **argv, const ras_app_hooks *hooks, void *user) {
     assert(hooks->configure && hooks->draw); /* the frame's two hooks */
-    ras_cli_reuse_freed_memory(); /* fewer page faults: ras_cli.h */
+    ras_cli_reuse_freed_memory();            /* fewer page faults: ras_cli.h */
     ras_app app = {.hooks = hooks, .argv0 = argc > 0 ? argv[0] : hooks->program, .user = user};
     int status = parse(&app, argc, argv);
     if (status >= 0) return status;

@@ -46,6 +46,18 @@
  * double, stage1_vertex.h) and the fast path's screen position and codes */
 #define RAS_MEMORY_RENDER_BYTES_PER_VERTEX 112.0
 
+/* Estimated bytes per pixel of writing the frame's picture: OpenCV's BGR
+ * copy of the 8-bit image (3) and the encoder's output (at most about 3).
+ * Measured peak RSS of hw2 at 2048² and 4096² is 33.4-33.9 bytes per pixel
+ * against the 31 the frame's buffers alone were counted at. */
+#define RAS_MEMORY_ENCODE_BYTES_PER_PIXEL 6.0
+/* --dump: the buffers built and encoded beside the frame (sample colour,
+ * depth and coverage per sample, their pictures, the per-pixel ones).
+ * Measured: hw3 at 1024² with 16 samples peaks 668 MB above the same frame
+ * without --dump, 39.8 bytes per sample. */
+#define RAS_MEMORY_DUMP_BYTES_PER_SAMPLE 44.0
+#define RAS_MEMORY_DUMP_BYTES_PER_PIXEL 32.0
+
 /* The limit in bytes, and a few words saying where it comes from
  * ("the default, half of physical memory capped at 2 GiB", "--memory-limit",
  * "RAS_MEMORY_LIMIT_MB", "the address-space limit (ulimit -v)"). */

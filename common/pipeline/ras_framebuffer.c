@@ -1,8 +1,8 @@
 /* ras_framebuffer.c — see ras_framebuffer.h. */
 #include "ras_framebuffer.h"
 
-#include "ras_image.h"      /* RAS_IMAGE_MAX_SIDE */
-#include "ras_memory.h"     /* ras_memory_check */
+#include "ras_image.h"          /* RAS_IMAGE_MAX_SIDE */
+#include "ras_memory.h"         /* ras_memory_check */
 #include "ras_sample_pattern.h" /* RAS_MAX_SAMPLES */
 
 #include <math.h>   /* INFINITY */
@@ -27,12 +27,14 @@ bool ras_framebuffer_check_size(int width, int height, int samples, ras_error *e
             (double)n * (sizeof(vec3s) + sizeof(float)) / (1 << 30),
             RAS_FRAME_MAX_SAMPLES / 1000000,
             (long)(RAS_FRAME_MAX_SAMPLES * (long)(sizeof(vec3s) + sizeof(float)) >> 30));
-    /* Per-sample colour and depth, the resolved float image, its 8-bit copy. */
+    /* Per-sample colour and depth, the resolved float image, its 8-bit copy,
+     * and writing it. */
     char what[96];
-    snprintf(what, sizeof what, "a %dx%d frame with %d sample%s per pixel", width, height,
-             samples, samples == 1 ? "" : "s");
+    snprintf(what, sizeof what, "a %dx%d frame with %d sample%s per pixel", width, height, samples,
+             samples == 1 ? "" : "s");
     return ras_memory_check((double)n * (sizeof(vec3s) + sizeof(float)) +
-                                (double)width * height * (sizeof(vec3s) + 3),
+                                (double)width * height *
+                                    (sizeof(vec3s) + 3 + RAS_MEMORY_ENCODE_BYTES_PER_PIXEL),
                             what, "use a smaller --size or fewer --samples", err);
 }
 
