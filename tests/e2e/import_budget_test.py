@@ -10,7 +10,9 @@ generated here (no big file is committed), and checks:
     legal one),
   - a piece of the message on stderr,
   - the process tree's peak resident memory (the program and its import
-    child, from wait4) within 1 GiB, and the wall time within 20 s;
+    child, from wait4) within 1 GiB, and its processor time within 20 s
+    (so the test passes on a busy machine; the clock, at 120 s, only ends
+    a run that waits);
   - no AddressSanitizer / UBSan report.
 The cases (issue 42, B5):
   - 100,000 'g' groups (the estimate lets them through, assimp takes 342 MB)
@@ -53,7 +55,12 @@ BIN, WORK = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
 
 SANITIZED = e2e_common.sanitized(BIN, "hw3_shading_ref")
 H3 = os.path.join(BIN, "hw3_shading_ref")
-SECONDS, PEAK_KB = 20, 1 << 20  # every case: 20 s, 1 GiB resident (the issue's bound)
+# Every case: 20 s of processor time (the program and its import child) and
+# 1 GiB resident, the issue's bounds. Processor time, not the clock, so that
+# the test passes on a busy machine; the clock is only a backstop for a run
+# that waits without working, at six times the bound.
+SECONDS, PEAK_KB = 20, 1 << 20
+WALL_BACKSTOP = 6 * SECONDS
 shutil.rmtree(WORK, ignore_errors=True)
 os.makedirs(WORK)
 failures = []
@@ -70,14 +77,21 @@ def write(name, data):
     return path(name)
 
 
-def run(args, env_extra=None, timeout=SECONDS, program=H3):
-    """Runs `program`; (exit status, stderr, seconds, peak KB of the tree)."""
+def cpu_of_children():
+    u = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return u.ru_utime + u.ru_stime
+
+
+def run(args, env_extra=None, timeout=WALL_BACKSTOP, program=H3):
+    """Runs `program`; (exit status, stderr, processor seconds, peak KB of the
+    tree). The processor time is the program's and every child it waited for
+    (its import child), as RUSAGE_CHILDREN sums them."""
     env = dict(os.environ)
     for k in ("DISPLAY", "WAYLAND_DISPLAY", "RAS_MEMORY_LIMIT_MB", "RAS_MESH_IMPORT_SECONDS",
               "RAS_MESH_IMPORT_TOTAL_SECONDS"):
         env.pop(k, None)
     env.update(env_extra or {})
-    start = time.monotonic()
+    cpu_before = cpu_of_children()
     # A process group of its own: a late case is ended whole, an import
     # child that outlived the program included (it holds stderr open).
     p = subprocess.Popen([program] + args, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
@@ -87,11 +101,11 @@ def run(args, env_extra=None, timeout=SECONDS, program=H3):
     except subprocess.TimeoutExpired:
         os.killpg(p.pid, signal.SIGKILL)
         p.communicate()
-        return "timeout", "", timeout, 0
+        return "timeout", "", cpu_of_children() - cpu_before, 0
     # ru_maxrss of RUSAGE_CHILDREN: the largest of every process waited for
     # so far, the import children (waited for by the program) included.
     peak = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
-    return p.returncode, err.decode(errors="replace"), time.monotonic() - start, peak
+    return p.returncode, err.decode(errors="replace"), cpu_of_children() - cpu_before, peak
 
 
 peak_before = 0
@@ -99,14 +113,16 @@ peak_before = 0
 
 def case(name, args, status, message, env=None, program=H3):
     global peak_before
-    code, err, took, peak = run(args, env, program=program)
+    code, err, cpu, peak = run(args, env, program=program)
     problems = []
     if code != status:
         problems.append(f"exit {code}, expected {status}")
     if message not in err:
         problems.append(f"stderr lacks {message!r}")
-    if took > SECONDS:
-        problems.append(f"took {took:.1f} s, expected at most {SECONDS} s")
+    if code == "timeout":
+        problems.append(f"still running after {WALL_BACKSTOP} s on the clock")
+    if cpu > SECONDS:
+        problems.append(f"took {cpu:.1f} s of processor time, expected at most {SECONDS} s")
     # RUSAGE_CHILDREN only grows: a new maximum belongs to this case.
     if peak > PEAK_KB and peak > peak_before:
         problems.append(f"peak resident memory {peak >> 10} MiB, expected at most "
@@ -117,7 +133,7 @@ def case(name, args, status, message, env=None, program=H3):
     if problems:
         failures.append(f"FAIL: {name}: {'; '.join(problems)}\n  stderr: {err.strip()[:700]}")
     else:
-        print(f"ok: {name}: exit {code} in {took:.1f} s")
+        print(f"ok: {name}: exit {code} in {cpu:.1f} s of processor time")
 
 
 TRI = "v 0 0 0\nv 1 0 0\nv 0 1 0\n"
