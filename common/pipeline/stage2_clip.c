@@ -84,21 +84,13 @@ static void onto_plane_d(int k, double d[4], double z_far) {
     }
 }
 
-/* The same in float, exact there too (G is a power of two, ε and z_far
- * floats). */
+/* The same in float: through the double one, exact there too (a copy of
+ * a float, and G·w with G a power of two, round back to the float the
+ * float arithmetic gives; ε and z_far are floats). */
 static void onto_plane_f(int k, float p[4], double z_far) {
-    switch (k) {
-    case 0: p[3] = RAS_CLIP_W_EPSILON; break;
-    case 1: p[2] = p[3]; break;
-    case 2:
-        if (z_far > 0) p[3] = (float)z_far;
-        else p[2] = -p[3];
-        break;
-    case 3: p[0] = RAS_CLIP_GUARD * p[3]; break;
-    case 4: p[0] = -RAS_CLIP_GUARD * p[3]; break;
-    case 5: p[1] = RAS_CLIP_GUARD * p[3]; break;
-    default: p[1] = -RAS_CLIP_GUARD * p[3]; break;
-    }
+    double d[4] = {p[0], p[1], p[2], p[3]};
+    onto_plane_d(k, d, z_far);
+    for (int j = 0; j < 4; j++) p[j] = (float)d[j];
 }
 
 /* The point where the edge from `in` (inside plane k) to `out` (outside)
