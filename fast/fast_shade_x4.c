@@ -26,7 +26,8 @@
  * colour channel) with lerp3's operations in its order, so every lane is the
  * reference's float. */
 typedef struct footprint {
-    const vec3s *px; /* level 0's texels */
+    const vec3s *px;   /* level 0's texels when they are floats, else NULL */
+    const uint8_t *px8; /* level 0's bytes (3 a texel) when it is RGB8, else NULL */
     /* per lane, the texel offsets of (i0, j0), (i0+1, j0), (i0, j0+1),
      * (i0+1, j0+1) after wrapping (0 in a fallback lane) */
     vi4 o[4];
@@ -37,6 +38,22 @@ typedef struct footprint {
 
 static inline const vec3s *footprint_texel(const footprint *F, int lane, int k) {
     return F->px + F->o[k][lane];
+}
+
+static inline const uint8_t *footprint_texel8(const footprint *F, int lane, int k) {
+    return F->px8 + 3 * (size_t)F->o[k][lane];
+}
+
+/* Where lookup `lane`'s texel k is, whatever the format: for prefetching. */
+static inline const void *footprint_address(const footprint *F, int lane, int k) {
+    return F->px8 ? (const void *)footprint_texel8(F, lane, k)
+                  : (const void *)footprint_texel(F, lane, k);
+}
+
+/* An RGB8 texel as the vector (r, g, b, 0) of the floats the reference
+ * reads (ras_texel_unit: the same as a float texture's). */
+static inline vf4 texel8_x4(const uint8_t *p) {
+    return (vf4){ras_texel_unit[p[0]], ras_texel_unit[p[1]], ras_texel_unit[p[2]], 0.0f};
 }
 
 /* One axis of four lookups (the reference's bilinear_axis_at): safe_coord, x = t·n − 0.5, its
@@ -95,7 +112,8 @@ static inline axis4 axis_x4(vf4 t, int n, int stride, ras_wrap wrap) {
 static void footprint_of(const ras_texture *tex, const axis4 *X, const axis4 *Y, int lanes,
                          footprint *F) {
     const int w = tex->level_width[0], h = tex->level_height[0]; /* as bilinear_level */
-    F->px = tex->levels[0] ? tex->levels[0] : tex->texels;
+    F->px8 = ras_texture_level0_rgb8(tex);
+    F->px = F->px8 ? NULL : tex->levels[0] ? tex->levels[0] : tex->texels;
     F->sx = X->s;
     F->sy = Y->s;
     vi4 bad = X->bad | Y->bad;
@@ -121,7 +139,10 @@ static v3x4 bilinear_x4_blend(const footprint *F) {
     vf4 out[4];
     for (int i = 0; i < 4; i++) {
         vf4 a, b, c, d;
-        if (__builtin_expect(!F->last, 1)) { /* 16 bytes: the next texel's x too */
+        if (F->px8) { /* bytes: three table loads a texel, no over-read */
+            a = texel8_x4(footprint_texel8(F, i, 0)), b = texel8_x4(footprint_texel8(F, i, 1));
+            c = texel8_x4(footprint_texel8(F, i, 2)), d = texel8_x4(footprint_texel8(F, i, 3));
+        } else if (__builtin_expect(!F->last, 1)) { /* 16 bytes: the next texel's x too */
             a = vf4_load(&footprint_texel(F, i, 0)->x), b = vf4_load(&footprint_texel(F, i, 1)->x);
             c = vf4_load(&footprint_texel(F, i, 2)->x), d = vf4_load(&footprint_texel(F, i, 3)->x);
         } else {
@@ -387,7 +408,7 @@ static void shade_prepare(fast_worker *w, const fast_queued *const *q, int lanes
         for (int i = 0; i < lanes; i++)
             if (S->texels.looked_up >> i & 1)
                 for (int k = 0; k < 4; k++)
-                    __builtin_prefetch(footprint_texel(&S->texels, i, k));
+                    __builtin_prefetch(footprint_address(&S->texels, i, k));
     }
 }
 
