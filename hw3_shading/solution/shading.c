@@ -188,37 +188,23 @@ static inline bilinear_axis bilinear_axis_at(float u, int n, ras_wrap wrap) {
                            ras_texture_wrap_index(wrap, i0 + 1, n), x - (float)i0};
 }
 
-/* One level's texels as stored: floats, or (level 0 of a loaded texture)
- * bytes, each read as the float ras_texel_unit gives. */
-typedef struct level_texels {
-    const vec3s *f;   /* NULL when the level is bytes */
-    const uint8_t *b; /* 3 bytes a texel */
-} level_texels;
-
-static inline level_texels level_texels_of(const ras_texture *tex, int level) {
-    const uint8_t *b = level == 0 ? ras_texture_level0_rgb8(tex) : NULL;
-    if (b) return (level_texels){NULL, b};
-    return (level_texels){tex->levels[level] ? tex->levels[level] : tex->texels, NULL};
+/* The four texels of axes x and y (of a level w texels wide), blended. */
+static inline vec3s bilinear_blend(const vec3s *px, int w, bilinear_axis x, bilinear_axis y) {
+    vec3s bottom = lerp3(px[y.a * w + x.a], px[y.a * w + x.b], x.s);
+    vec3s top = lerp3(px[y.b * w + x.a], px[y.b * w + x.b], x.s);
+    return lerp3(bottom, top, y.s);
 }
 
-static inline vec3s byte_texel(const uint8_t *b, int k) {
-    const uint8_t *p = b + 3 * (size_t)k;
+/* A byte texel (level 0 of a loaded texture) as the float the float texture held. */
+static inline vec3s byte_texel(const uint8_t *px, int k) {
+    const uint8_t *p = px + 3 * (size_t)k;
     return (vec3s){{ras_texel_unit[p[0]], ras_texel_unit[p[1]], ras_texel_unit[p[2]]}};
 }
 
-/* The four texels of axes x and y (of a level w texels wide), blended. The
- * format is tested once a lookup, not once a texel. */
-static inline vec3s bilinear_blend(level_texels px, int w, bilinear_axis x, bilinear_axis y) {
-    vec3s t00, t10, t01, t11;
-    if (px.b) {
-        t00 = byte_texel(px.b, y.a * w + x.a), t10 = byte_texel(px.b, y.a * w + x.b);
-        t01 = byte_texel(px.b, y.b * w + x.a), t11 = byte_texel(px.b, y.b * w + x.b);
-    } else {
-        t00 = px.f[y.a * w + x.a], t10 = px.f[y.a * w + x.b];
-        t01 = px.f[y.b * w + x.a], t11 = px.f[y.b * w + x.b];
-    }
-    vec3s bottom = lerp3(t00, t10, x.s);
-    vec3s top = lerp3(t01, t11, x.s);
+/* bilinear_blend of byte texels: the same floats, the same operations. */
+static inline vec3s bilinear_blend8(const uint8_t *px, int w, bilinear_axis x, bilinear_axis y) {
+    vec3s bottom = lerp3(byte_texel(px, y.a * w + x.a), byte_texel(px, y.a * w + x.b), x.s);
+    vec3s top = lerp3(byte_texel(px, y.b * w + x.a), byte_texel(px, y.b * w + x.b), x.s);
     return lerp3(bottom, top, y.s);
 }
 
@@ -226,7 +212,10 @@ static inline vec3s bilinear_blend(level_texels px, int w, bilinear_axis x, bili
 static inline vec3s bilinear_level(const ras_texture *tex, int level, float u, float v) {
     int w = tex->level_width[level], h = tex->level_height[level];
     bilinear_axis x = bilinear_axis_at(u, w, tex->wrap), y = bilinear_axis_at(v, h, tex->wrap);
-    return bilinear_blend(level_texels_of(tex, level), w, x, y);
+    const uint8_t *bytes = level == 0 ? ras_texture_level0_rgb8(tex) : NULL;
+    if (bytes) return bilinear_blend8(bytes, w, x, y);
+    const vec3s *px = tex->levels[level] ? tex->levels[level] : tex->texels;
+    return bilinear_blend(px, w, x, y);
 }
 
 /* The three heights of bump mapping, h(u, v), h(u + 1/W, v) and h(u, v + 1/H),
@@ -250,9 +239,16 @@ static inline void bump_heights(const fragment_shader_payload *payload, float he
         c->texels_fetched += 3 * 4;
     }
     int w = hm->level_width[0], h = hm->level_height[0];
-    level_texels px = level_texels_of(hm, 0);
     bilinear_axis x = bilinear_axis_at(u, w, hm->wrap), x1 = bilinear_axis_at(u1, w, hm->wrap);
     bilinear_axis y = bilinear_axis_at(v, h, hm->wrap), y1 = bilinear_axis_at(v1, h, hm->wrap);
+    const uint8_t *bytes = ras_texture_level0_rgb8(hm); /* a loaded height map */
+    if (bytes) {
+        heights[0] = 255.0f * glms_vec3_norm(bilinear_blend8(bytes, w, x, y));
+        heights[1] = 255.0f * glms_vec3_norm(bilinear_blend8(bytes, w, x1, y));
+        heights[2] = 255.0f * glms_vec3_norm(bilinear_blend8(bytes, w, x, y1));
+        return;
+    }
+    const vec3s *px = hm->levels[0] ? hm->levels[0] : hm->texels;
     heights[0] = 255.0f * glms_vec3_norm(bilinear_blend(px, w, x, y));
     heights[1] = 255.0f * glms_vec3_norm(bilinear_blend(px, w, x1, y));
     heights[2] = 255.0f * glms_vec3_norm(bilinear_blend(px, w, x, y1));
