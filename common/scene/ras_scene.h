@@ -283,6 +283,12 @@ void ras_scene_assets_destroy(ras_scene_assets *assets);
  * budget or memory refuses. */
 bool ras_scene_assets_build_mips(const ras_scene *scene, ras_scene_assets *assets, int i,
                                  uint64_t *levels_built, ras_error *err);
+/* Whether the mip levels ras_scene_assets_build_mips would build for every
+ * colour map fit the memory budget beside what is committed (nothing is
+ * built or committed): a program checks before its first frame. False and
+ * err naming the scene, the estimate and the limit when they do not. */
+bool ras_scene_assets_check_mips(const ras_scene *scene, const ras_scene_assets *assets,
+                                 ras_error *err);
 
 /* Names as written in scene files ("triangle", "phong", "trilinear", ...). */
 const char *ras_scene_shape_name(ras_scene_shape shape);

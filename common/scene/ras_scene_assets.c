@@ -189,6 +189,24 @@ static ras_texture *get_map(const ras_scene *s, ras_scene_assets *a, int i, int 
     return t;
 }
 
+bool ras_scene_assets_check_mips(const ras_scene *s, const ras_scene_assets *a, ras_error *err) {
+    double bytes = 0;
+    int textures = 0;
+    for (int k = 0; k < a->owned_texture_count; k++) {
+        const ras_texture *t = a->owned_textures[k];
+        bool colour_map = false; /* height maps get no mips */
+        for (int i = 0; i < s->object_count && !colour_map; i++)
+            colour_map = a->textures[i] == t;
+        if (!colour_map || t->level_count > 1) continue;
+        bytes += ras_texture_mip_bytes(t->width, t->height);
+        textures++;
+    }
+    char what[512];
+    snprintf(what, sizeof what, "%s: building the mip levels of %d texture%s for trilinear filtering", s->path,
+             textures, textures == 1 ? "" : "s");
+    return ras_memory_check(bytes, what, "use smaller textures or another --filter", err);
+}
+
 bool ras_scene_assets_build_mips(const ras_scene *s, ras_scene_assets *a, int i,
                                  uint64_t *levels_built, ras_error *err) {
     ras_texture *t = a->textures[i];
