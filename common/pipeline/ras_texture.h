@@ -28,7 +28,7 @@
  *     when trilinear filtering builds them. So a loaded texture holds 3 B a
  *     texel (7 B with mips), a float one 12 B (16 B): a 9000² texture is
  *     243 MB (567 MB with mips) instead of 972 MB (1,296 MB).
- * Code that reads texels in bulk (solution/shading.c, fast/) reads level 0
+ * Code that reads texels in bulk (the reference lookups) reads level 0
  * through ras_texture_level_float / ras_texture_level0_rgb8, or one texel
  * through ras_texture_texel0; students read through ras_texture_texel.
  */
