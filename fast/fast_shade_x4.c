@@ -26,7 +26,10 @@
  * colour channel) with lerp3's operations in its order, so every lane is the
  * reference's float. */
 typedef struct footprint {
-    const vec3s *px; /* level 0's texels */
+    const vec3s *px;   /* level 0's texels when they are floats, else NULL */
+    const uint8_t *px8; /* level 0's bytes (3 a texel) when it is RGB8, else NULL */
+    const char *base;   /* px8 or px, */
+    size_t texel_bytes; /* and 3 or 12: a texel's address without a branch */
     /* per lane, the texel offsets of (i0, j0), (i0+1, j0), (i0, j0+1),
      * (i0+1, j0+1) after wrapping (0 in a fallback lane) */
     vi4 o[4];
@@ -37,6 +40,39 @@ typedef struct footprint {
 
 static inline const vec3s *footprint_texel(const footprint *F, int lane, int k) {
     return F->px + F->o[k][lane];
+}
+
+static inline const uint8_t *footprint_texel8(const footprint *F, int lane, int k) {
+    return F->px8 + 3 * (size_t)F->o[k][lane];
+}
+
+/* Where lookup `lane`'s texel k is, whatever the format: for prefetching. */
+static inline const void *footprint_address(const footprint *F, int lane, int k) {
+    return F->base + F->texel_bytes * (size_t)F->o[k][lane];
+}
+
+/* An RGB8 texel as the vector (r, g, b, 0) of the floats the reference
+ * reads (ras_texel_unit: the same as a float texture's). */
+static inline vf4 texel8_x4(const uint8_t *p) {
+    return (vf4){ras_texel_unit[p[0]], ras_texel_unit[p[1]], ras_texel_unit[p[2]], 0.0f};
+}
+
+/* The same from a 4-byte load (lane 3 is the next texel's red, unused, as
+ * the float path's 16-byte load): widened and converted in the vector, then
+ * divided by 255 — the float division ras_byte_to_unit does, correctly
+ * rounded in each lane as in the scalar unit, so the same floats as the table
+ * in half the instructions of its six loads. Not for the last texel. */
+static inline vf4 texel8_x4_wide(const uint8_t *p) {
+#if defined(__SSE2__)
+    uint32_t bytes;
+    memcpy(&bytes, p, sizeof bytes);
+    __m128i zero = _mm_setzero_si128();
+    __m128i x = _mm_unpacklo_epi8(_mm_cvtsi32_si128((int)bytes), zero);
+    x = _mm_unpacklo_epi16(x, zero);
+    return (vf4)_mm_div_ps(_mm_cvtepi32_ps(x), _mm_set1_ps(255.0f));
+#else
+    return texel8_x4(p);
+#endif
 }
 
 /* One axis of four lookups (the reference's bilinear_axis_at): safe_coord, x = t·n − 0.5, its
@@ -95,7 +131,10 @@ static inline axis4 axis_x4(vf4 t, int n, int stride, ras_wrap wrap) {
 static void footprint_of(const ras_texture *tex, const axis4 *X, const axis4 *Y, int lanes,
                          footprint *F) {
     const int w = tex->level_width[0], h = tex->level_height[0]; /* as bilinear_level */
-    F->px = tex->levels[0] ? tex->levels[0] : tex->texels;
+    F->px8 = ras_texture_level0_rgb8(tex);
+    F->px = F->px8 ? NULL : tex->levels[0] ? tex->levels[0] : tex->texels;
+    F->base = F->px8 ? (const char *)F->px8 : (const char *)F->px;
+    F->texel_bytes = F->px8 ? 3 : sizeof *F->px;
     F->sx = X->s;
     F->sy = Y->s;
     vi4 bad = X->bad | Y->bad;
@@ -115,24 +154,46 @@ static void bilinear_x4_footprint(const ras_texture *tex, vf4 u, vf4 v, int lane
     footprint_of(tex, &X, &Y, lanes, F);
 }
 
+/* Lane i's bilinear blend of its four texels (one vector each, lane =
+ * channel): lerp3's operations in its order. */
+static inline vf4 blend_lane(const footprint *F, int i, vf4 a, vf4 b, vf4 c, vf4 d) {
+    vf4 s = vf4_splat(F->sx[i]), tt = vf4_splat(F->sy[i]);
+    vf4 bottom = a + (b - a) * s, top = c + (d - c) * s;
+    return bottom + (top - bottom) * tt;
+}
+
 /* Every lane's blend (a fallback lane's, of texel 0, is replaced by the
  * caller's; lanes past those looked up are unused). */
 static v3x4 bilinear_x4_blend(const footprint *F) {
     vf4 out[4];
-    for (int i = 0; i < 4; i++) {
-        vf4 a, b, c, d;
-        if (__builtin_expect(!F->last, 1)) { /* 16 bytes: the next texel's x too */
-            a = vf4_load(&footprint_texel(F, i, 0)->x), b = vf4_load(&footprint_texel(F, i, 1)->x);
-            c = vf4_load(&footprint_texel(F, i, 2)->x), d = vf4_load(&footprint_texel(F, i, 3)->x);
-        } else {
-            a = vf4_load3(&footprint_texel(F, i, 0)->x),
-            b = vf4_load3(&footprint_texel(F, i, 1)->x);
-            c = vf4_load3(&footprint_texel(F, i, 2)->x),
-            d = vf4_load3(&footprint_texel(F, i, 3)->x);
+    if (F->px8) { /* bytes (a loaded texture): decided once for the four lanes */
+        for (int i = 0; i < 4; i++) {
+            vf4 a, b, c, d;
+            if (__builtin_expect(!F->last, 1)) { /* 4 bytes: the next texel's red too */
+                a = texel8_x4_wide(footprint_texel8(F, i, 0));
+                b = texel8_x4_wide(footprint_texel8(F, i, 1));
+                c = texel8_x4_wide(footprint_texel8(F, i, 2));
+                d = texel8_x4_wide(footprint_texel8(F, i, 3));
+            } else { /* the last texel among them: no over-read */
+                a = texel8_x4(footprint_texel8(F, i, 0)), b = texel8_x4(footprint_texel8(F, i, 1));
+                c = texel8_x4(footprint_texel8(F, i, 2)), d = texel8_x4(footprint_texel8(F, i, 3));
+            }
+            out[i] = blend_lane(F, i, a, b, c, d);
         }
-        vf4 s = vf4_splat(F->sx[i]), tt = vf4_splat(F->sy[i]);
-        vf4 bottom = a + (b - a) * s, top = c + (d - c) * s;
-        out[i] = bottom + (top - bottom) * tt;
+    } else {
+        for (int i = 0; i < 4; i++) {
+            vf4 a, b, c, d;
+            if (__builtin_expect(!F->last, 1)) { /* 16 bytes: the next texel's x too */
+                a = vf4_load(&footprint_texel(F, i, 0)->x), b = vf4_load(&footprint_texel(F, i, 1)->x);
+                c = vf4_load(&footprint_texel(F, i, 2)->x), d = vf4_load(&footprint_texel(F, i, 3)->x);
+            } else {
+                a = vf4_load3(&footprint_texel(F, i, 0)->x),
+                b = vf4_load3(&footprint_texel(F, i, 1)->x);
+                c = vf4_load3(&footprint_texel(F, i, 2)->x),
+                d = vf4_load3(&footprint_texel(F, i, 3)->x);
+            }
+            out[i] = blend_lane(F, i, a, b, c, d);
+        }
     }
     vf4_transpose(&out[0], &out[1], &out[2], &out[3]);
     return (v3x4){out[0], out[1], out[2]};
@@ -387,7 +448,7 @@ static void shade_prepare(fast_worker *w, const fast_queued *const *q, int lanes
         for (int i = 0; i < lanes; i++)
             if (S->texels.looked_up >> i & 1)
                 for (int k = 0; k < 4; k++)
-                    __builtin_prefetch(footprint_texel(&S->texels, i, k));
+                    __builtin_prefetch(footprint_address(&S->texels, i, k));
     }
 }
 

@@ -36,7 +36,6 @@ typedef struct hw3 {
 
 /* Notes once the scene has loaded. */
 static bool prepare(ras_app *app, ras_error *err) {
-    (void)err; /* only notes: nothing here fails */
     const ras_cli *cli = &app->cli;
     if (app->set.shader == RAS_SHADER_FLAT) {
         app->set.shader = RAS_SHADER_NORMAL;
@@ -52,6 +51,11 @@ static bool prepare(ras_app *app, ras_error *err) {
      * file's. The settings were resolved already, so this changes no rule. */
     app->scene->width = app->set.width;
     app->scene->height = app->set.height;
+    /* The mip levels trilinear texturing will build, against the budget now:
+     * a run that cannot hold them is refused as bad input (exit 2) before
+     * anything is drawn. (The first frame builds them.) */
+    if (app->set.filter == RAS_FILTER_TRILINEAR && app->set.shader == RAS_SHADER_TEXTURE)
+        return ras_scene_assets_check_mips(app->scene, app->assets, err);
     return true;
 }
 

@@ -298,13 +298,8 @@ bool hw3_frame_setup(const ras_scene *scene, ras_scene_assets *assets,
     uint64_t mip_levels = 0;
     /* Mip levels only when trilinear filtering reads a colour map, once. */
     if (opt->filter == FILTER_TRILINEAR && shader_reads_texture(opt->shader)) {
-        for (int i = 0; i < scene->object_count; i++) {
-            ras_texture *tex = assets->textures[i];
-            if (!tex || tex->level_count > 1) continue;
-            if (!ras_texture_build_mips(tex))
-                return ras_error_set(err, "out of memory building mip levels");
-            mip_levels += (uint64_t)(tex->level_count - 1);
-        }
+        for (int i = 0; i < scene->object_count; i++)
+            if (!ras_scene_assets_build_mips(scene, assets, i, &mip_levels, err)) return false;
     }
     *frame = (hw3_frame){.mip_levels = mip_levels};
     hw3_fragment_stage *stage = &frame->stage;

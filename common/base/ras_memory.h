@@ -34,8 +34,18 @@
 #define RAS_MEMORY_MIN_MB 16u           /* smaller limits are refused */
 #define RAS_MEMORY_MAX_MB (1u << 24)    /* 16 TiB: larger is a typo */
 
-/* Estimated bytes per pixel of an image being loaded: OpenCV's BGR decode
- * (3), the RGB copy (3), and the caller's float copy with mips (16). */
+/* Estimated bytes per pixel of decoding an image: OpenCV's BGR decode (3)
+ * and the RGB copy (3) (libpng writes the RGB bytes directly, but a PNG
+ * with EXIF goes to OpenCV). A JPEG: the RGB output (3) and libjpeg's own
+ * memory, bounded by what is left (7): a progressive file keeps every
+ * coefficient, 2 bytes each, 3 components at 4:4:4 (6), and its buffers. */
+#define RAS_MEMORY_DECODE_BYTES_PER_PIXEL 6.0
+#define RAS_MEMORY_JPEG_DECODE_BYTES_PER_PIXEL 10.0
+/* Estimated bytes per pixel of an image being loaded as floats
+ * (ras_image_load): the decode (6), and the caller's float copy with mips
+ * (16). A texture keeps the decoder's RGB bytes instead (ras_texture.h): its
+ * load needs the decode alone, and it then holds 3 bytes a pixel, and 4 more
+ * once trilinear filtering builds its float mips. */
 #define RAS_MEMORY_BYTES_PER_LOADED_PIXEL 22.0
 /* Estimated bytes the renderers (teaching pipeline and fast path) hold per
  * triangle and per vertex of a mesh, beyond the mesh itself: measured peak

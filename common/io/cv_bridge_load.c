@@ -69,7 +69,7 @@ static void load(void) {
     /* The fence is the budget's worth of pixels (at most 2^28): a header
      * that ras_image's parsers read wrong is still stopped by OpenCV's own
      * header call (validateInputImageSize) before pixels are allocated. */
-    double pixels = (double)ras_memory_limit() / RAS_MEMORY_BYTES_PER_LOADED_PIXEL;
+    double pixels = (double)ras_memory_limit() / RAS_MEMORY_DECODE_BYTES_PER_PIXEL;
     char fence[32];
     snprintf(fence, sizeof fence, "%.0f",
              pixels < 268435456.0 ? (pixels > 1 ? pixels : 1) : 268435456.0);

@@ -411,6 +411,13 @@ static void decode_discard(void *result, void *arg) {
 }
 
 uint8_t *ras_image_load_rgb8(const char *path, int *width, int *height, ras_error *err) {
+    return ras_image_load_rgb8_making(
+        path, RAS_MEMORY_BYTES_PER_LOADED_PIXEL - RAS_MEMORY_DECODE_BYTES_PER_PIXEL, width, height,
+        err);
+}
+
+uint8_t *ras_image_load_rgb8_making(const char *path, double made_per_pixel, int *width,
+                                    int *height, ras_error *err) {
     /* The file's bytes first (regular files only: a FIFO fails at once, an
      * unreadable file says "Permission denied"), then its format from its
      * content (never its name), then the size from its header read by the
@@ -462,7 +469,10 @@ uint8_t *ras_image_load_rgb8(const char *path, int *width, int *height, ras_erro
         free(data);
         return NULL;
     }
-    double need = (double)hw * (double)hh * RAS_MEMORY_BYTES_PER_LOADED_PIXEL + (double)len;
+    double pixels = (double)hw * (double)hh;
+    double decode = format == RAS_IMAGE_JPEG ? RAS_MEMORY_JPEG_DECODE_BYTES_PER_PIXEL
+                                             : RAS_MEMORY_DECODE_BYTES_PER_PIXEL;
+    double need = pixels * (decode + made_per_pixel) + (double)len;
     if (!ras_memory_check(need, what, "use a smaller image", err)) {
         free(data);
         return NULL;
@@ -479,7 +489,8 @@ uint8_t *ras_image_load_rgb8(const char *path, int *width, int *height, ras_erro
     job->format = format;
     /* libjpeg's working memory (a progressive file's coefficients) within
      * what the check above allowed for the whole load. */
-    job->limits.max_bytes = (size_t)(need > 64e6 ? need : 64e6);
+    double decoder = need - 3.0 * pixels; /* beside its RGB output */
+    job->limits.max_bytes = (size_t)(decoder > 64e6 ? decoder : 64e6);
     job->limits.seconds = seconds;
     clock_gettime(CLOCK_MONOTONIC, &job->limits.deadline);
     job->limits.deadline.tv_sec += (time_t)seconds + 1; /* the job's wait ends first */

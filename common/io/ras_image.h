@@ -106,6 +106,12 @@ ras_image *ras_image_load(const char *path, ras_error *err);
  * way (ras_texture_load): no float image in between. *width and *height are
  * in 1..RAS_IMAGE_MAX_SIDE; NULL and err as ras_image_load. */
 uint8_t *ras_image_load_rgb8(const char *path, int *width, int *height, ras_error *err);
+/* The same for a caller that makes `made_per_pixel` more bytes a pixel from
+ * the RGB bytes while they are held (ras_image_load: 16, its floats and
+ * mips; ras_texture_load: 0, the bytes are the texture): the budget check
+ * before decoding counts the decode and that. */
+uint8_t *ras_image_load_rgb8_making(const char *path, double made_per_pixel, int *width,
+                                    int *height, ras_error *err);
 
 /* The width and height an encoded image's header announces, read without
  * decoding pixels, by the rules its decoder reads them with: PNG (IHDR),

@@ -44,6 +44,7 @@ typedef struct ras_mesh {
  *   nesting is not scanned;
  * - memory: the file's size times RAS_MESH_IMPORT_BYTES_PER_FILE_BYTE, plus
  *   an OBJ's .mtl files (their size the same way, and each material's
+ *   import) and its objects, material switches and groups (each their
  *   import), must fit the memory budget (ras_memory.h) before the import
  *   starts; so must the glTF node walk (a cJSON tree, up to 40 bytes a
  *   byte), or the file is refused. The import's process is held to the

@@ -649,7 +649,7 @@ bool ras_mesh_check_ply_header(const char *path, ras_error *err) {
 
 /* The OBJ keywords whose count assimp's reader pays for quadratically. */
 typedef struct obj_counts {
-    double vertices, uvs, normals, objects, material_switches;
+    double vertices, uvs, normals, objects, material_switches, groups;
 } obj_counts;
 
 /* Whether the text is an OBJ: by its name, or (whatever the name, as assimp
@@ -727,6 +727,13 @@ static bool obj_face_ok(const char *path, const char *line, size_t n, int line_n
  * materials, 3.5 GB): each holds a dozen 1 KB texture names. */
 #define RAS_MESH_IMPORT_BYTES_PER_MATERIAL 36000.0
 
+/* Bytes of assimp's import per `g` group line of an OBJ (measured: 100,000
+ * groups of one face each, 1.7 MB, took 342 MB; 200,000 groups with a face of
+ * their own 488 MB above the same faces without them, 2.5 KB each; 100,000
+ * without faces 1.4 KB each). Unlike objects, groups cost time linearly
+ * (200,000: 1.1 s), so they are counted, not limited. */
+#define RAS_MESH_IMPORT_BYTES_PER_GROUP 3400.0
+
 /* One `mtllib` line: the file it names (the rest of the line, as assimp
  * reads it) inside the model's folder, and its cost (its size and its
  * materials) added to *side_bytes. */
@@ -783,6 +790,7 @@ static bool obj_line(const char *path, const char *line, size_t n, int line_no,
     else if (w == 2 && !strncmp(line, "vt", 2)) c->uvs++;
     else if (w == 2 && !strncmp(line, "vn", 2)) c->normals++;
     else if (w == 1 && line[0] == 'o') c->objects++;
+    else if (w == 1 && line[0] == 'g') c->groups++;
     else if (w == 6 && !strncmp(line, "usemtl", 6)) c->material_switches++;
     else if (w == 1 && line[0] == 'f') return obj_face_ok(path, line, n, line_no, c, err);
     else if (w == 6 && !strncmp(line, "mtllib", 6)) {
@@ -821,7 +829,8 @@ bool ras_mesh_check_obj(const char *path, double *side_bytes, ras_error *err) {
     free(data);
     /* Each object and each material switch is a mesh of its own in assimp,
      * as costly as a material (20,000 'usemtl' lines: 729 MB). */
-    *side_bytes += (c.objects + c.material_switches) * RAS_MESH_IMPORT_BYTES_PER_MATERIAL;
+    *side_bytes += (c.objects + c.material_switches) * RAS_MESH_IMPORT_BYTES_PER_MATERIAL +
+                   c.groups * RAS_MESH_IMPORT_BYTES_PER_GROUP;
     if (ok && (c.objects > RAS_MESH_MAX_OBJ_PARTS || c.material_switches > RAS_MESH_MAX_OBJ_PARTS))
         ok = ras_error_set(err,
                            "model '%s' has %.0f objects ('o' lines) and %.0f material switches "

@@ -682,7 +682,7 @@ static bool import_allowed(const char *path, double file_bytes, ras_error *err) 
         return false;
     char what[1200];
     if (side_bytes > 0)
-        snprintf(what, sizeof what, "importing model '%s' (%.1f MB) with its materials and objects",
+        snprintf(what, sizeof what, "importing model '%s' (%.1f MB) with its materials, objects and groups",
                  path, file_bytes / 1e6);
     else
         snprintf(what, sizeof what, "importing model '%s' (%.1f MB)", path, file_bytes / 1e6);

@@ -10,6 +10,10 @@
  *   - Procedural textures are deterministic (a small integer hash instead of
  *     rand()), so reference images are reproducible on every machine.
  *
+ *   - A loaded texture keeps the decoder's bytes as level 0 (ras_texture.h
+ *     says why and what it saves); its lookups and mips read each byte as
+ *     the float ras_byte_to_unit gives, so they equal the float texture's.
+ *
  * Dependencies: ras_image (copying from images, loading files), cglm.
  */
 #include "ras_texture.h"
@@ -18,46 +22,72 @@
 #include <math.h>   /* floor, fmod, cos, sqrt, isnan */
 #include <stdint.h> /* uint32_t */
 #include <stdlib.h> /* calloc, malloc, free */
+#include <string.h> /* memcpy */
 
 /* ------------------------------------------------------------------------ */
 /* Creation and destruction                                                  */
 
-/* A texture with room for w x h texels at level 0, or NULL. The texels are
- * not initialised: every caller below writes all of them. */
-static ras_texture *alloc(int w, int h, ras_wrap wrap) {
+/* The texels' floats for each byte: b / 255.0f folded by the compiler, which
+ * rounds as the division at run time does (IEEE single, to nearest);
+ * test_texture checks every entry against ras_byte_to_unit. */
+#define UNIT1(b) ((b) / 255.0f)
+#define UNIT4(b) UNIT1(b), UNIT1((b) + 1), UNIT1((b) + 2), UNIT1((b) + 3)
+#define UNIT16(b) UNIT4(b), UNIT4((b) + 4), UNIT4((b) + 8), UNIT4((b) + 12)
+#define UNIT64(b) UNIT16(b), UNIT16((b) + 16), UNIT16((b) + 32), UNIT16((b) + 48)
+const float ras_texel_unit[256] = {UNIT64(0), UNIT64(64), UNIT64(128), UNIT64(192)};
+
+double ras_texture_level0_bytes(ras_texel_format format, double w, double h) {
+    return w * h * (format == RAS_TEXELS_RGB8 ? 3.0 : (double)sizeof(vec3s));
+}
+
+/* Levels 1.. hold a quarter, a sixteenth, ... of level 0's texels: a third
+ * of them in all (a bound: odd sides round down). */
+double ras_texture_mip_bytes(double w, double h) { return w * h * (double)sizeof(vec3s) / 3.0; }
+
+/* A texture of w x h texels at level 0 with no texel storage yet, or NULL. */
+static ras_texture *alloc_header(int w, int h, ras_wrap wrap) {
     if (w < 1 || h < 1 || w > RAS_IMAGE_MAX_SIDE || h > RAS_IMAGE_MAX_SIDE) return NULL;
     ras_texture *tex = calloc(1, sizeof *tex);
     if (!tex) return NULL;
-    tex->texels = malloc((size_t)w * (size_t)h * sizeof *tex->texels);
-    if (!tex->texels) {
-        free(tex);
-        return NULL;
-    }
     tex->width = w;
     tex->height = h;
     tex->wrap = wrap;
     tex->level_count = 1;
     tex->level_width[0] = w;
     tex->level_height[0] = h;
+    return tex;
+}
+
+/* A FLOAT texture with room for w x h texels at level 0, or NULL. The texels
+ * are not initialised: every caller below writes all of them. */
+static ras_texture *alloc(int w, int h, ras_wrap wrap) {
+    ras_texture *tex = alloc_header(w, h, wrap);
+    if (!tex) return NULL;
+    tex->format = RAS_TEXELS_FLOAT;
+    tex->texels = malloc((size_t)w * (size_t)h * sizeof *tex->texels);
+    if (!tex->texels) {
+        free(tex);
+        return NULL;
+    }
     tex->levels[0] = tex->texels;
     return tex;
 }
 
-/* alloc, or NULL and err saying why. */
-static ras_texture *alloc_for_image(int w, int h, ras_wrap wrap, ras_error *err) {
-    ras_texture *tex = alloc(w, h, wrap);
-    if (!tex)
-        ras_error_set(err,
-                      "cannot make a texture from a %dx%d image: expected 1..%d texels per side "
-                      "and enough memory — use a smaller image",
-                      w, h, RAS_IMAGE_MAX_SIDE);
-    return tex;
+/* Why a texture of w x h texels could not be made. */
+static void cannot_make(int w, int h, ras_error *err) {
+    ras_error_set(err,
+                  "cannot make a texture from a %dx%d image: expected 1..%d texels per side "
+                  "and enough memory — use a smaller image",
+                  w, h, RAS_IMAGE_MAX_SIDE);
 }
 
 ras_texture *ras_texture_from_image(const ras_image *img, ras_wrap wrap, ras_error *err) {
     assert(img);
-    ras_texture *tex = alloc_for_image(img->width, img->height, wrap, err);
-    if (!tex) return NULL;
+    ras_texture *tex = alloc(img->width, img->height, wrap);
+    if (!tex) {
+        cannot_make(img->width, img->height, err);
+        return NULL;
+    }
     for (int j = 0; j < tex->height; j++) {
         int row = tex->height - 1 - j; /* image row 0 is the top, texel row 0 the bottom */
         for (int i = 0; i < tex->width; i++)
@@ -66,31 +96,55 @@ ras_texture *ras_texture_from_image(const ras_image *img, ras_wrap wrap, ras_err
     return tex;
 }
 
-/* Straight from the file's bytes to texels (flipped, as ras_texture_from_image
- * does): the same floats as ras_texture_from_image(ras_image_load(path)),
- * without a float image of the whole file in between. */
+/* Turns the rows of a w x h RGB8 picture upside down, in place, through
+ * one row of scratch (memcpy's wide copies: a byte loop cost 3.5
+ * instructions a byte); false when the scratch cannot be had. */
+static bool flip_rows_rgb8(uint8_t *rgb, int w, int h) {
+    size_t row = (size_t)w * 3;
+    uint8_t *tmp = malloc(row);
+    if (!tmp) return false;
+    for (int j = 0; j < h / 2; j++) {
+        uint8_t *a = rgb + (size_t)j * row, *b = rgb + (size_t)(h - 1 - j) * row;
+        memcpy(tmp, a, row);
+        memcpy(a, b, row);
+        memcpy(b, tmp, row);
+    }
+    free(tmp);
+    return true;
+}
+
+ras_texture *ras_texture_from_rgb8(uint8_t *rgb, int w, int h, ras_wrap wrap, ras_error *err) {
+    assert(rgb);
+    ras_texture *tex = alloc_header(w, h, wrap);
+    /* The decoder's buffer becomes level 0: no second copy of the picture,
+     * and no float one, at any moment. Image row 0 is the top, texel row 0
+     * the bottom. */
+    if (!tex || !flip_rows_rgb8(rgb, w, h)) {
+        cannot_make(w, h, err);
+        free(rgb);
+        free(tex);
+        return NULL;
+    }
+    tex->format = RAS_TEXELS_RGB8;
+    tex->texels8 = rgb;
+    return tex;
+}
+
 ras_texture *ras_texture_load(const char *path, ras_wrap wrap, ras_error *err) {
     assert(path);
     int w = 0, h = 0;
-    uint8_t *rgb = ras_image_load_rgb8(path, &w, &h, err);
+    /* the decoder's bytes become the texture: nothing made beside them
+     * (mips are counted when they are built) */
+    uint8_t *rgb = ras_image_load_rgb8_making(path, 0.0, &w, &h, err);
     if (!rgb) return NULL;
-    ras_texture *tex = alloc_for_image(w, h, wrap, err);
-    if (tex)
-        for (int j = 0; j < h; j++) {
-            const uint8_t *src = rgb + (size_t)(h - 1 - j) * (size_t)w * 3; /* top row first */
-            vec3s *dst = tex->texels + (size_t)j * (size_t)w;
-            for (int i = 0; i < w; i++, src += 3)
-                dst[i] = (vec3s){{ras_byte_to_unit(src[0]), ras_byte_to_unit(src[1]),
-                                  ras_byte_to_unit(src[2])}};
-        }
-    free(rgb);
-    return tex;
+    return ras_texture_from_rgb8(rgb, w, h, wrap, err);
 }
 
 void ras_texture_destroy(ras_texture *tex) {
     if (!tex) return;
     for (int l = 1; l < tex->level_count && l < RAS_TEXTURE_MAX_LEVELS; l++) free(tex->levels[l]);
     free(tex->texels);
+    free(tex->texels8);
     free(tex);
 }
 
@@ -203,7 +257,7 @@ static void mip_span(int d, int n_src, int n_dst, int *first, int *last) {
 bool ras_texture_build_mips(ras_texture *tex) {
     assert(tex);
     if (tex->level_count > 1) return true; /* already built */
-    tex->levels[0] = tex->texels;
+    tex->levels[0] = tex->texels; /* NULL for RGB8: level 1 is read through the table */
     tex->level_width[0] = tex->width;
     tex->level_height[0] = tex->height;
     int count = 1;
@@ -221,6 +275,7 @@ bool ras_texture_build_mips(ras_texture *tex) {
             return false;
         }
         const vec3s *src = tex->levels[count - 1];
+        const uint8_t *src8 = count == 1 ? ras_texture_level0_rgb8(tex) : NULL;
         for (int y = 0; y < dh; y++) {
             int y0, y1;
             mip_span(y, sh, dh, &y0, &y1);
@@ -229,8 +284,13 @@ bool ras_texture_build_mips(ras_texture *tex) {
                 mip_span(x, sw, dw, &x0, &x1);
                 vec3s sum = glms_vec3_zero();
                 for (int yy = y0; yy <= y1; yy++)
-                    for (int xx = x0; xx <= x1; xx++)
-                        sum = glms_vec3_add(sum, src[(size_t)yy * (size_t)sw + (size_t)xx]);
+                    for (int xx = x0; xx <= x1; xx++) {
+                        size_t k = (size_t)yy * (size_t)sw + (size_t)xx;
+                        /* a byte's float is the one the float texture held:
+                         * the same sums, the same mips */
+                        vec3s t = src8 ? ras_texture_texel0(tex, k) : src[k];
+                        sum = glms_vec3_add(sum, t);
+                    }
                 float n = (float)((y1 - y0 + 1) * (x1 - x0 + 1));
                 dst[(size_t)y * (size_t)dw + (size_t)x] = glms_vec3_scale(sum, 1.0f / n);
             }
@@ -251,12 +311,12 @@ vec3s ras_texture_texel(const ras_texture *tex, int level, int i, int j) {
     assert(tex);
     if (level < 0) level = 0;
     if (level >= tex->level_count) level = tex->level_count - 1;
-    const vec3s *data = level == 0 ? tex->texels : tex->levels[level];
     int w = level == 0 ? tex->width : tex->level_width[level];
     int h = level == 0 ? tex->height : tex->level_height[level];
     i = ras_texture_wrap_index(tex->wrap, i, w);
     j = ras_texture_wrap_index(tex->wrap, j, h);
-    return data[(size_t)j * (size_t)w + (size_t)i];
+    size_t k = (size_t)j * (size_t)w + (size_t)i;
+    return level == 0 ? ras_texture_texel0(tex, k) : tex->levels[level][k];
 }
 
 /* floor(t * n) as an index already wrapped into [0, n). NaN and infinities
@@ -292,5 +352,5 @@ vec3s ras_texture_sample_nearest(const ras_texture *tex, float u, float v) {
      * = i, and the nearest texel to u_img is floor(u_img + 0.5) = floor(u*W). */
     int i = coord_to_index(tex->wrap, u, tex->width);
     int j = coord_to_index(tex->wrap, v, tex->height);
-    return tex->texels[(size_t)j * (size_t)tex->width + (size_t)i];
+    return ras_texture_texel0(tex, (size_t)j * (size_t)tex->width + (size_t)i);
 }

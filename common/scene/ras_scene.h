@@ -275,6 +275,20 @@ ras_scene_assets *ras_scene_load_assets(const ras_scene *scene, ras_error *err);
  * decoded or built (a 404 KB scene's maps took 1.35 GB in hw2 before). */
 ras_scene_assets *ras_scene_load_meshes(const ras_scene *scene, ras_error *err);
 void ras_scene_assets_destroy(ras_scene_assets *assets);
+/* Builds the mip levels of object i's texture (trilinear filtering reads
+ * them), once for a texture objects share, after checking their float levels
+ * (ras_texture_mip_bytes) against the memory budget and committing them with
+ * the assets; adds the levels built to *levels_built. True when there is
+ * nothing to build; false and err naming the scene and the object when the
+ * budget or memory refuses. */
+bool ras_scene_assets_build_mips(const ras_scene *scene, ras_scene_assets *assets, int i,
+                                 uint64_t *levels_built, ras_error *err);
+/* Whether the mip levels ras_scene_assets_build_mips would build for every
+ * colour map fit the memory budget beside what is committed (nothing is
+ * built or committed): a program checks before its first frame. False and
+ * err naming the scene, the estimate and the limit when they do not. */
+bool ras_scene_assets_check_mips(const ras_scene *scene, const ras_scene_assets *assets,
+                                 ras_error *err);
 
 /* Names as written in scene files ("triangle", "phong", "trilinear", ...). */
 const char *ras_scene_shape_name(ras_scene_shape shape);

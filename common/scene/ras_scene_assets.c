@@ -101,9 +101,6 @@ static double mesh_bytes(double v, double t) {
            t * (3 * sizeof(unsigned) + RAS_MEMORY_RENDER_BYTES_PER_TRIANGLE);
 }
 
-/* A texture of w x h texels with its mip chain (a third more). */
-static double texture_bytes(double w, double h) { return w * h * sizeof(vec3s) * 4.0 / 3.0; }
-
 /* Adds `bytes` to the assets' estimate and checks the total against the
  * memory budget; false and err (naming the scene, the object, the estimate
  * and the limit) when it is over. */
@@ -159,7 +156,9 @@ static ras_texture *get_map(const ras_scene *s, ras_scene_assets *a, int i, int 
     if (m->kind != RAS_MAP_NONE && m->kind != RAS_MAP_FILE) {
         char what[96];
         snprintf(what, sizeof what, "a %dx%d %s", m->size, m->size, key);
-        if (!budget_add(s, a, i, what, texture_bytes(m->size, m->size), err)) return NULL;
+        /* built-ins are floats; their mips are counted when built */
+        double bytes = ras_texture_level0_bytes(RAS_TEXELS_FLOAT, m->size, m->size);
+        if (!budget_add(s, a, i, what, bytes, err)) return NULL;
     }
     switch (m->kind) {
     case RAS_MAP_NONE: return NULL;
@@ -183,9 +182,42 @@ static ras_texture *get_map(const ras_scene *s, ras_scene_assets *a, int i, int 
     if (m->kind == RAS_MAP_FILE) {
         char what[96];
         snprintf(what, sizeof what, "a %dx%d %s", t->width, t->height, key);
-        if (!budget_add(s, a, i, what, texture_bytes(t->width, t->height), err)) return NULL;
+        /* a file is held as its bytes (ras_texture_load checked its decode) */
+        double bytes = ras_texture_level0_bytes(t->format, t->width, t->height);
+        if (!budget_add(s, a, i, what, bytes, err)) return NULL;
     }
     return t;
+}
+
+bool ras_scene_assets_check_mips(const ras_scene *s, const ras_scene_assets *a, ras_error *err) {
+    double bytes = 0;
+    int textures = 0;
+    for (int k = 0; k < a->owned_texture_count; k++) {
+        const ras_texture *t = a->owned_textures[k];
+        bool colour_map = false; /* height maps get no mips */
+        for (int i = 0; i < s->object_count && !colour_map; i++)
+            colour_map = a->textures[i] == t;
+        if (!colour_map || t->level_count > 1) continue;
+        bytes += ras_texture_mip_bytes(t->width, t->height);
+        textures++;
+    }
+    char what[512];
+    snprintf(what, sizeof what, "%s: building the mip levels of %d texture%s for trilinear filtering", s->path,
+             textures, textures == 1 ? "" : "s");
+    return ras_memory_check(bytes, what, "use smaller textures or another --filter", err);
+}
+
+bool ras_scene_assets_build_mips(const ras_scene *s, ras_scene_assets *a, int i,
+                                 uint64_t *levels_built, ras_error *err) {
+    ras_texture *t = a->textures[i];
+    if (!t || t->level_count > 1) return true; /* none, or built (maps are shared) */
+    char what[96];
+    snprintf(what, sizeof what, "the mip levels of a %dx%d texture", t->width, t->height);
+    if (!budget_add(s, a, i, what, ras_texture_mip_bytes(t->width, t->height), err)) return false;
+    if (!ras_texture_build_mips(t))
+        return ras_error_set(err, "%s: objects[%d]: out of memory building %s", s->path, i, what);
+    *levels_built += (uint64_t)(t->level_count - 1);
+    return true;
 }
 
 static ras_scene_assets *load_assets(const ras_scene *s, bool maps, ras_error *err) {

@@ -195,10 +195,25 @@ static inline vec3s bilinear_blend(const vec3s *px, int w, bilinear_axis x, bili
     return lerp3(bottom, top, y.s);
 }
 
+/* A byte texel (level 0 of a loaded texture) as the float the float texture held. */
+static inline vec3s byte_texel(const uint8_t *px, int k) {
+    const uint8_t *p = px + 3 * (size_t)k;
+    return (vec3s){{ras_texel_unit[p[0]], ras_texel_unit[p[1]], ras_texel_unit[p[2]]}};
+}
+
+/* bilinear_blend of byte texels: the same floats, the same operations. */
+static inline vec3s bilinear_blend8(const uint8_t *px, int w, bilinear_axis x, bilinear_axis y) {
+    vec3s bottom = lerp3(byte_texel(px, y.a * w + x.a), byte_texel(px, y.a * w + x.b), x.s);
+    vec3s top = lerp3(byte_texel(px, y.b * w + x.a), byte_texel(px, y.b * w + x.b), x.s);
+    return lerp3(bottom, top, y.s);
+}
+
 /* Bilinear lookup in one mip level (v = 0 is row j = 0, the bottom). */
 static inline vec3s bilinear_level(const ras_texture *tex, int level, float u, float v) {
     int w = tex->level_width[level], h = tex->level_height[level];
     bilinear_axis x = bilinear_axis_at(u, w, tex->wrap), y = bilinear_axis_at(v, h, tex->wrap);
+    const uint8_t *bytes = level == 0 ? ras_texture_level0_rgb8(tex) : NULL;
+    if (bytes) return bilinear_blend8(bytes, w, x, y);
     const vec3s *px = tex->levels[level] ? tex->levels[level] : tex->texels;
     return bilinear_blend(px, w, x, y);
 }
@@ -224,9 +239,16 @@ static inline void bump_heights(const fragment_shader_payload *payload, float he
         c->texels_fetched += 3 * 4;
     }
     int w = hm->level_width[0], h = hm->level_height[0];
-    const vec3s *px = hm->levels[0] ? hm->levels[0] : hm->texels;
     bilinear_axis x = bilinear_axis_at(u, w, hm->wrap), x1 = bilinear_axis_at(u1, w, hm->wrap);
     bilinear_axis y = bilinear_axis_at(v, h, hm->wrap), y1 = bilinear_axis_at(v1, h, hm->wrap);
+    const uint8_t *bytes = ras_texture_level0_rgb8(hm); /* a loaded height map */
+    if (bytes) {
+        heights[0] = 255.0f * glms_vec3_norm(bilinear_blend8(bytes, w, x, y));
+        heights[1] = 255.0f * glms_vec3_norm(bilinear_blend8(bytes, w, x1, y));
+        heights[2] = 255.0f * glms_vec3_norm(bilinear_blend8(bytes, w, x, y1));
+        return;
+    }
+    const vec3s *px = hm->levels[0] ? hm->levels[0] : hm->texels;
     heights[0] = 255.0f * glms_vec3_norm(bilinear_blend(px, w, x, y));
     heights[1] = 255.0f * glms_vec3_norm(bilinear_blend(px, w, x1, y));
     heights[2] = 255.0f * glms_vec3_norm(bilinear_blend(px, w, x, y1));

@@ -235,9 +235,10 @@ static GLuint upload_texture(const ras_texture *tex, GLenum unit) {
     uint8_t *rgba = malloc(4 * n);
     if (!rgba) return 0;
     for (size_t i = 0; i < n; i++) { /* row 0 is v = 0 in both */
-        rgba[4 * i] = ras_unit_to_byte(tex->texels[i].x);
-        rgba[4 * i + 1] = ras_unit_to_byte(tex->texels[i].y);
-        rgba[4 * i + 2] = ras_unit_to_byte(tex->texels[i].z);
+        vec3s c = ras_texture_texel0(tex, i); /* floats or bytes */
+        rgba[4 * i] = ras_unit_to_byte(c.x);
+        rgba[4 * i + 1] = ras_unit_to_byte(c.y);
+        rgba[4 * i + 2] = ras_unit_to_byte(c.z);
         rgba[4 * i + 3] = 255;
     }
     GLuint t;

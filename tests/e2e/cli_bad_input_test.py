@@ -486,6 +486,21 @@ case(H3, ["--scene", TEAPOTS, "-o", OUT], "nonzero", "a teapot of 262144 triangl
      keep=REF)
 case(H1, ["--scene", SPHERES, "-o", OUT], "nonzero", OVER, hard=True, keep=REF)
 case(H3, ["--scene", BIG_MAPS, "-o", OUT], "nonzero", "a 4096x4096 texture", hard=True, keep=REF)
+# A file's texture is held as its bytes (3 a texel, ras_texture.h), its float
+# mips counted when trilinear filtering reads them: an 8192² grey PNG renders
+# under the 1 GiB cap (its budget, 528 MiB: the decode is 384 MiB, then 192
+# held; as floats it was refused, estimated at 1408 MiB); with the mips
+# (256 MiB more) over a 400 MiB budget it is refused up front, exit 2.
+GREY8K = png_bomb("grey8k.png", 8192)
+case(H3, ["--model", OK_OBJ, "--texture", GREY8K, "--size", "16x16", "-o", OUT], 0, "wrote",
+     absent=(), present=(OUT,), hard=True)
+case(H3, ["--model", OK_OBJ, "--texture", GREY8K, "--shader", "texture", "--filter",
+          "trilinear", "--size", "16x16", "--memory-limit", "400", "-o", OUT], 2,
+     "building the mip levels of 1 texture for trilinear filtering needs about",
+     hard=True, keep=REF)
+case(H3, ["--model", OK_OBJ, "--texture", GREY8K, "--shader", "texture", "--filter",
+          "trilinear", "--size", "16x16", "-o", OUT], 0, "wrote", absent=(), present=(OUT,),
+     hard=True)
 case(H1, ["--size", "8192x8192", "-o", OUT], 2, "a 8192x8192 frame with 1 sample per pixel needs",
      hard=True, keep=REF)
 case(H2, ["--size", "4096x4096", "--aa", "ssaa", "--samples", "4", "-o", OUT], "nonzero",

@@ -15,9 +15,11 @@ generated here (no big file is committed), and checks:
     a run that waits);
   - no AddressSanitizer / UBSan report.
 The cases (issue 42, B5):
-  - 100,000 'g' groups (the estimate lets them through, assimp takes 342 MB)
-    under --memory-limit 256: stopped by the import child's RLIMIT_AS (not
-    under ASan);
+  - 300,000 'l' polylines (the estimate lets them through, assimp takes
+    453 MB) under --memory-limit 256: stopped by the import child's
+    RLIMIT_AS (not under ASan);
+  - 100,000 'g' groups (assimp: 342 MB) refused up front by the estimate
+    under --memory-limit 256 (3.4 KB a group); 20,000 render;
   - a 90-byte OBJ naming a .mtl of 100,000 materials (assimp: 3.5 GB): refused
     up front by the estimate, also under --memory-limit 256;
   - an OBJ switching material on each of 100,000 faces, and one of 100,000
@@ -143,21 +145,34 @@ OUT = ["--size", "32x32", "-o", path("out.png")]
 write("mtl/big.mtl", "".join(f"newmtl m{i}\nKd 1 0 0\n" for i in range(100000)))
 BIG_MTL = write("mtl/m.obj", "mtllib big.mtl\n" + TRI + "usemtl m1\nf 1 2 3\n")
 case("a 90-byte OBJ with 100,000 materials", ["--model", BIG_MTL] + OUT, 2,
-     "with its materials and objects needs about")
+     "with its materials, objects and groups needs about")
 case("the same under --memory-limit 256", ["--model", BIG_MTL, "--memory-limit", "256"] + OUT, 2,
      "over the memory limit of 256 MiB (set by --memory-limit)")
 SMALL_MTL = write("mtl/small.mtl", "newmtl red\nKd 1 0 0\n")
 case("an OBJ with a small .mtl", ["--model", write("mtl/ok.obj", "mtllib small.mtl\n" + TRI +
                                                    "usemtl red\nf 1 2 3\n")] + OUT, 0, "wrote")
 
+# ---- 'g' groups counted in the estimate (3.4 KB each) ----
+# 100,000 'g' groups in 1.7 MB: assimp takes 342 MB (a mesh a group), which
+# the estimate (20 bytes a byte: 34 MB) let through before; now 356 MiB with
+# the groups, refused before the import under --memory-limit 256. 20,000
+# (their time is linear, unlike objects') still render within it.
+GROUPS = write("groups.obj", TRI + "".join(f"g a{i}\nf 1 2 3\n" for i in range(100000)))
+case("100,000 'g' groups under --memory-limit 256", ["--model", GROUPS, "--memory-limit", "256"]
+     + OUT, 2, "(1.7 MB) with its materials, objects and groups needs about 356 MiB, over the "
+     "memory limit of 256 MiB")
+case("20,000 'g' groups under --memory-limit 256", ["--model", write("groups20k.obj", TRI + "".join(
+    f"g a{i}\nf 1 2 3\n" for i in range(20000))), "--memory-limit", "256"] + OUT, 0, "wrote")
+
 # ---- the import's child held to the budget (RLIMIT_AS), past what the estimate sees ----
-# 100,000 'g' groups in 1.7 MB: the estimate (20 bytes a byte: 34 MB) lets it
-# through, assimp takes 342 MB (a mesh a group); under --memory-limit 256 the
-# child's address-space limit stops it. Not under ASan (no RLIMIT_AS there).
+# 300,000 'l' polylines of 8 points and one face in 5.4 MB: the estimate (20
+# bytes a byte: 108 MB) lets it through, assimp takes 453 MB (80 bytes a
+# byte); under --memory-limit 256 the child's address-space limit stops it.
+# Not under ASan (no RLIMIT_AS there).
 if not SANITIZED:
-    case("100,000 'g' groups under --memory-limit 256", ["--model", write("groups.obj", TRI + "".join(
-        f"g a{i}\nf 1 2 3\n" for i in range(100000))), "--memory-limit", "256"] + OUT, 2,
-        "needs more memory than the budget (256 MiB, set by --memory-limit) while it is imported")
+    case("300,000 'l' polylines under --memory-limit 256", ["--model", write("lines.obj", TRI + "".join(
+        "l 1 2 3 1 2 3 1 2\n" for i in range(300000)) + "f 1 2 3\n"), "--memory-limit", "256"] + OUT,
+        2, "needs more memory than the budget (256 MiB, set by --memory-limit) while it is imported")
 
 # ---- assimp's OBJ reader is quadratic in objects and material switches ----
 case("100,000 'o' objects", ["--model", write("objects.obj", TRI + "".join(

@@ -255,6 +255,100 @@ static void test_fast_path_clamp_coloured_light_no_light(void **state) {
     scene->width = scene->height = 700;
 }
 
+/* The scene's textures rounded to bytes, as an RGB8 texture (what a file
+ * gives) and as its float twin (the same bytes' floats). */
+typedef struct byte_twins {
+    ras_texture *bytes, *floats;
+} byte_twins;
+
+static byte_twins byte_twins_of(const ras_texture *t) {
+    int w = t->width, h = t->height;
+    uint8_t *rgb = malloc((size_t)w * (size_t)h * 3);
+    ras_image *img = ras_image_create(w, h, NULL);
+    assert_true(rgb && img);
+    for (int row = 0; row < h; row++) /* top row first, as a decoder gives */
+        for (int i = 0; i < w; i++) {
+            vec3s c = ras_texture_texel(t, 0, i, h - 1 - row);
+            uint8_t *p = rgb + ((size_t)row * (size_t)w + (size_t)i) * 3;
+            p[0] = ras_unit_to_byte(c.x), p[1] = ras_unit_to_byte(c.y), p[2] = ras_unit_to_byte(c.z);
+            ras_image_set(img, i, row,
+                          (vec3s){{ras_byte_to_unit(p[0]), ras_byte_to_unit(p[1]),
+                                   ras_byte_to_unit(p[2])}});
+        }
+    byte_twins b = {ras_texture_from_rgb8(rgb, w, h, t->wrap, NULL),
+                    ras_texture_from_image(img, t->wrap, NULL)};
+    ras_image_destroy(img);
+    assert_true(b.bytes && b.floats && b.bytes->format == RAS_TEXELS_RGB8);
+    return b;
+}
+
+/* Points every object's maps at `floats` or `bytes` twins (or back at the
+ * originals, `kept`). */
+static void use_maps(ras_texture **kept, byte_twins *twins, int use) {
+    for (int o = 0; o < scene->object_count; o++)
+        for (int which = 0; which < 2; which++) {
+            ras_texture **slot = which ? &assets->height_maps[o] : &assets->textures[o];
+            int k = 2 * o + which;
+            *slot = !kept[k] ? NULL : use == 0 ? kept[k] : use == 1 ? twins[k].floats : twins[k].bytes;
+        }
+}
+
+/* Textures kept as bytes (loaded files) draw what their float twins draw,
+ * in the solution's bilinear, trilinear and bump lookups (bilinear_level,
+ * bump_heights: the byte path) and in the fast renderer's (bilinear_x4_blend:
+ * its byte path), for every filter: the same picture byte for byte, and
+ * teaching = fast. */
+static void test_fast_path_rgb8_textures(void **state) {
+    (void)state;
+    scene->width = scene->height = 256;
+    int slots = 2 * scene->object_count;
+    ras_texture **kept = calloc((size_t)slots, sizeof *kept);
+    byte_twins *twins = calloc((size_t)slots, sizeof *twins);
+    ras_image *float_img = ras_image_create(700, 700, NULL);
+    assert_true(kept && twins && float_img);
+    for (int k = 0; k < slots; k++) {
+        kept[k] = k % 2 ? assets->height_maps[k / 2] : assets->textures[k / 2];
+        if (kept[k]) twins[k] = byte_twins_of(kept[k]);
+    }
+    const texture_filter filters[3] = {FILTER_NEAREST, FILTER_BILINEAR, FILTER_TRILINEAR};
+    const ras_scene_shader shaders[3] = {RAS_SHADER_TEXTURE, RAS_SHADER_BUMP,
+                                         RAS_SHADER_DISPLACEMENT};
+    for (int f = 0; f < 3; f++) {
+        hw3_render_options opt = options(RAS_PATTERN_ORDERED, 4);
+        opt.filter = filters[f];
+        opt.angle_deg = 33;
+        for (int si = 0; si < 3; si++) {
+            opt.shader = shaders[si];
+            ras_counters kf, kb;
+            use_maps(kept, twins, 1);
+            render(opt, true, 1, float_img, &kf, NULL);
+            use_maps(kept, twins, 2);
+            render(opt, true, 1, teaching_img, &kb, NULL);
+            size_t bytes = sizeof *teaching_img->pixels * (size_t)scene->width * (size_t)scene->height;
+            if (memcmp(float_img->pixels, teaching_img->pixels, bytes))
+                fail_msg("%s shader, %s filter: the textures kept as bytes draw a different "
+                         "picture from their float twins; expected the same floats from every "
+                         "lookup: check bilinear_level/bump_heights' byte path "
+                         "(hw3_shading/solution/shading.c) and ras_texel_unit",
+                         ras_scene_shader_name(opt.shader), ras_scene_filter_name((ras_scene_filter)opt.filter));
+        }
+        use_maps(kept, twins, 2);
+        char label[64];
+        snprintf(label, sizeof label, "RGB8 textures, %s filter",
+                 ras_scene_filter_name((ras_scene_filter)opt.filter));
+        check_all(label, opt);
+    }
+    use_maps(kept, twins, 0);
+    for (int k = 0; k < slots; k++) {
+        ras_texture_destroy(twins[k].bytes);
+        ras_texture_destroy(twins[k].floats);
+    }
+    free(kept);
+    free(twins);
+    ras_image_destroy(float_img);
+    scene->width = scene->height = 700;
+}
+
 /* Extreme but legal cameras: near 0.1 and 0.01 with far 1e6,
  * triangles whose tip lies within 0.05 of the eye and whose far edge lies at
  * 900 000, and a floor 1e6 wide seen from 1e-3 above it with near 1e-4 (far
@@ -694,6 +788,7 @@ int main(void) {
         cmocka_unit_test(test_fast_path_odd_size_trilinear),
         cmocka_unit_test(test_fast_path_clipping_affine),
         cmocka_unit_test(test_fast_path_clamp_coloured_light_no_light),
+        cmocka_unit_test(test_fast_path_rgb8_textures),
         cmocka_unit_test(test_fast_path_extreme_cameras),
         cmocka_unit_test(test_fast_path_far_plane_sweep),
         cmocka_unit_test(test_fast_path_edge_on_raycast),

@@ -1,5 +1,6 @@
 /* test_texture.c — cmocka tests for common/ras_texture: addressing (wrap,
- * nearest lookup, the v flip), the built-in textures and the mip chain.
+ * nearest lookup, the v flip), the built-in textures, the mip chain, and
+ * textures kept as bytes (RGB8) looking up what their float twins do.
  *
  * The edge cases (u, v = 0, 1, ±eps, NaN, ±1e30, ±Inf) are the ones that read
  * out of bounds in a naive lookup; the suite is meant to run under ASan, so an
@@ -20,10 +21,11 @@
 #include "ras_texture.h"
 
 #include <limits.h> /* INT_MIN, INT_MAX */
+#include <malloc.h> /* malloc_usable_size, mallinfo2 */
 #include <math.h>   /* NAN, INFINITY, fabsf, nextafterf */
 #include <stdio.h>  /* snprintf, remove */
 #include <stdlib.h> /* mkdtemp */
-#include <string.h> /* strstr */
+#include <string.h> /* strstr, memcmp, memcpy */
 #include <unistd.h> /* rmdir */
 
 /* ------------------------------------------------------------------------ */
@@ -382,6 +384,190 @@ static void test_texture_mips_idempotent(void **state) {
     ras_texture_destroy(strip);
 }
 
+
+/* ------------------------------------------------------------------------ */
+/* Textures kept as bytes (RGB8)                                             */
+
+/* Every entry of the byte table is the float ras_byte_to_unit computes at run
+ * time (the compiler folded the table's divisions; a different rounding, or
+ * b * (1/255.0f), differs for some bytes and fails here). */
+static void test_texel_unit_table_is_byte_to_unit(void **state) {
+    (void)state;
+    for (int b = 0; b < 256; b++) {
+        volatile uint8_t byte = (uint8_t)b; /* computed at run time, not folded */
+        float want = ras_byte_to_unit(byte);
+        if (memcmp(&want, &ras_texel_unit[b], sizeof want))
+            fail_msg("ras_texel_unit[%d] is %.9g, expected ras_byte_to_unit(%d) = %.9g bit for "
+                     "bit: fill the table with the same expression",
+                     b, (double)ras_texel_unit[b], b, (double)want);
+    }
+}
+
+/* xorshift64*: reproducible random numbers without rand()'s global state. */
+static uint64_t rng_next(uint64_t *s) {
+    *s ^= *s >> 12;
+    *s ^= *s << 25;
+    *s ^= *s >> 27;
+    return *s * 0x2545F4914F6CDD1DULL;
+}
+
+/* A coordinate: mostly inside [0, 1], sometimes far outside or not finite. */
+static float rng_coord(uint64_t *s) {
+    static const float odd[] = {0.0f, 1.0f, -0.0f, 1e-7f, -1e-7f, 0.99999994f, 1.00000012f, 1e30f,
+                                -1e30f, INFINITY, -INFINITY, NAN, 7.25f, -3.5f};
+    uint64_t r = rng_next(s);
+    if (r % 8 == 0) return odd[(r >> 8) % (sizeof odd / sizeof odd[0])];
+    return (float)((double)(r >> 11) / 9007199254740992.0 * 3.0 - 1.0); /* [-1, 2) */
+}
+
+static bool same_vec3(vec3s a, vec3s b) { return !memcmp(&a, &b, sizeof a); }
+
+/* A w x h RGB8 texture of random bytes and its float twin (the same bytes
+ * through ras_byte_to_unit into an image, then ras_texture_from_image). */
+static void make_twins(int w, int h, ras_wrap wrap, uint64_t *rng, ras_texture **bytes,
+                       ras_texture **floats) {
+    size_t n = (size_t)w * (size_t)h * 3;
+    uint8_t *rgb = malloc(n);
+    assert_non_null(rgb);
+    for (size_t k = 0; k < n; k++)
+        rgb[k] = (uint8_t)(rng_next(rng) >> 56);
+    ras_image *img = ras_image_create(w, h, NULL);
+    assert_non_null(img);
+    for (int row = 0; row < h; row++)
+        for (int col = 0; col < w; col++) {
+            const uint8_t *p = rgb + ((size_t)row * (size_t)w + (size_t)col) * 3;
+            ras_image_set(img, col, row,
+                          (vec3s){{ras_byte_to_unit(p[0]), ras_byte_to_unit(p[1]),
+                                   ras_byte_to_unit(p[2])}});
+        }
+    *floats = ras_texture_from_image(img, wrap, NULL);
+    ras_image_destroy(img);
+    *bytes = ras_texture_from_rgb8(rgb, w, h, wrap, NULL); /* takes rgb */
+    assert_non_null(*floats);
+    assert_non_null(*bytes);
+    assert_int_equal((*bytes)->format, RAS_TEXELS_RGB8);
+    assert_int_equal((*floats)->format, RAS_TEXELS_FLOAT);
+}
+
+/* An RGB8 texture looks up what its float twin does, bit for bit: texels of
+ * every level (indices inside and far outside), nearest lookups at random
+ * coordinates (NaN and ±Inf among them), and the mip chain built from the
+ * bytes — both wrap modes, odd and even sizes. (Bilinear and trilinear, the
+ * solution's and the fast renderer's, are checked on whole pictures in
+ * test_fast_path.) */
+static void test_rgb8_lookups_equal_float(void **state) {
+    (void)state;
+    static const int sizes[][2] = {{1, 1}, {2, 3}, {37, 23}, {64, 64}, {255, 3}};
+    uint64_t rng = 0x9E3779B97F4A7C15ULL;
+    for (size_t si = 0; si < sizeof sizes / sizeof sizes[0]; si++)
+        for (int wi = 0; wi < 2; wi++) {
+            ras_wrap wrap = wi ? RAS_WRAP_CLAMP : RAS_WRAP_REPEAT;
+            int w = sizes[si][0], h = sizes[si][1];
+            ras_texture *b = NULL, *f = NULL;
+            make_twins(w, h, wrap, &rng, &b, &f);
+            for (int pass = 0; pass < 2; pass++) { /* before and after the mips */
+                for (int k = 0; k < 4000; k++) {
+                    int level = (int)(rng_next(&rng) % (uint64_t)b->level_count);
+                    int i = (int)(rng_next(&rng) % 301) - 150, j = (int)(rng_next(&rng) % 301) - 150;
+                    vec3s got = ras_texture_texel(b, level, i, j);
+                    vec3s want = ras_texture_texel(f, level, i, j);
+                    if (!same_vec3(got, want))
+                        fail_msg("%dx%d %s: texel(level %d, %d, %d) of the RGB8 texture is "
+                                 "(%.9g, %.9g, %.9g), its float twin's (%.9g, %.9g, %.9g); "
+                                 "expected the same floats",
+                                 w, h, wi ? "CLAMP" : "REPEAT", level, i, j, (double)got.x,
+                                 (double)got.y, (double)got.z, (double)want.x, (double)want.y,
+                                 (double)want.z);
+                    float u = rng_coord(&rng), v = rng_coord(&rng);
+                    got = ras_texture_sample_nearest(b, u, v);
+                    want = ras_texture_sample_nearest(f, u, v);
+                    if (!same_vec3(got, want))
+                        fail_msg("%dx%d %s: nearest(%.9g, %.9g) of the RGB8 texture differs from "
+                                 "its float twin's: expected the same floats",
+                                 w, h, wi ? "CLAMP" : "REPEAT", (double)u, (double)v);
+                }
+                if (pass == 0) {
+                    assert_true(ras_texture_build_mips(b));
+                    assert_true(ras_texture_build_mips(f));
+                    assert_int_equal(b->level_count, f->level_count);
+                    assert_int_equal(b->format, RAS_TEXELS_RGB8); /* level 0 stays bytes */
+                    for (int l = 1; l < b->level_count; l++) {
+                        size_t n = (size_t)b->level_width[l] * (size_t)b->level_height[l];
+                        if (memcmp(b->levels[l], f->levels[l], n * sizeof(vec3s)))
+                            fail_msg("%dx%d: mip level %d built from bytes differs from the float "
+                                     "twin's: expected the same sums of the same floats",
+                                     w, h, l);
+                    }
+                }
+            }
+            ras_texture_destroy(b);
+            ras_texture_destroy(f);
+        }
+}
+
+/* A file's texture holds its bytes, not floats: a 4096² PNG loaded as a
+ * texture is 3 bytes a texel (48 MiB, not the 192 MiB floats took), with no
+ * float level 0 beside it, and the file's pixels where they belong. */
+static void test_rgb8_texture_holds_three_bytes_a_texel(void **state) {
+    (void)state;
+    const int n = 4096;
+    char dir[] = "/tmp/raster101_test_texture_XXXXXX";
+    if (!mkdtemp(dir)) fail_msg("could not create a temporary directory for the PNG");
+    char path[256];
+    snprintf(path, sizeof path, "%s/big.png", dir);
+    ras_image *img = ras_image_create(n, n, NULL);
+    assert_non_null(img);
+    ras_image_set(img, 0, 0, (vec3s){{1, 0, 0}});             /* top-left */
+    ras_image_set(img, n - 1, n - 1, (vec3s){{0, 0, 1}});     /* bottom-right */
+    ras_image_set(img, 5, 7, (vec3s){{0.2f, 0.4f, 0.6f}});    /* rounds to bytes */
+    ras_error err = {{0}};
+    bool saved = ras_image_save(img, path, &err);
+    ras_image_destroy(img);
+    if (!saved) {
+        rmdir(dir);
+        fail_msg("could not write the test PNG: %s", err.msg);
+    }
+#if defined(__GLIBC__) && !defined(__SANITIZE_ADDRESS__)
+    struct mallinfo2 before = mallinfo2();
+#endif
+    ras_texture *tex = ras_texture_load(path, RAS_WRAP_REPEAT, &err);
+#if defined(__GLIBC__) && !defined(__SANITIZE_ADDRESS__)
+    struct mallinfo2 after = mallinfo2();
+#endif
+    remove(path);
+    rmdir(dir);
+    if (!tex) fail_msg("ras_texture_load of a %dx%d PNG failed: %s", n, n, err.msg);
+    size_t texels = (size_t)n * (size_t)n;
+    if (tex->format != RAS_TEXELS_RGB8 || !tex->texels8 || tex->texels || tex->levels[0])
+        fail_msg("a texture loaded from a PNG: expected level 0 as bytes only (format RGB8, "
+                 "texels8 set, texels and levels[0] NULL), got format %d, texels8 %p, texels %p",
+                 (int)tex->format, (void *)tex->texels8, (void *)tex->texels);
+    size_t usable = malloc_usable_size(tex->texels8);
+    if (usable < 3 * texels || usable > 3 * texels + 65536)
+        fail_msg("level 0 of a %dx%d texture is a block of %zu bytes; expected 3 a texel, %zu",
+                 n, n, usable, 3 * texels);
+#if defined(__GLIBC__) && !defined(__SANITIZE_ADDRESS__)
+    /* everything the load kept (the texture and anything it left behind) */
+    double kept = ((double)after.uordblks + (double)after.hblkhd) -
+                  ((double)before.uordblks + (double)before.hblkhd);
+    if (kept > 3.01 * (double)texels)
+        fail_msg("loading a %dx%d texture kept %.0f bytes (%.2f a texel); expected at most "
+                 "3.01 a texel: the bytes alone, no float copy",
+                 n, n, kept, kept / (double)texels);
+#endif
+    vec3s top_left = ras_texture_texel(tex, 0, 0, n - 1), bottom_right = ras_texture_texel(tex, 0, n - 1, 0);
+    vec3s grey = ras_texture_texel(tex, 0, 5, n - 1 - 7);
+    if (!same_vec3(top_left, (vec3s){{1, 0, 0}}) || !same_vec3(bottom_right, (vec3s){{0, 0, 1}}) ||
+        !same_vec3(grey, (vec3s){{ras_byte_to_unit(ras_unit_to_byte(0.2f)),
+                                  ras_byte_to_unit(ras_unit_to_byte(0.4f)),
+                                  ras_byte_to_unit(ras_unit_to_byte(0.6f))}}))
+        fail_msg("the 4096² texture's pixels are not where the file has them (flipped so row 0 "
+                 "is the bottom): top-left (%g, %g, %g), bottom-right (%g, %g, %g)",
+                 (double)top_left.x, (double)top_left.y, (double)top_left.z,
+                 (double)bottom_right.x, (double)bottom_right.y, (double)bottom_right.z);
+    ras_texture_destroy(tex);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_texture_wrap_index_repeat_negative),
@@ -399,6 +585,9 @@ int main(void) {
         cmocka_unit_test(test_texture_mip_sizes_5x3),
         cmocka_unit_test(test_texture_mip_average_preserved_checker),
         cmocka_unit_test(test_texture_mips_idempotent),
+        cmocka_unit_test(test_texel_unit_table_is_byte_to_unit),
+        cmocka_unit_test(test_rgb8_lookups_equal_float),
+        cmocka_unit_test(test_rgb8_texture_holds_three_bytes_a_texel),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
