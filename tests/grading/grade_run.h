@@ -46,8 +46,7 @@ bool own_dir(const grader *g, const char *id, const char *refs, char *dir, size_
 /* assignment id's tests dealt to `chunks` chunks by the rubric's measured
  * costs (test_costs_ms), the costliest first to the least loaded:
  * chunk_of[i] is test i's chunk, the same at every grading of a rubric */
-void deal_tests(const grader *g, const char *id, const name_list *names, int chunks,
-                int *chunk_of);
+void deal_tests(const grader *g, const char *id, const name_list *names, int chunks, int *chunk_of);
 /* how many tests chunk_of gives to `chunk` */
 int chunk_size(int n, const int *chunk_of, int chunk);
 /* the names of `chunk`, one a line in the program's order, into path */
