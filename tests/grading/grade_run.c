@@ -347,13 +347,92 @@ bool own_dir(const grader *g, const char *id, const char *refs, char *dir, size_
     return false;
 }
 
+/* ---------------------------------------------------------------- dealing the tests */
+
+/* How many of the n tests chunk_of gives to `chunk`. */
+int chunk_size(int n, const int *chunk_of, int chunk) {
+    int size = 0;
+    for (int i = 0; i < n; i++)
+        size += chunk_of[i] == chunk;
+    return size;
+}
+
+/* The names of `chunk`, one a line, in the test program's order, into path. */
+void write_chunk_list(const char *path, const name_list *names, const int *chunk_of, int chunk) {
+    FILE *lf = fopen(path, "w");
+    for (int i = 0; i < names->n && lf; i++)
+        if (chunk_of[i] == chunk) fprintf(lf, "%s\n", names->v[i]);
+    if (lf) fclose(lf);
+}
+
+/* The rubric's measured cost of each test of assignment `id` (its
+ * "test_costs_ms", tests/grading/measure-test-costs), into cost[0, n); a test
+ * it does not name costs the mean of those it does (1 when it names none),
+ * so a test added since the last measurement is dealt as a typical one.
+ * Every test costs at least 1 ms (its process's start): with nothing to
+ * weigh, the chunks still get a test each. */
+static void test_costs(const grader *g, const char *id, const name_list *names, double *cost) {
+    const cJSON *asgs = cJSON_GetObjectItemCaseSensitive(g->rubric, "assignments"), *costs = NULL;
+    for (const cJSON *a = asgs ? asgs->child : NULL; a && !costs; a = a->next)
+        if (!strcmp(str_or(a, "id", ""), id))
+            costs = cJSON_GetObjectItemCaseSensitive(a, "test_costs_ms");
+    double sum = 0;
+    int known = 0;
+    for (int i = 0; i < names->n; i++) {
+        const cJSON *c = cJSON_GetObjectItemCaseSensitive(costs, names->v[i]);
+        cost[i] = cJSON_IsNumber(c) && c->valuedouble >= 0 ? c->valuedouble : -1;
+        if (cost[i] >= 0 && cost[i] < 1) cost[i] = 1;
+        if (cost[i] >= 0) {
+            sum += cost[i];
+            known++;
+        }
+    }
+    for (int i = 0; i < names->n; i++)
+        if (cost[i] < 0) cost[i] = known ? sum / known : 1;
+}
+
+/* Deals assignment id's tests (names) to `chunks` chunks, chunk_of[i] the
+ * chunk of test i: longest processing time first, the costliest test to the
+ * chunk with the least so far, so that no chunk holds most of the whole
+ * frames while the others idle. The costs are the rubric's, measured on the
+ * reference, never the student's own runs: a student's program cannot steer
+ * how its tests are grouped, and a rubric groups them the same way at every
+ * grading. Ties go to the earlier test and the lower chunk. */
+void deal_tests(const grader *g, const char *id, const name_list *names, int chunks,
+                int *chunk_of) {
+    int n = names->n;
+    double *cost = calloc((size_t)n + 1, sizeof *cost);
+    double *load = calloc((size_t)chunks + 1, sizeof *load);
+    int *order = calloc((size_t)n + 1, sizeof *order);
+    if (!cost || !load || !order) abort();
+    test_costs(g, id, names, cost);
+    /* costliest first, in the program's order among equals (an insertion sort) */
+    for (int i = 0; i < n; i++) {
+        int k = i;
+        for (; k > 0 && cost[order[k - 1]] < cost[i]; k--)
+            order[k] = order[k - 1];
+        order[k] = i;
+    }
+    for (int k = 0; k < n; k++) {
+        int least = 0;
+        for (int c = 1; c < chunks; c++)
+            if (load[c] < load[least]) least = c;
+        chunk_of[order[k]] = least;
+        load[least] += cost[order[k]];
+    }
+    free(cost);
+    free(load);
+    free(order);
+}
+
 /* One sandboxed chunk of a test worker (tests/unit/ras_test_main.h, RAS_EACH_*):
- * names[first, last) of `bin`, each test in a forked child with `per_test`
- * seconds of processor time and `wall` on the clock, recording into the run's
- * own folder, which also gets the list; `own` is bound read-only too ("":
- * none), `extra` adds to the environment (at most 4). */
+ * the names i of `bin` with chunk_of[i] == chunk, each test in a forked child
+ * with `per_test` seconds of processor time and `wall` on the clock,
+ * recording into the run's own folder, which also gets the list; `own` is
+ * bound read-only too ("": none), `extra` adds to the environment (at most 4). */
 void worker_job(const grader *g, job *w, const char *bin, const char *own, const name_list *names,
-                int chunk, int chunks, double per_test, double wall, const char *const extra[]) {
+                const int *chunk_of, int chunk, double per_test, double wall,
+                const char *const extra[]) {
     char each[5][4300];
     fmt(each[0], sizeof each[0], "RAS_EACH_NAMES=%s/runs/%d/names", g->work, g->runs);
     fmt(each[1], sizeof each[1], "RAS_EACH_OUT=%s/runs/%d", g->work, g->runs);
@@ -371,16 +450,12 @@ void worker_job(const grader *g, job *w, const char *bin, const char *own, const
         env[7 + i] = extra[i];
     fmt(w->extra_ro, sizeof w->extra_ro, "%s", own);
     /* the chunk's own backstop: every test at its wall-clock limit */
-    int in_chunk = (names->n - chunk + chunks - 1) / chunks;
-    int k = sandbox_job(g, w, in_chunk * (wall + 1) + 20, env);
+    int k = sandbox_job(g, w, chunk_size(names->n, chunk_of, chunk) * (wall + 1) + 20, env);
     w->argv[k++] = (char *)bin;
     w->argv[k] = NULL;
     char list_path[4200];
     fmt(list_path, sizeof list_path, "%s/names", w->rw);
-    FILE *lf = fopen(list_path, "w");
-    for (int i = chunk; i < names->n && lf; i += chunks)
-        fprintf(lf, "%s\n", names->v[i]);
-    if (lf) fclose(lf);
+    write_chunk_list(list_path, names, chunk_of, chunk);
 }
 
 /* The sandboxed run of an image's program: -o into its own run folder.
@@ -441,7 +516,8 @@ run_result reference_render(const grader *g, const char *program, const cJSON *a
  * run_jobs' child, when no sandboxed process of the worker is left. */
 typedef struct chunk_fates {
     const name_list *names;
-    int chunk, chunks;
+    const int *chunk_of; /* test i is the chunk's when chunk_of[i] == chunk */
+    int chunk;
     const char *xml_dir;
     char calls_dir[4200];
 } chunk_fates;
@@ -470,7 +546,8 @@ static void worker_fates(const job *w, void *arg) {
     char why[300];
     int rw = sandbox_dir(w->rw, why, sizeof why);
     int calls = open(cf->calls_dir, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
-    for (int i = cf->chunk; i < cf->names->n; i += cf->chunks) {
+    for (int i = 0; i < cf->names->n; i++) {
+        if (cf->chunk_of[i] != cf->chunk) continue;
         const char *test = cf->names->v[i];
         char name[4300], dest[8600], fate[300], own_end[200];
         fmt(name, sizeof name, "%s.calls", test);
@@ -492,7 +569,7 @@ static void worker_fates(const job *w, void *arg) {
     if (calls >= 0) close(calls);
 }
 
-static void tests_jobs(const grader *g, test_batch *b);
+static void tests_jobs(const grader *g, const char *id, test_batch *b);
 
 /* A new batch of a's tests: its verdicts' folder DIR/XML, the trusted
  * replay, and the worker of the student's own build (the whole chain). */
@@ -548,7 +625,7 @@ bool tests_prepare(const grader *g, assignment_result *a, const char *dir, test_
     b->listing = listing;
     for (char *line = strtok(listing + 14, "\n"); line; line = strtok(NULL, "\n"))
         if (*line) names_add(&b->names, line);
-    tests_jobs(g, b);
+    tests_jobs(g, a->id, b);
     return true;
 }
 
@@ -558,21 +635,22 @@ bool tests_prepare_whole_chain(const grader *g, assignment_result *a, const char
     if (!file_exists(b->worker_bin) || names->n == 0) return false;
     for (int i = 0; i < names->n; i++)
         names_add(&b->names, names->v[i]);
-    tests_jobs(g, b);
+    tests_jobs(g, a->id, b);
     return true;
 }
 
-/* b's jobs for its names (b->names, xml_dir, worker_bin, replay_bin, own set). */
-static void tests_jobs(const grader *g, test_batch *b) {
+/* b's jobs for its names (b->names, xml_dir, worker_bin, replay_bin, own set),
+ * the tests of assignment `id`. */
+static void tests_jobs(const grader *g, const char *id, test_batch *b) {
     const char *replay_bin = b->replay_bin, *worker_bin = b->worker_bin;
     const char *xml_dir = b->xml_dir, *own = b->own;
     name_list *names = &b->names;
     int n = names->n;
     /* The tests in `chunks` groups, one sandbox and one process each (a
      * forked child per test inside: tests/unit/ras_test_main.h, RAS_EACH_*),
-     * dealt round-robin: the expensive tests (whole frames) come last in a
-     * test program, and contiguous groups left one core idle while the other
-     * drew them all. */
+     * dealt by their measured costs (deal_tests): dealt round-robin, three
+     * of hw3's five whole frames fell into one chunk, which ran 2.5 times as
+     * long as the other. */
     int chunks = g->jobs < n ? g->jobs : n;
     if (chunks < 1) chunks = 1;
     job *workers = b->workers = calloc((size_t)chunks, sizeof *workers);
@@ -582,26 +660,22 @@ static void tests_jobs(const grader *g, test_batch *b) {
     if (!workers || !replays || !chunk_of || !fates) abort();
     b->n = n;
     b->chunks = chunks;
+    deal_tests(g, id, names, chunks, chunk_of);
     for (int c = 0; c < chunks; c++) {
         /* 1. the student's code, in the sandbox: each test records what each
          * call of the student's functions returned */
         job *w = &workers[c];
-        int in_chunk = (n - c + chunks - 1) / chunks;
-        worker_job(g, w, worker_bin, own, names, c, chunks, g->test_limit, test_wall(g), NULL);
+        int in_chunk = chunk_size(n, chunk_of, c);
+        worker_job(g, w, worker_bin, own, names, chunk_of, c, g->test_limit, test_wall(g), NULL);
         fmt(w->out_path, sizeof w->out_path, "%s/worker%d.out", xml_dir, c);
-        for (int i = c; i < n; i += chunks)
-            chunk_of[i] = c;
         /* 2. the verdicts: the same tests, trusted, on the recorded outputs
          * (the trusted copy of the list: the worker could rewrite its own) */
         job *r = &replays[c];
         fmt(r->store[0], sizeof r->store[0], "%s/names%d", xml_dir, c);
-        FILE *lf = fopen(r->store[0], "w");
-        for (int i = c; i < n; i += chunks)
-            if (lf) fprintf(lf, "%s\n", names->v[i]);
-        if (lf) fclose(lf);
+        write_chunk_list(r->store[0], names, chunk_of, c);
         fmt(r->store[1], sizeof r->store[1], "RAS_EACH_NAMES=%s", r->store[0]);
         fmt(r->store[2], sizeof r->store[2], "RAS_EACH_OUT=%s", xml_dir);
-        fates[c] = (chunk_fates){names, c, chunks, xml_dir, ""};
+        fates[c] = (chunk_fates){names, chunk_of, c, xml_dir, ""};
         /* beside the run folders (their filesystem: the records are linked,
          * not copied), a folder of the trusted side's own */
         fmt(fates[c].calls_dir, sizeof fates[c].calls_dir, "%s/runs/records-%d", g->work,

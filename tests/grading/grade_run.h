@@ -43,9 +43,18 @@ int sandbox_job(const grader *g, job *j, double limit_s, const char *const env[]
 /* the folder of hwN's own-code link with the reference of `refs` (NULL: every
  * earlier assignment) into dir; false when there is none */
 bool own_dir(const grader *g, const char *id, const char *refs, char *dir, size_t size);
-/* a sandboxed chunk of a test worker: every chunks-th test from `chunk` */
+/* assignment id's tests dealt to `chunks` chunks by the rubric's measured
+ * costs (test_costs_ms), the costliest first to the least loaded:
+ * chunk_of[i] is test i's chunk, the same at every grading of a rubric */
+void deal_tests(const grader *g, const char *id, const name_list *names, int chunks, int *chunk_of);
+/* how many tests chunk_of gives to `chunk` */
+int chunk_size(int n, const int *chunk_of, int chunk);
+/* the names of `chunk`, one a line in the program's order, into path */
+void write_chunk_list(const char *path, const name_list *names, const int *chunk_of, int chunk);
+/* a sandboxed chunk of a test worker: the tests i with chunk_of[i] == chunk */
 void worker_job(const grader *g, job *w, const char *bin, const char *own, const name_list *names,
-                int chunk, int chunks, double per_test, double wall, const char *const extra[]);
+                const int *chunk_of, int chunk, double per_test, double wall,
+                const char *const extra[]);
 /* a picture's program in the sandbox, -o into its run folder (j->args set) */
 void image_job(const grader *g, const cJSON *img, job *j, const char *own, const char *tag);
 /* the trusted reference program, outside the sandbox */

@@ -172,13 +172,15 @@ static void sanitizer_pass(const grader *g, assignment_result *a, const name_lis
     int n = names->n, chunks = g->jobs < n ? g->jobs : n;
     if (chunks < 1) return;
     job *jobs = calloc((size_t)chunks, sizeof *jobs);
-    if (!jobs) abort();
+    int *chunk_of = calloc((size_t)n + 1, sizeof *chunk_of);
+    if (!jobs || !chunk_of) abort();
+    deal_tests(g, a->id, names, chunks, chunk_of);
     static const char *const sanitizers[] = {
         "ASAN_OPTIONS=detect_leaks=0:halt_on_error=1:abort_on_error=0",
         "UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1", NULL};
     for (int c = 0; c < chunks; c++) {
         job *w = &jobs[c];
-        worker_job(g, w, worker, "", names, c, chunks, 3 * g->test_limit,
+        worker_job(g, w, worker, "", names, chunk_of, c, 3 * g->test_limit,
                    wall_backstop(3 * g->test_limit), sanitizers);
         w->env[0] = "RAS_SANDBOX_NO_AS=1"; /* ASan reserves terabytes of address space */
         w->env[1] = NULL;
@@ -188,7 +190,7 @@ static void sanitizer_pass(const grader *g, assignment_result *a, const name_lis
     const cJSON *files = cJSON_GetObjectItemCaseSensitive(g->rubric, "assignments");
     for (int i = 0; i < n; i++) {
         char path[4400], finding[800];
-        fmt(path, sizeof path, "%s/%s.out", jobs[i % chunks].rw, names->v[i]);
+        fmt(path, sizeof path, "%s/%s.out", jobs[chunk_of[i]].rw, names->v[i]);
         char *out = read_small_file(path, 64 * 1024);
         if (out && sanitizer_finding(out, files, finding, sizeof finding)) {
             char *shown = student_text(finding, 600);
@@ -205,6 +207,7 @@ static void sanitizer_pass(const grader *g, assignment_result *a, const name_lis
         free(out);
     }
     free(jobs);
+    free(chunk_of);
 }
 
 /* What the replay of test `name` said: its console text without the banners
