@@ -194,6 +194,18 @@ static void test_texture_v_flip(void **state) {
 /* ------------------------------------------------------------------------ */
 /* Files                                                                     */
 
+/* Writes IMG to PATH (in the temporary folder DIR) and frees it; the test
+ * fails, the folder removed, when it cannot be written. */
+static void save_png_or_fail(ras_image *img, const char *dir, const char *path) {
+    ras_error err = {{0}};
+    bool saved = ras_image_save(img, path, &err);
+    ras_image_destroy(img);
+    if (!saved) {
+        rmdir(dir);
+        fail_msg("could not write the test PNG: %s", err.msg);
+    }
+}
+
 /* A PNG saved and loaded back as a texture keeps its pixels, flipped so v = 0 is the bottom. */
 static void test_texture_load_png_roundtrip(void **state) {
     (void)state;
@@ -205,12 +217,7 @@ static void test_texture_load_png_roundtrip(void **state) {
     assert_non_null(img);
     ras_image_set(img, 0, 0, (vec3s){{1, 0, 0}});
     ras_error err = {{0}};
-    bool saved = ras_image_save(img, path, &err);
-    ras_image_destroy(img);
-    if (!saved) {
-        rmdir(dir);
-        fail_msg("could not write the test PNG: %s", err.msg);
-    }
+    save_png_or_fail(img, dir, path);
     ras_texture *tex = ras_texture_load(path, RAS_WRAP_CLAMP, &err);
     remove(path);
     rmdir(dir);
@@ -521,12 +528,7 @@ static void test_rgb8_texture_holds_three_bytes_a_texel(void **state) {
     ras_image_set(img, n - 1, n - 1, (vec3s){{0, 0, 1}});     /* bottom-right */
     ras_image_set(img, 5, 7, (vec3s){{0.2f, 0.4f, 0.6f}});    /* rounds to bytes */
     ras_error err = {{0}};
-    bool saved = ras_image_save(img, path, &err);
-    ras_image_destroy(img);
-    if (!saved) {
-        rmdir(dir);
-        fail_msg("could not write the test PNG: %s", err.msg);
-    }
+    save_png_or_fail(img, dir, path);
 #if defined(__GLIBC__) && !defined(__SANITIZE_ADDRESS__)
     struct mallinfo2 before = mallinfo2();
 #endif
