@@ -29,8 +29,9 @@
  *     texel (7 B with mips), a float one 12 B (16 B): a 9000² texture is
  *     243 MB (567 MB with mips) instead of 972 MB (1,296 MB).
  * Code that reads texels in bulk (the reference lookups) reads level 0
- * through ras_texture_level_float / ras_texture_level0_rgb8, or one texel
- * through ras_texture_texel0; students read through ras_texture_texel.
+ * through tex->levels / ras_texture_level0_rgb8 (ras_texel_rgb8 for a byte
+ * texel), or one texel through ras_texture_texel0; students read through
+ * ras_texture_texel.
  */
 #ifndef RAS_TEXTURE_H
 #define RAS_TEXTURE_H
@@ -93,20 +94,15 @@ bool ras_texture_build_mips(ras_texture *tex);
 /* Texel at integer (i, j) of a level after wrapping: never out of bounds. */
 vec3s ras_texture_texel(const ras_texture *tex, int level, int i, int j);
 
-/* Level 0's texel at row-major index k (j * width + i), in either format. */
-static inline vec3s ras_texture_texel0(const ras_texture *tex, size_t k) {
-    if (tex->format == RAS_TEXELS_RGB8) {
-        const uint8_t *p = tex->texels8 + 3 * k;
-        return (vec3s){{ras_texel_unit[p[0]], ras_texel_unit[p[1]], ras_texel_unit[p[2]]}};
-    }
-    return tex->texels[k];
+/* The RGB8 texel at p (3 bytes) as the floats the float texture held. */
+static inline vec3s ras_texel_rgb8(const uint8_t *p) {
+    return (vec3s){{ras_texel_unit[p[0]], ras_texel_unit[p[1]], ras_texel_unit[p[2]]}};
 }
 
-/* Level l's float texels, or NULL when level l is stored as bytes (level 0
- * of an RGB8 texture: read it through ras_texture_level0_rgb8). */
-static inline const vec3s *ras_texture_level_float(const ras_texture *tex, int level) {
-    if (level == 0) return tex->format == RAS_TEXELS_FLOAT ? tex->texels : NULL;
-    return tex->levels[level];
+/* Level 0's texel at row-major index k (j * width + i), in either format. */
+static inline vec3s ras_texture_texel0(const ras_texture *tex, size_t k) {
+    if (tex->format == RAS_TEXELS_RGB8) return ras_texel_rgb8(tex->texels8 + 3 * k);
+    return tex->texels[k];
 }
 
 /* Level 0's bytes (3 a texel), or NULL when it is stored as floats. */

@@ -196,10 +196,7 @@ static inline vec3s bilinear_blend(const vec3s *px, int w, bilinear_axis x, bili
 }
 
 /* A byte texel (level 0 of a loaded texture) as the float the float texture held. */
-static inline vec3s byte_texel(const uint8_t *px, int k) {
-    const uint8_t *p = px + 3 * (size_t)k;
-    return (vec3s){{ras_texel_unit[p[0]], ras_texel_unit[p[1]], ras_texel_unit[p[2]]}};
-}
+static inline vec3s byte_texel(const uint8_t *px, int k) { return ras_texel_rgb8(px + 3 * (size_t)k); }
 
 /* bilinear_blend of byte texels: the same floats, the same operations. */
 static inline vec3s bilinear_blend8(const uint8_t *px, int w, bilinear_axis x, bilinear_axis y) {
