@@ -608,7 +608,7 @@ int reference_jobs(const grader *g, const cJSON *images, const job *runs, int n_
         j->argv[a++] = j->store[2];
         j->argv[a] = NULL;
         j->args = runs[i].args;
-        j->limit = g->render_limit;
+        j->limit = wall_backstop(g->render_limit); /* as reference_render's */
         j->mem_mb = g->mem_mb;
         n++;
     }
