@@ -156,7 +156,8 @@ static void judge_one(const judging *J, const cJSON *img, int i) {
     it->score = it->score > 0 ? gr->integration_points : 0;
     it->max_score = gr->integration_points;
     if ((!whole_passed || it->score < it->max_score) && !images_speculation_stops())
-        attribute_image(g, it, img, J->dir, id, &b->runs[i], own_passed, gr->as, gr->n);
+        attribute_image(g, it, img, J->dir, id, &b->runs[i], &b->runs[b->whole_at[i]], own_passed,
+                        gr->as, gr->n);
 }
 
 /* ---------------------------------------------------------------- judging ahead */
@@ -397,13 +398,23 @@ void grade_assignment(grader *g, grading *gr, const cJSON *asg) {
     fmt(dir, sizeof dir, "%s/%s", g->out, id);
     fmt(test_bin, sizeof test_bin, "%s/tests/test_%s_worker", g->student_build, id);
     const char *failed_log = NULL;
+    bool chain_unlinked = false;
     for (int i = 0; i < g->n_failed; i++)
-        if (!strcmp(g->failed_hw[i], id)) failed_log = g->failed_log[i];
+        if (!strcmp(g->failed_hw[i], id))
+            failed_log = g->failed_log[i], chain_unlinked = g->chain_unlinked[i];
     bool built_program = any_program(g, asg);
     mkdirs(dir);
-    if (failed_log || (!file_exists(test_bin) && !built_program)) {
+    /* Its own file compiled; only its link with the student's earlier files
+     * failed (a helper two of them define): graded on its own code, linked
+     * with the earlier references, where that link was made; the whole
+     * chain's pictures then find no program, and the attribution says why. */
+    char own[4096], own_worker[4300] = "";
+    if (chain_unlinked && own_dir(g, id, NULL, own, sizeof own))
+        fmt(own_worker, sizeof own_worker, "%s/tests/test_%s_worker", own, id);
+    bool on_own = *own_worker && file_exists(own_worker);
+    if (!on_own && (failed_log || (!file_exists(test_bin) && !built_program))) {
         /* nothing of it runs: neither do its images' whole-chain checks */
-        char own[4096], why[200];
+        char why[200];
         fmt(why, sizeof why, "your %s code %s", id,
             failed_log ? "does not compile" : "was not built");
         const cJSON *images = cJSON_GetObjectItemCaseSensitive(asg, "images");
@@ -411,7 +422,31 @@ void grade_assignment(grader *g, grading *gr, const cJSON *asg) {
             for (const cJSON *img = images ? images->child : NULL; img; img = img->next)
                 integration_not_run(g, gr, img, id, failed_log ? "BUILD" : "FAIL", why);
     }
-    if (failed_log) {
+    if (on_own) {
+        /* an earlier assignment that does not compile, or else the link */
+        const char *broken = NULL;
+        int number = 0, earlier = 0;
+        sscanf(id, "hw%d", &number);
+        for (int i = 0; i < g->n_failed && !broken; i++)
+            if (!g->chain_unlinked[i] && sscanf(g->failed_hw[i], "hw%d", &earlier) == 1 &&
+                earlier < number)
+                broken = g->failed_hw[i];
+        char *said = broken ? xstrdup("") : first_link_error(failed_log);
+        sbuf n = {0};
+        if (broken)
+            sb_printf(&n, "your %s code compiles, but your %s does not (charged there), so ", id,
+                      broken);
+        else
+            sb_printf(&n, "your %s code compiles, but your files do not link together%s%s%s, so ",
+                      id, *said ? " (" : "", said, *said ? ")" : "");
+        sb_printf(&n,
+                  "%s is graded on your %s code alone, with the reference of the earlier "
+                  "assignments, and its pictures' whole-chain points score 0",
+                  id, id);
+        free(said);
+        a->note = n.s;
+        run_and_judge(g, gr, a, asg, dir, own_worker);
+    } else if (failed_log) {
         a->graded = true;
         a->note = xstrdup("the code does not compile");
         mark_build_failed(g, a, asg, failed_log);

@@ -60,7 +60,8 @@ static void first_loss(const assignment_result *as, int n, const char *id, char 
  * again, sealed, with only K's reference swapped in. The answer leads the
  * integration item, with the first loss of the assignment it names. */
 void attribute_image(grader *g, item *it, const cJSON *img, const char *dir, const char *id,
-                     const job *graded, bool own_passed, const assignment_result *as, int n_as) {
+                     const job *graded, const job *whole, bool own_passed,
+                     const assignment_result *as, int n_as) {
     char ref_path[4096], why[1200] = "", loss[700];
     variant_reference_path(g, dir, id, str_or(img, "name", "image"), ref_path, sizeof ref_path);
     if (!str_or(img, "reference_program", NULL))
@@ -68,6 +69,16 @@ void attribute_image(grader *g, item *it, const cJSON *img, const char *dir, con
             str_or(img, "reference", ""));
     int number = 0;
     sscanf(id, "hw%d", &number);
+    /* Each earlier assignment's code builds (it lost no point, or a swap with
+     * it built), the own-code run passed, yet the whole chain's program was
+     * not built: the student's files do not link together. */
+    char not_linked[400];
+    fmt(not_linked, sizeof not_linked,
+        "your files do not link together (often a function two of them both "
+        "define: make it static in each, or rename one; build.log names it): your "
+        "whole chain, hw1 to %s, was not built, yet each file builds, and with the "
+        "reference of an earlier assignment in its place this image matches",
+        id);
     if (!own_passed) {
         fmt(why, sizeof why,
             "your %s code causes this: it fails this image on its own too, "
@@ -75,10 +86,13 @@ void attribute_image(grader *g, item *it, const cJSON *img, const char *dir, con
             id, id);
     } else if (number == 2) {
         first_loss(as, n_as, "hw1", loss, sizeof loss);
-        fmt(why, sizeof why,
-            "your hw1 causes this: with the reference hw1 your hw2 matches this "
-            "image%s%s",
-            *loss ? "; hw1's first lost point: " : "", loss);
+        if (!*loss && !file_exists(whole->store[14]))
+            fmt(why, sizeof why, "%s", not_linked);
+        else
+            fmt(why, sizeof why,
+                "your hw1 causes this: with the reference hw1 your hw2 matches this "
+                "image%s%s",
+                *loss ? "; hw1's first lost point: " : "", loss);
     } else if (number == 3) {
         /* one sealed render per earlier assignment alone: hw1 then hw2 */
         job subs[2];
@@ -114,7 +128,9 @@ void attribute_image(grader *g, item *it, const cJSON *img, const char *dir, con
                     "your %s causes this: with the reference %s this image "
                     "matches, with your %s it does not%s%s",
                     culprit, culprit, culprit, *loss ? "; its first lost point: " : "", loss);
-            } else if (matches[0] && matches[1])
+            } else if (matches[0] && matches[1] && !file_exists(whole->store[14]))
+                fmt(why, sizeof why, "%s", not_linked);
+            else if (matches[0] && matches[1])
                 fmt(why, sizeof why,
                     "one of your hw1 or your hw2 causes this: the image matches "
                     "with either reference swapped in (most likely hw2, which "

@@ -10,8 +10,10 @@
 
 /* it (an integration item of assignment `id` that lost points) opens with
  * whose code causes it; graded: the own-code run, own_passed its verdict;
- * as[0, n_as): the assignments graded so far, for their first lost point */
+ * whole: the whole chain's run; as[0, n_as): the assignments graded so far,
+ * for their first lost point */
 void attribute_image(grader *g, item *it, const cJSON *img, const char *dir, const char *id,
-                     const job *graded, bool own_passed, const assignment_result *as, int n_as);
+                     const job *graded, const job *whole, bool own_passed,
+                     const assignment_result *as, int n_as);
 
 #endif

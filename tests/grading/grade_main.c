@@ -4,7 +4,8 @@
  *
  *   raster101-grade --source SRC --build BUILD --out OUT
  *                   [--rubric FILE] [--hw hwN]... [--variant student|ref]
- *                   [--build-failed hwN=LOG]... [--expect full|0|POINTS]
+ *                   [--build-failed hwN=LOG]... [--chain-unlinked hwN=LOG]...
+ *                   [--expect full|0|POINTS]
  *                   (and from tests/grading/grade: --work, --student-tree,
  *                   --student-build, --own, --sanitized-build, --sandbox-uid,
  *                   --jobs, --notes, --seed)
@@ -54,6 +55,7 @@ typedef struct options {
 static void usage(FILE *f) {
     fputs("usage: raster101-grade --source SRC --build BUILD --out OUT [--rubric FILE]\n"
           "         [--hw hwN]... [--variant student|ref] [--build-failed hwN=LOG]...\n"
+          "         [--chain-unlinked hwN=LOG]...\n"
           "         [--expect full|POINTS] [--own OWN]\n"
           "         (tests/grading/grade passes --work, --student-tree, --student-build, --own)\n"
           "       raster101-grade --list RUBRIC   (assignments and their programs)\n",
@@ -127,12 +129,13 @@ static int set_option(grader *g, options *o, const char *a, const char *v) {
         g->sandbox_uid = strtol(v, &end, 10);
         if (end == v || *end || g->sandbox_uid < 1000)
             return arg_error("--sandbox-uid expects a uid of 1000 or more; got '%s'", v);
-    } else { /* --build-failed */
+    } else { /* --build-failed, --chain-unlinked */
         if (g->n_failed == 8 || !strchr(v, '=') || v[0] == '=')
-            return arg_error("--build-failed expects hwN=LOG (at most 8 of them); got '%s'", v);
+            return arg_error("%s expects hwN=LOG (at most 8 of them); got '%s'", a, v);
         char *hw = xstrdup(v);
         char *eq = strchr(hw, '=');
         *eq = '\0';
+        g->chain_unlinked[g->n_failed] = !strcmp(a, "--chain-unlinked");
         g->failed_hw[g->n_failed] = hw;
         g->failed_log[g->n_failed++] = eq + 1;
     }
@@ -145,7 +148,7 @@ static int parse_args(grader *g, options *o, int argc, char **argv) {
     static const char *const with_value[] = {
         "--source",       "--build",  "--out",          "--rubric",
         "--variant",      "--expect", "--hw",           "--list",
-        "--build-failed", "--work",   "--student-tree", "--student-build",
+        "--build-failed", "--work",   "--student-tree", "--student-build", "--chain-unlinked",
         "--sandbox-uid",  "--jobs",   "--own",          "--sanitized-build",
         "--notes",        "--seed"};
     for (int i = 1; i < argc; i++) {

@@ -131,7 +131,11 @@ typedef struct grader {
     cJSON *drawn; /* the argument lists drawn for this grading (owned) */
     const char *only[8];
     int n_only;
+    /* --build-failed / --chain-unlinked: the assignment's build log; with
+     * chain_unlinked its own file compiled and only the link with the
+     * student's earlier files failed */
     const char *failed_hw[8], *failed_log[8];
+    bool chain_unlinked[8];
     int n_failed;
 } grader;
 

@@ -502,6 +502,21 @@ static char *compiler_error_lines(const char *log_path) {
     return shown;
 }
 
+char *first_link_error(const char *log_path) {
+    char *log = read_small_file(log_path, 8u << 20);
+    const char *found = NULL;
+    for (char *line = log ? strtok(log, "\n") : NULL; line; line = strtok(NULL, "\n"))
+        if (strstr(line, "multiple definition") || strstr(line, "undefined reference")) {
+            found = line;
+            break;
+        } else if (!found && (strstr(line, "error") || strstr(line, "Error")))
+            found = line;
+    /* the line names the student's file and symbol: their bytes */
+    char *shown = student_text(found ? found : "", 300);
+    free(log);
+    return shown;
+}
+
 /* A build that failed: every test and image of the assignment lost to it,
  * each quoting the compiler's error lines (compiler_error_lines). */
 void mark_build_failed(const grader *g, assignment_result *a, const cJSON *asg,

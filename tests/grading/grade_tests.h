@@ -16,6 +16,10 @@ void tests_finish(const grader *g, assignment_result *a, const cJSON *asg, test_
  * compiler's error lines from log_path */
 void mark_build_failed(const grader *g, assignment_result *a, const cJSON *asg,
                        const char *log_path);
+/* the linker's first complaint in log_path (a "multiple definition" or an
+ * "undefined reference" before any other error line), as safe text of at
+ * most 300 bytes; "" when there is none (owned) */
+char *first_link_error(const char *log_path);
 
 /* a sealed run's item (it held reference code) reduced to pass or not:
  * `earned` its points (passed, no TODO notice), else the one fixed failure
