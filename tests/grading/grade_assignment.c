@@ -416,7 +416,9 @@ void grade_assignment(grader *g, grading *gr, const cJSON *asg) {
         /* nothing of it runs: neither do its images' whole-chain checks */
         char why[200];
         fmt(why, sizeof why, "your %s code %s", id,
-            failed_log ? "does not compile" : "was not built");
+            chain_unlinked ? "does not link with your earlier files"
+            : failed_log   ? "does not compile"
+                           : "was not built");
         const cJSON *images = cJSON_GetObjectItemCaseSensitive(asg, "images");
         if (own_dir(g, id, NULL, own, sizeof own))
             for (const cJSON *img = images ? images->child : NULL; img; img = img->next)
@@ -448,8 +450,10 @@ void grade_assignment(grader *g, grading *gr, const cJSON *asg) {
         run_and_judge(g, gr, a, asg, dir, own_worker);
     } else if (failed_log) {
         a->graded = true;
-        a->note = xstrdup("the code does not compile");
-        mark_build_failed(g, a, asg, failed_log);
+        a->note = xstrdup(chain_unlinked ? "the code compiles, but does not link with your "
+                                           "earlier files (build.log says why)"
+                                         : "the code does not compile");
+        mark_build_failed(g, a, asg, failed_log, chain_unlinked);
     } else if (!file_exists(test_bin) && !built_program) {
         a->note = xstrdup("not in this build yet");
     } else {

@@ -520,7 +520,9 @@ char *first_link_error(const char *log_path) {
 /* A build that failed: every test and image of the assignment lost to it,
  * each quoting the compiler's error lines (compiler_error_lines). */
 void mark_build_failed(const grader *g, assignment_result *a, const cJSON *asg,
-                       const char *log_path) {
+                       const char *log_path, bool linked) {
+    const char *why = linked ? "your code compiles, but does not link with your earlier files"
+                             : "your code does not compile";
     char *said = compiler_error_lines(log_path);
     const cJSON *tests = cJSON_GetObjectItemCaseSensitive(asg, "tests");
     const cJSON *images = cJSON_GetObjectItemCaseSensitive(asg, "images");
@@ -536,10 +538,11 @@ void mark_build_failed(const grader *g, assignment_result *a, const cJSON *asg,
             it->max_score = pass ? num_or(t, "points", g->default_points)
                                  : (cJSON_IsNumber(t) ? t->valuedouble : g->default_points);
             it->status = xstrdup("BUILD");
-            it->reason = xstrdup("your code does not compile");
+            it->reason = xstrdup(why);
             sbuf o = {0};
-            sb_printf(&o, "your code for %s does not compile, so nothing could be tested.\n",
-                      a->id);
+            sb_printf(&o, "your code for %s %s, so nothing could be tested.\n", a->id,
+                      linked ? "compiles, but does not link with your earlier files"
+                             : "does not compile");
             if (*said) sb_printf(&o, "--- the compiler's error lines (at most 30) ---\n%s\n", said);
             it->output = o.s;
             junit_case(it, a->id, NULL);

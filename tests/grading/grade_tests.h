@@ -13,9 +13,10 @@
 /* the verdicts of a batch whose jobs have run, as items of a; frees the batch */
 void tests_finish(const grader *g, assignment_result *a, const cJSON *asg, test_batch *b);
 /* every test and image of asg as an item lost to the build, with the
- * compiler's error lines from log_path */
+ * compiler's error lines from log_path; linked: its own file compiled, only
+ * the link with the student's earlier files failed */
 void mark_build_failed(const grader *g, assignment_result *a, const cJSON *asg,
-                       const char *log_path);
+                       const char *log_path, bool linked);
 /* the linker's first complaint in log_path (a "multiple definition" or an
  * "undefined reference" before any other error line), as safe text of at
  * most 300 bytes; "" when there is none (owned) */
