@@ -484,7 +484,8 @@ void tests_explain_sealed(const grader *g, assignment_result *a, const cJSON *as
 
 /* The compiler's error lines in a failed build's log (at most 30), as
  * the student's text: the compiler echoes their #error and #include lines
- * byte for byte, and names the sandbox's folders (owned). */
+ * byte for byte, and names the sandbox's folders (owned). The linker's too,
+ * which name a clash or a missing function on a line without "error". */
 static char *compiler_error_lines(const char *log_path) {
     /* the log is written by tests/grading/grade, its text by the build in
      * the sandbox: read as a regular file, the first 8 MiB */
@@ -492,7 +493,8 @@ static char *compiler_error_lines(const char *log_path) {
     sbuf lines = {0};
     int n = 0;
     for (char *line = log ? strtok(log, "\n") : NULL; line && n < 30; line = strtok(NULL, "\n"))
-        if (strstr(line, "error") || strstr(line, "Error")) {
+        if (strstr(line, "error") || strstr(line, "Error") ||
+            strstr(line, "multiple definition") || strstr(line, "undefined reference")) {
             sb_printf(&lines, "%s\n", line);
             n++;
         }
