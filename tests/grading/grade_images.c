@@ -382,10 +382,13 @@ bool image_options(const grader *g, const cJSON *img, ras_compare_kind *kind,
  * image (`id`, not the integration part grading it again) so the whole-chain
  * run and the attribution compare with the picture the own-code run just
  * rendered with the same arguments — and never with one a previous grading
- * left in a reused work folder (--reuse-build). */
+ * left in a reused work folder (--reuse-build). In its folder refs/, root's
+ * alone: the work folder is 0711, so a sandboxed run that is not in a mount
+ * namespace of its own (the separate-uid isolation) could open a file of
+ * a known name in it, and with a template the work folder is a known path. */
 void variant_reference_path(const grader *g, const char *dir, const char *id, const char *name,
                             char *buf, size_t size) {
-    fmt(buf, size, "%s/%s-%s.expected.png", g->work ? g->work : dir, id, name);
+    fmt(buf, size, "%s/refs/%s-%s.expected.png", g->work ? g->work : dir, id, name);
 }
 
 /* ---------------------------------------------------------------- speculation */
@@ -642,6 +645,10 @@ static bool variant_reference(picture *p) {
     /* in the work folder: a variant's reference is never handed out,
      * only the difference from it */
     variant_reference_path(p->g, p->dir, p->reldir, p->name, p->ref_path, sizeof p->ref_path);
+    char refs[4096];
+    fmt(refs, sizeof refs, "%s", p->ref_path);
+    *strrchr(refs, '/') = '\0';
+    trusted_dir(refs);
     fmt(ref_log, sizeof ref_log, "%s.log", p->ref_path); /* the work folder's too */
     if (p->whole && file_exists(p->ref_path)) return true;
     unlink(p->ref_path);
@@ -769,12 +776,13 @@ typedef struct findings {
 
 /* Where a passed own-code run's picture is kept for the whole-chain run of
  * the same image, graded right after it (judge_pictures): in the work
- * folder, which no sandboxed run can write; "" without one. `id`: the
+ * folder's refs/, which no sandboxed run can write or read (a sealed run's
+ * picture, drawn beside reference code); "" without one. `id`: the
  * assignment that owns the image. */
 static void own_picture_path(const grader *g, const char *id, const char *name, char *buf,
                              size_t size) {
     if (g->work)
-        fmt(buf, size, "%s/%s-%s.own-passed.png", g->work, id, name);
+        fmt(buf, size, "%s/refs/%s-%s.own-passed.png", g->work, id, name);
     else
         buf[0] = '\0';
 }
@@ -785,6 +793,9 @@ static void keep_own_picture(const picture *p, const ras_image *got, bool passed
     char path[4400];
     own_picture_path(p->g, p->reldir, p->name, path, sizeof path);
     if (!*path) return;
+    char refs[4400];
+    fmt(refs, sizeof refs, "%s/refs", p->g->work);
+    trusted_dir(refs);
     unlink(path);
     ras_error err = {{0}};
     if (passed && got) ras_image_save(got, path, &err);
