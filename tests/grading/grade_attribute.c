@@ -72,6 +72,7 @@ void attribute_image(grader *g, item *it, const cJSON *img, const char *dir, con
     /* Each earlier assignment's code builds (it lost no point, or a swap with
      * it built), the own-code run passed, yet the whole chain's program was
      * not built: the student's files do not link together. */
+    bool whole_unbuilt = !file_exists(whole->store[14]);
     char not_linked[400];
     fmt(not_linked, sizeof not_linked,
         "your files do not link together (often a function two of them both "
@@ -86,7 +87,7 @@ void attribute_image(grader *g, item *it, const cJSON *img, const char *dir, con
             id, id);
     } else if (number == 2) {
         first_loss(as, n_as, "hw1", loss, sizeof loss);
-        if (!*loss && !file_exists(whole->store[14]))
+        if (!*loss && whole_unbuilt)
             fmt(why, sizeof why, "%s", not_linked);
         else
             fmt(why, sizeof why,
@@ -128,7 +129,7 @@ void attribute_image(grader *g, item *it, const cJSON *img, const char *dir, con
                     "your %s causes this: with the reference %s this image "
                     "matches, with your %s it does not%s%s",
                     culprit, culprit, culprit, *loss ? "; its first lost point: " : "", loss);
-            } else if (matches[0] && matches[1] && !file_exists(whole->store[14]))
+            } else if (matches[0] && matches[1] && whole_unbuilt)
                 fmt(why, sizeof why, "%s", not_linked);
             else if (matches[0] && matches[1])
                 fmt(why, sizeof why,

@@ -377,18 +377,27 @@ bool image_options(const grader *g, const cJSON *img, ras_compare_kind *kind,
     return true;
 }
 
+/* The folder of what the grader renders or keeps beside reference code (a
+ * variant's reference, a sealed run's passed picture): the work folder's
+ * refs/, root's alone once made with trusted_dir. The work folder is 0711, so
+ * a sandboxed run that is not in a mount namespace of its own (the
+ * separate-uid isolation) could open a file of a known name in it, and with
+ * a template the work folder is a known path. */
+static void refs_dir(const grader *g, const char *dir, char *buf, size_t size) {
+    fmt(buf, size, "%s/refs", g->work ? g->work : dir);
+}
+
 /* Where a variant's reference, rendered at grading time, is kept: in the
  * work folder (never handed out), named by the assignment that owns the
  * image (`id`, not the integration part grading it again) so the whole-chain
  * run and the attribution compare with the picture the own-code run just
  * rendered with the same arguments — and never with one a previous grading
- * left in a reused work folder (--reuse-build). In its folder refs/, root's
- * alone: the work folder is 0711, so a sandboxed run that is not in a mount
- * namespace of its own (the separate-uid isolation) could open a file of
- * a known name in it, and with a template the work folder is a known path. */
+ * left in a reused work folder (--reuse-build). In refs_dir. */
 void variant_reference_path(const grader *g, const char *dir, const char *id, const char *name,
                             char *buf, size_t size) {
-    fmt(buf, size, "%s/refs/%s-%s.expected.png", g->work ? g->work : dir, id, name);
+    char refs[4096];
+    refs_dir(g, dir, refs, sizeof refs);
+    fmt(buf, size, "%s/%s-%s.expected.png", refs, id, name);
 }
 
 /* ---------------------------------------------------------------- speculation */
@@ -646,8 +655,7 @@ static bool variant_reference(picture *p) {
      * only the difference from it */
     variant_reference_path(p->g, p->dir, p->reldir, p->name, p->ref_path, sizeof p->ref_path);
     char refs[4096];
-    fmt(refs, sizeof refs, "%s", p->ref_path);
-    *strrchr(refs, '/') = '\0';
+    refs_dir(p->g, p->dir, refs, sizeof refs);
     trusted_dir(refs);
     fmt(ref_log, sizeof ref_log, "%s.log", p->ref_path); /* the work folder's too */
     if (p->whole && file_exists(p->ref_path)) return true;
@@ -781,10 +789,11 @@ typedef struct findings {
  * assignment that owns the image. */
 static void own_picture_path(const grader *g, const char *id, const char *name, char *buf,
                              size_t size) {
-    if (g->work)
-        fmt(buf, size, "%s/refs/%s-%s.own-passed.png", g->work, id, name);
-    else
-        buf[0] = '\0';
+    buf[0] = '\0';
+    if (!g->work) return;
+    char refs[4096];
+    refs_dir(g, NULL, refs, sizeof refs);
+    fmt(buf, size, "%s/%s-%s.own-passed.png", refs, id, name);
 }
 
 /* A sealed run's picture: kept when it passed, removed otherwise (so that a
@@ -793,8 +802,8 @@ static void keep_own_picture(const picture *p, const ras_image *got, bool passed
     char path[4400];
     own_picture_path(p->g, p->reldir, p->name, path, sizeof path);
     if (!*path) return;
-    char refs[4400];
-    fmt(refs, sizeof refs, "%s/refs", p->g->work);
+    char refs[4096];
+    refs_dir(p->g, NULL, refs, sizeof refs);
     trusted_dir(refs);
     unlink(path);
     ras_error err = {{0}};

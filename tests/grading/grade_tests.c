@@ -482,10 +482,17 @@ void tests_explain_sealed(const grader *g, assignment_result *a, const cJSON *as
     profile("tests: sealed failures on the whole chain", a->id, t0);
 }
 
+/* A linker's complaint: it names a clash or a missing function on a line
+ * without "error". */
+static bool link_complaint(const char *line) {
+    return strstr(line, "multiple definition") || strstr(line, "undefined reference");
+}
+static bool error_line(const char *line) { return strstr(line, "error") || strstr(line, "Error"); }
+
 /* The compiler's error lines in a failed build's log (at most 30), as
  * the student's text: the compiler echoes their #error and #include lines
- * byte for byte, and names the sandbox's folders (owned). The linker's too,
- * which name a clash or a missing function on a line without "error". */
+ * byte for byte, and names the sandbox's folders (owned); the linker's
+ * complaints too. */
 static char *compiler_error_lines(const char *log_path) {
     /* the log is written by tests/grading/grade, its text by the build in
      * the sandbox: read as a regular file, the first 8 MiB */
@@ -493,8 +500,7 @@ static char *compiler_error_lines(const char *log_path) {
     sbuf lines = {0};
     int n = 0;
     for (char *line = log ? strtok(log, "\n") : NULL; line && n < 30; line = strtok(NULL, "\n"))
-        if (strstr(line, "error") || strstr(line, "Error") ||
-            strstr(line, "multiple definition") || strstr(line, "undefined reference")) {
+        if (error_line(line) || link_complaint(line)) {
             sb_printf(&lines, "%s\n", line);
             n++;
         }
@@ -508,10 +514,10 @@ char *first_link_error(const char *log_path) {
     char *log = read_small_file(log_path, 8u << 20);
     const char *found = NULL;
     for (char *line = log ? strtok(log, "\n") : NULL; line; line = strtok(NULL, "\n"))
-        if (strstr(line, "multiple definition") || strstr(line, "undefined reference")) {
+        if (link_complaint(line)) {
             found = line;
             break;
-        } else if (!found && (strstr(line, "error") || strstr(line, "Error")))
+        } else if (!found && error_line(line))
             found = line;
     /* the line names the student's file and symbol: their bytes */
     char *shown = student_text(found ? found : "", 300);
