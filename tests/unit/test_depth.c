@@ -12,8 +12,8 @@
  *                 through the real pipeline (hw1 projection, hw2 rasterizer):
  *                 Z01 shows the farther plane almost everywhere, INV_W nowhere
  *   contract      range and clamp per format, the +INFINITY clear is farther
- *                 than any INV_W depth, Z01 through the new entry points is
- *                 bit for bit the old ras_viewport, config errors
+ *                 than any INV_W depth, Z01 through ras_viewport_depth is
+ *                 bit for bit ras_viewport's (the Z01-only form), config errors
  */
 #include <setjmp.h> /* cmocka needs these before cmocka.h */
 #include <stdarg.h>
