@@ -130,9 +130,22 @@ static int check_rubric(const ras_catalogue *cat, const char *path) {
     return bad ? 1 : 0;
 }
 
+static const char usage[] =
+    "usage: raster101-catalogue [--catalogue FILE] COMMAND\n"
+    "  list                    one line a reference picture: REFERENCE, PROGRAM, DEMO (or -), ARGS\n"
+    "                          (tab-separated): the program and arguments that draw it\n"
+    "  programs                the programs the catalogue names, one a line\n"
+    "  comparison REFERENCE    the name of the comparison that judges REFERENCE\n"
+    "  check-rubric RUBRIC     every rubric image agrees with its catalogue entry (exit 1 if not)\n"
+    "The catalogue is tests/reference/catalogue.json unless --catalogue FILE.\n";
+
 int main(int argc, char **argv) {
     const char *file = RAS_REFERENCE_DIR "/catalogue.json";
     int i = 1;
+    if (argc == 2 && (!strcmp(argv[1], "--help") || !strcmp(argv[1], "-h"))) {
+        fputs(usage, stdout);
+        return 0;
+    }
     if (i + 1 < argc && !strcmp(argv[i], "--catalogue")) file = argv[i + 1], i += 2;
     const char *cmd = i < argc ? argv[i] : "";
     ras_catalogue *cat = malloc(sizeof *cat);
@@ -153,7 +166,7 @@ int main(int argc, char **argv) {
         status = check_rubric(cat, argv[i + 1]);
     else
         fprintf(stderr, "raster101-catalogue: expected list, programs, comparison REFERENCE or check-rubric "
-                        "RUBRIC.json (after an optional --catalogue FILE); got '%s'\n", cmd);
+                        "RUBRIC.json (after an optional --catalogue FILE); got '%s' (--help lists them)\n", cmd);
     free(cat);
     return status;
 }
