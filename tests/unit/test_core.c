@@ -440,6 +440,9 @@ static void test_pipeline_config_equal_by_fields(void **state) {
             c.pattern.offsets[k] = base.pattern.offsets[k];                                       \
         c.cull = base.cull, c.depth = base.depth, c.z_near = base.z_near, c.z_far = base.z_far;   \
         c.varyings = base.varyings, c.rasterize = base.rasterize, c.resolve = base.resolve;       \
+        c.interpolate_vec3 = base.interpolate_vec3, c.interpolate_vec2 = base.interpolate_vec2;   \
+        c.affine = base.affine, c.uv_gradients = base.uv_gradients, c.shader = base.shader;       \
+        c.shader_user = base.shader_user;                                                         \
         c.shade = base.shade, c.shade_user = base.shade_user, c.dump = base.dump;                 \
         c.step = base.step, c.step_triangles = base.step_triangles;                               \
     } while (0)
@@ -472,6 +475,12 @@ static void test_pipeline_config_equal_by_fields(void **state) {
     DIFFERS(c.varyings = 1);
     DIFFERS(c.rasterize = (ras_rasterize_fn)dummy_hook);
     DIFFERS(c.resolve = (ras_resolve_fn)dummy_hook);
+    DIFFERS(c.interpolate_vec3 = (ras_interpolate_vec3_fn)dummy_hook);
+    DIFFERS(c.interpolate_vec2 = (ras_interpolate_vec2_fn)dummy_hook);
+    DIFFERS(c.affine = true);
+    DIFFERS(c.uv_gradients = true);
+    DIFFERS(c.shader = (ras_fragment_shader_fn)dummy_hook);
+    DIFFERS(c.shader_user = &c);
     DIFFERS(c.shade = (ras_shade_fn)dummy_hook);
     DIFFERS(c.shade_user = &c);
     DIFFERS(c.dump = false);
