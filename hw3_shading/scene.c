@@ -187,7 +187,7 @@ vec3s hw3_frame_shade(const ras_varyings *v, void *user) {
      * lights included) for every fragment cost more than the normal shader. */
     hw3_frame *frame = user;
     fragment_shader_payload *payload = &frame->payload;
-    payload->normal = v->normal, payload->view_pos = v->view_pos, payload->uv = v->uv;
+    payload->view_pos = v->view_pos, payload->normal = v->normal, payload->uv = v->uv;
     payload->duv_dx = v->duv_dx, payload->duv_dy = v->duv_dy;
     return frame->shader(payload);
 }

@@ -141,8 +141,8 @@ bool ras_pipeline_dump(const ras_pipeline *p, const char *dir, int *written, ras
 /* One of the frame's buffers as ras_dump_write and ras_dump_paint take it:
  * "depth", "coverage" and "sample_colour" (only with more than one sample),
  * "overdraw", "normal", "uv" or "view_depth" (only with config.dump; the last
- * three only with the fragment stage, for the varyings it interpolates). False when the frame has no such buffer (a wireframe
- * has none). Coverage is computed: *owned gets the array to free (NULL for
+ * three only with the fragment stage, for the varyings it interpolates).
+ * False when the frame has no such buffer (a wireframe has none). Coverage is computed: *owned gets the array to free (NULL for
  * the others); false with *owned NULL also when memory runs out. */
 struct ras_dump_buffer;
 bool ras_pipeline_buffer(const ras_pipeline *p, const char *name, struct ras_dump_buffer *out,

@@ -71,7 +71,7 @@ vec3s ras_fragment_stage_shade(const ras_triangle *t, const ras_fragment *f, voi
         }
     }
     if (s->counters) s->counters->varyings_interpolated += interpolated;
-    if (s->normal || s->uv || s->view_depth) keep(s, f->x, f->y);
+    if (s->keeping) keep(s, f->x, f->y);
     return s->shader(in, s->shader_user);
 }
 
@@ -98,6 +98,7 @@ bool ras_fragment_stage_keep(ras_fragment_stage *s, int width, int height) {
         }
     }
     s->width = width, s->height = height;
+    s->keeping = s->normal || s->uv || s->view_depth;
     ras_fragment_stage_clear(s);
     return true;
 }
@@ -107,4 +108,5 @@ void ras_fragment_stage_release(ras_fragment_stage *s) {
     free(s->uv);
     free(s->view_depth);
     s->normal = s->uv = s->view_depth = NULL;
+    s->keeping = false;
 }

@@ -46,8 +46,8 @@ typedef vec2s (*ras_interpolate_vec2_fn)(const ras_triangle *t, vec3s bary_scree
 
 /* What the stage hands the shader: the varyings of its mask, the others 0. */
 typedef struct ras_varyings {
-    vec3s normal;         /* RAS_VARYING_NORMAL: unit length (renormalised), view space */
     vec3s view_pos;       /* RAS_VARYING_VIEW_POS: the shaded point, view space */
+    vec3s normal;         /* RAS_VARYING_NORMAL: unit length (renormalised), view space */
     vec2s uv;             /* RAS_VARYING_UV */
     vec2s duv_dx, duv_dy; /* uv's change per pixel in x and y (uv_gradients only) */
 } ras_varyings;
@@ -71,6 +71,7 @@ typedef struct ras_fragment_stage {
     ras_varyings in;        /* the fragment being shaded */
     int width, height;
     float *normal, *uv, *view_depth; /* the kept buffers, or NULL */
+    bool keeping;                    /* any of them */
 } ras_fragment_stage;
 
 /* ras_shade_fn: user is a ras_fragment_stage. Interpolates, keeps the
