@@ -272,11 +272,12 @@ int fast_render(const ras_scene *scene, ras_scene_assets *assets, const hw3_rend
                 const fast_settings *settings, ras_image *out, ras_counters *stats,
                 ras_error *err) {
     if (!accepts(scene, opt)) return -1;
-    /* every object's model matrix, hw3_render's (the frame's turn included) */
+    /* every object's model matrix, hw3_render's (the frame's turn about y included) */
     mat4s *models = malloc((size_t)scene->object_count * sizeof *models);
     if (!models) return -1;
     for (int i = 0; i < scene->object_count; i++)
-        models[i] = hw3_object_model(&scene->objects[i], opt->angle_deg);
+        models[i] = ras_scene_model_matrix(&scene->objects[i],
+                                           (ras_scene_spin){.turn_y_deg = opt->angle_deg});
     /* the same set-up as the teaching frame's: the mip levels, the fragment
      * stage, the view and the projection */
     hw3_frame setup;

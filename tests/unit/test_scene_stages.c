@@ -585,6 +585,11 @@ static void test_shell_kept_pipeline_draws_as_new(void **state) {
     if (!ras_app_draw_frame(&a, &err)) fail_msg("frame 3: %s", err.msg);
     assert_ptr_not_equal(a.pipeline, first);
     assert_int_equal(a.pipeline->fb->samples, 16);
+    /* the step view is the shell's as --dump is: hw3's configure sets neither */
+    a.step.on = true, a.step.limit = 3;
+    if (!ras_app_draw_frame(&a, &err)) fail_msg("the step view's frame: %s", err.msg);
+    assert_int_equal(a.counters->triangles_rasterized, 3);
+    assert_true(a.pipeline->has_last);
     ras_pipeline_destroy(a.pipeline);
     ras_pipeline_destroy(b.pipeline);
     ras_image_destroy(a.image);
