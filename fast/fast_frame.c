@@ -65,12 +65,11 @@ static void *worker_main(void *arg) {
 /* ---- the frame ------------------------------------------------------------- */
 
 /* What the fast path draws: one of hw3's shaders, no culling, z01 depth, at
- * most FAST_MAX_OBJECTS objects, and no frame the window or --dump keeps
- * buffers of (the teaching pipeline's pipeline and fragment buffers). */
+ * most FAST_MAX_OBJECTS objects, and no frame --dump keeps buffers of (the
+ * teaching pipeline's, its fragment stage's among them). */
 static bool accepts(const ras_scene *scene, const hw3_render_options *opt) {
     return fast_shade_find(opt->shader) && opt->cull == RAS_CULL_NONE &&
-           opt->depth == RAS_DEPTH_Z01 && scene->object_count <= FAST_MAX_OBJECTS &&
-           !opt->dump_dir && !opt->keep_buffers && !opt->step;
+           opt->depth == RAS_DEPTH_Z01 && scene->object_count <= FAST_MAX_OBJECTS && !opt->dump_dir;
 }
 
 static int thread_count(const fast_settings *s) {
@@ -108,10 +107,9 @@ static void plan_samples(fast_frame *fr) {
     fr->centre_sample = -1;
     for (int s = 0; s < n && fr->centre_sample < 0; s++)
         if (fr->off_x[s] == fr->off_x[n] && fr->off_y[s] == fr->off_y[n]) fr->centre_sample = s;
-    const hw3_fragment_stage *stage = fr->stage;
-    fr->varyings_per_fragment = (uint64_t)(!!(stage->varyings & RAS_VARYING_NORMAL) +
-                                           !!(stage->varyings & RAS_VARYING_VIEW_POS) +
-                                           !!(stage->varyings & RAS_VARYING_UV));
+    unsigned v = fr->setup->varyings;
+    fr->varyings_per_fragment = (uint64_t)(!!(v & RAS_VARYING_NORMAL) +
+                                           !!(v & RAS_VARYING_VIEW_POS) + !!(v & RAS_VARYING_UV));
 }
 
 /* One worker's tile buffers, fragment list and sample owners, and its
@@ -134,7 +132,7 @@ static bool worker_init(fast_worker *w, fast_frame *fr, size_t tile_samples) {
         w->depth[tile_samples + i] = INFINITY;
     for (int o = 0; o < scene->object_count; o++) {
         fragment_shader_payload *p = &w->pay[o];
-        *p = fr->stage->base;
+        *p = fr->setup->payload;
         hw3_object_material(scene, fr->assets, o, p);
         p->counters = &w->k;
     }
@@ -233,11 +231,11 @@ static bool draw_frame(fast_frame *fr, const hw3_render_options *opt, const fast
     double t0 = ras_now_ms();
     fr->width = width, fr->height = height;
     fr->ssaa = opt->aa == RAS_AA_SSAA, fr->pattern = pattern;
-    fr->varyings = fr->stage->varyings;
+    fr->varyings = fr->setup->varyings;
     fr->tiles_x = (width + TILE - 1) / TILE, fr->tiles_y = (height + TILE - 1) / TILE;
     plan_samples(fr);
     fr->shader = fast_shade_find(opt->shader);
-    fr->batch = fast_shade_batch(fr->shader, opt, fr->stage);
+    fr->batch = fast_shade_batch(fr->shader, opt, fr->setup);
     /* frags holds a tile's pixels from the start (worker_init) */
     fr->per_pixel = fr->pattern.count == 1 && fr->batch != BATCH_NONE;
     int tiles = fr->tiles_x * fr->tiles_y;
@@ -274,11 +272,12 @@ int fast_render(const ras_scene *scene, ras_scene_assets *assets, const hw3_rend
                 const fast_settings *settings, ras_image *out, ras_counters *stats,
                 ras_error *err) {
     if (!accepts(scene, opt)) return -1;
-    /* every object's model matrix, hw3_render's (the frame's turn included) */
+    /* every object's model matrix, hw3_render's (the frame's turn about y included) */
     mat4s *models = malloc((size_t)scene->object_count * sizeof *models);
     if (!models) return -1;
     for (int i = 0; i < scene->object_count; i++)
-        models[i] = hw3_object_model(&scene->objects[i], opt->angle_deg);
+        models[i] = ras_scene_model_matrix(&scene->objects[i],
+                                           (ras_scene_spin){.turn_y_deg = opt->angle_deg});
     /* the same set-up as the teaching frame's: the mip levels, the fragment
      * stage, the view and the projection */
     hw3_frame setup;
@@ -288,7 +287,8 @@ int fast_render(const ras_scene *scene, ras_scene_assets *assets, const hw3_rend
     }
     fast_frame fr = {.scene = scene,
                      .assets = assets,
-                     .stage = &setup.stage,
+                     .setup = &setup,
+                     .perspective = !opt->affine,
                      .out = out,
                      .models = models,
                      .view = setup.view,

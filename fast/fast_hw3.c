@@ -23,7 +23,7 @@ int __real_ras_app_main(int argc, char **argv, const ras_app_hooks *hooks, void 
 int __wrap_ras_app_main(int argc, char **argv, const ras_app_hooks *hooks, void *user);
 
 static bool (*g_program_prepare)(ras_app *app, ras_error *err);
-static bool g_use_fast;             /* --renderer fast */
+static bool g_use_fast;              /* --renderer fast */
 static ras_counters g_fast_counters; /* the last frame fast_render drew */
 
 /* --renderer's name, then the program's own prepare. */
@@ -35,15 +35,15 @@ static bool prepare(ras_app *app, ras_error *err) {
     return g_program_prepare ? g_program_prepare(app, err) : true;
 }
 
-/* The frame: fast_render's when chosen and accepted (it declines the frames
- * whose buffers the window or --dump keeps: hw3_app_render_options says which),
- * else the shell's. */
+/* The frame: fast_render's when chosen and accepted, else the shell's: so
+ * always for the frames whose buffers --dump or the window's views keep (the
+ * shell's pipeline holds them). */
 static bool render(ras_app *app, ras_error *err) {
-    if (g_use_fast) {
+    if (g_use_fast && !app->cli.dump && !ras_app_capturing(app)) {
         hw3_render_options opt = hw3_app_render_options(app);
         /* threads: $RAS_THREADS or one per CPU */
-        int drawn = fast_render(app->scene, app->assets, &opt, NULL, app->image, &g_fast_counters,
-                                err);
+        int drawn =
+            fast_render(app->scene, app->assets, &opt, NULL, app->image, &g_fast_counters, err);
         if (drawn >= 0) {
             app->counters = &g_fast_counters;
             return drawn;

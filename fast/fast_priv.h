@@ -114,7 +114,8 @@ typedef struct fast_shader {
 typedef struct fast_frame {
     const ras_scene *scene;
     const ras_scene_assets *assets;
-    const hw3_fragment_stage *stage;
+    const hw3_frame *setup; /* hw3_frame_setup's: the shader, varyings, payload */
+    bool perspective;       /* !opt->affine */
     int width, height;
     bool ssaa;
     ras_sample_pattern pattern; /* its count is the samples per pixel, n below */
@@ -288,7 +289,7 @@ void fast_rast_triangle(fast_worker *w, const fast_tri *r, int tx0, int ty0, int
  * time). */
 const fast_shader *fast_shade_find(ras_scene_shader shader);
 int fast_shade_batch(const fast_shader *shader, const hw3_render_options *opt,
-                     const hw3_fragment_stage *stage);
+                     const hw3_frame *setup);
 /* powf(x, p) is +0 for 0 <= x <= fast_spec_zero(p) (-1: never). */
 float fast_spec_zero(float p);
 /* The end of a tile: its recorded fragments shaded, or counted. */

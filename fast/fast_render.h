@@ -32,7 +32,7 @@ typedef struct fast_settings {
  * bad sizes, out of memory); -1: declined, nothing done — the caller draws
  * the frame with hw3_render. It declines culling, depth formats other than
  * z01, scenes of more than 64 objects, and frames whose buffers are kept
- * (opt->dump_dir, opt->keep_buffers, opt->step). */
+ * (opt->dump_dir; the program's window and --dump are the shell's, fast_hw3.c). */
 int fast_render(const ras_scene *scene, ras_scene_assets *assets, const hw3_render_options *opt,
                 const fast_settings *settings, ras_image *out, ras_counters *stats, ras_error *err);
 

@@ -214,7 +214,7 @@ void fast_setup_vertices(fast_frame *fr, int c) {
     if (part.uvs) part.uvs += start;
     if (part.colors) part.colors += start;
     size_t first = fr->clip_base[o] + start;
-    ras_vertex_transform(&part, fr->models[o], fr->view, fr->projection, fr->stage->varyings,
+    ras_vertex_transform(&part, fr->models[o], fr->view, fr->projection, fr->setup->varyings,
                          fr->clip + first);
     for (size_t v = first; v < first + part.vertex_count; v++) {
         fr->screen[v] = ras_viewport(fr->clip[v].p_clip, fr->width, fr->height);

@@ -6,7 +6,7 @@
  * When it is drawn, a sample's colour is that of the last fragment to pass
  * its depth test, so only the fragments that still own a sample are shaded
  * — four at a time where the shader has a four-lane form (fast_shade_x4.c),
- * else one at a time by shade() below, hw3_shade_fragment's arithmetic —
+ * else one at a time by shade() below, the core fragment stage's arithmetic (stage5_fragment.c) —
  * and the others are counted as if shaded: the counters stay the teaching
  * pipeline's, which shades every fragment that passes a depth test.
  *
@@ -54,14 +54,14 @@ const fast_shader *fast_shade_find(ras_scene_shader shader) {
 }
 
 int fast_shade_batch(const fast_shader *shader, const hw3_render_options *opt,
-                     const hw3_fragment_stage *stage) {
-    if ((stage->varyings & shader->needs) != shader->needs) return BATCH_NONE;
-    if (shader->lit && stage->base.light_count == 0) return BATCH_NONE;
+                     const hw3_frame *setup) {
+    if ((setup->varyings & shader->needs) != shader->needs) return BATCH_NONE;
+    if (shader->lit && setup->payload.light_count == 0) return BATCH_NONE;
     if (!shader->any_filter && opt->filter == FILTER_TRILINEAR) return BATCH_NONE;
     return shader->batch;
 }
 
-/* ---- one fragment at a time: hw3_shade_fragment, same arithmetic ---------- */
+/* ---- one fragment at a time: ras_fragment_stage_shade, same arithmetic ---- */
 
 /* perspective_correct_barycentric (solution/shading.c), inlined; w: the
  * corners' clip w. */
@@ -132,7 +132,7 @@ static vec3s blinn_phong(const fragment_shader_payload *payload, vec3s kd, vec3s
 static vec3s shade(fast_worker *w, const fast_tri *r, vec3s bary) {
     const fast_frame *fr = w->fr;
     fragment_shader_payload *pay = &w->pay[r->object];
-    bool persp = fr->stage->perspective;
+    bool persp = fr->perspective;
     unsigned vary = fr->varyings;
     vec3s b = persp ? persp_bary(r->w3, bary) : bary;
     if (vary & RAS_VARYING_NORMAL) pay->normal = glms_vec3_normalize(interp3(b, r->attr, 0));
@@ -166,7 +166,7 @@ static vec3s shade(fast_worker *w, const fast_tri *r, vec3s bary) {
         return blinn_phong(pay, kd, pay->view_pos, pay->normal, fr->spec_zero[r->object]);
     }
     }
-    return fr->stage->shader(pay);
+    return fr->setup->shader(pay);
 }
 
 /* shade() without counting: for a lane redone by the scalar path after the

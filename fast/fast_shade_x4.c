@@ -314,7 +314,7 @@ static inline __attribute__((always_inline)) v3x4 weights_x4(const fast_frame *f
     wv.x = vf4_load(e[0]->r->w3), wv.y = vf4_load(e[1]->r->w3);
     wv.z = vf4_load(e[2]->r->w3), pad = vf4_load(e[3]->r->w3);
     vf4_transpose(&wv.x, &wv.y, &wv.z, &pad);
-    if (!fr->stage->perspective) return bs;
+    if (!fr->perspective) return bs;
     v3x4 p = {bs.x / wv.x, bs.y / wv.y, bs.z / wv.z};
     vf4 sum = p.x + p.y + p.z;
     vi4 ok = (sum > vf4_splat(0.0f)) & (sum <= vf4_splat(FLT_MAX)); /* > 0 and finite */

@@ -83,7 +83,7 @@ int main(int argc, char **argv) {
                  "10\ndegrees, v: yours/reference/difference, Esc quits).\n"
                  "Classic form: hw1_transform -r ANGLE FILE.png\n",
         .example = "-r 20 -o out.png", .compare = RAS_COMPARE_EDGE_TOLERANT,
-        .load_assets = true, .without_maps = true, .spin_from_scene = true, .configure = configure,
-        .draw = draw, .status = status};
+        .features = RAS_APP_LOAD_ASSETS | RAS_APP_WITHOUT_MAPS | RAS_APP_SPIN_FROM_SCENE,
+        .configure = configure, .draw = draw, .status = status};
     return ras_app_main(argc, argv, &hooks, NULL);
 }

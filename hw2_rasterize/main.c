@@ -6,25 +6,21 @@
  * the pipeline: model (identity) · view · projection → clip → divide →
  * viewport → rasterize_triangle (coverage, depth) → resolve_pixel → image.
  *
- *   hw2_rasterize                          window: m AA mode, s samples,
- *                                          p pattern; the pixel under the mouse
- *                                          is magnified with its samples;
- *                                          v: yours / reference / difference;
- *                                          t step one triangle at a time (n, 1-9),
- *                                          b the buffer shown (depth, overdraw, ...)
+ *   hw2_rasterize                          window: m AA mode, s samples, p pattern,
+ *                                          v yours / reference / difference, t step
+ *                                          (n, 1-9), b buffer; the pixel under the
+ *                                          mouse magnified with its samples
  *   hw2_rasterize -o out.png               render once, headless
  *   hw2_rasterize --aa msaa --samples 4 -o out.png
  *   hw2_rasterize --aa msaa --compare      compare with tests/reference/hw2_msaa4.png
  *   hw2_rasterize --stats -o out.png       what each stage did, as JSON on stdout
  *   hw2_rasterize --scene scenes/msaa_thin_triangles.json -o fan.png
  *
- * The scene comes from --scene FILE or, without it, from the built-in copy of
- * scenes/hw2_classic.json; --aa, --samples, --pattern and --size
- * override its values. hw2 draws flat colours (material × vertex colour):
- * a scene's hw3 shader, textures and lights are not used here. Everything
- * else (options, the window and its pixel inspector, --compare, --stats, and
- * the frame around configure() and draw(): the pipeline made, cleared,
- * resolved into the PNG) is the shell's: common/app/ras_app.h.
+ * The scene: --scene FILE or the built-in scenes/hw2_classic.json; the
+ * options override it. hw2 draws flat colours (material × vertex colour).
+ * One frame is configure() and draw(); the rest (options, the window and its
+ * inspector, --compare, --dump, --stats, the frame around the two) is the
+ * shell's: common/app/ras_app.h.
  */
 #include "ras_app.h"
 #include "rasterizer.h"
@@ -49,7 +45,7 @@ static mat4s spin_matrix(const ras_app_settings *s) {
 }
 
 /* What the frame is drawn with: your rasterizer and resolve, the AA
- * settings, and the buffers the window's step and buffer views keep. */
+ * settings (the shell adds --dump's and the step view's own). */
 static bool configure(ras_app *app, ras_pipeline_config *cfg, ras_error *err) {
     (void)err;
     const ras_scene *s = app->scene;
@@ -65,10 +61,7 @@ static bool configure(ras_app *app, ras_pipeline_config *cfg, ras_error *err) {
                                  .z_far = s->camera.z_far,
                                  .varyings = RAS_VARYING_COLOR,
                                  .rasterize = rasterize_triangle,
-                                 .resolve = resolve_pixel,
-                                 .dump = app->cli.dump != NULL || ras_app_capturing(app),
-                                 .step = app->step.on,
-                                 .step_triangles = app->step.limit};
+                                 .resolve = resolve_pixel};
     return true;
 }
 
@@ -116,9 +109,9 @@ int main(int argc, char **argv) {
                  "FILE (FILE_diff.png), or without\n  -o as <reference>_diff.png in the current "
                  "folder.\n",
         .options = RAS_OPT_AA | RAS_OPT_COMPARE | RAS_OPT_SCENE | RAS_OPT_STATS,
-        .keys = RAS_APP_KEYS_AA, .inspector = true, .step = true,
-        .compare = RAS_COMPARE_EDGE_TOLERANT,
-        .scene = "hw2_classic", .load_assets = true, .without_maps = true, .spin_from_scene = true,
+        .keys = RAS_APP_KEYS_AA, .compare = RAS_COMPARE_EDGE_TOLERANT, .scene = "hw2_classic",
+        .features = RAS_APP_LOAD_ASSETS | RAS_APP_WITHOUT_MAPS | RAS_APP_SPIN_FROM_SCENE |
+                    RAS_APP_INSPECTOR | RAS_APP_STEP,
         .example = "--aa msaa -o out.png", .reference_dir = RAS_REFERENCE_DIR,
         .prepare = prepare, .configure = configure, .draw = draw, .status = status,
     };

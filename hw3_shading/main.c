@@ -1,26 +1,13 @@
 /* main.c — hw3_shading: the shaded scene, in a window or as a PNG.
  *
- * Given code, no TODO. Read configure() and draw() (one frame: what it is
- * drawn with, what it draws) and key()/status() (the window's keys) if you
- * want to know what the program does with your shaders; the rest is the
- * shell's plumbing. Leave it as it is: your work is shading.c, the one hw3
- * file the grader takes from a submission, so a change here is not graded.
- *
- * Built twice from this file: hw3_shading (your shading.c, with your hw2
- * rasterizer and hw1 projection) and hw3_shading_ref (the reference; the
- * student edition has none, only its pictures in tests/reference/). The
- * frame is the pipeline: model · view · projection → clip → divide →
- * viewport → rasterize_triangle (hw2) → hw3_shade_fragment (scene.c:
- * interpolate the varyings the shader reads, perspective-correct) → your
- * fragment shader → resolve_pixel (hw2, with AA) → image.
- *
- * The scene comes from --scene FILE, the built-in scenes/hw3_default.json, or
- * --model FILE (put into the built-in scenes/hw3_model.json, the classic
- * GAMES101 scene); the options override it. The shell (common/app/ras_app.h)
- * loads it and its meshes and textures, and does the rest (options, the
- * window, --compare, --stats, and the frame around configure() and draw():
- * the pipeline made, cleared, resolved into the PNG).
- * Examples: docs/hw3.md, or hw3_shading --help.
+ * Given code, no TODO: leave it as it is (the grader takes only shading.c).
+ * One frame is configure() (the pipeline: your hw2 rasterizer, your
+ * interpolate_*, your shader, scene.h) and draw() (every object through it);
+ * key(), mouse() and status() are the window's. The shell (common/app/
+ * ras_app.h) does the rest: options, the window, --compare, --dump, --stats.
+ * Built twice: hw3_shading (your shading.c, hw2 rasterizer, hw1 projection)
+ * and hw3_shading_ref (the reference). The scene: --scene FILE, the built-in
+ * scenes/hw3_default.json, or --model FILE in scenes/hw3_model.json.
  */
 #include "ras_app.h"
 #include "scene.h"
@@ -29,8 +16,7 @@
 
 typedef struct hw3 {
     hw3_render_options opt; /* the settings, as the frame's options */
-    hw3_frame frame;        /* its fragment stage: the pipeline's shade hook calls it */
-    hw3_gbuffer gbuffer;    /* what the stage handed each pixel (--dump, the buffer view) */
+    hw3_frame frame;        /* your shader, its lights and materials: the pipeline's */
     int last_col;           /* the mouse's column, -1 before it moved */
 } hw3;
 
@@ -46,29 +32,23 @@ static bool prepare(ras_app *app, ras_error *err) {
     if (cli->model && maps && !app->assets->meshes[0]->has_uv)
         fprintf(stderr, "hw3_shading: note: %s has no texture coordinates; the %s shader reads "
                         "one texel everywhere\n", cli->model, ras_scene_shader_name(app->set.shader));
-    /* hw3's frame is the scene's size (hw3_frame_setup's aspect,
-     * hw3_frame_config's pipeline): --size (the settings) replaces the
-     * file's. The settings were resolved already, so this changes no rule. */
-    app->scene->width = app->set.width;
-    app->scene->height = app->set.height;
+    /* hw3's frame is the scene's size: --size (the settings) replaces the file's. */
+    app->scene->width = app->set.width, app->scene->height = app->set.height;
     /* The mip levels trilinear texturing will build, against the budget now:
-     * a run that cannot hold them is refused as bad input (exit 2) before
-     * anything is drawn. (The first frame builds them.) */
+     * refused as bad input (exit 2) before anything is drawn. */
     if (app->set.filter == RAS_FILTER_TRILINEAR && app->set.shader == RAS_SHADER_TEXTURE)
         return ras_scene_assets_check_mips(app->scene, app->assets, err);
     return true;
 }
 
-/* What the frame is drawn with: the settings as render options, the
- * fragment stage (your shader, the varyings it reads, the lights in view
- * space), the pipeline that calls it, and the stage's buffers when the frame
- * keeps them (--dump, the window's step and buffer views). */
+/* What the frame is drawn with: the pipeline with your rasterizer, your
+ * interpolation and your shader (with its lights, in view space). */
 static bool configure(ras_app *app, ras_pipeline_config *cfg, ras_error *err) {
     hw3 *h = app->user;
     h->opt = hw3_app_render_options(app);
     if (!hw3_frame_setup(app->scene, app->assets, &h->opt, &h->frame, err)) return false;
-    *cfg = hw3_frame_config(app->scene, &h->opt, &h->frame.stage);
-    return hw3_frame_buffers(&h->frame, cfg, &h->gbuffer, err);
+    *cfg = hw3_frame_config(app->scene, &h->opt, &h->frame);
+    return true;
 }
 
 /* What it draws: every object, with its material, through your rasterizer
@@ -76,16 +56,6 @@ static bool configure(ras_app *app, ras_pipeline_config *cfg, ras_error *err) {
 static bool draw(ras_app *app, ras_pipeline *p, ras_error *err) {
     hw3 *h = app->user;
     return hw3_frame_draw(app->scene, app->assets, h->opt.angle_deg, &h->frame, p, err);
-}
-
-/* --dump: the fragment stage's buffers, after the pipeline's. */
-static bool dump(const ras_app *app, const char *dir, ras_error *err) {
-    return hw3_gbuffer_dump(&((const hw3 *)app->user)->gbuffer, dir, err);
-}
-
-/* The buffer view's normal and uv: the last frame's fragment buffers. */
-static bool buffer(const ras_app *app, const char *name, ras_dump_buffer *out) {
-    return hw3_gbuffer_view(&((const hw3 *)app->user)->gbuffer, name, out);
 }
 
 /* p: the w = 1 pitfall (affine interpolation) on and off. */
@@ -117,15 +87,9 @@ static void status(const ras_app *app, char *buf, size_t size) {
                           : "1-5 shader  f filter  p persp  a/d rotate  t step  b buffer");
 }
 
-static void release(ras_app *app) {
-    hw3 *h = app->user;
-    hw3_gbuffer_release(&h->gbuffer);
-}
-
 int main(int argc, char **argv) {
     static const ras_app_hooks hooks = {
-        .program = "hw3_shading",
-        .student_sources = RAS_APP_STUDENT_SOURCES,
+        .program = "hw3_shading", .student_sources = RAS_APP_STUDENT_SOURCES,
         .usage =
             "Shades the hw3 scene with one of the five fragment shaders. With -o it renders\n"
             "once and writes a PNG; without it, a window opens (1-5: shader, f: filter,\n"
@@ -146,13 +110,11 @@ int main(int argc, char **argv) {
             "  as <reference>_diff.png in the current folder.\n",
         .options = RAS_OPT_SHADING | RAS_OPT_MODEL | RAS_OPT_AA | RAS_OPT_SCENE | RAS_OPT_STATS |
                    RAS_OPT_COMPARE,
-        .scene = "hw3_default", .model_scene = "hw3_model", .load_assets = true,
-        .positional_shader = true, .compare = RAS_COMPARE_PSNR,
+        .scene = "hw3_default", .model_scene = "hw3_model", .compare = RAS_COMPARE_PSNR,
+        .features = RAS_APP_LOAD_ASSETS | RAS_APP_POSITIONAL_SHADER | RAS_APP_STEP,
         .example = "--shader phong -o out.png", .reference_dir = RAS_REFERENCE_DIR,
-        .keys = RAS_APP_KEYS_ANGLE | RAS_APP_KEYS_SHADING,
-        .step = true,
-        .prepare = prepare, .configure = configure, .draw = draw, .dump = dump, .key = key,
-        .mouse = mouse, .status = status, .release = release, .buffer = buffer};
+        .keys = RAS_APP_KEYS_ANGLE | RAS_APP_KEYS_SHADING, .prepare = prepare,
+        .configure = configure, .draw = draw, .key = key, .mouse = mouse, .status = status};
     hw3 h = {.last_col = -1};
     return ras_app_main(argc, argv, &hooks, &h);
 }

@@ -5,9 +5,10 @@
  * grader compile your shading.c against this header as shipped.
  *
  * Implemented twice with the same signatures: shading.c (yours, TODOs) and
- * the reference solution (instructors' edition only). The fragment stage (scene.c) calls the
- * interpolation functions to fill a fragment_shader_payload for every pixel
- * hw2's rasterizer covers, then one of the fragment shaders below. See
+ * the reference solution (instructors' edition only). The fragment stage (the
+ * core's, common/pipeline/stage5_fragment.c) calls the interpolation functions
+ * for every pixel hw2's rasterizer covers; scene.c puts what they give into a
+ * fragment_shader_payload and calls one of the fragment shaders below. See
  * docs/hw3.md; the numbered TODO(hw3) hints in shading.c follow its sections.
  *
  * Index
@@ -74,7 +75,7 @@ typedef struct light {
 #define HW3_MAX_LIGHTS 8 /* = RAS_SCENE_MAX_LIGHTS: every scene file fits */
 
 /* Everything a fragment shader may read. The fragment stage fills only the
- * varyings the chosen shader declares (scene.c, hw3_shader_varyings); the
+ * varyings the chosen shader declares (scene.c's hw3_shader_varyings); the
  * others are zero. */
 typedef struct fragment_shader_payload {
     /* interpolated at the fragment (perspective-correct) */

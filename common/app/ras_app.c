@@ -34,7 +34,7 @@ static ras_app_settings scene_settings(const ras_app_hooks *h, const ras_scene *
     if (!sc) return s;
     s.width = sc->width;
     s.height = sc->height;
-    if (h->spin_from_scene) {
+    if ((h->features & RAS_APP_SPIN_FROM_SCENE)) {
         s.angle = sc->model_rotation_deg;
         s.axis_set = sc->model_rotation_axis_set;
         s.axis = sc->model_rotation_axis;
@@ -243,6 +243,11 @@ bool ras_app_draw_frame(ras_app *app, ras_error *err) {
     ras_pipeline_config cfg;
     memset(&cfg, 0, sizeof cfg); /* the fields a program leaves out are 0 */
     if (!h->configure(app, &cfg, err)) return false;
+    /* The shell's own state, not the program's to copy: --dump and the
+     * window's views keep the frame's buffers, the step view draws a prefix. */
+    cfg.dump = app->cli.dump != NULL || ras_app_capturing(app);
+    cfg.step = app->step.on;
+    cfg.step_triangles = app->step.limit;
     if (app->pipeline && ras_pipeline_config_equal(&app->pipeline_config, &cfg)) {
         ras_pipeline_begin_frame(app->pipeline);
     } else { /* a new one, made cleared (ras_pipeline_create) */
@@ -333,12 +338,11 @@ static int run_headless(ras_app *app, const ras_image *expected, const char *ref
         return 1;
     }
     if (app->cli.dump) {
-        /* The pipeline's buffers and the program's own (hooks.dump), then
+        /* The pipeline's buffers (its fragment stage's among them), then
          * the whole folder into place, before -o: a dump that fails leaves
          * -o as it was. */
         int written = 0;
         if ((app->pipeline && !ras_pipeline_dump(app->pipeline, app->cli.dump, &written, &err)) ||
-            (app->hooks->dump && !app->hooks->dump(app, app->cli.dump, &err)) ||
             !ras_dump_stage_commit(&g_dump_stage, &err)) {
             dump_words(&err);
             /* The stage's own messages already begin with "--dump". */
@@ -412,19 +416,19 @@ static bool aa_key(ras_app_settings *s, int key) {
 /* ---- the step view and the buffer view ---------------------------------------- */
 
 bool ras_app_capturing(const ras_app *app) {
-    return app->hooks->step && (app->step.on || app->step.buffer != RAS_APP_BUFFER_COLOUR);
+    return (app->hooks->features & RAS_APP_STEP) &&
+           (app->step.on || app->step.buffer != RAS_APP_BUFFER_COLOUR);
 }
 
 static const char *const buffer_names[RAS_APP_BUFFER_COUNT] = {"colour",   "depth",  "coverage",
                                                                "overdraw", "normal", "uv"};
 
-/* Buffer k of the last frame (not colour): the pipeline's, then the
- * program's. *owned: what to free. */
+/* Buffer k of the last frame (not colour): the pipeline's (its fragment
+ * stage's among them). *owned: what to free. */
 static bool frame_buffer(const ras_app *app, int k, ras_dump_buffer *b, float **owned) {
     *owned = NULL;
     if (k == RAS_APP_BUFFER_COLOUR) return false;
-    if (app->pipeline && ras_pipeline_buffer(app->pipeline, buffer_names[k], b, owned)) return true;
-    return app->hooks->buffer && app->hooks->buffer(app, buffer_names[k], b);
+    return app->pipeline && ras_pipeline_buffer(app->pipeline, buffer_names[k], b, owned);
 }
 
 static bool frame_has_buffer(const ras_app *app, int k) {
@@ -511,7 +515,8 @@ static void step_status(const ras_app *app, char *buf, size_t size) {
 static bool shell_key(ras_app *app, int key) {
     ras_app_settings *s = &app->set;
     unsigned keys = app->hooks->keys;
-    if (app->hooks->step && step_key(app, key)) return true; /* before 1-5: digits step */
+    if ((app->hooks->features & RAS_APP_STEP) && step_key(app, key))
+        return true; /* before 1-5: digits step */
     if ((keys & RAS_APP_KEYS_ANGLE) && (key == 'a' || key == 'd')) {
         s->angle += key == 'a' ? 10 : -10;
         return true;
@@ -535,7 +540,7 @@ static ras_image *window_view(ras_app *app, const ras_viewer *viewer, int col, i
     if (app->hooks->status) app->hooks->status(app, status, size);
     bool program = ras_viewer_showing_program(viewer);
     ras_image *picture = NULL; /* the buffer shown, when not colour */
-    if (app->hooks->step && ras_app_capturing(app)) {
+    if ((app->hooks->features & RAS_APP_STEP) && ras_app_capturing(app)) {
         char line[200], legend[200] = "";
         if (program && app->step.buffer != RAS_APP_BUFFER_COLOUR)
             picture = buffer_picture(app, legend, sizeof legend);
@@ -543,7 +548,8 @@ static ras_image *window_view(ras_app *app, const ras_viewer *viewer, int col, i
         size_t n = strlen(status);
         snprintf(status + n, size - n, "\n%s%s%s", line, *legend ? "\n" : "", legend);
     }
-    bool inspect = app->hooks->inspector || (app->hooks->step && app->step.on);
+    bool inspect = (app->hooks->features & RAS_APP_INSPECTOR) ||
+                   ((app->hooks->features & RAS_APP_STEP) && app->step.on);
     const ras_image *shown = picture ? picture : app->image;
     if (!inspect) return picture ? picture : app->image;
     ras_image *view = ras_image_clone(shown);
@@ -579,7 +585,7 @@ static int run_window(ras_app *app) {
             ras_viewer_frame_begin(&viewer);
             if (!(ok = frame(app, &err))) break;
             ras_viewer_frame_end(&viewer);
-            if (app->hooks->step) step_after_frame(app);
+            if ((app->hooks->features & RAS_APP_STEP)) step_after_frame(app);
             char name[RAS_CATALOGUE_NAME];
             bool found = ras_app_reference_name(app, name, sizeof name);
             ras_viewer_set_reference(&viewer, found ? name : NULL, app->set.width, app->set.height);
@@ -607,7 +613,8 @@ static int run_window(ras_app *app) {
         int col, row;
         if (ok && ras_window_mouse(title, &col, &row) && (col != mouse_col || row != mouse_row)) {
             if (app->hooks->mouse && app->hooks->mouse(app, col, row)) dirty = true;
-            bool inspect = app->hooks->inspector || (app->hooks->step && app->step.on);
+            bool inspect = (app->hooks->features & RAS_APP_INSPECTOR) ||
+                           ((app->hooks->features & RAS_APP_STEP) && app->step.on);
             if (inspect && col >= 0 && row >= 0 && col < app->set.width && row < app->set.height)
                 mouse_col = col, mouse_row = row, redraw = true;
         }
@@ -638,16 +645,17 @@ static int parse(ras_app *app, int argc, char **argv) {
     return -1;
 }
 
-/* The classic positional form (OUTPUT, and with positional_shader a SHADER)
+/* The classic positional form (OUTPUT, and with RAS_APP_POSITIONAL_SHADER a SHADER)
  * and the option pairs that cannot go together. */
 static bool check_arguments(ras_app *app, ras_error *err) {
     ras_cli *cli = &app->cli;
     const ras_app_hooks *h = app->hooks;
-    int n = cli->positional_count, max = h->positional_shader ? 2 : 1;
+    int n = cli->positional_count, max = (h->features & RAS_APP_POSITIONAL_SHADER) ? 2 : 1;
     if (n > max || (n >= 1 && cli->output))
         return ras_error_set(
             err, "unexpected argument '%s'; expected %s (e.g. %s %s)", cli->positional[n - 1],
-            h->positional_shader ? "-o FILE, or OUTPUT.png [SHADER]" : "at most one output file",
+            (h->features & RAS_APP_POSITIONAL_SHADER) ? "-o FILE, or OUTPUT.png [SHADER]"
+                                                      : "at most one output file",
             h->program, h->example);
     if (n == 2 && cli->shader_set)
         return ras_error_set(err, "the shader is given twice ('%s' and --shader %s); give one",
@@ -837,8 +845,10 @@ static bool set_up(ras_app *app, ras_image **expected, char *ref_path, size_t si
                                                            cli->height_map, cli->fit, err)
                             : ras_scene_load_or_builtin(cli->scene, h->scene, err);
     if (!app->scene) return false;
-    if (h->load_assets && !(app->assets = h->without_maps ? ras_scene_load_meshes(app->scene, err)
-                                                          : ras_scene_load_assets(app->scene, err)))
+    if ((h->features & RAS_APP_LOAD_ASSETS) &&
+        !(app->assets = (h->features & RAS_APP_WITHOUT_MAPS)
+                            ? ras_scene_load_meshes(app->scene, err)
+                            : ras_scene_load_assets(app->scene, err)))
         return false;
     if (!ras_app_resolve(h, &app->cli, app->scene, &app->set, err) ||
         (h->prepare && !h->prepare(app, err)))
@@ -901,7 +911,6 @@ int ras_app_main(int argc, char **argv, const ras_app_hooks *hooks, void *user) 
     ras_dump_stage_abort(&g_dump_stage); /* not committed: nothing half-written stays */
     ras_image_destroy(expected);
     ras_image_destroy(app.image);
-    if (hooks->release) hooks->release(&app);
     ras_pipeline_destroy(app.pipeline);
     ras_scene_assets_destroy(app.assets);
     ras_scene_destroy(app.scene);

@@ -7,11 +7,13 @@
  *
  *   hooks.configure   what the frame is drawn with: the pipeline's
  *                     configuration for the current settings
- *   (the shell)       makes the pipeline from it (keeps the last one while
- *                     the configuration is equal) and clears it
+ *   (the shell)       sets its own state in it (--dump and the window's
+ *                     views keep the buffers, the step view's prefix), makes
+ *                     the pipeline from it (keeps the last one while the
+ *                     configuration is equal) and clears it
  *   hooks.draw        what the frame draws: the scene's objects into it
  *   (the shell)       resolves it into app->image, and writes: -o, --dump
- *                     (the pipeline's buffers, then hooks.dump's), --stats
+ *                     (the pipeline's buffers, its fragment stage's too), --stats
  *
  * The shell owns the pipeline from the first frame to the end of the
  * program; a program reads it (app->pipeline) and never frees or replaces
@@ -46,8 +48,6 @@
 #include "ras_pipeline.h"
 #include "ras_scene.h"
 
-struct ras_dump_buffer;
-
 /* The settings a frame is drawn with: the scene's, with the flags over them
  * (ras_app_resolve); the window's keys change them. */
 typedef struct ras_app_settings {
@@ -71,15 +71,15 @@ typedef struct ras_app_settings {
 
 typedef struct ras_app ras_app;
 
-/* The window's step view and buffer view (hooks.step; docs/hw2.md "Step
+/* The window's step view and buffer view (RAS_APP_STEP; docs/hw2.md "Step
  * through a frame"). Keys: t step mode on/off; n or space one triangle more,
  * - (minus) one less (not N: OpenCV's Qt window reports shift+n as n); in
  * step mode 1-9 forward 1, 10, 100, ... (10^(k-1)) triangles and 0 back to
  * none; b the buffer shown: colour -> depth -> coverage (AA
  * only) -> overdraw -> normal -> uv (hw3, when the shader reads them),
- * skipping what the frame does not produce. The program's configure reads
- * `on` and `limit` (ras_pipeline_config.step, step_triangles) and keeps its
- * buffers (ras_pipeline_config.dump) while ras_app_capturing. */
+ * skipping what the frame does not produce. The shell sets `on` and `limit`
+ * as the pipeline's config.step and step_triangles, and config.dump while
+ * ras_app_capturing (ras_app_draw_frame). */
 typedef enum ras_app_buffer {
     RAS_APP_BUFFER_COLOUR,
     RAS_APP_BUFFER_DEPTH,
@@ -104,6 +104,18 @@ enum {
     RAS_APP_KEYS_AA = 1u << 2,      /* m: AA mode, s: samples, p: pattern */
 };
 
+/* What the shell does for a program (ras_app_hooks.features). */
+enum {
+    RAS_APP_LOAD_ASSETS = 1u << 0,       /* load the scene's meshes and textures */
+    RAS_APP_WITHOUT_MAPS = 1u << 1,      /* ... but no textures or height maps: the program draws
+                                          * flat colours (ras_scene_load_meshes) */
+    RAS_APP_SPIN_FROM_SCENE = 1u << 2,   /* the scene's model_rotation is the starting angle */
+    RAS_APP_POSITIONAL_SHADER = 1u << 3, /* OUTPUT [SHADER]: the classic form takes a shader */
+    RAS_APP_INSPECTOR = 1u << 4,         /* the window magnifies the pixel under the mouse */
+    RAS_APP_STEP = 1u << 5,              /* the step and buffer views (ras_app_step; the inspector
+                                          * is on in step mode) */
+};
+
 /* For a main.c's hooks: the student files it is built from, or NULL for
  * the reference build (the build defines RAS_STUDENT_SOURCES for the
  * student's programs only). */
@@ -114,43 +126,34 @@ enum {
 #endif
 
 typedef struct ras_app_hooks {
-    const char *program;     /* "hw2_rasterize": messages, window title, catalogue */
+    const char *program; /* "hw2_rasterize": messages, window title, catalogue */
     /* the student build's own source files, "a.c:b.c" (RAS_STUDENT_SOURCES,
      * set by the build); NULL for the reference. A program older than one
      * of them says, before anything else, that it runs older code. */
     const char *student_sources;
-    const char *usage;       /* --help's paragraph */
-    unsigned options;        /* RAS_OPT_* the program takes */
-    const char *scene;       /* the built-in scene: "hw2_classic" */
-    const char *model_scene; /* with RAS_OPT_MODEL: the built-in scene --model FILE puts
-                              * the file into (ras_builtin_scene_with_model) */
-    const char *example;     /* a headless example for messages: "--aa msaa -o out.png" */
+    const char *usage;         /* --help's paragraph */
+    unsigned options;          /* RAS_OPT_* the program takes */
+    const char *scene;         /* the built-in scene: "hw2_classic" */
+    const char *model_scene;   /* with RAS_OPT_MODEL: the built-in scene --model FILE puts
+                                * the file into (ras_builtin_scene_with_model) */
+    const char *example;       /* a headless example for messages: "--aa msaa -o out.png" */
     const char *reference_dir; /* the reference images and catalogue.json: RAS_REFERENCE_DIR,
                                 * which the build gives each program (common names no tests/) */
-    bool positional_shader;  /* OUTPUT [SHADER]: the classic form takes a shader */
-    bool load_assets;        /* the shell loads the scene's meshes and textures */
-    bool without_maps;       /* ... but no textures or height maps: the program draws
-                              * flat colours (ras_scene_load_meshes) */
-    bool spin_from_scene;    /* the scene's model_rotation is the starting angle */
-    ras_compare_kind compare; /* --compare's metric and the difference view's */
-    unsigned keys;           /* RAS_APP_KEYS_* */
-    bool inspector;          /* the window magnifies the pixel under the mouse */
-    bool step;               /* the step and buffer views (ras_app_step; the inspector
-                              * is on in step mode) */
+    ras_compare_kind compare;  /* --compare's metric and the difference view's */
+    unsigned keys;             /* RAS_APP_KEYS_* */
+    unsigned features;         /* RAS_APP_LOAD_ASSETS, RAS_APP_STEP, ... */
     /* The program's own state, once the settings are known. false: bad
      * input, err says why (exit 2). */
     bool (*prepare)(ras_app *app, ras_error *err);
     /* What the frame is drawn with: the pipeline's configuration for
-     * app->set (zeroed before the call). Called before every frame. false:
+     * app->set (zeroed before the call). Called before every frame; its
+     * dump, step and step_triangles are the shell's (set after it). false:
      * the frame cannot be drawn, err says why. */
     bool (*configure)(ras_app *app, ras_pipeline_config *config, ras_error *err);
     /* What the frame draws: the scene's objects into the shell's pipeline,
      * cleared (ras_pipeline_begin_frame); the shell resolves it after. false:
      * the frame failed (out of memory). */
     bool (*draw)(ras_app *app, ras_pipeline *pipeline, ras_error *err);
-    /* --dump: the program's own buffers (hw3's fragment stage), written into
-     * dir after the pipeline's. NULL: the pipeline's are all. */
-    bool (*dump)(const ras_app *app, const char *dir, ras_error *err);
     /* A frame drawn another way than the core's pipeline (hw3_shading_ref's
      * --renderer fast): into app->image, with app->counters set; it calls
      * ras_app_draw_frame for a frame it does not draw, and for every frame
@@ -164,10 +167,6 @@ typedef struct ras_app_hooks {
     bool (*mouse)(ras_app *app, int col, int row);
     /* The status line under the viewer's: what is drawn and the keys. */
     void (*status)(const ras_app *app, char *buf, size_t size);
-    void (*release)(ras_app *app); /* frees what prepare and configure made */
-    /* The buffer view's buffers the pipeline does not hold ("normal", "uv":
-     * hw3's fragment stage): false when the last frame has none. */
-    bool (*buffer)(const ras_app *app, const char *name, struct ras_dump_buffer *out);
 } ras_app_hooks;
 
 struct ras_app {
@@ -175,18 +174,18 @@ struct ras_app {
     const char *argv0;
     ras_cli cli;
     ras_scene *scene;         /* the scene drawn (--scene, --model or the built-in one) */
-    ras_scene_assets *assets; /* with hooks->load_assets */
+    ras_scene_assets *assets; /* with RAS_APP_LOAD_ASSETS */
     ras_app_settings set;
     ras_image *image;
-    const ras_counters *counters;   /* the last frame's, for --stats */
+    const ras_counters *counters; /* the last frame's, for --stats */
     /* The shell's: made by ras_app_draw_frame from hooks.configure, kept
      * while the configuration stays equal, freed at the end. The last frame's
      * samples, depths and counters: the inspector, the buffer view and --dump
      * read them. NULL before the first frame. */
     ras_pipeline *pipeline;
     ras_pipeline_config pipeline_config; /* what hooks.configure gave for it */
-    void *user;                     /* the program's */
-    ras_app_step step;              /* the window's step and buffer views */
+    void *user;                          /* the program's */
+    ras_app_step step;                   /* the window's step and buffer views */
 };
 
 /* Whether the frame must keep its buffers for the window (step mode, or a

@@ -19,8 +19,8 @@ static vec3s shade_counting(const ras_triangle *t, const ras_fragment *f, void *
     ras_pipeline *p = user;
     if (f->x >= 0 && f->x < p->fb->width && f->y >= 0 && f->y < p->fb->height)
         p->overdraw[ras_fb_pixel_index(p->fb, f->x, f->y)] += 1;
-    ras_shade_fn shade = p->config.shade ? p->config.shade : ras_shade_vertex_color;
-    return shade(t, f, p->config.shade_user);
+    ras_shade_fn shade = p->shade ? p->shade : ras_shade_vertex_color;
+    return shade(t, f, p->shade_user);
 }
 
 /* Everything of ras_pipeline_begin_frame but the clear. */
@@ -32,6 +32,34 @@ static void reset_frame_state(ras_pipeline *p) {
     if (p->overdraw)
         for (long i = 0, n = (long)p->fb->width * p->fb->height; i < n; i++)
             p->overdraw[i] = 0;
+    ras_fragment_stage_clear(&p->fragment);
+    p->fragment.in = (ras_varyings){0};
+}
+
+/* Stage 5 from the configuration: the fragment stage with its hooks, or the
+ * configuration's shade hook. False and err when a hook it needs is missing
+ * or the kept buffers do not fit. */
+static bool fragment_setup(ras_pipeline *p, ras_error *err) {
+    const ras_pipeline_config *c = &p->config;
+    p->shade = c->shade, p->shade_user = c->shade_user;
+    if (!c->shader || c->wireframe) return true;
+    unsigned v = c->varyings & (RAS_VARYING_NORMAL | RAS_VARYING_VIEW_POS | RAS_VARYING_UV);
+    if ((v & (RAS_VARYING_NORMAL | RAS_VARYING_VIEW_POS)) && !c->interpolate_vec3)
+        return ras_error_set(err, "no interpolate_vec3 hook for the normal or view position");
+    if ((v & RAS_VARYING_UV) && !c->interpolate_vec2)
+        return ras_error_set(err, "no interpolate_vec2 hook for the texture coordinates");
+    p->fragment = (ras_fragment_stage){.varyings = v,
+                                       .perspective = !c->affine,
+                                       .uv_gradients = c->uv_gradients,
+                                       .interpolate_vec3 = c->interpolate_vec3,
+                                       .interpolate_vec2 = c->interpolate_vec2,
+                                       .shader = c->shader,
+                                       .shader_user = c->shader_user,
+                                       .counters = &p->counters};
+    p->shade = ras_fragment_stage_shade, p->shade_user = &p->fragment;
+    if (c->dump && !ras_fragment_stage_keep(&p->fragment, c->width, c->height))
+        return ras_error_set(err, "out of memory for the buffers of --dump");
+    return true;
 }
 
 ras_pipeline *ras_pipeline_create(const ras_pipeline_config *config, ras_error *err) {
@@ -81,11 +109,15 @@ ras_pipeline *ras_pipeline_create(const ras_pipeline_config *config, ras_error *
         free(p);
         return NULL;
     }
+    if (!fragment_setup(p, err)) {
+        ras_pipeline_destroy(p);
+        return NULL;
+    }
     p->raster = (ras_raster_ctx){.fb = p->fb,
                                  .aa = cfg.aa,
                                  .pattern = cfg.pattern,
-                                 .shade = cfg.shade,
-                                 .shade_user = cfg.shade_user,
+                                 .shade = p->shade,
+                                 .shade_user = p->shade_user,
                                  .counters = &p->counters};
     if (cfg.dump && !cfg.wireframe) {
         p->overdraw = calloc((size_t)cfg.width * (size_t)cfg.height, sizeof *p->overdraw);
@@ -122,7 +154,11 @@ bool ras_pipeline_config_equal(const ras_pipeline_config *a, const ras_pipeline_
            pattern && a->cull == b->cull && a->depth == b->depth &&
            same_bits(&a->z_near, &b->z_near, sizeof a->z_near) &&
            same_bits(&a->z_far, &b->z_far, sizeof a->z_far) && a->varyings == b->varyings &&
-           a->rasterize == b->rasterize && a->resolve == b->resolve && a->shade == b->shade &&
+           a->rasterize == b->rasterize && a->resolve == b->resolve &&
+           a->interpolate_vec3 == b->interpolate_vec3 &&
+           a->interpolate_vec2 == b->interpolate_vec2 && a->affine == b->affine &&
+           a->uv_gradients == b->uv_gradients && a->shader == b->shader &&
+           a->shader_user == b->shader_user && a->shade == b->shade &&
            a->shade_user == b->shade_user && a->dump == b->dump && a->step == b->step &&
            a->step_triangles == b->step_triangles;
 }
@@ -132,6 +168,7 @@ void ras_pipeline_destroy(ras_pipeline *p) {
     ras_framebuffer_destroy(p->fb);
     free(p->clip_vertices);
     free(p->overdraw);
+    ras_fragment_stage_release(&p->fragment);
     free(p);
 }
 
@@ -215,7 +252,7 @@ void ras_pipeline_draw_clip_triangle(ras_pipeline *p, const ras_clip_vertex *a,
         return;
     }
     k->stages_run |= RAS_STAGE_RASTER;
-    if (p->config.shade) k->stages_run |= RAS_STAGE_FRAGMENT;
+    if (p->config.shade || p->config.shader) k->stages_run |= RAS_STAGE_FRAGMENT;
     /* The clipped polygon is convex: a fan from its first corner covers it
      * exactly, and the fan's inner edges are shared, so watertight coverage
      * draws each sample once. */
@@ -263,7 +300,16 @@ void ras_pipeline_end_frame(ras_pipeline *p, ras_image *out) {
  * order --dump writes them; the frame gives the sizes and the data
  * (ras_pipeline_buffer), and depth its words for the sample count and the
  * depth format. */
-enum { BUFFER_DEPTH, BUFFER_COVERAGE, BUFFER_OVERDRAW, BUFFER_SAMPLE_COLOUR, BUFFER_COUNT };
+enum {
+    BUFFER_DEPTH,
+    BUFFER_COVERAGE,
+    BUFFER_OVERDRAW,
+    BUFFER_SAMPLE_COLOUR,
+    BUFFER_NORMAL, /* the fragment stage's (stage5_fragment.h) */
+    BUFFER_UV,
+    BUFFER_VIEW_DEPTH,
+    BUFFER_COUNT
+};
 static const ras_dump_buffer pipeline_buffers[BUFFER_COUNT] = {
     [BUFFER_DEPTH] = {.name = "depth",
                       .channels = 1,
@@ -293,6 +339,30 @@ static const ras_dump_buffer pipeline_buffers[BUFFER_COUNT] = {
                               .units = "linear RGB in [0, 1]",
                               .channels = 3,
                               .style = RAS_DUMP_UNIT},
+    [BUFFER_NORMAL] = {.name = "normal",
+                       .what = "the unit normal each pixel's shader got (interpolated, "
+                               "normalised), view space",
+                       .units = "unit vector: x right, y up, z towards the eye",
+                       .channels = 3,
+                       .style = RAS_DUMP_VECTOR,
+                       .empty = INFINITY,
+                       .has_empty = true},
+    [BUFFER_UV] = {.name = "uv",
+                   .what = "the texture coordinates each pixel's shader got (perspective-correct "
+                           "unless --affine); the third channel is 0",
+                   .units = "u, v in texture space (1 = the texture's width, height)",
+                   .channels = 3,
+                   .style = RAS_DUMP_UNIT,
+                   .empty = INFINITY,
+                   .has_empty = true},
+    [BUFFER_VIEW_DEPTH] = {.name = "view_depth",
+                           .what = "how far in front of the eye each pixel's shaded point is: "
+                                   "-z of its interpolated view-space position",
+                           .units = "scene units",
+                           .channels = 1,
+                           .style = RAS_DUMP_SCALAR,
+                           .empty = INFINITY,
+                           .has_empty = true},
 };
 
 static const char *const depth_units[] = {
@@ -346,6 +416,15 @@ bool ras_pipeline_buffer(const ras_pipeline *p, const char *name, ras_dump_buffe
         b.samples = 1;
         b.data = p->overdraw;
         break;
+    case BUFFER_NORMAL:
+    case BUFFER_UV:
+    case BUFFER_VIEW_DEPTH: {
+        const ras_fragment_stage *s = &p->fragment;
+        const float *data[] = {s->normal, s->uv, s->view_depth};
+        if (!(b.data = data[k - BUFFER_NORMAL])) return false;
+        b.samples = 1;
+        break;
+    }
     default: return false; /* no such buffer */
     }
     *out = b;

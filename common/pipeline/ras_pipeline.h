@@ -1,7 +1,8 @@
 /* ras_pipeline.h — one frame through the stages, assembled from what the scene asks for.
  *
  *   mesh ─▶ stage1_vertex ─▶ stage2_clip ─▶ stage3_setup ─▶ (cull)
- *        ─▶ stage4 rasterize hook (hw2) ─▶ stage5 shade hook (hw3)
+ *        ─▶ stage4 rasterize hook (hw2) ─▶ stage5 fragment stage: the
+ *           varyings, interpolated with the hooks (hw3), into the shader hook
  *        ─▶ stage6_resolve (hw2 hook, only with AA) ─▶ ras_image
  *
  * The configuration decides what exists: sample buffers only with AA, the
@@ -42,11 +43,26 @@ typedef struct ras_pipeline_config {
     unsigned varyings;  /* RAS_VARYING_* the shader reads */
     ras_rasterize_fn rasterize; /* required unless wireframe */
     ras_resolve_fn resolve;     /* required when the pattern has > 1 sample */
-    ras_shade_fn shade;         /* NULL: interpolated vertex colour */
+    /* Stage 5 (stage5_fragment.h). With `shader` set, the fragment stage:
+     * the varyings of the mask (NORMAL, VIEW_POS, UV) interpolated with the
+     * two hooks (required for the varyings they serve: hw3's
+     * interpolate_vec3/vec2, wired as rasterize is), affine instead of
+     * perspective-correct with `affine`, the uv's change per pixel with
+     * uv_gradients, handed to shader(varyings, shader_user). Else `shade`
+     * colours the fragment itself (NULL: interpolated vertex colour). */
+    ras_interpolate_vec3_fn interpolate_vec3;
+    ras_interpolate_vec2_fn interpolate_vec2;
+    bool affine;
+    bool uv_gradients;
+    ras_fragment_shader_fn shader;
+    void *shader_user;
+    ras_shade_fn shade;
     void *shade_user;
     /* --dump (and the window's buffer view): also count the fragments shaded
-     * at each pixel (the overdraw buffer of ras_pipeline_dump). Off, nothing
-     * is counted or allocated. */
+     * at each pixel (the overdraw buffer of ras_pipeline_dump) and keep what
+     * the fragment stage handed each pixel's shader (normal, uv, view_depth).
+     * Off, nothing is counted, kept or allocated. The shell (ras_app.h) sets
+     * it and the step view's two fields below for its frames. */
     bool dump;
     /* The window's step view: rasterize only the first step_triangles
      * triangles of the frame, counted as triangles_rasterized counts them
@@ -66,6 +82,10 @@ typedef struct ras_pipeline {
     ras_clip_vertex *clip_vertices; /* scratch, grows to the largest mesh */
     size_t clip_capacity;
     float *overdraw; /* config.dump: fragments shaded per pixel, else NULL */
+    /* config.shader: stage 5's state, its buffers kept with config.dump */
+    ras_fragment_stage fragment;
+    ras_shade_fn shade; /* what colours a fragment (under the overdraw count) */
+    void *shade_user;
     /* config.step: the triangles that reached the rasterizer this frame, drawn
      * or not (the whole frame's count), and the last one drawn (the step
      * view's "current triangle"; has_last false before the first). */
@@ -111,15 +131,18 @@ void ras_pipeline_draw_screen_triangle(ras_pipeline *p, const ras_triangle *t);
 void ras_pipeline_end_frame(ras_pipeline *p, ras_image *out);
 
 /* --dump: writes the frame's buffers into dir (ras_dump.h): depth (per
- * sample), coverage (per sample, only with anti-aliasing) and overdraw (only
- * with config.dump). A wireframe frame has none of them: it writes nothing.
+ * sample), coverage and sample_colour (per sample, only with anti-aliasing),
+ * overdraw (only with config.dump), and the fragment stage's normal, uv and
+ * view_depth (with config.dump, those of its varyings). A wireframe frame has
+ * none of them: it writes nothing.
  * `written` (may be NULL) gets how many buffers were written. */
 bool ras_pipeline_dump(const ras_pipeline *p, const char *dir, int *written, ras_error *err);
 
 /* One of the frame's buffers as ras_dump_write and ras_dump_paint take it:
- * "depth", "coverage" (only with more than one sample) or "overdraw" (only
- * with config.dump). False when the frame has no such buffer (a wireframe
- * has none). Coverage is computed: *owned gets the array to free (NULL for
+ * "depth", "coverage" and "sample_colour" (only with more than one sample),
+ * "overdraw", "normal", "uv" or "view_depth" (only with config.dump; the last
+ * three only with the fragment stage, for the varyings it interpolates).
+ * False when the frame has no such buffer (a wireframe has none). Coverage is computed: *owned gets the array to free (NULL for
  * the others); false with *owned NULL also when memory runs out. */
 struct ras_dump_buffer;
 bool ras_pipeline_buffer(const ras_pipeline *p, const char *name, struct ras_dump_buffer *out,

@@ -7,7 +7,7 @@
 #include "bench_accuracy.h"
 #include "ras_texture.h"
 #include "rasterizer.h" /* hw2 reference: rasterize_triangle */
-#include "scene.h"      /* hw3: hw3_fragment_stage, hw3_shade_fragment */
+#include "scene.h"      /* hw3: hw3_frame, hw3_frame_shade */
 #include "shading.h"    /* hw3 reference: texture_sample_bilinear, ... */
 #include "transform.h"  /* hw1 reference: get_projection_matrix */
 
@@ -38,17 +38,35 @@ static acc_quad receding_rect(double k) {
     return q;
 }
 
-/* The textured plane's pipeline: one sample, hw2's rasterizer, `stage`
- * shading the interpolated UVs, on black. */
-static ras_pipeline *plane_pipeline(int size, hw3_fragment_stage *stage) {
-    return acc_make_pipeline(size, size, RAS_AA_NONE, RAS_PATTERN_ORDERED, 1, rasterize_triangle,
-                             RAS_VARYING_UV, hw3_shade_fragment, stage, (vec3s){{0, 0, 0}});
+/* The textured plane's pipeline: one sample, hw2's rasterizer, the core's
+ * fragment stage with hw3's interpolation (affine unless persp) handing the
+ * UVs to `frame`'s shader, on black. */
+static ras_pipeline *plane_pipeline(int size, hw3_frame *frame, bool persp) {
+    ras_error err = {{0}};
+    ras_pipeline_config cfg = {.width = size,
+                               .height = size,
+                               .pattern = ras_sample_pattern_center(),
+                               .varyings = frame->varyings,
+                               .rasterize = rasterize_triangle,
+                               .resolve = resolve_pixel,
+                               .interpolate_vec3 = interpolate_vec3,
+                               .interpolate_vec2 = interpolate_vec2,
+                               .affine = !persp,
+                               .uv_gradients = frame->payload.filter == FILTER_TRILINEAR,
+                               .shader = hw3_frame_shade,
+                               .shader_user = frame};
+    ras_pipeline *p = ras_pipeline_create(&cfg, &err);
+    if (!p) {
+        fprintf(stderr, "bench_accuracy: %s\n", err.msg);
+        exit(2);
+    }
+    return p;
 }
 
 /* A frame of the one plane mesh *m, in view space already, through `proj`. */
-static acc_mesh_frame plane_frame(int size, hw3_fragment_stage *stage, ras_mesh *const *m,
+static acc_mesh_frame plane_frame(int size, hw3_frame *frame, bool persp, ras_mesh *const *m,
                                   mat4s proj, ras_image *img) {
-    return (acc_mesh_frame){.p = plane_pipeline(size, stage),
+    return (acc_mesh_frame){.p = plane_pipeline(size, frame, persp),
                             .meshes = m,
                             .mesh_count = 1,
                             .view = *acc_identity(),
@@ -71,14 +89,13 @@ void texturing_interpolation(void) {
         char scene[40];
         snprintf(scene, sizeof scene, "w1/w0 = %g", k);
         /* Time: the plane with an unlit bilinear texture, both modes in turn. */
-        hw3_fragment_stage ts[2];
+        hw3_frame ts[2];
         acc_timed t[2];
         for (int persp = 0; persp < 2; persp++) {
-            ts[persp] = (hw3_fragment_stage){.shader = shader_unlit_texture,
-                                             .varyings = RAS_VARYING_UV,
-                                             .perspective = persp,
-                                             .base = {.texture = tex, .filter = FILTER_BILINEAR}};
-            t[persp].f = plane_frame(size, &ts[persp], &m, proj, img);
+            ts[persp] = (hw3_frame){.shader = shader_unlit_texture,
+                                    .varyings = RAS_VARYING_UV,
+                                    .payload = {.texture = tex, .filter = FILTER_BILINEAR}};
+            t[persp].f = plane_frame(size, &ts[persp], persp, &m, proj, img);
             t[persp].r = acc_new_row("interp", scene,
                                      persp ? "perspective-correct" : "affine (screen-space)");
         }
@@ -89,9 +106,8 @@ void texturing_interpolation(void) {
             acc_row *r = t[persp].r;
             acc_mesh_frame f = t[persp].f;
             /* Error: the interpolated UV itself, against the ray-plane hit. */
-            hw3_fragment_stage us = {
-                .shader = shader_uv, .varyings = RAS_VARYING_UV, .perspective = persp};
-            f.p = plane_pipeline(size, &us);
+            hw3_frame us = {.shader = shader_uv, .varyings = RAS_VARYING_UV};
+            f.p = plane_pipeline(size, &us, persp);
             acc_draw_mesh_frame(&f);
             double v_max = 0, uv_max = 0, sum2 = 0;
             long n = 0;
@@ -177,14 +193,13 @@ void texturing_filtering(void) {
         ras_texture_build_mips(tex);
         static const texture_filter filters[3] = {FILTER_NEAREST, FILTER_BILINEAR,
                                                   FILTER_TRILINEAR};
-        hw3_fragment_stage st[3];
+        hw3_frame st[3];
         acc_timed t[3];
         for (int fi = 0; fi < 3; fi++) {
-            st[fi] = (hw3_fragment_stage){.shader = shader_unlit_texture,
-                                          .varyings = RAS_VARYING_UV,
-                                          .perspective = true,
-                                          .base = {.texture = tex, .filter = filters[fi]}};
-            t[fi].f = plane_frame(size, &st[fi], &m, proj, img);
+            st[fi] = (hw3_frame){.shader = shader_unlit_texture,
+                                 .varyings = RAS_VARYING_UV,
+                                 .payload = {.texture = tex, .filter = filters[fi]}};
+            t[fi].f = plane_frame(size, &st[fi], true, &m, proj, img);
             t[fi].r = acc_new_row("filter", scene, ras_scene_filter_name(filters[fi]));
         }
         acc_progress("filter / %s: timing nearest, bilinear, trilinear", scene);

@@ -138,7 +138,7 @@ static const char *fragment_src =
     "    return any(isnan(bumped)) || any(isinf(bumped)) ? n : bumped;\n"
     "}\n"
     "void main() {\n"
-    "    vec3 n = normalize(v_normal);\n" /* hw3_shade_fragment renormalises */
+    "    vec3 n = normalize(v_normal);\n" /* the fragment stage renormalises */
     "    vec3 c;\n"
     "#if SHADER == 0\n"
     "    c = (normalize(n) + 1.0) * 0.5;\n"

@@ -6,6 +6,7 @@
 #include "ras_cli.h"
 #include "ras_names.h"
 #include "ras_draw.h"
+#include "ras_dump.h"
 #include "ras_image.h"
 #include "ras_job.h"
 #include "ras_pipeline.h"
@@ -414,6 +415,93 @@ static void test_pipeline_config_checked(void **state) {
     assert_non_null(strstr(err.msg, "rasterize"));
 }
 
+/* ---- stage 5: the fragment stage ------------------------------------------- */
+
+/* Interpolation hooks that count their calls and remember the mode, with
+ * the plain screen-space sums (what hw3's interpolate_* give with w = 1). */
+static int g_interp_calls;
+static bool g_interp_persp;
+static vec3s sum_vec3(const ras_triangle *t, vec3s b, const vec3s a[3], bool persp) {
+    (void)t;
+    g_interp_calls++, g_interp_persp = persp;
+    return (vec3s){{a[0].x * b.x + a[1].x * b.y + a[2].x * b.z,
+                    a[0].y * b.x + a[1].y * b.y + a[2].y * b.z,
+                    a[0].z * b.x + a[1].z * b.y + a[2].z * b.z}};
+}
+static vec2s sum_vec2(const ras_triangle *t, vec3s b, const vec2s a[3], bool persp) {
+    (void)t;
+    g_interp_calls++, g_interp_persp = persp;
+    return (vec2s){{a[0].x * b.x + a[1].x * b.y + a[2].x * b.z,
+                    a[0].y * b.x + a[1].y * b.y + a[2].y * b.z}};
+}
+static ras_varyings g_seen;
+static vec3s record_varyings(const ras_varyings *v, void *user) {
+    g_seen = *v;
+    ++*(int *)user;
+    return (vec3s){{1, 0, 0}};
+}
+/* A rasterizer that hands over one fragment, at pixel (1, 0). */
+static void one_fragment(const ras_triangle *t, const ras_raster_ctx *ctx) {
+    ras_fragment f = {.x = 1, .y = 0, .bary = {{0.5f, 0.25f, 0.25f}}};
+    ctx->shade(t, &f, ctx->shade_user);
+}
+
+static void test_fragment_stage_interpolates_the_mask(void **state) {
+    (void)state;
+    ras_error err = {{0}};
+    int shaded = 0;
+    ras_pipeline_config cfg = {.width = 3, .height = 2,
+                               .varyings = RAS_VARYING_NORMAL | RAS_VARYING_UV,
+                               .rasterize = one_fragment, .interpolate_vec3 = sum_vec3,
+                               .uv_gradients = true, .shader = record_varyings,
+                               .shader_user = &shaded, .dump = true};
+    assert_null(ras_pipeline_create(&cfg, &err)); /* uv, but no interpolate_vec2 */
+    assert_non_null(strstr(err.msg, "interpolate_vec2"));
+    cfg.interpolate_vec2 = sum_vec2;
+    ras_pipeline *p = ras_pipeline_create(&cfg, &err);
+    assert_non_null(p);
+    ras_triangle t = {.v = {{{0, 0, 0.5f, 1}}, {{3, 0, 0.5f, 1}}, {{0, 2, 0.5f, 1}}},
+                      .normal = {{{0, 0, 2}}, {{0, 0, 2}}, {{0, 0, 2}}},
+                      .uv = {{{0, 0}}, {{1, 0}}, {{0, 1}}},
+                      .view_pos = {{{9, 9, -9}}, {{9, 9, -9}}, {{9, 9, -9}}}};
+    g_interp_calls = 0;
+    ras_pipeline_draw_screen_triangle(p, &t);
+    assert_int_equal(shaded, 1);
+    /* normal and uv, and uv twice more for its change per pixel; no view_pos */
+    assert_int_equal(g_interp_calls, 4);
+    assert_true(g_interp_persp);
+    assert_int_equal(p->counters.varyings_interpolated, 2);
+    assert_true(g_seen.normal.x == 0 && g_seen.normal.y == 0 && g_seen.normal.z == 1);
+    assert_true(g_seen.uv.x == 0.25f && g_seen.uv.y == 0.25f);
+    assert_true(g_seen.view_pos.x == 0 && g_seen.view_pos.y == 0 && g_seen.view_pos.z == 0);
+    /* one pixel right: λ += (-1/3, 1/3, 0); one up: λ += (-1/2, 0, 1/2) */
+    assert_float_equal(g_seen.duv_dx.x, 1.0f / 3, 1e-6f);
+    assert_float_equal(g_seen.duv_dx.y, 0, 1e-6f);
+    assert_float_equal(g_seen.duv_dy.x, 0, 1e-6f);
+    assert_float_equal(g_seen.duv_dy.y, 0.5f, 1e-6f);
+    /* kept as the pipeline's buffers, top row first: pixel (1, 0) is entry 4 */
+    ras_dump_buffer b;
+    float *owned = NULL;
+    assert_true(ras_pipeline_buffer(p, "normal", &b, &owned));
+    assert_true(b.channels == 3 && b.width == 3 && b.height == 2 && owned == NULL);
+    assert_true(b.data[12] == 0 && b.data[13] == 0 && b.data[14] == 1 && isinf(b.data[0]));
+    assert_true(ras_pipeline_buffer(p, "uv", &b, &owned));
+    assert_true(b.data[12] == 0.25f && b.data[13] == 0.25f && b.data[14] == 0);
+    assert_false(ras_pipeline_buffer(p, "view_depth", &b, &owned)); /* not interpolated */
+    assert_true(ras_pipeline_buffer(p, "overdraw", &b, &owned) && b.data[4] == 1);
+    ras_pipeline_begin_frame(p); /* a new frame: nothing shaded yet */
+    assert_true(ras_pipeline_buffer(p, "normal", &b, &owned) && isinf(b.data[12]));
+    ras_pipeline_destroy(p);
+    /* affine, without --dump: no buffers kept */
+    cfg.affine = true, cfg.dump = false;
+    p = ras_pipeline_create(&cfg, &err);
+    assert_non_null(p);
+    ras_pipeline_draw_screen_triangle(p, &t);
+    assert_false(g_interp_persp);
+    assert_false(ras_pipeline_buffer(p, "normal", &b, &owned));
+    ras_pipeline_destroy(p);
+}
+
 /* The shell keeps its pipeline while two configurations are equal
  * (ras_app_draw_frame): equal by value, whatever the padding holds; any one
  * field changed, or a float's sign bit, makes them differ; the sample
@@ -440,6 +528,9 @@ static void test_pipeline_config_equal_by_fields(void **state) {
             c.pattern.offsets[k] = base.pattern.offsets[k];                                       \
         c.cull = base.cull, c.depth = base.depth, c.z_near = base.z_near, c.z_far = base.z_far;   \
         c.varyings = base.varyings, c.rasterize = base.rasterize, c.resolve = base.resolve;       \
+        c.interpolate_vec3 = base.interpolate_vec3, c.interpolate_vec2 = base.interpolate_vec2;   \
+        c.affine = base.affine, c.uv_gradients = base.uv_gradients, c.shader = base.shader;       \
+        c.shader_user = base.shader_user;                                                         \
         c.shade = base.shade, c.shade_user = base.shade_user, c.dump = base.dump;                 \
         c.step = base.step, c.step_triangles = base.step_triangles;                               \
     } while (0)
@@ -472,6 +563,12 @@ static void test_pipeline_config_equal_by_fields(void **state) {
     DIFFERS(c.varyings = 1);
     DIFFERS(c.rasterize = (ras_rasterize_fn)dummy_hook);
     DIFFERS(c.resolve = (ras_resolve_fn)dummy_hook);
+    DIFFERS(c.interpolate_vec3 = (ras_interpolate_vec3_fn)dummy_hook);
+    DIFFERS(c.interpolate_vec2 = (ras_interpolate_vec2_fn)dummy_hook);
+    DIFFERS(c.affine = true);
+    DIFFERS(c.uv_gradients = true);
+    DIFFERS(c.shader = (ras_fragment_shader_fn)dummy_hook);
+    DIFFERS(c.shader_user = &c);
     DIFFERS(c.shade = (ras_shade_fn)dummy_hook);
     DIFFERS(c.shade_user = &c);
     DIFFERS(c.dump = false);
@@ -596,6 +693,7 @@ int main(void) {
         cmocka_unit_test(test_pipeline_wireframe_runs_only_its_stages),
         cmocka_unit_test(test_pipeline_rejects_nan),
         cmocka_unit_test(test_pipeline_config_checked),
+        cmocka_unit_test(test_fragment_stage_interpolates_the_mask),
         cmocka_unit_test(test_job_child_returns_all_it_wrote),
         cmocka_unit_test(test_job_child_crash_is_reported),
         cmocka_unit_test(test_job_child_late_is_killed),

@@ -1,7 +1,7 @@
 /* test_fast_path.c — the fast renderer draws what the teaching pipeline draws.
  *
  * The teaching pipeline (hw3_render: one triangle at a time through
- * rasterize_triangle and hw3_shade_fragment, the reference functions of
+ * rasterize_triangle and the core fragment stage, the reference functions of
  * solution/) is the reference. The fast renderer (fast/, fast_render) keeps
  * private copies of some of those functions for speed (fast/README.md lists
  * them). Every scene × shader × AA mode here must give the same

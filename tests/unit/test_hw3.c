@@ -1312,8 +1312,8 @@ static ras_image *render(ras_scene_shader shader, texture_filter filter, ras_cou
     return img;
 }
 
-/* Fragments as hw3's own fragment stage counts them (hw3_shading/scene.c
- * adds one per varying it interpolates), not hw2's fragments_shaded: in the
+/* Fragments as the fragment stage counts them (common/pipeline/
+ * stage5_fragment.c adds one per varying it interpolates), not hw2's fragments_shaded: in the
  * student edition hw2 is the student's, and a test of hw3 must not depend on
  * what another assignment counts. */
 static uint64_t hw3_fragments(const ras_counters *k, ras_scene_shader shader) {

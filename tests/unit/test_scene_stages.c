@@ -326,7 +326,8 @@ static void test_material_is_per_object(void **state) {
     ras_scene_assets *assets = rs ? ras_scene_load_assets(rs, &err) : NULL;
     if (!assets) fail_msg("%s", err.msg);
     fragment_shader_payload p[2] = {0};
-    for (int i = 0; i < 2; i++) hw3_object_material(rs, assets, i, &p[i]);
+    for (int i = 0; i < 2; i++)
+        hw3_object_material(rs, assets, i, &p[i]);
     assert_true(p[0].ka.x == 0.005f && p[0].p == 150 && p[0].color.x == 1);
     assert_true(p[1].ka.x == 0.5f && p[1].ks.y == 0.25f && p[1].p == 8 && p[1].color.z == 0.75f);
     ras_scene_assets_destroy(assets);
@@ -494,7 +495,7 @@ static void test_flat_shader_refused(void **state) {
 
 /* The shell (ras_app_draw_frame) keeps its pipeline while the program's
  * configuration is equal and only clears it (ras_pipeline_begin_frame); the
- * window's keys that change no configuration (a/d, the mouse, p) draw that
+ * window's keys that change no configuration (a/d, the mouse) draw that
  * way. hw3's hooks, as main.c has them, over options the test sets. */
 typedef struct shell_frame {
     hw3_render_options opt;
@@ -504,7 +505,7 @@ typedef struct shell_frame {
 static bool shell_configure(ras_app *app, ras_pipeline_config *cfg, ras_error *err) {
     shell_frame *sf = app->user;
     if (!hw3_frame_setup(app->scene, app->assets, &sf->opt, &sf->frame, err)) return false;
-    *cfg = hw3_frame_config(app->scene, &sf->opt, &sf->frame.stage);
+    *cfg = hw3_frame_config(app->scene, &sf->opt, &sf->frame);
     return true;
 }
 
@@ -523,8 +524,10 @@ static void counters_text(const ras_counters *k, char *buf, size_t size) {
 
 static void test_shell_kept_pipeline_draws_as_new(void **state) {
     (void)state;
-    static const ras_app_hooks hooks = {.program = "test", .configure = shell_configure,
-                                        .draw = shell_draw};
+    static const ras_app_hooks hooks = {.program = "test",
+                                        .configure = shell_configure,
+                                        .draw = shell_draw,
+                                        .features = RAS_APP_STEP};
     ras_error err = {{0}};
     ras_scene *rs = ras_scene_load_or_builtin(NULL, "hw3_default", &err);
     if (!rs) fail_msg("the built-in scene: %s", err.msg);
@@ -535,17 +538,22 @@ static void test_shell_kept_pipeline_draws_as_new(void **state) {
     kept.opt.shader = RAS_SHADER_PHONG;
     kept.opt.aa = RAS_AA_MSAA;
     assert_true(ras_sample_pattern_make(RAS_PATTERN_STANDARD, 4, &kept.opt.pattern, NULL));
-    kept.opt.keep_buffers = true; /* the overdraw buffer too */
-    ras_app a = {.hooks = &hooks, .scene = rs, .assets = assets, .user = &kept};
+    /* the buffer view shows overdraw: the shell keeps the frame's buffers,
+     * the fragment stage's too */
+    ras_app a = {.hooks = &hooks,
+                 .scene = rs,
+                 .assets = assets,
+                 .user = &kept,
+                 .step = {.buffer = RAS_APP_BUFFER_OVERDRAW}};
     ras_app b = a;
     a.image = ras_image_create(W, W, &err);
     b.image = ras_image_create(W, W, &err);
     assert_true(a.image && b.image);
     if (!ras_app_draw_frame(&a, &err)) fail_msg("frame 1: %s", err.msg);
     const ras_pipeline *first = a.pipeline;
-    /* frame 2: turned and affine — the same configuration, so the same pipeline */
+    /* frame 2: turned — the same configuration, so the same pipeline (the
+     * fragment stage's buffers cleared again) */
     kept.opt.angle_deg = 40;
-    kept.opt.affine = true;
     if (!ras_app_draw_frame(&a, &err)) fail_msg("frame 2: %s", err.msg);
     assert_ptr_equal(a.pipeline, first);
     /* the same frame from a new pipeline */
@@ -561,6 +569,11 @@ static void test_shell_kept_pipeline_draws_as_new(void **state) {
     assert_memory_equal(fa->depth, fb->depth, n * sizeof(float));
     assert_non_null(a.pipeline->overdraw);
     assert_memory_equal(a.pipeline->overdraw, b.pipeline->overdraw, (size_t)W * W * sizeof(float));
+    assert_non_null(a.pipeline->fragment.normal); /* phong: normal and view depth */
+    assert_memory_equal(a.pipeline->fragment.normal, b.pipeline->fragment.normal,
+                        (size_t)W * W * 3 * sizeof(float));
+    assert_memory_equal(a.pipeline->fragment.view_depth, b.pipeline->fragment.view_depth,
+                        (size_t)W * W * sizeof(float));
     char ka[2048], kb[2048];
     counters_text(a.counters, ka, sizeof ka);
     counters_text(b.counters, kb, sizeof kb);
@@ -572,6 +585,11 @@ static void test_shell_kept_pipeline_draws_as_new(void **state) {
     if (!ras_app_draw_frame(&a, &err)) fail_msg("frame 3: %s", err.msg);
     assert_ptr_not_equal(a.pipeline, first);
     assert_int_equal(a.pipeline->fb->samples, 16);
+    /* the step view is the shell's as --dump is: hw3's configure sets neither */
+    a.step.on = true, a.step.limit = 3;
+    if (!ras_app_draw_frame(&a, &err)) fail_msg("the step view's frame: %s", err.msg);
+    assert_int_equal(a.counters->triangles_rasterized, 3);
+    assert_true(a.pipeline->has_last);
     ras_pipeline_destroy(a.pipeline);
     ras_pipeline_destroy(b.pipeline);
     ras_image_destroy(a.image);

@@ -62,7 +62,7 @@ int main(int argc, char **argv) {
                  "quits).\n",
         .example = "-o out.png",
         .compare = RAS_COMPARE_EDGE_TOLERANT,
-        .load_assets = true,
+        .features = RAS_APP_LOAD_ASSETS,
         .configure = configure,
         .draw = draw,
         .status = status};
