@@ -640,17 +640,17 @@ static void call_finish(call *c) {
 /* (a shader's payload: its values, not its pointers, which differ between
  * the two processes; a macro, since only the rows of the assignment that
  * declares the type expand it) */
-#define IN_PAYLOAD(pl)                                                                              \
-    if (pl) {                                                                                       \
-        HASH(h, (pl)->view_pos);                                                                    \
-        HASH(h, (pl)->normal);                                                                      \
-        HASH(h, (pl)->uv);                                                                          \
-        HASH(h, (pl)->color);                                                                       \
-        HASH(h, (pl)->filter);                                                                      \
-        HASH(h, (pl)->light_count);                                                                 \
-        HASH(h, (pl)->p);                                                                           \
-        HASH(h, (pl)->kh);                                                                          \
-        HASH(h, (pl)->kn);                                                                          \
+#define IN_PAYLOAD(pl)                                                                             \
+    if (pl) {                                                                                      \
+        HASH(h, (pl)->view_pos);                                                                   \
+        HASH(h, (pl)->normal);                                                                     \
+        HASH(h, (pl)->uv);                                                                         \
+        HASH(h, (pl)->color);                                                                      \
+        HASH(h, (pl)->filter);                                                                     \
+        HASH(h, (pl)->light_count);                                                                \
+        HASH(h, (pl)->p);                                                                          \
+        HASH(h, (pl)->kh);                                                                         \
+        HASH(h, (pl)->kn);                                                                         \
     }
 #define IN_TEXTURE(tex) hash_texture(&h, (tex));
 #define IN_RENDER_OPTIONS(o)                                                                       \
