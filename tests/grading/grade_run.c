@@ -352,6 +352,13 @@ bool own_chain(const char *id, char *digits, size_t size) {
     return false;
 }
 
+bool own_chain_has(const char *id, const char *other) {
+    char chain[32];
+    int k = 0;
+    return own_chain(id, chain, sizeof chain) && other && sscanf(other, "hw%d", &k) == 1 &&
+           k >= 1 && k <= 9 && strchr(chain, '0' + k) != NULL;
+}
+
 /* Whose code a grade measures (docs/grading.md): hwN is graded on its own
  * code, linked with the reference of the assignments it builds on (its
  * chain, own_chain), when tests/grading/grade could link it (--own). The
