@@ -674,6 +674,7 @@ static void call_finish(call *c) {
 #define OUT_ERROR(err)                                                                             \
     if (err) c.regs[c.n++] = (region){.p = (err), .n = sizeof *(err), .text = true};
 
+/* (a texture's size and level count: IN_TEXTURE) */
 __attribute__((unused)) static void hash_texture(hash *h, const ras_texture *tex) {
     if (!tex) return;
     HASH(*h, tex->width);
