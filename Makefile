@@ -49,14 +49,13 @@ clean:
 #   make grade STUDENT=ref  grades the reference solutions as the student (full marks)
 .PHONY: grade
 # (the student programs are built in the grader's one make of the trusted
-# side, --programs: hwN's alone with HW=N, all three without)
+# side, --programs: those of hwN's images with HW=N, every assignment's
+# without; an image's program is named after its assignment, hwN_...)
 grade: $(BUILD)/CMakeFiles/cmake.check_cache
 	@tests/grading/grade --build $(BUILD) --jobs $(JOBS) --reuse-build $(BUILD)/grade-sandbox \
 	  --programs "$(GRADE_PROGRAMS)" $(if $(HW),--hw $(HW)) $(if $(STUDENT),--student $(STUDENT))
-GRADE_PROGRAMS = $(or $(PROGRAM_$(patsubst hw%,%,$(HW))),hw1_transform hw2_rasterize hw3_shading)
-PROGRAM_1 = hw1_transform
-PROGRAM_2 = hw2_rasterize
-PROGRAM_3 = hw3_shading
+RUBRIC_PROGRAMS = $(sort $(shell sed -n 's/.*"program": *"\([^"]*\)".*/\1/p' tests/grading/rubric.json))
+GRADE_PROGRAMS = $(if $(HW),$(filter hw$(patsubst hw%,%,$(HW))_%,$(RUBRIC_PROGRAMS)),$(RUBRIC_PROGRAMS))
 
 # A build folder is configured once: the grading loop (make grade) does not
 # ask dpkg about every package nor re-run cmake's configure at each edit;

@@ -470,8 +470,18 @@ void grade_assignment(grader *g, grading *gr, const cJSON *asg) {
 void grading_end(const grader *g, grading *gr) {
     assignment_result *integration = &gr->integration;
     if (integration->n_items > 0) {
-        integration->note = xstrdup("the images with points again, rendered by your whole chain "
-                                    "(your hw1 → hw2 → hw3); a failure says whose code causes it");
+        /* the chain: the rubric's assignments, in its order */
+        sbuf chain = {0};
+        const cJSON *asgs = cJSON_GetObjectItemCaseSensitive(g->rubric, "assignments");
+        for (const cJSON *x = asgs ? asgs->child : NULL; x; x = x->next)
+            sb_printf(&chain, "%s%s", chain.s ? " → " : "", str_or(x, "id", "?"));
+        sbuf note = {0};
+        sb_printf(&note,
+                  "the images with points again, rendered by your whole chain (your %s); a "
+                  "failure says whose code causes it",
+                  chain.s ? chain.s : "");
+        free(chain.s);
+        integration->note = note.s;
         add_up(integration);
         gr->total += integration->score;
         gr->max_total += integration->max_score;

@@ -67,8 +67,13 @@ void attribute_image(grader *g, item *it, const cJSON *img, const char *dir, con
     if (!str_or(img, "reference_program", NULL))
         fmt(ref_path, sizeof ref_path, "%s/tests/reference/%s", g->source,
             str_or(img, "reference", ""));
-    int number = 0;
-    sscanf(id, "hw%d", &number);
+    /* the assignments it builds on, earliest first: hw3's "12" */
+    char chain[32];
+    own_chain(id, chain, sizeof chain);
+    size_t n_chain = strlen(chain);
+    char earlier[2][16] = {"", ""};
+    for (size_t k = 0; k < n_chain && k < 2; k++)
+        fmt(earlier[k], sizeof earlier[k], "hw%c", chain[k]);
     /* Each earlier assignment's code builds (it lost no point, or a swap with
      * it built), the own-code run passed, yet the whole chain's program was
      * not built: the student's files do not link together. */
@@ -77,31 +82,32 @@ void attribute_image(grader *g, item *it, const cJSON *img, const char *dir, con
     fmt(not_linked, sizeof not_linked,
         "your files do not link together (often a function two of them both "
         "define: make it static in each, or rename one; build.log names it): your "
-        "whole chain, hw1 to %s, was not built, yet each file builds, and with the "
+        "whole chain, %s to %s, was not built, yet each file builds, and with the "
         "reference of an earlier assignment in its place this image matches",
-        id);
+        earlier[0], id);
     if (!own_passed) {
         fmt(why, sizeof why,
             "your %s code causes this: it fails this image on its own too, "
             "with the reference of the earlier assignments (charged in %s)",
             id, id);
-    } else if (number == 2) {
-        first_loss(as, n_as, "hw1", loss, sizeof loss);
+    } else if (n_chain == 1) {
+        first_loss(as, n_as, earlier[0], loss, sizeof loss);
         if (!*loss && whole_unbuilt)
             fmt(why, sizeof why, "%s", not_linked);
         else
             fmt(why, sizeof why,
-                "your hw1 causes this: with the reference hw1 your hw2 matches this "
-                "image%s%s",
-                *loss ? "; hw1's first lost point: " : "", loss);
-    } else if (number == 3) {
-        /* one sealed render per earlier assignment alone: hw1 then hw2 */
+                "your %s causes this: with the reference %s your %s matches this "
+                "image%s%s%s%s",
+                earlier[0], earlier[0], id, *loss ? "; " : "", *loss ? earlier[0] : "",
+                *loss ? "'s first lost point: " : "", loss);
+    } else if (n_chain == 2) {
+        /* one sealed render per earlier assignment alone: the first then the second */
         job subs[2];
         memset(subs, 0, sizeof subs);
         bool ran[2] = {false, false};
         int m = 0;
         for (int k = 0; k < 2; k++) {
-            char refs[2] = {(char)('1' + k), '\0'}, own[4096], tag[32], prog[4300];
+            char refs[2] = {chain[k], '\0'}, own[4096], tag[32], prog[4300];
             if (!own_dir(g, id, refs, own, sizeof own)) continue;
             fmt(prog, sizeof prog, "%s/bin/%s", own, str_or(img, "program", ""));
             if (!file_exists(prog)) continue;
@@ -112,7 +118,7 @@ void attribute_image(grader *g, item *it, const cJSON *img, const char *dir, con
             m++;
         }
         run_jobs(subs, m, g->jobs);
-        /* matches[k]: the image matches with only hw(k+1)'s reference */
+        /* matches[k]: the image matches with only earlier[k]'s reference */
         bool matches[2] = {false, false};
         for (int k = 0, i = 0; k < 2; k++)
             if (ran[k]) matches[k] = run_matches(g, &subs[i++], img, ref_path);
@@ -120,8 +126,8 @@ void attribute_image(grader *g, item *it, const cJSON *img, const char *dir, con
         for (int i = 0; i < m; i++)
             unlink(subs[i].out_path);
         if (ran[0] && ran[1]) {
-            const char *culprit = matches[1] && !matches[0]   ? "hw2"
-                                  : matches[0] && !matches[1] ? "hw1"
+            const char *culprit = matches[1] && !matches[0]   ? earlier[1]
+                                  : matches[0] && !matches[1] ? earlier[0]
                                                               : NULL;
             if (culprit) {
                 first_loss(as, n_as, culprit, loss, sizeof loss);
@@ -133,18 +139,20 @@ void attribute_image(grader *g, item *it, const cJSON *img, const char *dir, con
                 fmt(why, sizeof why, "%s", not_linked);
             else if (matches[0] && matches[1])
                 fmt(why, sizeof why,
-                    "one of your hw1 or your hw2 causes this: the image matches "
-                    "with either reference swapped in (most likely hw2, which "
-                    "draws it)");
+                    "one of your %s or your %s causes this: the image matches "
+                    "with either reference swapped in (most likely %s, which "
+                    "draws it)",
+                    earlier[0], earlier[1], earlier[1]);
             else {
                 char loss2[700];
-                first_loss(as, n_as, "hw1", loss, sizeof loss);
-                first_loss(as, n_as, "hw2", loss2, sizeof loss2);
+                first_loss(as, n_as, earlier[0], loss, sizeof loss);
+                first_loss(as, n_as, earlier[1], loss2, sizeof loss2);
                 fmt(why, sizeof why,
-                    "both your hw1 and your hw2 cause this: the image matches "
+                    "both your %s and your %s cause this: the image matches "
                     "only with both references swapped in, with neither alone "
-                    "(hw1's first lost point: %s; hw2's: %s)",
-                    *loss ? loss : "none", *loss2 ? loss2 : "none");
+                    "(%s's first lost point: %s; %s's: %s)",
+                    earlier[0], earlier[1], earlier[0], *loss ? loss : "none", earlier[1],
+                    *loss2 ? loss2 : "none");
             }
         }
     }

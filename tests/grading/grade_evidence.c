@@ -49,8 +49,9 @@ static const char *buffer_hint(const char *name, const ras_dump_difference *d,
     if (!strcmp(name, "uv"))
         return "the texture coordinates the shader got: perspective-correct interpolation (the "
                "1/w weights), not affine";
-    /* hw3's samples get its shader's colours: the buffers before them match */
-    if (!strcmp(name, "sample_colour") && !strncmp(program, "hw3", 3))
+    /* the shading assignment's samples get its shader's colours: the buffers
+     * before them match */
+    if (!strcmp(name, "sample_colour") && program_of(program, RAS_GRADE_SHADING_OWNER))
         return "the colours your shader returned differ while the coverage, depth and "
                "interpolated buffers match the reference's: the shading (a term of the "
                "lighting, a vector it uses, the texture lookup), not the rasterizer";
@@ -64,16 +65,18 @@ static const char *buffer_hint(const char *name, const ras_dump_difference *d,
 }
 
 /* Which assignment's code makes `stage` in a run of `program`. `ref_raster`:
- * the run's rasterizer and resolve are the reference (hw3 graded on its own
- * code), so what they produce differently comes from what hw3 feeds them. */
+ * the run's rasterizer and resolve are the reference (the shading
+ * assignment graded on its own code), so what they produce differently
+ * comes from what the shading feeds them. */
 static const char *stage_owner(const char *stage, const char *program, bool ref_raster) {
-    bool hw3 = !strncmp(program, "hw3", 3);
-    if (!strcmp(stage, "vertices")) return "hw1";
+    bool shading = program_of(program, RAS_GRADE_SHADING_OWNER);
+    if (!strcmp(stage, "vertices")) return RAS_GRADE_VERTICES_OWNER;
     if (!strcmp(stage, "normal") || !strcmp(stage, "uv") || !strcmp(stage, "view_depth"))
-        return "hw3";
+        return RAS_GRADE_SHADING_OWNER;
     if (!strcmp(stage, "sample_colour") || !strcmp(stage, "colour"))
-        return hw3 ? "hw3" : "hw2"; /* the shader's colours; hw2's are the triangles' */
-    return ref_raster ? "hw3" : "hw2";
+        /* the shader's colours; the raster's are the triangles' */
+        return shading ? RAS_GRADE_SHADING_OWNER : RAS_GRADE_RASTER_OWNER;
+    return ref_raster ? RAS_GRADE_SHADING_OWNER : RAS_GRADE_RASTER_OWNER;
 }
 
 /* Why a frame is blank, from the --stats counters it printed (the pipeline
@@ -294,10 +297,11 @@ static bool vertices_differ(const char *ref_dir, const char *got_dir, sbuf *o, e
     }
     if (r == 0) return false;
     char *shown = student_text(line, 580);
-    sb_printf(o, "buffers: the first that differs is the vertex stage (hw1): %s\n", shown);
+    sb_printf(o, "buffers: the first that differs is the vertex stage (%s): %s\n",
+              RAS_GRADE_VERTICES_OWNER, shown);
     free(shown);
     fmt(ev->stage, sizeof ev->stage, "vertices");
-    ev->owner = "hw1";
+    ev->owner = RAS_GRADE_VERTICES_OWNER;
     return true;
 }
 
@@ -311,14 +315,17 @@ static void first_difference(sbuf *o, evidence *ev, const char *buf, const ras_d
     if (!strcmp(buf, "depth") && d->drawn_in_one * 2 > d->pixels_differ) stage = "coverage";
     fmt(ev->stage, sizeof ev->stage, "%s", stage);
     ev->owner = stage_owner(stage, program, ref_raster);
-    ev->rasterizer = !ref_raster && !strcmp(ev->owner, "hw2");
-    char line[600];
+    ev->rasterizer = !ref_raster && stage_owner_is(ev->owner, RAS_GRADE_RASTER_OWNER);
+    char line[600], fed[200];
     ras_dump_difference_text(buf, d, line, sizeof line);
-    const char *hint = ref_raster && !strcmp(ev->owner, "hw3") &&
+    fmt(fed, sizeof fed,
+        "the rasterizer here is the reference's, so your %s code hands it different "
+        "triangles or depths",
+        RAS_GRADE_SHADING_OWNER);
+    const char *hint = ref_raster && stage_owner_is(ev->owner, RAS_GRADE_SHADING_OWNER) &&
                                (!strcmp(stage, "coverage") || !strcmp(stage, "depth") ||
                                 !strcmp(stage, "overdraw"))
-                           ? "the rasterizer here is the reference's, so your hw3 code "
-                             "hands it different triangles or depths"
+                           ? fed
                            : buffer_hint(buf, d, program);
     sb_printf(o, "buffers: the first that differs is %s (%s's stage)%s%s\n", line, ev->owner,
               *hint ? "; likely: " : "", hint);
@@ -383,11 +390,13 @@ static void compare_dumps(item *it, sbuf *o, const cJSON *img, const char *dir, 
     }
     fmt(ev->stage, sizeof ev->stage, "colour");
     ev->owner = stage_owner("colour", program, ref_raster);
-    ev->rasterizer = !ref_raster && !strcmp(ev->owner, "hw2"); /* the resolve */
+    /* the resolve */
+    ev->rasterizer = !ref_raster && stage_owner_is(ev->owner, RAS_GRADE_RASTER_OWNER);
     sb_printf(o,
               "buffers: every buffer matches the reference's: the difference is in the "
               "colours %s computed\n",
-              !strcmp(ev->owner, "hw3") ? "your shader" : "your rasterizer wrote");
+              stage_owner_is(ev->owner, RAS_GRADE_SHADING_OWNER) ? "your shader"
+                                                                 : "your rasterizer wrote");
 }
 
 /* Why a blank frame is blank where no buffers can be compared (the

@@ -11,6 +11,32 @@
 #include "grade_base.h"
 #include "grade_priv.h"
 
+#include <string.h> /* strcmp */
+
+/* The assignments whose code makes the stages of the course's pipeline: the
+ * vertices (the matrices: get_model_matrix), the raster (rasterize_triangle
+ * and the resolve) and the shading (the fragment shaders): the owners of
+ * those functions' rows in ras_call_table.h, compiled in by
+ * tests/grading/CMakeLists.txt; "" when no row names the function. */
+#ifndef RAS_GRADE_VERTICES_OWNER
+#define RAS_GRADE_VERTICES_OWNER ""
+#endif
+#ifndef RAS_GRADE_RASTER_OWNER
+#define RAS_GRADE_RASTER_OWNER ""
+#endif
+#ifndef RAS_GRADE_SHADING_OWNER
+#define RAS_GRADE_SHADING_OWNER ""
+#endif
+/* whether owner (one of the three) is set and is id */
+static inline bool stage_owner_is(const char *owner, const char *id) {
+    return owner && id && *owner && !strcmp(owner, id);
+}
+/* whether program is one of assignment owner's ("hw3_shading", "hw3_shading_ref") */
+static inline bool program_of(const char *program, const char *owner) {
+    size_t n = strlen(owner);
+    return n && !strncmp(program, owner, n) && program[n] == '_';
+}
+
 /* Where the evidence stands. Only EVIDENCE_RAN can clear a picture; what the
  * student's program withholds or spoils fails the item (docs/grading.md,
  * "Buffers"), and where no evidence can be had the picture decides alone. */

@@ -140,7 +140,8 @@ static void image_signatures(sbuf *whole, sbuf *o, const ras_image *expected, co
                   "note: your image is brighter than the reference on average (mean luma "
                   "%.4f vs %.4f)%s\n",
                   lg, le,
-                  lit && (!evidence_ran(ev) || !ev->owner || !strcmp(ev->owner, "hw3"))
+                  lit && (!evidence_ran(ev) || !ev->owner ||
+                          stage_owner_is(ev->owner, RAS_GRADE_SHADING_OWNER))
                       ? ": light added twice (ambient once per light?)"
                       : "");
 }
@@ -892,7 +893,8 @@ static void picture_findings(picture *p, ras_compare_result *r, const ras_image 
     bool placed = evidence_ran(ev) && *ev->stage && strcmp(ev->stage, "colour") &&
                   (p->whole || (ev->owner && !strcmp(ev->owner, p->a->id))) &&
                   /* the shader's own colours are judged by the metric alone */
-                  !(!strcmp(ev->stage, "sample_colour") && !strcmp(ev->owner, "hw3"));
+                  !(!strcmp(ev->stage, "sample_colour") &&
+                    stage_owner_is(ev->owner, RAS_GRADE_SHADING_OWNER));
     /* a sealed run's earlier stages are the reference's code: a difference
      * placed there did not come from it, so it clears nothing */
     bool impossible = evidence_ran(ev) && p->sealed && !p->whole && !placed && *ev->stage &&
@@ -968,7 +970,7 @@ static defect_voice picture_voice(const picture *p, const findings *f, bool ref_
     if (!ref_raster && (!evidence_ran(ev) || ev->rasterizer)) return DEFECT_RASTER;
     bool before_shading = !strcmp(ev->stage, "vertices") || !strcmp(ev->stage, "coverage") ||
                           !strcmp(ev->stage, "depth") || !strcmp(ev->stage, "overdraw");
-    if (evidence_ran(ev) && ev->owner && !strcmp(ev->owner, "hw3") && !before_shading)
+    if (evidence_ran(ev) && stage_owner_is(ev->owner, RAS_GRADE_SHADING_OWNER) && !before_shading)
         return DEFECT_SHADING;
     return DEFECT_PATTERN;
 }
@@ -1125,8 +1127,9 @@ bool grade_image(const grader *g, assignment_result *a, const cJSON *img, const 
     if (!picture_reference(&p)) return false;
     picture_intro(&p);
     ras_image *got = picture_run(&p, crash_hint), *expected = NULL;
-    /* the rasterizer and resolve of a sealed hw3 run are the reference's */
-    bool ref_raster = sealed && !strcmp(a->id, "hw3");
+    /* the rasterizer and resolve of a sealed run of an assignment that builds
+     * on the raster's (hw3) are the reference's */
+    bool ref_raster = sealed && own_chain_has(a->id, RAS_GRADE_RASTER_OWNER);
     if (got && (expected = ras_image_load(p.ref_path, &p.err)) != NULL) {
         picture_compare(&p, got, expected, ref_raster);
     } else if (got) {

@@ -390,12 +390,15 @@ static void not_counted_here(const grader *g, const assignment_result *as, int n
                       no_reference ? "the variant pictures, which need the reference programs "
                                      "the student edition lacks"
                                    : "each says why");
+    /* (the first of the rubric's assignments builds on none) */
+    const cJSON *asgs = cJSON_GetObjectItemCaseSensitive(g->rubric, "assignments");
+    const char *first = str_or(asgs ? asgs->child : NULL, "id", "the first");
     if (!has_integration && per_image > 0 && k >= 0 && (size_t)k < size)
         snprintf(buf + k, size - (size_t)k,
                  "%san integration part, which this grading does not run (%g point%s for each "
-                 "picture with points of the assignments after hw1, drawn again by your whole "
+                 "picture with points of the assignments after %s, drawn again by your whole "
                  "chain)",
-                 more > 0 ? " and " : "", per_image, per_image == 1 ? "" : "s");
+                 more > 0 ? " and " : "", per_image, per_image == 1 ? "" : "s", first);
 }
 
 /* report.md's opening: the notes on the submission, the total, where to

@@ -329,18 +329,47 @@ int sandbox_job(const grader *g, job *j, double limit_s, const char *const env[]
     return n;
 }
 
+/* The assignments each graded one builds on, "hw2=1,hw3=12": hwN=K... (the
+ * numbers K of its DEPENDS, transitively, earliest first), compiled in by
+ * tests/grading/CMakeLists.txt from the assignments' CMake declarations, the
+ * same chains its own-code links (raster101_own) are made from. */
+#ifndef RAS_GRADE_CHAINS
+#define RAS_GRADE_CHAINS ""
+#endif
+
+bool own_chain(const char *id, char *digits, size_t size) {
+    if (size) digits[0] = '\0';
+    size_t n = strlen(id);
+    for (const char *c = RAS_GRADE_CHAINS; *c;) {
+        const char *end = strchr(c, ',');
+        size_t len = end ? (size_t)(end - c) : strlen(c);
+        if (len > n && !strncmp(c, id, n) && c[n] == '=') {
+            fmt(digits, size, "%.*s", (int)(len - n - 1), c + n + 1);
+            return digits[0] != '\0';
+        }
+        c += len + (end ? 1 : 0);
+    }
+    return false;
+}
+
+bool own_chain_has(const char *id, const char *other) {
+    char chain[32];
+    int k = 0;
+    return own_chain(id, chain, sizeof chain) && other && sscanf(other, "hw%d", &k) == 1 &&
+           k >= 1 && k <= 9 && strchr(chain, '0' + k) != NULL;
+}
+
 /* Whose code a grade measures (docs/grading.md): hwN is graded on its own
- * code, linked with the reference of hw1 … hwN-1, when tests/grading/grade could link
- * it (--own). The folder of such a link is OWN/ref1…(N-1); `refs` names the
- * assignments taken from the reference ("1", "12"; NULL: every earlier one).
- * False when there is none: then the student's whole chain is graded. */
+ * code, linked with the reference of the assignments it builds on (its
+ * chain, own_chain), when tests/grading/grade could link it (--own). The
+ * folder of such a link is OWN/ref followed by their numbers ("ref12" for
+ * hw3); `refs` names the assignments taken from the reference ("1", "12";
+ * NULL: every one it builds on). False when there is none: then the
+ * student's whole chain is graded. */
 bool own_dir(const grader *g, const char *id, const char *refs, char *dir, size_t size) {
-    int number = 0;
+    char all[32];
     if (size) dir[0] = '\0'; /* "" when there is none: callers print it */
-    if (!g->own || sscanf(id, "hw%d", &number) != 1 || number < 2 || number > 9) return false;
-    char all[10] = "";
-    for (int k = 1; k < number; k++)
-        all[k - 1] = (char)('0' + k);
+    if (!g->own || !own_chain(id, all, sizeof all)) return false;
     fmt(dir, size, "%s/ref%s", g->own, refs ? refs : all);
     if (is_dir(dir)) return true;
     dir[0] = '\0';

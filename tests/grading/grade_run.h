@@ -40,8 +40,13 @@ double test_wall(const grader *g);
 /* j->argv as "tests/grading/sandbox ... --" in a fresh run folder j->rw;
  * returns the next argv index */
 int sandbox_job(const grader *g, job *j, double limit_s, const char *const env[]);
+/* the numbers of the assignments hwN builds on, earliest first ("12" for
+ * hw3), into digits; false when it builds on none */
+bool own_chain(const char *id, char *digits, size_t size);
+/* whether hwN builds on assignment `other` ("hw2") */
+bool own_chain_has(const char *id, const char *other);
 /* the folder of hwN's own-code link with the reference of `refs` (NULL: every
- * earlier assignment) into dir; false when there is none */
+ * assignment it builds on) into dir; false when there is none */
 bool own_dir(const grader *g, const char *id, const char *refs, char *dir, size_t size);
 /* assignment id's tests dealt to `chunks` chunks by the rubric's measured
  * costs (test_costs_ms), the costliest first to the least loaded:

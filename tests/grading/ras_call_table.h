@@ -7,8 +7,11 @@
  * replay), and the -Wl,--wrap=NAME list of each test_hwN_worker/_replay
  * (tests/grading/CMakeLists.txt reads the hw and the name that open each row).
  * A row's signature is checked at compile time against the header's declaration.
- * A new assignment N also needs, in ras_call.c, its header included and a
- * FOR_HW_N; a new kind of input or output, its IN_/OUT_ macro there.
+ * An assignment's first row makes it graded: tests/grading/CMakeLists.txt
+ * then builds its worker and replay from its CMake declaration
+ * (raster101_assignment: its folder's headers, what it DEPENDS on) and nothing
+ * else needs an edit; a new kind of input or output needs its IN_/OUT_ macro
+ * in ras_call.c.
  *
  *   FN(hw, name, returns, (parameters), (arguments), (inputs), (outputs))
  *       returns a value, recorded whole;
@@ -18,8 +21,9 @@
  *       its wrapper is written by hand in ras_call.c (rasterize_triangle:
  *       the fragments it shades through ctx->shade are recorded one by one and
  *       shaded again in the replay).
- * hw: the first assignment whose tests call it (a build for assignment N wraps
- * the rows of hw <= N). (arguments): the parameters' names, in order.
+ * hw: N of the assignment hwN whose header declares it (a build for an
+ * assignment wraps the rows of that assignment and of every assignment it
+ * builds on, its DEPENDS). (arguments): the parameters' names, in order.
  * (inputs): what the call's result depends on, hashed so that the replay
  * knows the record answers this very call (never a pointer's value, which
  * differs between the two processes; the kinds are ras_call.c's macros):
