@@ -420,6 +420,13 @@ bool ras_app_capturing(const ras_app *app) {
            (app->step.on || app->step.buffer != RAS_APP_BUFFER_COLOUR);
 }
 
+/* Whether the window magnifies the pixel under the mouse: always for a
+ * program with the inspector, and in the step view. */
+static bool inspecting(const ras_app *app) {
+    unsigned f = app->hooks->features;
+    return (f & RAS_APP_INSPECTOR) || ((f & RAS_APP_STEP) && app->step.on);
+}
+
 static const char *const buffer_names[RAS_APP_BUFFER_COUNT] = {"colour",   "depth",  "coverage",
                                                                "overdraw", "normal", "uv"};
 
@@ -540,7 +547,7 @@ static ras_image *window_view(ras_app *app, const ras_viewer *viewer, int col, i
     if (app->hooks->status) app->hooks->status(app, status, size);
     bool program = ras_viewer_showing_program(viewer);
     ras_image *picture = NULL; /* the buffer shown, when not colour */
-    if ((app->hooks->features & RAS_APP_STEP) && ras_app_capturing(app)) {
+    if (ras_app_capturing(app)) {
         char line[200], legend[200] = "";
         if (program && app->step.buffer != RAS_APP_BUFFER_COLOUR)
             picture = buffer_picture(app, legend, sizeof legend);
@@ -548,8 +555,7 @@ static ras_image *window_view(ras_app *app, const ras_viewer *viewer, int col, i
         size_t n = strlen(status);
         snprintf(status + n, size - n, "\n%s%s%s", line, *legend ? "\n" : "", legend);
     }
-    bool inspect = (app->hooks->features & RAS_APP_INSPECTOR) ||
-                   ((app->hooks->features & RAS_APP_STEP) && app->step.on);
+    bool inspect = inspecting(app);
     const ras_image *shown = picture ? picture : app->image;
     if (!inspect) return picture ? picture : app->image;
     ras_image *view = ras_image_clone(shown);
@@ -613,9 +619,8 @@ static int run_window(ras_app *app) {
         int col, row;
         if (ok && ras_window_mouse(title, &col, &row) && (col != mouse_col || row != mouse_row)) {
             if (app->hooks->mouse && app->hooks->mouse(app, col, row)) dirty = true;
-            bool inspect = (app->hooks->features & RAS_APP_INSPECTOR) ||
-                           ((app->hooks->features & RAS_APP_STEP) && app->step.on);
-            if (inspect && col >= 0 && row >= 0 && col < app->set.width && row < app->set.height)
+            if (inspecting(app) && col >= 0 && row >= 0 && col < app->set.width &&
+                row < app->set.height)
                 mouse_col = col, mouse_row = row, redraw = true;
         }
     }

@@ -75,12 +75,16 @@ vec3s ras_fragment_stage_shade(const ras_triangle *t, const ras_fragment *f, voi
     return s->shader(in, s->shader_user);
 }
 
+/* The kept buffers, in the order of their arrays below: the varying each
+ * keeps, and its floats per pixel. */
+static const unsigned kept_varying[3] = {RAS_VARYING_NORMAL, RAS_VARYING_UV, RAS_VARYING_VIEW_POS};
+static const size_t kept_channels[3] = {3, 3, 1};
+
 void ras_fragment_stage_clear(ras_fragment_stage *s) {
     size_t n = (size_t)s->width * (size_t)s->height;
     float *arrays[3] = {s->normal, s->uv, s->view_depth};
-    const size_t channels[3] = {3, 3, 1};
     for (int k = 0; k < 3; k++)
-        for (size_t i = 0; arrays[k] && i < n * channels[k]; i++)
+        for (size_t i = 0; arrays[k] && i < n * kept_channels[k]; i++)
             arrays[k][i] = INFINITY;
 }
 
@@ -88,11 +92,9 @@ bool ras_fragment_stage_keep(ras_fragment_stage *s, int width, int height) {
     ras_fragment_stage_release(s);
     size_t n = (size_t)width * (size_t)height;
     float **arrays[3] = {&s->normal, &s->uv, &s->view_depth};
-    const unsigned need[3] = {RAS_VARYING_NORMAL, RAS_VARYING_UV, RAS_VARYING_VIEW_POS};
-    const size_t channels[3] = {3, 3, 1};
     for (int k = 0; k < 3; k++) {
-        if (!(s->varyings & need[k])) continue;
-        if (!(*arrays[k] = malloc(n * channels[k] * sizeof(float)))) {
+        if (!(s->varyings & kept_varying[k])) continue;
+        if (!(*arrays[k] = malloc(n * kept_channels[k] * sizeof(float)))) {
             ras_fragment_stage_release(s);
             return false;
         }
