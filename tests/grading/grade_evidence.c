@@ -118,10 +118,10 @@ static void blank_reason(const char *log, char *buf, size_t size) {
 /* ---------------------------------------------------------------- the two dumps */
 
 /* One piece of evidence's folders, in the work folder and never in OUT (a
- * variant's reference is never handed out): the reference's dump, the
- * student's files as taken, the buffer's pictures before OUT gets its
- * share. Made 0700, so no sandboxed run can write them; removed when the
- * evidence is in. */
+ * variant's reference is never handed out): the reference's dump (the one
+ * reference_dump keeps), the student's files as taken, the buffer's
+ * pictures before OUT gets its share. Made 0700, so no sandboxed run can
+ * write them; removed when the evidence is in, but the reference's. */
 typedef struct evidence_dirs {
     char root[4200], ref[4300], got[4300], pictures[4300];
 } evidence_dirs;
@@ -133,10 +133,9 @@ static void evidence_dirs_make(const grader *g, evidence_dirs *d) {
     fmt(d->root, sizeof d->root, "%s/%d", parent, g->evidence_runs);
     remove_tree(d->root); /* one a previous grading left (--reuse-build) */
     trusted_dir(d->root);
-    fmt(d->ref, sizeof d->ref, "%s/reference", d->root);
+    d->ref[0] = '\0'; /* reference_dump's */
     fmt(d->got, sizeof d->got, "%s/yours", d->root);
     fmt(d->pictures, sizeof d->pictures, "%s/pictures", d->root);
-    trusted_dir(d->ref);
     trusted_dir(d->got);
     trusted_dir(d->pictures);
 }
@@ -152,10 +151,15 @@ __attribute__((format(printf, 2, 3))) static void withheld(evidence *ev, const c
 }
 
 /* The trusted reference program's frame of the picture, with --dump into
- * d->ref (the work folder); false when there is no such program or it has
- * no --dump. */
+ * d->ref; false when there is no such program or it has no --dump. The
+ * dump is made in WORK/evidence/reference-last and kept there for the next
+ * evidence of the same frame (the same program and arguments: a picture's
+ * own-code run and its whole-chain run), which d->ref then names instead of
+ * rendering it again (a 16-sample frame's dump is seconds); any other frame
+ * replaces it. The folder is the trusted side's, as d->ref is: no sandboxed
+ * run can write it. */
 static bool reference_dump(const grader *g, const cJSON *img, const job *graded,
-                           const evidence_dirs *d) {
+                           evidence_dirs *d) {
     const char *program = str_or(img, "program", "");
     char ref_prog[4200], log[4400], ref_png[4400];
     const char *rp = str_or(img, "reference_program", NULL);
@@ -164,10 +168,29 @@ static bool reference_dump(const grader *g, const cJSON *img, const job *graded,
     else
         fmt(ref_prog, sizeof ref_prog, "%s/bin/%s_ref", g->build, program);
     if (!file_exists(ref_prog)) return false;
+    sbuf key = {0};
+    sb_add(&key, ref_prog);
+    for (const cJSON *v = graded->args ? graded->args->child : NULL; v; v = v->next)
+        if (cJSON_IsString(v)) sb_printf(&key, "%c%s", '\n', v->valuestring);
+    char **last = &((grader *)g)->last_ref_dump_key;
+    fmt(d->ref, sizeof d->ref, "%s/evidence/reference-last", g->work);
+    if (*last && strcmp(*last, sb_str(&key)) == 0) {
+        free(key.s);
+        return true;
+    }
+    free(*last);
+    *last = NULL;
+    remove_tree(d->ref);
+    trusted_dir(d->ref);
     fmt(ref_png, sizeof ref_png, "%s/frame.png", d->root);
     fmt(log, sizeof log, "%s/reference.log", d->root);
     run_result rr = reference_render(g, ref_prog, graded->args, ref_png, d->ref, log);
-    return rr.kind == RUN_EXITED && rr.code == 0;
+    bool ok = rr.kind == RUN_EXITED && rr.code == 0;
+    if (ok)
+        *last = key.s;
+    else
+        free(key.s);
+    return ok;
 }
 
 /* The student's run, as the graded one but with --dump (into its run
@@ -431,8 +454,9 @@ void blank_counters(const grader *g, const cJSON *img, const job *graded, const 
  * (sandbox_take) and compared (compare_dumps). Evidence or nothing: a
  * --dump run that fails, or files missing, extra or refused, make ev
  * withheld, said in o (the item fails); a reference without --dump leaves
- * the picture to decide (EVIDENCE_NO_REFERENCE). Both dumps are removed when
- * the evidence is in: OUT holds only the pictures the report shows. */
+ * the picture to decide (EVIDENCE_NO_REFERENCE). The student's dump is removed when
+ * the evidence is in, the reference's when another frame's replaces it (the
+ * work folder's, never OUT's): OUT holds only the pictures the report shows. */
 void buffer_evidence(const grader *g, item *it, sbuf *o, const cJSON *img, const char *dir,
                      const char *reldir, const job *graded, const char *own, bool ref_raster,
                      evidence *ev) {
