@@ -171,7 +171,7 @@ static bool reference_dump(const grader *g, const cJSON *img, const job *graded,
     sbuf key = {0};
     sb_add(&key, ref_prog);
     for (const cJSON *v = graded->args ? graded->args->child : NULL; v; v = v->next)
-        if (cJSON_IsString(v)) sb_printf(&key, "%c%s", '\n', v->valuestring);
+        if (cJSON_IsString(v)) sb_printf(&key, "\n%s", v->valuestring);
     char **last = &((grader *)g)->last_ref_dump_key;
     fmt(d->ref, sizeof d->ref, "%s/evidence/reference-last", g->work);
     if (*last && strcmp(*last, sb_str(&key)) == 0) {

@@ -118,7 +118,7 @@ typedef struct grader {
     /* The last reference --dump made for evidence (grade_evidence.c), kept in
      * the work folder for the next evidence that asks for the same frame: a
      * picture's sealed own-code run and its whole-chain run have the same
-     * arguments. key: the program and its arguments; "" when none is kept. */
+     * arguments. The program and its arguments, a line each; NULL when none is kept. */
     char *last_ref_dump_key;
     int jobs;          /* sandboxed runs at once */
     cJSON *rubric;
