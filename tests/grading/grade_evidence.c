@@ -5,8 +5,11 @@
 #include "grade_text.h"
 #include "ras_dump.h"
 
+#include <dirent.h>
+#include <errno.h>
 #include <fcntl.h>
 #include <math.h>
+#include <signal.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -124,6 +127,8 @@ static void blank_reason(const char *log, char *buf, size_t size) {
  * write them; removed when the evidence is in, but the reference's. */
 typedef struct evidence_dirs {
     char root[4200], ref[4300], got[4300], pictures[4300];
+    bool ref_uncached; /* d->ref is this evidence's alone: removed with it */
+    int got_fd;        /* the student's dump folder (sandbox_dir), -1 when none */
 } evidence_dirs;
 
 static void evidence_dirs_make(const grader *g, evidence_dirs *d) {
@@ -134,6 +139,8 @@ static void evidence_dirs_make(const grader *g, evidence_dirs *d) {
     remove_tree(d->root); /* one a previous grading left (--reuse-build) */
     trusted_dir(d->root);
     d->ref[0] = '\0'; /* reference_dump's */
+    d->ref_uncached = false;
+    d->got_fd = -1;
     fmt(d->got, sizeof d->got, "%s/yours", d->root);
     fmt(d->pictures, sizeof d->pictures, "%s/pictures", d->root);
     trusted_dir(d->got);
@@ -150,18 +157,130 @@ __attribute__((format(printf, 2, 3))) static void withheld(evidence *ev, const c
     ev->kind = EVIDENCE_WITHHELD;
 }
 
-/* The trusted reference program's frame of the picture, with --dump into
- * d->ref; false when there is no such program or it has no --dump. The
- * dump is made in WORK/evidence/reference-last and kept there for the next
- * evidence of the same frame (the same program and arguments: a picture's
- * own-code run and its whole-chain run), which d->ref then names instead of
- * rendering it again (a 16-sample frame's dump is seconds); any other frame
- * replaces it. The folder is the trusted side's, as d->ref is: no sandboxed
- * run can write it. */
+/* The reference dumps kept in BUILD/grade-cache/dumps: at most this many
+ * bytes (past it a dump serves its own evidence only);
+ * RAS_GRADE_DUMP_CACHE_MB another cap (0: the cache off, no entry served or
+ * kept, for tests/grading/dump-cache-test). */
+static long long dump_cache_max_bytes(void) {
+    const char *e = getenv("RAS_GRADE_DUMP_CACHE_MB");
+    char *end = NULL;
+    long long mb = e && *e ? strtoll(e, &end, 10) : -1;
+    if (mb < 0 || (end && *end)) mb = 4096;
+    return mb << 20;
+}
+
+/* The bytes the cache's entries hold (regular files one level down). */
+static long long dump_cache_bytes(const char *dir) {
+    long long total = 0;
+    DIR *d = opendir(dir);
+    for (struct dirent *e; d && (e = readdir(d)) != NULL;) {
+        if (e->d_name[0] == '.') continue;
+        char sub[4400];
+        fmt(sub, sizeof sub, "%s/%s", dir, e->d_name);
+        DIR *f = opendir(sub);
+        for (struct dirent *x; f && (x = readdir(f)) != NULL;) {
+            struct stat st;
+            if (fstatat(dirfd(f), x->d_name, &st, AT_SYMLINK_NOFOLLOW) == 0 &&
+                S_ISREG(st.st_mode))
+                total += (long long)st.st_size;
+        }
+        if (f) closedir(f);
+    }
+    if (d) closedir(d);
+    return total;
+}
+
+/* Whether the entry's key (its cache.key) names programs as they are now:
+ * an entry of a program since rebuilt can never serve again. */
+static bool dump_entry_current(const char *entry) {
+    char path[4400];
+    fmt(path, sizeof path, "%s/cache.key", entry);
+    char *held = read_small_file(path, 64 * 1024);
+    bool current = held != NULL;
+    char *line = held ? strchr(held, '\n') : NULL; /* after the key's first line */
+    for (char *next; current && line && *++line; line = next) {
+        next = strchr(line, '\n');
+        if (!next) break;
+        *next = '\0';
+        if (!strncmp(line, "arg ", 4)) continue;
+        /* "PATH absent" or "PATH DEV INO SIZE MTIME CTIME" (PATH may hold spaces) */
+        size_t n = strlen(line);
+        char *cut = NULL;
+        if (n > 7 && !strcmp(line + n - 7, " absent")) {
+            cut = line + n - 7;
+        } else {
+            int spaces = 0;
+            for (char *c = line + n; c > line && !cut; c--)
+                if (c[-1] == ' ' && ++spaces == 5) cut = c - 1;
+        }
+        if (!cut) continue;
+        char saved = *cut;
+        *cut = '\0';
+        sbuf now = {0};
+        cache_identity(&now, line);
+        *cut = saved;
+        current = strlen(sb_str(&now)) == n + 1 && !strncmp(sb_str(&now), line, n);
+        free(now.s);
+        *next = '\n';
+    }
+    free(held);
+    return current;
+}
+
+/* Room in the cache: the entries of programs since rebuilt removed, and
+ * folders of renders a stopped grading left (NAME.PID.tmp of a process
+ * that is gone). */
+static void dump_cache_prune(const char *dir) {
+    DIR *d = opendir(dir);
+    for (struct dirent *e; d && (e = readdir(d)) != NULL;) {
+        if (e->d_name[0] == '.') continue;
+        char sub[4400];
+        fmt(sub, sizeof sub, "%s/%s", dir, e->d_name);
+        const char *dot = strchr(e->d_name, '.');
+        if (dot) {
+            long pid = strtol(dot + 1, NULL, 10);
+            if (pid > 0 && kill((pid_t)pid, 0) != 0 && errno == ESRCH) remove_tree(sub);
+        } else if (!dump_entry_current(sub)) {
+            remove_tree(sub);
+        }
+    }
+    if (d) closedir(d);
+}
+
+/* Whether `entry` (a folder, never a link) is the dump for `key`: its
+ * cache.key (written before the folder was renamed into place whole) holds
+ * the key byte for byte. */
+static bool dump_entry_serves(const char *entry, const char *key) {
+    struct stat st;
+    if (lstat(entry, &st) != 0 || !S_ISDIR(st.st_mode)) return false;
+    char path[4300];
+    fmt(path, sizeof path, "%s/cache.key", entry);
+    if (lstat(path, &st) != 0 || !S_ISREG(st.st_mode)) return false;
+    char *held = read_small_file(path, 64 * 1024);
+    bool same = held && !strcmp(held, key);
+    free(held);
+    return same;
+}
+
+/* The trusted reference program's frame of the picture, with --dump, named
+ * by d->ref; false when there is no such program or it has no --dump. The
+ * dump depends only on the reference program and the picture's arguments,
+ * so it is kept for every later evidence of the same frame (a picture's
+ * own-code and whole-chain runs, the next student of a class, a regrade) in
+ * the trusted build's BUILD/grade-cache/dumps (0700: never bound into a
+ * sandbox, never in OUT), keyed as the references' cache is
+ * (reference_cache_key): rendered into a folder of its own there, its key
+ * written into it (cache.key), and renamed into place whole, so an entry is
+ * a whole dump or absent (of gradings at once that render the same frame,
+ * the first keeps it; the others use it and remove theirs). A 16-sample
+ * frame's dump is 150 MB and a second or two to make. Past the cap
+ * (dump_cache_max_bytes) the entries of programs since rebuilt are removed
+ * (dump_cache_prune), and a dump that still does not fit serves its own
+ * evidence, removed with it. */
 static bool reference_dump(const grader *g, const cJSON *img, const job *graded,
                            evidence_dirs *d) {
     const char *program = str_or(img, "program", "");
-    char ref_prog[4200], log[4400], ref_png[4400];
+    char ref_prog[4200], log[4400], ref_png[4400], dir[4200], tmp[4300], entry[4200];
     const char *rp = str_or(img, "reference_program", NULL);
     if (rp)
         fmt(ref_prog, sizeof ref_prog, "%s/bin/%s", g->build, rp);
@@ -169,27 +288,48 @@ static bool reference_dump(const grader *g, const cJSON *img, const job *graded,
         fmt(ref_prog, sizeof ref_prog, "%s/bin/%s_ref", g->build, program);
     if (!file_exists(ref_prog)) return false;
     sbuf key = {0};
-    sb_add(&key, ref_prog);
-    for (const cJSON *v = graded->args ? graded->args->child : NULL; v; v = v->next)
-        if (cJSON_IsString(v)) sb_printf(&key, "\n%s", v->valuestring);
-    char **last = &((grader *)g)->last_ref_dump_key;
-    fmt(d->ref, sizeof d->ref, "%s/evidence/reference-last", g->work);
-    if (*last && strcmp(*last, sb_str(&key)) == 0) {
+    double t0 = now_s();
+    const char *name = str_or(img, "name", "image");
+    reference_cache_key(g, "dumps", ref_prog, graded->args, &key, entry, sizeof entry);
+    fmt(d->ref, sizeof d->ref, "%s", entry);
+    long long cap = dump_cache_max_bytes();
+    if (cap > 0 && dump_entry_serves(entry, sb_str(&key))) {
         free(key.s);
+        profile(name, "ref=", t0); /* served from the cache */
         return true;
     }
-    free(*last);
-    *last = NULL;
-    remove_tree(d->ref);
-    trusted_dir(d->ref);
+    fmt(dir, sizeof dir, "%s/grade-cache", g->build);
+    trusted_dir(dir);
+    fmt(dir, sizeof dir, "%s/grade-cache/dumps", g->build);
+    trusted_dir(dir);
+    fmt(tmp, sizeof tmp, "%s.%ld.tmp", entry, (long)getpid());
+    remove_tree(tmp);
+    trusted_dir(tmp);
     fmt(ref_png, sizeof ref_png, "%s/frame.png", d->root);
     fmt(log, sizeof log, "%s/reference.log", d->root);
-    run_result rr = reference_render(g, ref_prog, graded->args, ref_png, d->ref, log);
+    run_result rr = reference_render(g, ref_prog, graded->args, ref_png, tmp, log);
     bool ok = rr.kind == RUN_EXITED && rr.code == 0;
-    if (ok)
-        *last = key.s;
-    else
-        free(key.s);
+    if (ok) {
+        char kp[4400];
+        fmt(kp, sizeof kp, "%s/cache.key", tmp);
+        FILE *f = fopen(kp, "wb");
+        bool keyed = f && fputs(sb_str(&key), f) >= 0;
+        if (f && fclose(f) != 0) keyed = false;
+        /* into place whole, or the entry a grading at once put there first;
+         * else this evidence's alone (the cache full, a name taken) */
+        if (keyed && dump_cache_bytes(dir) > cap) dump_cache_prune(dir);
+        if (keyed && dump_cache_bytes(dir) <= cap &&
+            (rename(tmp, entry) == 0 || dump_entry_serves(entry, sb_str(&key)))) {
+            remove_tree(tmp);
+        } else {
+            fmt(d->ref, sizeof d->ref, "%s", tmp);
+            d->ref_uncached = true;
+        }
+    } else {
+        remove_tree(tmp);
+    }
+    free(key.s);
+    profile(name, "ref+", t0); /* rendered now */
     return ok;
 }
 
@@ -235,12 +375,22 @@ static int dump_file_names(char names[][40], int cap) {
     return n;
 }
 
-/* The student's dump folder `from` (sandbox-written) into d->got through
- * sandbox_take, file by file from the allowlist: each file the reference's
- * dump holds must be there, a regular file no larger than the reference's
- * (plus room for a header), and none the reference's lacks. False, with ev
+/* The most a file of the student's dump may hold: the exact floats of the
+ * reference's size; a sidecar of about its size. */
+static size_t dump_file_cap(const char *name, const struct stat *ref) {
+    return (size_t)ref->st_size + (strstr(name, ".pfm") ? 4096 : (size_t)ref->st_size + 65536);
+}
+
+/* The student's dump folder `from` (sandbox-written), checked against the
+ * reference's file by file from the allowlist: each file the reference's
+ * dump holds must be there, a regular file with one link (sandbox_open) no
+ * larger than the reference's (plus room for a header), and none the
+ * reference's lacks. The small files (the vertex stage's) are taken into
+ * d->got now; a buffer's files only when it is compared (take_buffer): a
+ * 16-sample frame's are 150 MB, and the comparison stops at the first
+ * buffer that differs. d->got_fd stays open for that. False, with ev
  * withheld, when the evidence is partial, extra or refused. */
-static bool take_student_dump(const char *from, const evidence_dirs *d, evidence *ev) {
+static bool take_student_dump(const char *from, evidence_dirs *d, evidence *ev) {
     char why[300];
     int dfd = sandbox_dir(from, why, sizeof why);
     if (dfd < 0) {
@@ -248,6 +398,7 @@ static bool take_student_dump(const char *from, const evidence_dirs *d, evidence
                  why);
         return false;
     }
+    d->got_fd = dfd;
     char names[64][40];
     int n = dump_file_names(names, 64);
     bool ok = true;
@@ -269,28 +420,59 @@ static bool take_student_dump(const char *from, const evidence_dirs *d, evidence
                      "your program's --dump run wrote %s, which the reference's frame does "
                      "not make",
                      names[i]);
-        /* the exact floats of the reference's size; a sidecar of about its size */
-        size_t cap =
-            (size_t)rst.st_size + (strstr(names[i], ".pfm") ? 4096 : (size_t)rst.st_size + 65536);
-        if (in_ref && in_got && !sandbox_take(dfd, names[i], dest, cap, why, sizeof why))
-            withheld(ev, "your program's --dump file %s was refused: %s (malformed evidence)",
-                     names[i], why);
+        size_t cap = in_ref ? dump_file_cap(names[i], &rst) : 0;
+        bool small = strncmp(names[i], "vertices", 8) == 0;
+        if (in_ref && in_got) {
+            long long size = 0;
+            int fd = small ? -1 : sandbox_open(dfd, names[i], &size, why, sizeof why);
+            if (!small && fd >= 0 && (unsigned long long)size > cap)
+                fmt(why, sizeof why, "it is %lld bytes, over the %zu bytes it may hold", size,
+                    cap);
+            bool refused = small ? !sandbox_take(dfd, names[i], dest, cap, why, sizeof why)
+                                 : fd < 0 || (unsigned long long)size > cap;
+            if (fd >= 0) close(fd);
+            if (refused)
+                withheld(ev, "your program's --dump file %s was refused: %s (malformed evidence)",
+                         names[i], why);
+        }
         ok = ev->kind != EVIDENCE_WITHHELD;
     }
-    close(dfd);
     return ok;
+}
+
+/* Buffer `buf`'s files (NAME.pfm, NAME.json; those the reference's dump
+ * holds) taken from the student's folder into d->got (sandbox_take, under
+ * take_student_dump's caps), once; false, with ev withheld, when refused. */
+static bool take_buffer(const evidence_dirs *d, const char *buf, evidence *ev) {
+    static const char *const ext[] = {"pfm", "json"};
+    for (int k = 0; k < 2; k++) {
+        char name[64], ref_file[4400], dest[4400], why[300];
+        fmt(name, sizeof name, "%s.%s", buf, ext[k]);
+        fmt(ref_file, sizeof ref_file, "%s/%s", d->ref, name);
+        fmt(dest, sizeof dest, "%s/%s", d->got, name);
+        struct stat rst, gst;
+        if (lstat(ref_file, &rst) != 0 || !S_ISREG(rst.st_mode)) continue;
+        if (lstat(dest, &gst) == 0) continue; /* taken */
+        if (d->got_fd < 0 ||
+            !sandbox_take(d->got_fd, name, dest, dump_file_cap(name, &rst), why, sizeof why)) {
+            withheld(ev, "your program's --dump file %s was refused: %s (malformed evidence)",
+                     name, d->got_fd < 0 ? "its folder is not open" : why);
+            return false;
+        }
+    }
+    return true;
 }
 
 /* Why a blank frame is blank (used only when the picture is one flat
  * colour): the counters of the --dump run dj (its log, written by the
  * trusted side), and a depth buffer (as taken) that holds no sample. */
-static void blank_evidence(const job *dj, const char *got_dir, evidence *ev) {
+static void blank_evidence(const job *dj, const evidence_dirs *d, evidence *ev) {
     char *dlog = read_small_file(dj->out_path, 64 * 1024);
     blank_reason(dlog, ev->why_blank, sizeof ev->why_blank);
     free(dlog);
     char dpfm[4400];
-    fmt(dpfm, sizeof dpfm, "%s/depth.pfm", got_dir);
-    if (file_exists(dpfm)) {
+    fmt(dpfm, sizeof dpfm, "%s/depth.pfm", d->got);
+    if (take_buffer(d, "depth", ev) && file_exists(dpfm)) {
         ras_error derr = {{0}};
         int dw = 0, dh = 0, dc = 0;
         float *depth = ras_dump_read_pfm(dpfm, &dw, &dh, &dc, &derr);
@@ -395,6 +577,7 @@ static void compare_dumps(item *it, sbuf *o, const cJSON *img, const char *dir, 
         const char *buf = ras_dump_buffer_names[b];
         /* take_student_dump made sure both dumps hold the same files */
         if (!ras_dump_has_exact(d->ref, buf)) continue;
+        if (!take_buffer(d, buf, ev)) return;
         ras_dump_difference diff;
         ras_error err = {{0}};
         if (!ras_dump_compare(d->ref, d->got, buf, &diff, &err)) {
@@ -459,7 +642,7 @@ void blank_counters(const grader *g, const cJSON *img, const job *graded, const 
  * work folder's, never OUT's): OUT holds only the pictures the report shows. */
 void buffer_evidence(const grader *g, item *it, sbuf *o, const cJSON *img, const char *dir,
                      const char *reldir, const job *graded, const char *own, bool ref_raster,
-                     evidence *ev) {
+                     bool flat, evidence *ev) {
     memset(ev, 0, sizeof *ev);
     evidence_dirs d;
     evidence_dirs_make(g, &d);
@@ -470,8 +653,8 @@ void buffer_evidence(const grader *g, item *it, sbuf *o, const cJSON *img, const
     } else if (student_dump(g, img, graded, own, &dj, ev) &&
                take_student_dump(dj.store[13], &d, ev)) {
         ev->kind = EVIDENCE_RAN;
-        blank_evidence(&dj, d.got, ev);
-        compare_dumps(it, o, img, dir, reldir, own, ref_raster, &d, ev);
+        if (flat) blank_evidence(&dj, &d, ev);
+        if (ev->kind == EVIDENCE_RAN) compare_dumps(it, o, img, dir, reldir, own, ref_raster, &d, ev);
     }
     if (ev->kind == EVIDENCE_WITHHELD && own) /* sealed: one sentence, whatever the cause */
         fmt(ev->withheld, sizeof ev->withheld,
@@ -479,6 +662,8 @@ void buffer_evidence(const grader *g, item *it, sbuf *o, const cJSON *img, const
             "reference code, so not why)");
     if (ev->kind == EVIDENCE_WITHHELD)
         sb_printf(o, "buffers: %s; a picture the buffers cannot clear is charged\n", ev->withheld);
+    if (d.got_fd >= 0) close(d.got_fd);
     remove_tree(d.root);
+    if (d.ref_uncached) remove_tree(d.ref);
     if (dj.rw[0]) remove_tree(dj.rw); /* the student's dump, out of the runs' quota */
 }

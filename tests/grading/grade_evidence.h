@@ -67,14 +67,17 @@ typedef struct evidence {
 static inline bool evidence_ran(const evidence *ev) { return ev->kind == EVIDENCE_RAN; }
 
 /* ev from the two --dump runs of img (graded: its graded run, for the
- * arguments; own: the own-code link of a sealed run, NULL otherwise), said
- * in o; both dumps kept in the work folder only while they are compared
- * (the student's files taken through sandbox_take); the buffer's pictures
- * into it->buf_* unless sealed (for a variant only yours and the
- * difference: a variant's reference never reaches OUT) */
+ * arguments; own: the own-code link of a sealed run, NULL otherwise; flat:
+ * the picture is one flat colour, so why it is blank is asked too), said
+ * in o; the reference's dump from the trusted build's cache (or made now
+ * and kept there), the student's in the work folder only while it is
+ * compared (its files taken through sandbox_take, a buffer's when it is
+ * compared); the buffer's pictures into it->buf_* unless sealed (for a
+ * variant only yours and the difference: a variant's reference never
+ * reaches OUT) */
 void buffer_evidence(const grader *g, item *it, sbuf *o, const cJSON *img, const char *dir,
                      const char *reldir, const job *graded, const char *own, bool ref_raster,
-                     evidence *ev);
+                     bool flat, evidence *ev);
 
 /* ev->why_blank from the counters of one more sandboxed run of img with
  * --stats (graded, own: as buffer_evidence's), for a blank picture that

@@ -463,40 +463,9 @@ static bool picture_skip(picture *p, const char *reason, char *output) {
  * bound into a sandbox, never in OUT or the work folder, so no student
  * program can read or plant one. A grading then renders only what no
  * earlier grading of this build rendered (a regrade, the same student's
- * next grading, a class's gradings with the course's draws). The key names
- * the program by what any rebuild changes (device, inode, size, modification
- * and change times to the nanosecond), the module it opens beside it
- * (libraster101_cv.so) the same way, and the arguments one a line; an entry
- * holds its whole key and serves only when that matches byte for byte (its
- * file name is only the key's hash). */
+ * next grading, a class's gradings with the course's draws). Its key, served
+ * only on a byte-for-byte match: reference_cache_key (grade_run.h). */
 enum { REFERENCE_CACHE_MAX = 4096 }; /* entries; past it nothing more is kept */
-
-static void key_identity(sbuf *key, const char *path) {
-    struct stat st;
-    if (stat(path, &st) != 0) {
-        sb_printf(key, "%s absent\n", path);
-        return;
-    }
-    sb_printf(key, "%s %llu %llu %lld %lld.%09ld %lld.%09ld\n", path, (unsigned long long)st.st_dev,
-              (unsigned long long)st.st_ino, (long long)st.st_size, (long long)st.st_mtim.tv_sec,
-              st.st_mtim.tv_nsec, (long long)st.st_ctim.tv_sec, st.st_ctim.tv_nsec);
-}
-
-/* The entry's key text and its path without extension (FNV-1a of the key). */
-static void reference_key(const grader *g, const char *program, const cJSON *args, sbuf *key,
-                          char *entry, size_t size) {
-    char module[4200];
-    sb_add(key, "raster101 reference cache 1\n");
-    key_identity(key, program);
-    fmt(module, sizeof module, "%s/bin/libraster101_cv.so", g->build);
-    key_identity(key, module);
-    for (const cJSON *v = args ? args->child : NULL; v; v = v->next)
-        if (cJSON_IsString(v)) sb_printf(key, "arg %s\n", v->valuestring);
-    unsigned long long h = 1469598103934665603ull;
-    for (const char *c = sb_str(key); *c; c++)
-        h = (h ^ (unsigned char)*c) * 1099511628211ull;
-    fmt(entry, size, "%s/grade-cache/references/%016llx", g->build, h);
-}
 
 /* A regular file of the cache (never through a link), its contents. */
 static char *cache_read(const char *path, size_t cap) {
@@ -560,7 +529,7 @@ static bool cached_reference_render(const grader *g, const char *program, const 
                                     const char *out_png, const char *log) {
     sbuf key = {0};
     char entry[4200];
-    reference_key(g, program, args, &key, entry, sizeof entry);
+    reference_cache_key(g, "references", program, args, &key, entry, sizeof entry);
     bool ok = reference_from_cache(entry, sb_str(&key), out_png);
     if (!ok) {
         run_result rr = reference_render(g, program, args, out_png, NULL, log);
@@ -588,7 +557,8 @@ int reference_jobs(const grader *g, const cJSON *images, const job *runs, int n_
         fmt(j->store[0], sizeof j->store[0], "%s/bin/%s", g->build, ref_program);
         if (!file_exists(j->store[0])) continue;
         sbuf key = {0};
-        reference_key(g, j->store[0], runs[i].args, &key, j->store[1], sizeof j->store[1]);
+        reference_cache_key(g, "references", j->store[0], runs[i].args, &key, j->store[1],
+                            sizeof j->store[1]);
         char png[4300];
         fmt(png, sizeof png, "%s.png", j->store[1]);
         bool cached = false, twice = false;
@@ -636,7 +606,7 @@ void reference_jobs_done(const grader *g, job *jobs, int n) {
         if (j->rr.kind == RUN_EXITED && j->rr.code == 0 && file_exists(j->store[2])) {
             sbuf key = {0};
             char entry[4200];
-            reference_key(g, j->store[0], j->args, &key, entry, sizeof entry);
+            reference_cache_key(g, "references", j->store[0], j->args, &key, entry, sizeof entry);
             reference_to_cache(g, entry, sb_str(&key), j->store[2]);
             free(key.s);
         }
@@ -856,7 +826,7 @@ static void picture_findings(picture *p, ras_compare_result *r, const ras_image 
         } else {
             ((grader *)g)->evidence_runs++;
             buffer_evidence(g, p->it, &f->bufs, p->img, p->dir, p->reldir, p->j,
-                            p->sealed ? p->j->extra_ro : NULL, ref_raster, &f->ev);
+                            p->sealed ? p->j->extra_ro : NULL, ref_raster, f->flat, &f->ev);
         }
     }
     /* a blank picture without buffers still says why from its counters

@@ -288,7 +288,6 @@ int main(int argc, char **argv) {
     cJSON_Delete(g.rubric);
     cJSON_Delete(g.drawn);
     free(g.notes);
-    free(g.last_ref_dump_key);
     for (int i = 0; i < g.n_failed; i++)
         free((char *)g.failed_hw[i]);
     if (!written) {

@@ -115,11 +115,6 @@ typedef struct grader {
     long sandbox_uid;  /* -1: not root, runs stay this user's */
     int runs;          /* numbers the run folders */
     int evidence_runs; /* images given buffer evidence so far (at most EVIDENCE_MAX) */
-    /* The last reference --dump made for evidence (grade_evidence.c), kept in
-     * the work folder for the next evidence that asks for the same frame: a
-     * picture's sealed own-code run and its whole-chain run have the same
-     * arguments. The program and its arguments, a line each; NULL when none is kept. */
-    char *last_ref_dump_key;
     int jobs;          /* sandboxed runs at once */
     cJSON *rubric;
     double default_points, test_limit, render_limit;

@@ -535,6 +535,36 @@ run_result reference_render(const grader *g, const char *program, const cJSON *a
     return run_limited(argv, NULL, log, wall_backstop(g->render_limit), g->mem_mb);
 }
 
+void cache_identity(sbuf *key, const char *path) {
+    struct stat st;
+    if (stat(path, &st) != 0) {
+        sb_printf(key, "%s absent\n", path);
+        return;
+    }
+    sb_printf(key, "%s %llu %llu %lld %lld.%09ld %lld.%09ld\n", path, (unsigned long long)st.st_dev,
+              (unsigned long long)st.st_ino, (long long)st.st_size, (long long)st.st_mtim.tv_sec,
+              st.st_mtim.tv_nsec, (long long)st.st_ctim.tv_sec, st.st_ctim.tv_nsec);
+}
+
+void reference_cache_key(const grader *g, const char *kind, const char *program,
+                         const cJSON *args, sbuf *key, char *entry, size_t size) {
+    char module[4200];
+    /* the references' cache keeps its first key text (its entries stay valid) */
+    if (!strcmp(kind, "references"))
+        sb_add(key, "raster101 reference cache 1\n");
+    else
+        sb_printf(key, "raster101 reference cache 1 %s\n", kind);
+    cache_identity(key, program);
+    fmt(module, sizeof module, "%s/bin/libraster101_cv.so", g->build);
+    cache_identity(key, module);
+    for (const cJSON *v = args ? args->child : NULL; v; v = v->next)
+        if (cJSON_IsString(v)) sb_printf(key, "arg %s\n", v->valuestring);
+    unsigned long long h = 1469598103934665603ull;
+    for (const char *c = sb_str(key); *c; c++)
+        h = (h ^ (unsigned char)*c) * 1099511628211ull;
+    fmt(entry, size, "%s/grade-cache/%s/%016llx", g->build, kind, h);
+}
+
 /* ---------------------------------------------------------------- the tests' chunks */
 
 /* What the trusted replay of a chunk reads comes through sandbox_take: each

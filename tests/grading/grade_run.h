@@ -62,6 +62,19 @@ void worker_job(const grader *g, job *w, const char *bin, const char *own, const
                 const char *const extra[]);
 /* a picture's program in the sandbox, -o into its run folder (j->args set) */
 void image_job(const grader *g, const cJSON *img, job *j, const char *own, const char *tag);
+/* A trusted reference program's run kept for later gradings (the trusted
+ * build's BUILD/grade-cache/KIND: "references" for the variants' pictures,
+ * "dumps" for the evidence's --dump folders): its key text into `key` (the
+ * program and the module it opens, each by what any rebuild changes: device,
+ * inode, size, modification and change times to the nanosecond; then the
+ * arguments, one a line) and the entry's path without extension into
+ * `entry` (BUILD/grade-cache/KIND/HASH, the FNV-1a of the key). An entry
+ * holds its whole key and serves only when that matches byte for byte. */
+void reference_cache_key(const grader *g, const char *kind, const char *program,
+                         const cJSON *args, sbuf *key, char *entry, size_t size);
+/* The line of such a key that names `path` as it is now ("PATH DEV INO SIZE
+ * MTIME CTIME", or "PATH absent"). */
+void cache_identity(sbuf *key, const char *path);
 /* the trusted reference program, outside the sandbox */
 run_result reference_render(const grader *g, const char *program, const cJSON *args,
                             const char *out_png, const char *dump_dir, const char *log);
