@@ -13,7 +13,8 @@
  *      the file it replaces (a new file: 0666 & ~umask);
  *   2. write every byte (each write checked; EINTR and short writes retried),
  *      fsync, close (checked: NFS reports errors there);
- *   3. read the file back and compare it with the buffer, then let the
+ *   3. read the file back and compare it with the buffer (not on tmpfs or
+ *      ramfs, where it would read the very pages just written), then let the
  *      caller's verify callback decode it;
  *   4. rename over the target and fsync the folder.
  * Any failure unlinks the temporary file, leaves the target untouched, and

@@ -8,6 +8,7 @@
 #include "ras_draw.h"
 #include "ras_dump.h"
 #include "ras_image.h"
+#include "ras_io.h"
 #include "ras_job.h"
 #include "ras_pipeline.h"
 #include "stage2_clip.h"
@@ -22,6 +23,7 @@
 #include <string.h>
 #include <signal.h>   /* SIGABRT, SIGSEGV */
 #include <sys/stat.h> /* chmod, stat */
+#include <sys/vfs.h>  /* statfs: is /dev/shm a tmpfs */
 #include <time.h> /* clock_gettime */
 #include <unistd.h>
 
@@ -329,6 +331,59 @@ static void test_image_roundtrip_and_failed_write(void **state) {
     rmdir(dir);
     ras_image_destroy(img);
     ras_image_destroy(back);
+}
+
+/* ras_io_write_atomic's verify callback: the bytes must be the expected ones. */
+typedef struct verify_seen {
+    const char *expect;
+    int calls;
+    bool refuse;
+} verify_seen;
+static bool verify_bytes(const void *data, size_t len, void *ctx, ras_error *err) {
+    verify_seen *v = ctx;
+    v->calls++;
+    if (v->refuse || len != strlen(v->expect) || memcmp(data, v->expect, len) != 0)
+        return ras_error_set(err, "not the bytes meant");
+    return true;
+}
+
+/* An atomic write on disk and in memory (a tmpfs, where the file is not read
+ * back: the pages are the ones just written) writes the same bytes, has the
+ * verify callback see exactly them, and leaves nothing when it refuses. */
+static void test_atomic_write_on_disk_and_in_memory(void **state) {
+    (void)state;
+    char disk[] = "/tmp/raster101-test-XXXXXX", mem[] = "/dev/shm/raster101-test-XXXXXX";
+    struct statfs fs;
+    bool have_tmpfs = statfs("/dev/shm", &fs) == 0 && fs.f_type == 0x01021994 && mkdtemp(mem);
+    assert_non_null(mkdtemp(disk));
+    const char *dirs[2] = {disk, have_tmpfs ? mem : NULL};
+    for (int k = 0; k < 2; k++) {
+        if (!dirs[k]) continue;
+        char path[256];
+        snprintf(path, sizeof path, "%s/file.txt", dirs[k]);
+        const char *text = "raster101 atomic write\n";
+        verify_seen v = {text, 0, false};
+        ras_error err = {{0}};
+        assert_true(ras_io_write_atomic(path, "test file", text, strlen(text), verify_bytes, &v, &err));
+        assert_int_equal(v.calls, 1);
+        size_t len = 0;
+        char *back = ras_io_read_file(path, "test file", 1024, &len, &err);
+        assert_non_null(back);
+        assert_int_equal(len, strlen(text));
+        assert_memory_equal(back, text, len);
+        free(back);
+        /* refused: the earlier file stays as it was, no temporary file left */
+        verify_seen no = {"other bytes", 0, true};
+        assert_false(ras_io_write_atomic(path, "test file", "other bytes", 11, verify_bytes, &no, &err));
+        assert_non_null(strstr(err.msg, "does not decode"));
+        back = ras_io_read_file(path, "test file", 1024, &len, &err);
+        assert_non_null(back);
+        assert_memory_equal(back, text, strlen(text));
+        free(back);
+        remove(path);
+        assert_int_equal(rmdir(dirs[k]), 0); /* empty: no temporary file stayed */
+    }
+    if (!have_tmpfs) print_message("(/dev/shm is not a tmpfs here: only the disk case ran)\n");
 }
 
 /* The size read from a file's header (the memory budget's estimate, before
@@ -689,6 +744,7 @@ int main(void) {
         cmocka_unit_test(test_app_resolve_one_rule_set),
         cmocka_unit_test(test_pipeline_config_equal_by_fields),
         cmocka_unit_test(test_image_roundtrip_and_failed_write),
+        cmocka_unit_test(test_atomic_write_on_disk_and_in_memory),
         cmocka_unit_test(test_image_header_size_matches_decode),
         cmocka_unit_test(test_pipeline_wireframe_runs_only_its_stages),
         cmocka_unit_test(test_pipeline_rejects_nan),
