@@ -85,7 +85,7 @@ typedef struct region {
                 * replayed bytes come from the untrusted record */
 } region;
 
-/* ---- the inputs' fingerprint (FNV-1a): catches a record made for other calls */
+/* ---- the inputs' fingerprint (FNV-1a's prime, by words): catches a record made for other calls */
 
 typedef struct hash {
     uint64_t h;
@@ -96,9 +96,21 @@ static hash hash_start(uint32_t fn) {
     return h;
 }
 
+/* Eight bytes a step (a byte a step was a third of a hw3 worker's time:
+ * every fragment's interpolation hashes its triangle, 180 bytes), each
+ * product folded down so a word's high bits reach the low ones too. */
 static void hash_bytes(hash *h, const void *p, size_t n) {
     const unsigned char *b = p;
-    for (size_t i = 0; i < n; i++) h->h = (h->h ^ b[i]) * 1099511628211ull;
+    uint64_t x = h->h;
+    size_t i = 0;
+    for (; i + 8 <= n; i += 8) {
+        uint64_t w;
+        memcpy(&w, b + i, 8);
+        x = (x ^ w) * 1099511628211ull;
+        x ^= x >> 29;
+    }
+    for (; i < n; i++) x = (x ^ b[i]) * 1099511628211ull;
+    h->h = x;
 }
 #define HASH(h, v) hash_bytes(&(h), &(v), sizeof(v))
 
