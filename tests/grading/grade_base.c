@@ -214,16 +214,21 @@ int sandbox_open(int dir_fd, const char *name, long long *size, char *why, size_
     return fd;
 }
 
-bool sandbox_take(int dir_fd, const char *name, const char *dest, size_t max_bytes, char *why,
-                  size_t n) {
+int sandbox_check(int dir_fd, const char *name, size_t max_bytes, char *why, size_t n) {
     long long size = 0;
     int in = sandbox_open(dir_fd, name, &size, why, n);
-    if (in < 0) return false;
-    if ((unsigned long long)size > max_bytes) {
+    if (in >= 0 && (unsigned long long)size > max_bytes) {
         fmt(why, n, "it is %lld bytes, over the %zu bytes it may hold", size, max_bytes);
         close(in);
-        return false;
+        return -1;
     }
+    return in;
+}
+
+bool sandbox_take(int dir_fd, const char *name, const char *dest, size_t max_bytes, char *why,
+                  size_t n) {
+    int in = sandbox_check(dir_fd, name, max_bytes, why, n);
+    if (in < 0) return false;
     unlink(dest);
     /* The very inode checked, hard-linked where the folders share a
      * filesystem (a test's record is up to 256 MB; the run is over, so no

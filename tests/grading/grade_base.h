@@ -58,6 +58,9 @@ int sandbox_dir(const char *path, char *why, size_t n);
 int sandbox_dir_of(const char *path, const char **name, char *why, size_t n);
 /* File `name` (one component) of that folder: its descriptor and *size, or -1 and why. */
 int sandbox_open(int dir_fd, const char *name, long long *size, char *why, size_t n);
+/* File `name` (sandbox_open) no larger than max_bytes: its descriptor, or -1
+ * and why. */
+int sandbox_check(int dir_fd, const char *name, size_t max_bytes, char *why, size_t n);
 /* File `name` of the folder dir_fd taken to dest (a trusted folder): the
  * checked inode hard-linked where both share a filesystem, else copied (new,
  * 0600); refused, with why, when it is missing, not a regular file or over

@@ -180,8 +180,7 @@ static long long dump_cache_bytes(const char *dir) {
         DIR *f = opendir(sub);
         for (struct dirent *x; f && (x = readdir(f)) != NULL;) {
             struct stat st;
-            if (fstatat(dirfd(f), x->d_name, &st, AT_SYMLINK_NOFOLLOW) == 0 &&
-                S_ISREG(st.st_mode))
+            if (fstatat(dirfd(f), x->d_name, &st, AT_SYMLINK_NOFOLLOW) == 0 && S_ISREG(st.st_mode))
                 total += (long long)st.st_size;
         }
         if (f) closedir(f);
@@ -277,8 +276,7 @@ static bool dump_entry_serves(const char *entry, const char *key) {
  * (dump_cache_max_bytes) the entries of programs since rebuilt are removed
  * (dump_cache_prune), and a dump that still does not fit serves its own
  * evidence, removed with it. */
-static bool reference_dump(const grader *g, const cJSON *img, const job *graded,
-                           evidence_dirs *d) {
+static bool reference_dump(const grader *g, const cJSON *img, const job *graded, evidence_dirs *d) {
     const char *program = str_or(img, "program", "");
     char ref_prog[4200], log[4400], ref_png[4400], dir[4200], tmp[4300], entry[4200];
     const char *rp = str_or(img, "reference_program", NULL);
@@ -317,8 +315,12 @@ static bool reference_dump(const grader *g, const cJSON *img, const job *graded,
         if (f && fclose(f) != 0) keyed = false;
         /* into place whole, or the entry a grading at once put there first;
          * else this evidence's alone (the cache full, a name taken) */
-        if (keyed && dump_cache_bytes(dir) > cap) dump_cache_prune(dir);
-        if (keyed && dump_cache_bytes(dir) <= cap &&
+        long long used = keyed ? dump_cache_bytes(dir) : 0;
+        if (used > cap) {
+            dump_cache_prune(dir);
+            used = dump_cache_bytes(dir);
+        }
+        if (keyed && used <= cap &&
             (rename(tmp, entry) == 0 || dump_entry_serves(entry, sb_str(&key)))) {
             remove_tree(tmp);
         } else {
@@ -423,13 +425,9 @@ static bool take_student_dump(const char *from, evidence_dirs *d, evidence *ev) 
         size_t cap = in_ref ? dump_file_cap(names[i], &rst) : 0;
         bool small = strncmp(names[i], "vertices", 8) == 0;
         if (in_ref && in_got) {
-            long long size = 0;
-            int fd = small ? -1 : sandbox_open(dfd, names[i], &size, why, sizeof why);
-            if (!small && fd >= 0 && (unsigned long long)size > cap)
-                fmt(why, sizeof why, "it is %lld bytes, over the %zu bytes it may hold", size,
-                    cap);
-            bool refused = small ? !sandbox_take(dfd, names[i], dest, cap, why, sizeof why)
-                                 : fd < 0 || (unsigned long long)size > cap;
+            int fd = small ? -1 : sandbox_check(dfd, names[i], cap, why, sizeof why);
+            bool refused =
+                small ? !sandbox_take(dfd, names[i], dest, cap, why, sizeof why) : fd < 0;
             if (fd >= 0) close(fd);
             if (refused)
                 withheld(ev, "your program's --dump file %s was refused: %s (malformed evidence)",
@@ -455,8 +453,8 @@ static bool take_buffer(const evidence_dirs *d, const char *buf, evidence *ev) {
         if (lstat(dest, &gst) == 0) continue; /* taken */
         if (d->got_fd < 0 ||
             !sandbox_take(d->got_fd, name, dest, dump_file_cap(name, &rst), why, sizeof why)) {
-            withheld(ev, "your program's --dump file %s was refused: %s (malformed evidence)",
-                     name, d->got_fd < 0 ? "its folder is not open" : why);
+            withheld(ev, "your program's --dump file %s was refused: %s (malformed evidence)", name,
+                     d->got_fd < 0 ? "its folder is not open" : why);
             return false;
         }
     }
@@ -654,7 +652,8 @@ void buffer_evidence(const grader *g, item *it, sbuf *o, const cJSON *img, const
                take_student_dump(dj.store[13], &d, ev)) {
         ev->kind = EVIDENCE_RAN;
         if (flat) blank_evidence(&dj, &d, ev);
-        if (ev->kind == EVIDENCE_RAN) compare_dumps(it, o, img, dir, reldir, own, ref_raster, &d, ev);
+        if (ev->kind == EVIDENCE_RAN)
+            compare_dumps(it, o, img, dir, reldir, own, ref_raster, &d, ev);
     }
     if (ev->kind == EVIDENCE_WITHHELD && own) /* sealed: one sentence, whatever the cause */
         fmt(ev->withheld, sizeof ev->withheld,

@@ -546,8 +546,8 @@ void cache_identity(sbuf *key, const char *path) {
               st.st_mtim.tv_nsec, (long long)st.st_ctim.tv_sec, st.st_ctim.tv_nsec);
 }
 
-void reference_cache_key(const grader *g, const char *kind, const char *program,
-                         const cJSON *args, sbuf *key, char *entry, size_t size) {
+void reference_cache_key(const grader *g, const char *kind, const char *program, const cJSON *args,
+                         sbuf *key, char *entry, size_t size) {
     char module[4200];
     /* the references' cache keeps its first key text (its entries stay valid) */
     if (!strcmp(kind, "references"))
