@@ -4,12 +4,12 @@
 #   make test   installs what is missing, builds, runs the self-test suite
 BUILD ?= build
 JOBS ?= $(shell nproc 2>/dev/null || echo 2)
-# Tests at once: one more than the cores. The long tests (the gradings, the
+# Tests at once: one more than JOBS (the cores). The long tests (the gradings, the
 # packages' setups, the GUI under Xvfb, the sandbox's wall clocks) wait part
 # of their time, so at one test a core the cores sat idle: on this project's
 # 2-core machine the suite took 240 s at -j 2, 189 s at -j 3, 188 s at -j 4
 # (built, quiet, 2026-12-06).
-TEST_JOBS ?= $(shell echo $$(( $$(nproc 2>/dev/null || echo 2) + 1 )))
+TEST_JOBS ?= $(shell echo $$(( $(JOBS) + 1 )))
 CMAKE_FLAGS ?=
 # CI builds treat warnings as errors.
 ifeq ($(CI),true)
